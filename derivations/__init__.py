@@ -1,0 +1,16 @@
+"""SymPy derivations: each module derives one family of formulas from the papers' first
+principles, proves what can be proved, and writes generated code (``generate()``).
+
+Rewrite every committed generated file with ``python -m derivations``; the test
+``tests/test_codegen_sync.py`` regenerates them into a temporary folder and fails with a
+unified diff when they differ.
+
+Modules
+-------
+algebra     verified rewriting in the non-commutative algebra of w, u, M (general-n proofs)
+codegen     the one writer of generated files (header, deterministic formatting)
+reflection  the single-impact map G_u and the Newton-restitution map G_u(e) (Seghete & Murphey eq. 1)
+"""
+
+#: derivation modules that write generated code, in generation order
+FAMILIES = ["reflection"]

@@ -1,0 +1,48 @@
+"""The one exception family of impactsym.
+
+Every error names the argument and the violated condition, so that the CLI can print it
+as it is (exit status 2) and a Python caller can catch one base class.
+
+>>> from impactsym.errors import ImpactInputError, ImpactError
+>>> issubclass(ImpactInputError, ImpactError) and issubclass(ImpactInputError, ValueError)
+True
+"""
+
+from __future__ import annotations
+
+__all__ = ["ImpactError", "ImpactInputError", "DomainError", "NonTermination", "UndecidableSign"]
+
+
+class ImpactError(Exception):
+    """Base class of every error impactsym raises on purpose (CLI exit status 2)."""
+
+
+class ImpactInputError(ImpactError, ValueError):
+    """Malformed or inadmissible input: wrong shape, NaN, a mass matrix that is not SPD, ...
+
+    Parameters
+    ----------
+    argument : str
+        The name of the offending argument, as the user gave it (``"mass_matrix"``).
+    condition : str
+        The violated condition, in words.
+    """
+
+    def __init__(self, argument: str, condition: str):
+        self.argument = argument
+        self.condition = condition
+        super().__init__(f"{argument}: {condition}")
+
+
+class DomainError(ImpactError, ValueError):
+    """A request the law cannot satisfy: a parameter outside the law's domain,
+    a velocity that does not approach, no admissible outcome."""
+
+
+class NonTermination(ImpactError, RuntimeError):
+    """An iterative resolution hit its configured cap (the message names the cap)."""
+
+
+class UndecidableSign(ImpactError, ArithmeticError):
+    """An exact sign could not be certified (for instance a transcendental expression
+    that is zero to every precision tried). Never guessed: raised instead."""

@@ -1,0 +1,251 @@
+"""Mass matrices, constraint gradients, velocities, and the kinetic metric.
+
+Conventions (``CONVENTIONS.md``): ``M`` symmetric positive definite (checked, exactly for exact
+input), gradient rows ``H_i = Dφ_i`` (covectors, never normalized), relative normal velocity
+``w = H v`` (approaching when ``w_i < 0``), kinetic metric ``<a, b>_M = aᵀ M b``.
+
+Every checker returns the input converted to its arithmetic (a SymPy matrix on the exact path,
+a float64 array on the float path) and raises :class:`~impactsym.errors.ImpactInputError` naming
+the argument and the violated condition.
+
+Examples
+--------
+>>> import sympy as sp
+>>> M = check_mass_matrix("11/10,0;0,1")
+>>> H = check_gradients("1,0;-1,1", 2)
+>>> kinetic_angle_cos(M, H[0, :], H[1, :])
+-sqrt(210)/21
+>>> m_normal(M, H[0, :]).T
+Matrix([[sqrt(110)/11, 0]])
+>>> check_mass_matrix("1,2;2,1")
+Traceback (most recent call last):
+...
+impactsym.errors.ImpactInputError: mass_matrix: not positive definite (leading principal minor 2 is -3)
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+import numpy as np
+import sympy as sp
+
+from .errors import ImpactInputError
+from .exact import certified_sign
+from .numbers import is_exact, to_exact_matrix, to_float_array
+
+__all__ = [
+    "check_mass_matrix",
+    "check_gradient",
+    "check_gradients",
+    "check_velocity",
+    "kinetic_energy",
+    "m_normal",
+    "kinetic_angle_cos",
+    "kinetic_angle",
+    "relative_velocity",
+]
+
+#: relative asymmetry tolerated in a float mass matrix (a few ulps of its largest entry)
+FLOAT_SYMMETRY_RTOL = 8 * np.finfo(float).eps
+
+
+def _as(obj: Any, argument: str, exact: bool, vector: bool = False):
+    if exact:
+        return to_exact_matrix(obj, argument, vector=vector)
+    arr = to_float_array(obj, argument)
+    if vector:
+        arr = arr.reshape(-1) if arr.ndim == 2 and 1 in arr.shape else arr
+        if arr.ndim != 1:
+            raise ImpactInputError(argument, f"expected a vector, got shape {arr.shape}")
+    return arr
+
+
+def check_mass_matrix(M: Any, argument: str = "mass_matrix", *, exact: bool | None = None):
+    """Check that ``M`` is a square, symmetric, positive definite matrix with finite entries.
+
+    Exact input is decided exactly (Sylvester's criterion on leading principal minors, each sign
+    certified); float input by a Cholesky factorization.
+
+    >>> check_mass_matrix([[2, 1], [1, 2]])
+    Matrix([
+    [2, 1],
+    [1, 2]])
+    >>> check_mass_matrix([[1.0, 0.0], [0.5, 1.0]])
+    Traceback (most recent call last):
+    ...
+    impactsym.errors.ImpactInputError: mass_matrix: not symmetric (entry (0, 1) is 0.0 but (1, 0) is 0.5)
+    """
+    if exact is None:
+        exact = is_exact(M)
+    A = _as(M, argument, exact)
+    shape = A.shape
+    if len(shape) != 2 or shape[0] != shape[1] or shape[0] == 0:
+        raise ImpactInputError(argument, f"must be a non-empty square matrix, got shape {tuple(shape)}")
+    n = shape[0]
+    if exact:
+        for i in range(n):
+            for j in range(i + 1, n):
+                if certified_sign(A[i, j] - A[j, i]) != 0:
+                    raise ImpactInputError(
+                        argument, f"not symmetric (entry ({i}, {j}) is {A[i, j]} but ({j}, {i}) is {A[j, i]})"
+                    )
+        # Sylvester's criterion via fraction-free elimination: the k-th leading minor is a pivot product.
+        for k in range(1, n + 1):
+            minor = A[:k, :k].det(method="bareiss") if k > 1 else A[0, 0]
+            minor = sp.nsimplify(minor) if minor.is_Float else minor
+            if certified_sign(minor) <= 0:
+                raise ImpactInputError(
+                    argument, f"not positive definite (leading principal minor {k} is {sp.simplify(minor)})"
+                )
+        return A
+    scale = np.max(np.abs(A))
+    asym = np.abs(A - A.T)
+    if np.any(asym > FLOAT_SYMMETRY_RTOL * scale):
+        i, j = np.unravel_index(np.argmax(asym), asym.shape)
+        raise ImpactInputError(argument, f"not symmetric (entry ({i}, {j}) is {float(A[i, j])!r} but ({j}, {i}) is {float(A[j, i])!r})")
+    try:
+        np.linalg.cholesky(A)
+    except np.linalg.LinAlgError:
+        raise ImpactInputError(argument, "not positive definite (Cholesky factorization failed)") from None
+    return A
+
+
+def check_gradient(u: Any, n: int, argument: str = "gradient", *, exact: bool | None = None):
+    """Check one gradient covector of length ``n`` that is not zero; returns a row (1×n) / 1-D array.
+
+    >>> check_gradient("0,0", 2)
+    Traceback (most recent call last):
+    ...
+    impactsym.errors.ImpactInputError: gradient: is the zero covector (a constraint gradient must be non-zero)
+    """
+    if exact is None:
+        exact = is_exact(u)
+    g = _as(u, argument, exact, vector=True)
+    length = g.rows if exact else g.shape[0]
+    if length != n:
+        raise ImpactInputError(argument, f"has length {length}, expected {n} (the mass matrix is {n}×{n})")
+    if (exact and all(certified_sign(x) == 0 for x in g)) or (not exact and not np.any(g)):
+        raise ImpactInputError(argument, "is the zero covector (a constraint gradient must be non-zero)")
+    return g.T if exact else g
+
+
+def check_gradients(H: Any, n: int, argument: str = "gradients", *, exact: bool | None = None):
+    """Check a stack of gradient rows ``H`` (k×n, each row non-zero).
+
+    >>> check_gradients("1,0;0,0", 2)
+    Traceback (most recent call last):
+    ...
+    impactsym.errors.ImpactInputError: gradients: row 1 is the zero covector (a constraint gradient must be non-zero)
+    """
+    if exact is None:
+        exact = is_exact(H)
+    A = _as(H, argument, exact)
+    if not exact and A.ndim == 1:
+        A = A.reshape(1, -1)
+    rows, cols = A.shape
+    if cols != n:
+        raise ImpactInputError(argument, f"has {cols} columns, expected {n} (the mass matrix is {n}×{n})")
+    if rows == 0:
+        raise ImpactInputError(argument, "has no rows (at least one closed contact is needed)")
+    for i in range(rows):
+        row = A[i, :]
+        zero = all(certified_sign(x) == 0 for x in row) if exact else not np.any(row)
+        if zero:
+            raise ImpactInputError(argument, f"row {i} is the zero covector (a constraint gradient must be non-zero)")
+    return A
+
+
+def check_velocity(v: Any, n: int, argument: str = "velocity", *, exact: bool | None = None):
+    """Check a generalized velocity of length ``n``; returns a column (exact) or 1-D array (float).
+
+    >>> check_velocity("1,2,3", 2)
+    Traceback (most recent call last):
+    ...
+    impactsym.errors.ImpactInputError: velocity: has length 3, expected 2 (the mass matrix is 2×2)
+    """
+    if exact is None:
+        exact = is_exact(v)
+    g = _as(v, argument, exact, vector=True)
+    length = g.rows if exact else g.shape[0]
+    if length != n:
+        raise ImpactInputError(argument, f"has length {length}, expected {n} (the mass matrix is {n}×{n})")
+    return g
+
+
+def kinetic_energy(M, v):
+    """``T = ½ vᵀ M v`` (exact for exact input).
+
+    >>> kinetic_energy(sp.eye(2), sp.Matrix([1, 1]))
+    1
+    """
+    if isinstance(M, sp.MatrixBase):
+        v = sp.Matrix(v)
+        return sp.expand((v.T * M * v)[0, 0] / 2)
+    v = np.asarray(v, dtype=float)
+    return 0.5 * float(v @ np.asarray(M, dtype=float) @ v)
+
+
+def _row(h):
+    if isinstance(h, sp.MatrixBase):
+        return h if h.rows == 1 else h.T
+    return np.asarray(h, dtype=float).reshape(-1)
+
+
+def m_normal(M, h):
+    """The M-normal of a constraint (Acary & Taha eq. 39): ``n = M⁻¹hᵀ / √(h M⁻¹ hᵀ)``.
+
+    It is a unit vector in the kinetic metric: ``nᵀ M n = 1``.
+
+    >>> n = m_normal(sp.diag(2, 1), sp.Matrix([[1, 1]]))
+    >>> n.T, sp.simplify((n.T * sp.diag(2, 1) * n)[0])
+    (Matrix([[sqrt(6)/6, sqrt(6)/3]]), 1)
+    """
+    if isinstance(M, sp.MatrixBase):
+        h = _row(h)
+        w = M.LUsolve(h.T)
+        return sp.simplify(w / sp.sqrt((h * w)[0, 0]))
+    h = _row(h)
+    w = np.linalg.solve(np.asarray(M, dtype=float), h)
+    return w / np.sqrt(h @ w)
+
+
+def kinetic_angle_cos(M, hi, hj):
+    """``cos θ_ij = H_i M⁻¹ H_jᵀ / √(H_i M⁻¹ H_iᵀ · H_j M⁻¹ H_jᵀ)`` (Acary & Taha eq. 40).
+
+    >>> kinetic_angle_cos(sp.eye(2), sp.Matrix([[1, 0]]), sp.Matrix([[-1, 1]]))
+    -sqrt(2)/2
+    """
+    if isinstance(M, sp.MatrixBase):
+        hi, hj = _row(hi), _row(hj)
+        Minv_hj = M.LUsolve(hj.T)
+        Minv_hi = M.LUsolve(hi.T)
+        num = (hi * Minv_hj)[0, 0]
+        return sp.radsimp(sp.simplify(num / sp.sqrt((hi * Minv_hi)[0, 0] * (hj * Minv_hj)[0, 0])))
+    Mf = np.asarray(M, dtype=float)
+    hi, hj = _row(hi), _row(hj)
+    wi, wj = np.linalg.solve(Mf, hi), np.linalg.solve(Mf, hj)
+    return float(hi @ wj / np.sqrt((hi @ wi) * (hj @ wj)))
+
+
+def kinetic_angle(M, hi, hj):
+    """The kinetic angle ``θ_ij ∈ [0, π]`` between two constraints (exact: a SymPy ``acos``).
+
+    >>> kinetic_angle(sp.eye(2), sp.Matrix([[1, 0]]), sp.Matrix([[-1, 1]]))
+    3*pi/4
+    """
+    c = kinetic_angle_cos(M, hi, hj)
+    if isinstance(c, sp.Basic):
+        return sp.acos(c)
+    return float(np.arccos(np.clip(c, -1.0, 1.0))) if abs(c) <= 1 + 1e-15 else float("nan")
+
+
+def relative_velocity(H, v):
+    """``w = H v``, the relative normal velocities (approaching when ``w_i < 0``).
+
+    >>> relative_velocity(sp.Matrix([[1, 0], [-1, 1]]), sp.Matrix([-1, 0])).T
+    Matrix([[-1, 1]])
+    """
+    if isinstance(H, sp.MatrixBase):
+        return H * sp.Matrix(v)
+    return np.asarray(H, dtype=float) @ np.asarray(v, dtype=float)
