@@ -59,7 +59,7 @@ class _Printer(NumPyPrinter):
     """NumPy printer with a fixed module alias, so output is deterministic and short."""
 
     def __init__(self):
-        super().__init__({"fully_qualified_modules": False, "inline": True, "allow_unknown_functions": False})
+        super().__init__({"fully_qualified_modules": True, "inline": True, "allow_unknown_functions": False})
 
 
 def numpy_code(expr: sp.Expr) -> str:
@@ -68,7 +68,7 @@ def numpy_code(expr: sp.Expr) -> str:
     >>> numpy_code(sp.sqrt(sp.Symbol("x")) / 2)
     '(1/2)*numpy.sqrt(x)'
     """
-    return _Printer().doprint(expr).replace("numpy.", "numpy.")
+    return _Printer().doprint(expr)
 
 
 def header(derivation: str, family: str) -> str:
