@@ -1,0 +1,152 @@
+"""The example systems of Acary & Taha, built from their constraint functions by SymPy.
+
+Every builder accepts exact numbers *or SymPy symbols* for its parameters (θ, τ, masses,
+velocities), so the same function feeds the exact law, the symbolic closed-form derivations and
+the float path. Gradient rows are ``∂h_α/∂q`` of the constraint functions at the contact
+configuration, computed by SymPy, never typed in.
+
+Geometry of the pool (sec. 4), reconstructed from eqs. 27, 35, 36 and 42
+--------------------------------------------------------------------------
+Unit masses and radii ``a = 1``. Ball 2 at the origin, ball 3 at ``(2, 0)``, ball 1 at
+``−2(cos θ, sin θ)``: the line 1→2 makes the angle θ with the line 2→3, so θ = 0 is the
+chain and θ = 2π/3 closes the third contact (1–3). Eq. 42 (``n₁·n₂ = −½ cos θ``) and the
+components of eq. 27 (``ẋ₂⁺ ∝ cos θ − α₁₂``, ``ẋ₃⁺ ∝ α₁₂``, ``ẏ₃⁺ = 0``) fix this layout.
+
+Constraint functions (eq. 24). The paper prints ``h = (Δx)² + (Δy)² − 2``; with radius 1 the
+contact distance is 2, so the squared form should read ``… − 4`` (misprint). Here the contacts
+are ``h_α = ‖G_j − G_i‖ − 2a`` (``constraint="distance"``, default), whose gradients are the unit
+normals that eq. 27's impulses refer to; ``constraint="squared"`` uses ``‖G_j − G_i‖² − 4a²``,
+whose gradient rows are ``4a`` times longer (impulses ``1/(4a)`` times, ratios unchanged).
+
+Incidence. The text (sec. 4.1) gives ``q̇⁻ = [−cos(θ+τ), −sin(θ+τ), 0, 0, 0, 0]``, but eqs. 27,
+35 and 36 are reproduced only by ``q̇⁻ = (cos(θ−τ), sin(θ−τ))`` for ball 1 (``incidence=
+"theta-minus-tau"``, default); ``"theta-plus-tau"`` gives ``(cos(θ+τ), sin(θ+τ))`` and
+``"printed"`` the text's form. The paper checks record which reading each equation supports.
+
+Examples
+--------
+>>> sc = chain3()
+>>> sc.H, sc.v.T
+(Matrix([
+[-1,  1, 0],
+[ 0, -1, 1]]), Matrix([[1, 0, 0]]))
+>>> import sympy as sp
+>>> pool(sp.pi / 4).H.shape, pool(2 * sp.pi / 3).contacts
+((2, 6), ['1-2', '2-3', '1-3'])
+"""
+
+from __future__ import annotations
+
+import sympy as sp
+
+from ..errors import ImpactInputError
+from ..exact import certified_sign
+from ..scenes import Scene
+
+__all__ = ["chain3", "pool", "bernoulli", "pool_positions", "INCIDENCES"]
+
+INCIDENCES = ("theta-minus-tau", "theta-plus-tau", "printed")
+
+
+def _coords(n_balls: int, planar: bool):
+    if planar:
+        names = [f"{c}{i}" for i in range(1, n_balls + 1) for c in ("x", "y")]
+    else:
+        names = [f"q{i}" for i in range(1, n_balls + 1)]
+    return list(sp.symbols(" ".join(names), real=True)), names
+
+
+def _approaching(H, v):
+    out = []
+    for w in H * v:
+        try:
+            out.append(certified_sign(w) < 0)
+        except Exception:  # symbolic parameters: undecided
+            out.append(None)
+    return out
+
+
+def chain3(masses=(1, 1, 1), velocities=(1, 0, 0), radius=1):
+    """The 3-ball chain of sec. 3.2: balls on a line touching, contacts 1–2 and 2–3 closed.
+
+    Constraints ``h₁ = q₂ − q₁ − 2r ≥ 0``, ``h₂ = q₃ − q₂ − 2r ≥ 0`` (eq. 14); ``M = diag(m)``.
+    Eq. 13 is ``M(q̇⁺ − q̇⁻) = Hᵀp`` with these rows.
+
+    Parameters
+    ----------
+    masses, velocities : three numbers or symbols each (defaults: unit masses, ``q̇⁻ = (1, 0, 0)``).
+    """
+    if len(masses) != 3 or len(velocities) != 3:
+        raise ImpactInputError("masses/velocities", "chain3 needs exactly three of each")
+    q, names = _coords(3, planar=False)
+    r = sp.sympify(radius)
+    h = [q[1] - q[0] - 2 * r, q[2] - q[1] - 2 * r]
+    H = sp.Matrix([[sp.diff(hi, qj) for qj in q] for hi in h])
+    M = sp.diag(*[sp.sympify(m) for m in masses])
+    v = sp.Matrix([sp.sympify(x) for x in velocities])
+    return Scene(M, H, v, names, ["1-2", "2-3"], _approaching(H, v),
+                 {"paper": "acary-taha", "ref": "sec. 3.2, eqs. 13-14", "scene": "chain3"})
+
+
+def pool_positions(theta, a=1):
+    """Centres of balls 1, 2, 3 (see the module docstring): ``G₁ = −2a(cos θ, sin θ)``, ``G₂ = 0``, ``G₃ = (2a, 0)``."""
+    a = sp.sympify(a)
+    return (-2 * a * sp.Matrix([sp.cos(theta), sp.sin(theta)]), sp.zeros(2, 1), sp.Matrix([2 * a, 0]))
+
+
+def _incidence_velocity(theta, tau, incidence):
+    if incidence == "theta-minus-tau":
+        ang, sign = theta - tau, 1
+    elif incidence == "theta-plus-tau":
+        ang, sign = theta + tau, 1
+    elif incidence == "printed":
+        ang, sign = theta + tau, -1
+    else:
+        raise ImpactInputError("incidence", f"must be one of {INCIDENCES}, got {incidence!r}")
+    return sign * sp.cos(ang), sign * sp.sin(ang)
+
+
+def pool(theta, tau=0, *, incidence="theta-minus-tau", constraint="distance", third_contact=None, a=1):
+    """The planar pool of sec. 4: ball 1 strikes balls 2 and 3 (unit masses, radius ``a``).
+
+    Parameters
+    ----------
+    theta : angle between the lines 1→2 and 2→3 (number or symbol), θ ∈ [0, 2π/3]
+    tau : incidence angle of ball 1 relative to the line 1→2 (number or symbol)
+    incidence : ``"theta-minus-tau"`` (default), ``"theta-plus-tau"`` or ``"printed"``
+    constraint : ``"distance"`` (unit-normal rows, default) or ``"squared"`` (eq. 24's form, corrected)
+    third_contact : include contact 1–3. Default: decided exactly (closed iff θ = 2π/3);
+        required when θ is symbolic.
+    """
+    theta, tau = sp.sympify(theta), sp.sympify(tau)
+    if third_contact is None:
+        if theta.free_symbols:
+            third_contact = False
+        else:
+            third_contact = certified_sign(theta - 2 * sp.pi / 3) == 0
+            if not theta.free_symbols and (certified_sign(theta) < 0 or certified_sign(theta - 2 * sp.pi / 3) > 0):
+                raise ImpactInputError("theta", f"must lie in [0, 2*pi/3] (balls 1 and 3 would overlap), got {theta}")
+    q, names = _coords(3, planar=True)
+    G = [sp.Matrix(q[0:2]), sp.Matrix(q[2:4]), sp.Matrix(q[4:6])]
+    pairs = [(0, 1), (1, 2)] + ([(0, 2)] if third_contact else [])
+    a = sp.sympify(a)
+    hs = []
+    for i, j in pairs:
+        d2 = (G[j] - G[i]).dot(G[j] - G[i])
+        hs.append(sp.sqrt(d2) - 2 * a if constraint == "distance" else d2 - 4 * a**2)
+    if constraint not in ("distance", "squared"):
+        raise ImpactInputError("constraint", f"must be 'distance' or 'squared', got {constraint!r}")
+    P = pool_positions(theta, a)
+    at = dict(zip(q, [*P[0], *P[1], *P[2]]))
+    H = sp.Matrix([[sp.simplify(sp.diff(h, qj).subs(at)) for qj in q] for h in hs])
+    vx, vy = _incidence_velocity(theta, tau, incidence)
+    v = sp.Matrix([vx, vy, 0, 0, 0, 0])
+    contacts = [f"{i + 1}-{j + 1}" for i, j in pairs]
+    return Scene(sp.eye(6), H, v, names, contacts, _approaching(H, v),
+                 {"paper": "acary-taha", "ref": "sec. 4, eqs. 24-27", "scene": "pool",
+                  "theta": theta, "tau": tau, "incidence": incidence, "constraint": constraint})
+
+
+def bernoulli(tau=-sp.pi / 6, **kw):
+    """Bernoulli's problem (sec. 4.2, case 3, eq. 37): the pool at θ = 2π/3, three closed contacts."""
+    return pool(2 * sp.pi / 3, tau, third_contact=True, **kw)
