@@ -13,4 +13,4 @@ reflection  the single-impact map G_u and the Newton-restitution map G_u(e) (Seg
 """
 
 #: derivation modules that write generated code, in generation order
-FAMILIES = ["reflection"]
+FAMILIES = ["reflection", "impulse_ratio_root"]

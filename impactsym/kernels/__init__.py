@@ -5,8 +5,11 @@ every kernel is importable as ``impactsym.kernels.<name>``.
 
 from .reflection import *  # noqa: F401,F403
 from .reflection import CODEGEN_NAMES as _reflection_names
+from .impulse_ratio_root import *  # noqa: F401,F403
+from .impulse_ratio_root import CODEGEN_NAMES as _impulse_ratio_root_names
 
 #: every kernel's kebab-case codegen name -> (family, kernel name)
 CODEGEN_NAMES = {
     **{k: ('reflection', v) for k, v in _reflection_names.items()},
+    **{k: ('impulse_ratio_root', v) for k, v in _impulse_ratio_root_names.items()},
 }

@@ -14,6 +14,91 @@
 
 #include "reflection.h"
 
+/* w = M^-1 u and s = u.w for an n x n SPD M (row-major), by Cholesky M = L L^T:
+ * y = L^-1 u, s = y.y, w = L^-T y. Returns -1 when a pivot is not positive. */
+static int reflection_w(size_t n, const double *M, const double *u, double *w, double *s)
+{
+    double L[n > 0 ? n * n : 1];
+    if (n == 0) {
+        return -1;
+    }
+    for (size_t j = 0; j < n; ++j) {
+        double d = M[j * n + j];
+        for (size_t k = 0; k < j; ++k) {
+            d -= L[j * n + k] * L[j * n + k];
+        }
+        if (!(d > 0.0)) {
+            return -1;
+        }
+        L[j * n + j] = sqrt(d);
+        for (size_t i = j + 1; i < n; ++i) {
+            double t = M[i * n + j];
+            for (size_t k = 0; k < j; ++k) {
+                t -= L[i * n + k] * L[j * n + k];
+            }
+            L[i * n + j] = t / L[j * n + j];
+        }
+    }
+    double acc = 0.0;
+    for (size_t i = 0; i < n; ++i) {
+        double t = u[i];
+        for (size_t k = 0; k < i; ++k) {
+            t -= L[i * n + k] * w[k];
+        }
+        w[i] = t / L[i * n + i];
+        acc += w[i] * w[i];
+    }
+    *s = acc;
+    for (size_t ii = n; ii-- > 0;) {
+        double t = w[ii];
+        for (size_t k = ii + 1; k < n; ++k) {
+            t -= L[k * n + ii] * w[k];
+        }
+        w[ii] = t / L[ii * n + ii];
+    }
+    return 0;
+}
+
+/* G_u(e) = I - (1+e) w u / (u w), w = M^-1 u^T (Seghete & Murphey sec. II-A; e = 1: G_u).
+ * mass_matrix: n*n row-major SPD, gradient: n, G: n*n row-major output.
+ * Returns 0, or -1 when the Cholesky factorization of M fails (M not positive definite). */
+int reflection_map(size_t n, const double *mass_matrix, const double *gradient, double restitution, double *G)
+{
+    double w[n > 0 ? n : 1];
+    double s;
+    if (reflection_w(n, mass_matrix, gradient, w, &s) != 0) {
+        return -1;
+    }
+    const double c = (restitution + 1)/s;
+    for (size_t i = 0; i < n; ++i) {
+        for (size_t j = 0; j < n; ++j) {
+            G[i * n + j] = (i == j ? 1.0 : 0.0) - c * w[i] * gradient[j];
+        }
+    }
+    return 0;
+}
+
+/* G_u(e) v = v - (1+e) w (u v) / (u w), w = M^-1 u^T, without forming G.
+ * mass_matrix: n*n row-major SPD; gradient, velocity, out: n. Returns 0, or -1 (M not SPD). */
+int reflect(size_t n, const double *mass_matrix, const double *gradient, const double *velocity,
+            double restitution, double *out)
+{
+    double w[n > 0 ? n : 1];
+    double s;
+    if (reflection_w(n, mass_matrix, gradient, w, &s) != 0) {
+        return -1;
+    }
+    const double c = (restitution + 1)/s;
+    double uv = 0.0;
+    for (size_t i = 0; i < n; ++i) {
+        uv += gradient[i] * velocity[i];
+    }
+    for (size_t i = 0; i < n; ++i) {
+        out[i] = velocity[i] - c * uv * w[i];
+    }
+    return 0;
+}
+
 /* Closed-form G_u(e) for n = 2 (entries row-major), M given by its upper triangle. */
 /* Uses adj(M): det(M) cancels from M^-1 u^T / (u M^-1 u^T). */
 void reflection_map_2(double m_00, double m_01, double m_11, double u_0, double u_1, double e, double *g00, double *g01, double *g10, double *g11)

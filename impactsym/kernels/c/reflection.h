@@ -14,6 +14,9 @@
 
 #include <stddef.h>
 
+int reflection_map(size_t n, const double *mass_matrix, const double *gradient, double restitution, double *G);
+int reflect(size_t n, const double *mass_matrix, const double *gradient, const double *velocity,
+            double restitution, double *out);
 void reflection_map_2(double m_00, double m_01, double m_11, double u_0, double u_1, double e, double *g00, double *g01, double *g10, double *g11);
 void reflection_map_2_batch(size_t n, const double *m_00, const double *m_01, const double *m_11, const double *u_0, const double *u_1, const double *e, double *g00, double *g01, double *g10, double *g11);
 void reflect_2(double m_00, double m_01, double m_11, double u_0, double u_1, double v_0, double v_1, double e, double *w0, double *w1);
