@@ -33,7 +33,7 @@ import sympy as sp
 from ..exact import certified_sign
 from ..numbers import float_to_rational
 
-__all__ = ["exact_data", "rational_matrix", "to_sympy_rational", "to_sympy_matrix", "sign_of", "sign_surd", "delassus"]
+__all__ = ["ExactLinearAlgebra", "exact_data", "rational_matrix", "to_sympy_rational", "to_sympy_matrix", "sign_of", "sign_surd", "delassus"]
 
 
 def _fmpq(x) -> flint.fmpq | None:
@@ -153,3 +153,62 @@ def exact_data(*mats):
             out.append(sp.Matrix([[float_to_rational(x) if isinstance(x, (float, np.floating)) else sp.sympify(x)
                                    for x in row] for row in arr]))
     return "sympy", out
+
+
+class ExactLinearAlgebra:
+    """The few exact operations the multi-contact laws need, in one arithmetic: ``"rational"``
+    (python-flint ``fmpq_mat``) or ``"sympy"`` (exact SymPy matrices, certified signs).
+
+    >>> la = ExactLinearAlgebra("rational")
+    >>> A = rational_matrix(sp.Matrix([[2, -1], [-1, 2]]))
+    >>> la.solve(la.extract(A, [0], [0]), la.column([1]))[0, 0], la.solve(rational_matrix(sp.Matrix([[1, 1], [1, 1]])), la.column([1, 1]))
+    (1/2, None)
+    """
+
+    def __init__(self, kind: str):
+        if kind not in ("rational", "sympy"):
+            raise ValueError(f"kind must be 'rational' or 'sympy', got {kind!r}")
+        self.kind = kind
+
+    def extract(self, A, rows, cols):
+        if self.kind == "sympy":
+            return A.extract(list(rows), list(cols))
+        return flint.fmpq_mat(len(rows), len(cols), [A[i, j] for i in rows for j in cols])
+
+    def column(self, values):
+        if self.kind == "sympy":
+            return sp.Matrix(list(values))
+        vals = [v if isinstance(v, flint.fmpq) else _fmpq(v) for v in values]
+        return flint.fmpq_mat(len(vals), 1, vals)
+
+    def zeros(self, r, c):
+        return sp.zeros(r, c) if self.kind == "sympy" else flint.fmpq_mat(r, c)
+
+    def rows(self, A) -> int:
+        return A.rows if self.kind == "sympy" else A.nrows()
+
+    def solve(self, A, b):
+        """``A⁻¹ b``, or ``None`` when ``A`` is singular (decided exactly)."""
+        n = self.rows(A)
+        if n == 0:
+            return self.zeros(0, 1)
+        if self.kind == "rational":
+            if A.rank() < n:
+                return None
+            return A.solve(b)
+        det = sp.simplify(A.det(method="berkowitz"))
+        if sign_of(det) == 0:
+            return None
+        return A.LUsolve(b).applyfunc(lambda x: sp.radsimp(sp.simplify(x)))
+
+    def rank(self, A) -> int:
+        if self.kind == "rational":
+            return A.rank()
+        return A.applyfunc(sp.nsimplify).rank(simplify=True)
+
+    def to_sympy(self, X):
+        if self.kind == "sympy":
+            return X
+        if isinstance(X, flint.fmpq_mat):
+            return to_sympy_matrix(X)
+        return to_sympy_rational(X) if isinstance(X, flint.fmpq) else sp.sympify(X)

@@ -230,6 +230,24 @@ def impulse_ratio_law(mass_matrix, gradients, velocity, restitution=1, ratios: S
         ratios, notes = apply_coupling(Mx, Hx, vx, given) if k > 1 else ([], [])
     a = _ratio_vector(ratios, k, exact)
 
+    return energy_balance_along(Mx, Hx, vx, ex, a, exact=exact, allow_invalid=allow_invalid, notes=notes)
+
+
+def energy_balance_along(Mx, Hx, vx, ex, a, *, exact: bool, allow_invalid: bool = False, notes=None,
+                         law: str = "impulse-ratio law") -> ImpulseRatioResult:
+    """Solve ``M Δv = Hᵀp``, ``T⁺ = e T⁻`` for ``p = p₁ a`` along a given direction ``a`` (any
+    ``a``, not necessarily ``a₁ = 1``) on *checked* input (``impactsym.mechanics`` checkers).
+
+    This is the computational core of :func:`impulse_ratio_law`, shared by the energetic law of
+    :mod:`impactsym.laws.classical`. ``p₁`` is then the multiplier of the direction ``a``.
+
+    >>> r = energy_balance_along(sp.eye(3), sp.Matrix([[-1, 1, 0], [0, -1, 1]]), sp.Matrix([1, 0, 0]), 1,
+    ...                          [sp.Integer(2), sp.Integer(1)], exact=True)
+    >>> r.impulses.T
+    Matrix([[4/3, 2/3]])
+    """
+    notes = notes or []
+    k = Hx.shape[0]
     kind, (Mq, Hq, vq, aq, eM) = exact_data(Mx, Hx, vx, sp.Matrix(a) if exact else np.array(a),
                                             sp.Matrix([[ex]]) if exact else np.array([[ex]]))
     e_q = eM[0, 0]
@@ -280,7 +298,7 @@ def impulse_ratio_law(mass_matrix, gradients, velocity, restitution=1, ratios: S
                                             f"{_show_surd(x, y, D)} < 0", j + 1))
     violations.sort(key=lambda v: VIOLATION_CONDITIONS.index(v.condition))
     if violations and not allow_invalid:
-        raise DomainError("impulse-ratio law outside its domain: " + "; ".join(v.message for v in violations))
+        raise DomainError(f"{law} outside its domain: " + "; ".join(v.message for v in violations))
 
     # values
     if exact:
