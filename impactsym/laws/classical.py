@@ -31,7 +31,7 @@ against the energy (``T⁺ ≤ T⁻``), each decided exactly.
 
 Energy of Newton/Moreau (proved in :func:`derivations.impulse_ratio.moreau_energy_proof`):
 ``T⁺ − T⁻ = ½ pᵀ(H v⁺ + H v⁻)``, and complementarity gives ``p_i(H_i v⁺ + e H_i v⁻) = 0``, so
-``T⁺ − T⁻ = −½(1 − e) pᵀ H v⁻``: **for e = 1 Newton/Moreau conserves kinetic energy exactly**
+``T⁺ − T⁻ = ½(1 − e) pᵀ H v⁻``: **for e = 1 Newton/Moreau conserves kinetic energy exactly**
 (whatever the number of contacts), and for ``e < 1`` it dissipates when the contacts with
 ``p_i > 0`` approach. So the sec. 3.2 state ``[−1/3, 2/3, 2/3]`` conserves energy; the paper's
 "not acceptable" is qualitative, not energetic, and eq. 12's "advantage ... ensures the
@@ -289,11 +289,11 @@ def solve_lcp(W, q):
 
 def _lcp(sc, Mx, Hx, vx, factor):
     """Solutions of ``0 ≤ W p + factor·H v ⊥ p ≥ 0``, with a note on the method."""
-    q = sc.w * sc.scalar(factor) if sc.kind == "sympy" else sc.w * sc.scalar(factor)
+    q = sc.w * sc.scalar(factor)
     if sc.k <= MAX_ENUMERATED_CONTACTS:
         return _lcp_enumerate(sc, q), f"exact active-set enumeration (k = {sc.k} <= {MAX_ENUMERATED_CONTACTS})"
-    return _lcp_nnls(sc, Mx, Hx, vx, float(sp.sympify(sc.la.to_sympy(factor) if not isinstance(factor, (int, float)) else factor)), q), \
-        "non-negative least squares, active set re-solved and certified exactly"
+    return (_lcp_nnls(sc, Mx, Hx, vx, float(sp.N(sp.sympify(factor), 17)), q),
+            "non-negative least squares, active set re-solved and certified exactly")
 
 
 def _uniqueness(sc, sols, y_of):
@@ -390,9 +390,7 @@ def newton_moreau(mass_matrix, gradients, velocity, restitution=1, *, allow_inva
     """
     exact, Mx, Hx, vx, ex = _checked(mass_matrix, gradients, velocity, restitution)
     sc = _Scene(Mx, Hx, vx)
-    factor = 1 + (to_exact(ex) if not exact else ex) if not exact else 1 + ex
-    if not exact:
-        factor = 1 + to_exact(ex)
+    factor = 1 + (ex if exact else to_exact(ex))
     sols, method = _lcp(sc, Mx, Hx, vx, factor)
     q = sc.w * sc.scalar(factor)
     unique, why = _uniqueness(sc, sols, lambda p: sc.W * p + q)
@@ -488,10 +486,12 @@ def energetic(mass_matrix, gradients, velocity, restitution=1, ratios=None, *, a
     r = energy_balance_along(Mx, Hx, vx, ex, a, exact=exact, allow_invalid=True, law="energetic law")
     sc = _Scene(Mx, Hx, vx)
     conv = _values(sc, exact)
-    Tplus = None if r.velocity is None else (sc.energy(sc.la.column(list(r.velocity))) if sc.kind == "rational" and not exact else None)
+    Tplus = None
     if r.velocity is not None:
-        Tplus = (r.velocity.T * sp.Matrix(Mx) * r.velocity)[0, 0] / 2 if exact else 0.5 * float(r.velocity @ np.asarray(Mx, dtype=float) @ r.velocity)
-        Tplus = sp.radsimp(sp.simplify(Tplus)) if exact else Tplus
+        if exact:
+            Tplus = sp.radsimp(sp.simplify((r.velocity.T * sp.Matrix(Mx) * r.velocity)[0, 0] / 2))
+        else:
+            Tplus = 0.5 * float(r.velocity @ np.asarray(Mx, dtype=float) @ r.velocity)
     res = ClassicalResult("energetic", r.impulses, r.velocity, exact, r.valid, r.violations, conv(sc.T), Tplus,
                           True, [], notes, {"direction": sp.Matrix(a) if exact else np.array(a, dtype=float),
                                             "delta": r.delta})
