@@ -236,9 +236,9 @@ def compare_eq18() -> dict:
 
 
 def _identical(a, b, Delta) -> bool:
-    s = sp.Symbol("s", positive=True)
-    a, b = (sp.sympify(x).subs(sp.sqrt(Delta), s) for x in (a, b))
-    return sp.cancel(sp.together(a - b)) == 0
+    from .pool import _sqrt_delta_to_symbol
+
+    return sp.cancel(sp.together(_sqrt_delta_to_symbol(sp.sympify(a) - sp.sympify(b), Delta))) == 0
 
 
 def momentum_energy_residuals(velocities: dict, masses=(m, m, m), vminus=(1, 0, 0)) -> dict:
