@@ -10,7 +10,9 @@ Modules
 algebra     verified rewriting in the non-commutative algebra of w, u, M (general-n proofs)
 codegen     the one writer of generated files (header, deterministic formatting)
 reflection  the single-impact map G_u and the Newton-restitution map G_u(e) (Seghete & Murphey eq. 1)
+impulse_ratio_root  the physical root of the impulse-ratio quadratic, stable and naive forms
+two_surface the two-surface problem: plane reduction, exact reflection count, the paper's bound (sec. III-C)
 """
 
 #: derivation modules that write generated code, in generation order
-FAMILIES = ["reflection", "impulse_ratio_root"]
+FAMILIES = ["reflection", "impulse_ratio_root", "two_surface", "chain3", "domains"]

@@ -183,7 +183,7 @@ def generate_all(outdir: Path | str = KERNEL_DIR) -> list[Path]:
 # subclassed only where the stock printer emits code that does not compile or loses digits.
 
 from sympy.printing.c import C99CodePrinter  # noqa: E402
-from sympy.printing.codeprinter import CodePrinter  # noqa: E402
+from sympy.printing.codeprinter import CodePrinter, PrintMethodNotImplementedError  # noqa: E402
 from sympy.printing.fortran import FCodePrinter  # noqa: E402
 from sympy.printing.julia import JuliaCodePrinter  # noqa: E402
 from sympy.printing.octave import OctaveCodePrinter  # noqa: E402
@@ -226,6 +226,12 @@ class _RustPrinter(RustCodePrinter):
 
     def _print_Piecewise(self, expr):
         return "(" + super()._print_Piecewise(expr) + ")"
+
+    def _print_ceiling(self, expr):
+        return f"({self._print(expr.args[0])}).ceil()"
+
+    def _print_floor(self, expr):
+        return f"({self._print(expr.args[0])}).floor()"
 
     def _print_Integer(self, expr, _type=False):
         return f"{int(expr.p)}_f64"
@@ -316,7 +322,8 @@ def c_scalar(k: ScalarKernel) -> str:
         if str(a) not in used:
             lines.append(f"    (void){a};")
     for sym, expr in replacements:
-        lines.append(f"    const double {sym} = {_flat(P.doprint(expr))};")
+        ctype = "int" if _is_boolean(expr) else "double"
+        lines.append(f"    const {ctype} {sym} = {_flat(P.doprint(expr))};")
     for name, expr in zip(k.output_names, reduced):
         lines.append(f"    *{name} = {_flat(P.doprint(expr))};")
     lines.append("}")
@@ -324,6 +331,11 @@ def c_scalar(k: ScalarKernel) -> str:
     lines += ["", _c_batch_signature(k), "{", "    for (size_t i = 0; i < n; ++i) {",
               f"        {k.name}({call});", "    }", "}"]
     return "\n".join(lines)
+
+
+def _is_boolean(expr) -> bool:
+    """A common subexpression that is a condition (``B < 0``), not a number."""
+    return isinstance(expr, sp.logic.boolalg.Boolean)
 
 
 def _flat(code: str) -> str:
@@ -378,8 +390,12 @@ def fortran_scalar(k: ScalarKernel) -> str:
     lines += [_fortran_wrap(head, "")]
     lines.append(_fortran_wrap("real(c_double), value, intent(in) :: " + ", ".join(str(a) for a in k.args), "    "))
     lines.append(_fortran_wrap("real(c_double), intent(out) :: " + ", ".join(k.output_names), "    "))
-    if replacements:
-        lines.append(_fortran_wrap("real(c_double) :: " + ", ".join(str(s) for s, _ in replacements), "    "))
+    reals = [str(s) for s, e in replacements if not _is_boolean(e)]
+    logicals = [str(s) for s, e in replacements if _is_boolean(e)]
+    if reals:
+        lines.append(_fortran_wrap("real(c_double) :: " + ", ".join(reals), "    "))
+    if logicals:
+        lines.append(_fortran_wrap("logical :: " + ", ".join(logicals), "    "))
     for sym, expr in replacements:
         lines.append(_fortran_wrap(f"{sym} = {_fortran_expr(P, expr)}", "    "))
     for name, expr in zip(k.output_names, reduced):
@@ -459,7 +475,10 @@ def kernel_code(kernel, lang: str) -> str | None:
     if isinstance(kernel, ScalarKernel):
         if lang == "numpy":
             return _render_scalar(kernel).rstrip("\n")
-        return _SCALAR_RENDERERS[lang](kernel)
+        try:
+            return _SCALAR_RENDERERS[lang](kernel)
+        except PrintMethodNotImplementedError:  # a function the language's printer cannot print
+            return None
     if lang in ("numpy", "python"):
         return textwrap.dedent(kernel.source).strip("\n")
     code = kernel.sources.get(lang)
@@ -475,7 +494,8 @@ _C_PROTOTYPE = re.compile(r"^((?:void|int|double)\s+\w+\s*\([^)]*\))\s*\n?\{", r
 
 def render_c(derivation: str, family: str, module_doc: str, kernels: Sequence) -> tuple[str, str]:
     """``(header, source)`` of one family's self-contained C99 pair."""
-    hdr_lines = ["/*", *(" * " + ln for ln in header(derivation, family).replace("# ", "").strip("\n").splitlines()),
+    head = header(derivation, family).replace("# ", "").strip("\n").splitlines()
+    hdr_lines = ["/* " + head[0], *(" * " + ln for ln in head[1:]),
                  " *", *(" * " + ln if ln else " *" for ln in module_doc.strip("\n").splitlines()),
                  " *", " * C99; compile with e.g. gcc -std=c99 -O2 -c " + f"{family}.c (link with -lm).", " */"]
     guard = f"IMPACTSYM_KERNELS_{family.upper()}_H"
@@ -532,7 +552,7 @@ def render_fortran(derivation, family, module_doc, kernels) -> str:
 
 def render_octave(derivation, family, kernel) -> str:
     code = kernel_code(kernel, "octave")
-    return code + "\n" + _hash_header(derivation, family, "%") + "\n"
+    return _hash_header(derivation, family, "%") + "\n" + code + "\n"
 
 
 def catalog_entry(family: str, derivation: str, k) -> dict:
@@ -578,7 +598,9 @@ def write_languages(outdir: Path, rendered: dict) -> list[Path]:
             path.write_text(text)
             written.append(path)
     cat = outdir / "catalog.json"
-    cat.write_text(json.dumps({"generated_by": "derivations/codegen.py", "sympy": sp.__version__,
-                               "languages": list(LANGUAGES), "kernels": catalog}, indent=1, sort_keys=False) + "\n")
+    cat.write_text(json.dumps({"generated_by": "Generated by derivations/codegen.py. DO NOT EDIT BY HAND: "
+                               "run `python -m derivations`.", "sympy": sp.__version__,
+                               "languages": list(LANGUAGES), "kernels": catalog}, indent=None, sort_keys=False)
+                   .replace('], "kernels": [', '],\n "kernels": [\n').replace('}, {"name"', '},\n{"name"') + "\n")
     written.append(cat)
     return written

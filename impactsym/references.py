@@ -40,7 +40,7 @@ import mpmath
 import numpy as np
 import sympy as sp
 
-__all__ = ["Reference", "ReferenceValue", "ReferenceUnstable", "error_ratio", "relative_error",
+__all__ = ["Reference", "ReferenceValue", "ReferenceUnstable", "OutsideDomain", "error_ratio", "relative_error",
            "EPS", "GUARD_DIGITS", "MAX_DPS"]
 
 EPS = float(np.finfo(float).eps)
@@ -48,6 +48,11 @@ EPS = float(np.finfo(float).eps)
 GUARD_DIGITS = 10
 #: the highest precision the ladder climbs to
 MAX_DPS = 800
+
+
+class OutsideDomain(ArithmeticError):
+    """The exact value is not real (the inputs lie outside the formula's domain, e.g. D < 0):
+    a float kernel must answer NaN there."""
 
 
 class ReferenceUnstable(ArithmeticError):
@@ -82,12 +87,17 @@ class Reference:
         self.names = [str(a) for a in self.args]
         self.outputs = [sp.sympify(o) for o in outputs]
         self._f = sp.lambdify(self.args, self.outputs, modules="mpmath")
-        grads = [[sp.diff(o, a) for a in self.args] for o in self.outputs]
+        # d/dx of a step (ceiling, sign, a Piecewise condition) is 0 almost everywhere
+        grads = [[sp.diff(o, a).replace(lambda x: isinstance(x, (sp.Derivative, sp.Subs)), lambda x: sp.S.Zero)
+                  for a in self.args] for o in self.outputs]
         self._g = sp.lambdify(self.args, grads, modules="mpmath")
 
     def _at(self, xs, dps):
         with mpmath.workdps(dps):
-            vals = [mpmath.mpf(v) for v in self._f(*xs)]
+            raw = self._f(*xs)
+            if any(isinstance(v, mpmath.mpc) and v.imag != 0 for v in raw):
+                raise OutsideDomain(f"the exact value is not real at these inputs (e.g. D < 0): {raw}")
+            vals = [mpmath.mpf(v.real if isinstance(v, mpmath.mpc) else v) for v in raw]
             grads = self._g(*xs)
             sens = [mpmath.fsum(abs(x * mpmath.mpf(d)) for x, d in zip(xs, row)) for row in grads]
             return vals, sens
@@ -102,7 +112,7 @@ class Reference:
         while True:
             hi = 2 * lo
             vals2, sens2 = self._at(xs, hi)
-            agreed = _digits_agreed(vals, vals2, hi)
+            agreed = _digits_agreed(vals, vals2, hi, sens2)
             if agreed >= lo - GUARD_DIGITS:
                 break
             if hi >= MAX_DPS:
@@ -114,13 +124,15 @@ class Reference:
         return ReferenceValue(vals2, sens2, cond, hi, agreed)
 
 
-def _digits_agreed(a, b, dps) -> float:
+def _digits_agreed(a, b, dps, sens) -> float:
+    """Digits to which two rungs agree, relative to ``max(|f|, Σ|x ∂f|)`` (so an exact zero, whose
+    rungs differ by ~10^-dps, agrees as well as its sensitivity allows)."""
     worst = float(dps)
     with mpmath.workdps(dps):
-        for x, y in zip(a, b):
+        for x, y, s in zip(a, b, sens):
             if x == y:
                 continue
-            scale = max(abs(x), abs(y))
+            scale = max(abs(x), abs(y), s)
             worst = min(worst, float(-mpmath.log10(abs(x - y) / scale)))
     return worst
 

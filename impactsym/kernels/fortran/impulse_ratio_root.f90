@@ -15,7 +15,8 @@ contains
 pure subroutine impulse_ratio_root(A, B, C, p1, p1_partner) bind(C, name="f_impulse_ratio_root")
     real(c_double), value, intent(in) :: A, B, C
     real(c_double), intent(out) :: p1, p1_partner
-    real(c_double) :: x0, x1, x2, x3
+    real(c_double) :: x1, x2, x3
+    logical :: x0
     x0 = B < 0
     x1 = B - sqrt(-4*A*C + B**2)*merge(1, -1, x0)
     x2 = -1.0d0/2.0d0*x1/A
