@@ -568,6 +568,9 @@ def catalog_entry(family: str, derivation: str, k) -> dict:
         "outputs": list(k.output_names) if scalar else None,
         "summary": doc.splitlines()[0] if doc else "",
         "code": {lang: kernel_code(k, lang) for lang in LANGUAGES},
+        # the exact formulas (srepr keeps assumptions): references evaluate these, not the code
+        "sympy": {"args": [sp.srepr(a) for a in k.args], "outputs": [sp.srepr(sp.sympify(o)) for o in k.outputs]}
+        if scalar else None,
     }
     return entry
 

@@ -34,6 +34,7 @@ True
 from __future__ import annotations
 
 from dataclasses import dataclass
+from functools import lru_cache
 from typing import Mapping, Sequence
 
 import mpmath
@@ -41,7 +42,7 @@ import numpy as np
 import sympy as sp
 
 __all__ = ["Reference", "ReferenceValue", "ReferenceUnstable", "OutsideDomain", "error_ratio", "relative_error",
-           "EPS", "GUARD_DIGITS", "MAX_DPS"]
+           "EPS", "GUARD_DIGITS", "MAX_DPS", "kernel_reference"]
 
 EPS = float(np.finfo(float).eps)
 #: digits a reference may lose between two rungs of the ladder and still count as agreeing
@@ -94,7 +95,10 @@ class Reference:
 
     def _at(self, xs, dps):
         with mpmath.workdps(dps):
-            raw = self._f(*xs)
+            try:
+                raw = self._f(*xs)
+            except ZeroDivisionError:
+                raise OutsideDomain("the exact value divides by zero at these inputs (degenerate input)") from None
             if any(isinstance(v, mpmath.mpc) and v.imag != 0 for v in raw):
                 raise OutsideDomain(f"the exact value is not real at these inputs (e.g. D < 0): {raw}")
             vals = [mpmath.mpf(v.real if isinstance(v, mpmath.mpc) else v) for v in raw]
@@ -122,6 +126,30 @@ class Reference:
         with mpmath.workdps(hi):
             cond = [s / abs(v) if v != 0 else mpmath.inf for v, s in zip(vals2, sens2)]
         return ReferenceValue(vals2, sens2, cond, hi, agreed)
+
+
+@lru_cache(maxsize=None)
+def kernel_reference(name: str) -> Reference:
+    """The reference of a generated closed-form kernel (by kernel or codegen name), built from the
+    exact formulas the derivation emitted (recorded in ``impactsym/kernels/catalog.json``).
+
+    >>> ref = kernel_reference("impulse-ratio-root")
+    >>> [float(x) for x in ref.evaluate({"A": 1.0, "B": -3.0, "C": 2.0}).values]
+    [2.0, 1.0]
+    """
+    import json
+    from pathlib import Path
+
+    cat = json.loads((Path(__file__).resolve().parent / "kernels" / "catalog.json").read_text())
+    for k in cat["kernels"]:
+        if name in (k["name"], k["codegen_name"]) and k.get("sympy"):
+            from sympy.functions.elementary.piecewise import ExprCondPair
+
+            ns = {**vars(sp), "ExprCondPair": ExprCondPair}  # srepr text written by derivations/codegen.py
+            args = [eval(a, ns) for a in k["sympy"]["args"]]
+            outs = [eval(o, ns) for o in k["sympy"]["outputs"]]
+            return Reference(args, outs)
+    raise KeyError(f"no closed-form kernel {name!r} in the catalog")
 
 
 def _digits_agreed(a, b, dps, sens) -> float:
