@@ -86,9 +86,18 @@ def header(derivation: str, family: str) -> str:
     )
 
 
+_CSE_CACHE: dict = {}
+
+
 def _cse(k: ScalarKernel):
-    """Common subexpressions of a kernel's outputs, shared by every language (deterministic)."""
-    return sp.cse(list(k.outputs), symbols=sp.numbered_symbols("x"), optimizations="basic", order="canonical")
+    """Common subexpressions of a kernel's outputs, shared by every language (deterministic;
+    computed once per kernel object and reused by every language)."""
+    hit = _CSE_CACHE.get(id(k))
+    if hit is not None and hit[0] is k:
+        return hit[1]
+    result = sp.cse(list(k.outputs), symbols=sp.numbered_symbols("x"), optimizations="basic", order="canonical")
+    _CSE_CACHE[id(k)] = (k, result)
+    return result
 
 
 def _render_scalar(k: ScalarKernel) -> str:
@@ -472,6 +481,18 @@ def kernel_code(kernel, lang: str) -> str | None:
     """
     if lang not in LANGUAGES:
         raise ValueError(f"unknown language {lang!r}; known: {', '.join(LANGUAGES)}")
+    hit = _CODE_CACHE.get((id(kernel), lang))
+    if hit is not None and hit[0] is kernel:
+        return hit[1]
+    code = _kernel_code(kernel, lang)
+    _CODE_CACHE[(id(kernel), lang)] = (kernel, code)
+    return code
+
+
+_CODE_CACHE: dict = {}
+
+
+def _kernel_code(kernel, lang: str) -> str | None:
     if isinstance(kernel, ScalarKernel):
         if lang == "numpy":
             return _render_scalar(kernel).rstrip("\n")
