@@ -69,7 +69,7 @@ from scipy.optimize import nnls
 from ..errors import DomainError, ImpactInputError, NonTermination
 from ..mechanics import check_gradients, check_mass_matrix, check_velocity
 from ..numbers import exact_json, is_exact, to_exact
-from .delassus import ExactLinearAlgebra, delassus, exact_data, sign_of
+from .delassus import ExactLinearAlgebra, exact_data, sign_of, tidy
 from .impulse_ratio import Violation, energy_balance_along
 from .reflection import check_restitution
 
@@ -182,7 +182,7 @@ class _Scene:
         self.MinvHt = self.M.LUsolve(Ht) if self.kind == "sympy" else self.M.solve(Ht)
         self.W = self.H * self.MinvHt
         if self.kind == "sympy":
-            self.W = self.W.applyfunc(lambda x: sp.radsimp(sp.simplify(x)))
+            self.W = self.W.applyfunc(lambda x: tidy(x))
         self.k = Hx.shape[0]
         self.n = Mx.shape[0]
         self.w = self.H * self.v
@@ -224,7 +224,7 @@ def _lcp_enumerate(sc: _Scene, q):
                 p[j, 0] = pJ[i, 0]
             y = W * p + q
             if sc.kind == "sympy":
-                y = y.applyfunc(lambda x: sp.radsimp(sp.simplify(x)))
+                y = y.applyfunc(lambda x: tidy(x))
             if any(sign_of(y[i, 0]) < 0 for i in range(k) if i not in J):
                 continue
             if not any(_equal(p, s, k) for s in sols):
@@ -334,7 +334,7 @@ def _finish(law, exact, sc, p, extra_violations=(), notes=(), details=None, uniq
 
 
 def _str(sc, x) -> str:
-    return str(sc.la.to_sympy(x)) if sc.kind == "rational" else str(sp.radsimp(sp.simplify(x)))
+    return str(sc.la.to_sympy(x)) if sc.kind == "rational" else str(tidy(x))
 
 
 def _values(sc, exact):
@@ -343,7 +343,7 @@ def _values(sc, exact):
             return x
         s = sc.la.to_sympy(x)
         if sc.kind == "sympy":
-            s = s.applyfunc(lambda t: sp.radsimp(sp.simplify(t))) if isinstance(s, sp.MatrixBase) else sp.radsimp(sp.simplify(s))
+            s = s.applyfunc(lambda t: tidy(t)) if isinstance(s, sp.MatrixBase) else tidy(s)
         if exact:
             return s
         if isinstance(s, sp.MatrixBase):
@@ -489,7 +489,7 @@ def energetic(mass_matrix, gradients, velocity, restitution=1, ratios=None, *, a
     Tplus = None
     if r.velocity is not None:
         if exact:
-            Tplus = sp.radsimp(sp.simplify((r.velocity.T * sp.Matrix(Mx) * r.velocity)[0, 0] / 2))
+            Tplus = tidy((r.velocity.T * sp.Matrix(Mx) * r.velocity)[0, 0] / 2)
         else:
             Tplus = 0.5 * float(r.velocity @ np.asarray(Mx, dtype=float) @ r.velocity)
     res = ClassicalResult("energetic", r.impulses, r.velocity, exact, r.valid, r.violations, conv(sc.T), Tplus,
@@ -605,7 +605,7 @@ def han_gilmore(mass_matrix, gradients, velocity, restitution=1, *, max_stages: 
                     p[j, 0] = pJ[i, 0]
                 v2 = v + sc.MinvHt * p
                 if sc.kind == "sympy":
-                    v2 = v2.applyfunc(lambda x: sp.radsimp(sp.simplify(x)))
+                    v2 = v2.applyfunc(lambda x: tidy(x))
                 explore(v2, p_total + p, seq + [tuple(j + 1 for j in J)], depth + 1)
 
     explore(sc.v, la.zeros(sc.k, 1), [], 0)
