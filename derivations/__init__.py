@@ -10,7 +10,8 @@ Modules
 algebra     verified rewriting in the non-commutative algebra of w, u, M (general-n proofs)
 codegen     the one writer of generated files (header, deterministic formatting)
 reflection  the single-impact map G_u and the Newton-restitution map G_u(e) (Seghete & Murphey eq. 1)
+two_surface the two-surface problem: plane reduction, exact reflection count, the paper's bound (sec. III-C)
 """
 
 #: derivation modules that write generated code, in generation order
-FAMILIES = ["reflection"]
+FAMILIES = ["reflection", "two_surface"]

@@ -5,8 +5,11 @@ every kernel is importable as ``impactsym.kernels.<name>``.
 
 from .reflection import *  # noqa: F401,F403
 from .reflection import CODEGEN_NAMES as _reflection_names
+from .two_surface import *  # noqa: F401,F403
+from .two_surface import CODEGEN_NAMES as _two_surface_names
 
 #: every kernel's kebab-case codegen name -> (family, kernel name)
 CODEGEN_NAMES = {
     **{k: ('reflection', v) for k, v in _reflection_names.items()},
+    **{k: ('two_surface', v) for k, v in _two_surface_names.items()},
 }
