@@ -74,6 +74,8 @@ def render(result: dict) -> str:
             seqs = "; ".join(" -> ".join("{" + ",".join(map(str, st)) + "}" for st in s) for s in o["sequences"])
             lines.append(f"outcome {i}: v+ = [{', '.join(o['velocity'])}]  p = [{', '.join(o['impulses'])}]  "
                          f"T+ = {o['energy_after']}  via {seqs}")
+        if result.get("unterminated"):
+            lines.append(f"{len(result['unterminated'])} sequence(s) cut at the stage cap (still approaching)")
         return "\n".join(lines)
     lines.append("p  = [" + ", ".join(result["impulses"]) + "]")
     lines.append("v+ = [" + ", ".join(result["velocity"]) + "]")

@@ -520,6 +520,7 @@ class HanGilmoreResult:
     exact: bool
     energy_before: Any = None
     notes: list = field(default_factory=list)
+    unterminated: list = field(default_factory=list)  # stage sequences cut at max_stages
 
     @property
     def unique(self) -> bool:
@@ -539,12 +540,13 @@ class HanGilmoreResult:
         out.update(_json("impulses", first.impulses))
         out.update(_json("velocity", first.velocity))
         out.update(_json("energy_before", self.energy_before))
-        out.update({"valid": True, "violations": [], "unique": self.unique, "outcomes": outs, "notes": self.notes})
+        out.update({"valid": True, "violations": [], "unique": self.unique, "outcomes": outs, "notes": self.notes,
+                    "unterminated": [[list(stage) for stage in seq] for seq in self.unterminated]})
         return out
 
 
 def han_gilmore(mass_matrix, gradients, velocity, restitution=1, *, max_stages: int = 50,
-                max_outcomes: int = 64) -> HanGilmoreResult:
+                max_outcomes: int = 64, max_nodes: int = 20000) -> HanGilmoreResult:
     """Sequential impacts in the manner of Han & Gilmore (eqs. 15–16), every hypothesis followed.
 
     At each stage, for every set ``J`` of closed contacts with ``H_i v ≤ 0`` containing an
@@ -557,11 +559,15 @@ def han_gilmore(mass_matrix, gradients, velocity, restitution=1, *, max_stages: 
     impact) gives eq. 15, which is the Newton/Moreau solution (its LCP's active set is {1, 2});
     ``J = {1}`` then ``{2}`` (1–2 first, then 2–3) gives eq. 16.
 
+    A branch still approaching after ``max_stages`` stages (e.g. plastic impacts one at a time,
+    whose velocities only converge) is cut and reported in ``unterminated``, never dropped
+    silently.
+
     Raises
     ------
     NonTermination
-        A branch needs more than ``max_stages`` stages (e.g. inelastic collapse), or more than
-        ``max_outcomes`` outcomes arise.
+        No branch terminates within ``max_stages``, more than ``max_outcomes`` outcomes arise, or
+        more than ``max_nodes`` hypotheses are explored.
 
     Examples
     --------
@@ -574,8 +580,13 @@ def han_gilmore(mass_matrix, gradients, velocity, restitution=1, *, max_stages: 
     la = sc.la
     e = sc.scalar(ex if exact else to_exact(ex))
     outcomes: list = []  # (v, p, [sequences])
+    unterminated: list = []
+    nodes = [0]
 
     def explore(v, p_total, seq, depth):
+        nodes[0] += 1
+        if nodes[0] > max_nodes:
+            raise NonTermination(f"Han-Gilmore: more than max_nodes = {max_nodes} hypotheses explored")
         w = sc.H * v
         signs = [sign_of(w[i, 0]) for i in range(sc.k)]
         if all(s >= 0 for s in signs):
@@ -588,7 +599,8 @@ def han_gilmore(mass_matrix, gradients, velocity, restitution=1, *, max_stages: 
             outcomes.append((v, p_total, [list(seq)]))
             return
         if depth >= max_stages:
-            raise NonTermination(f"Han-Gilmore: a sequence exceeded max_stages = {max_stages} stages")
+            unterminated.append(list(seq))
+            return
         candidates = [i for i in range(sc.k) if signs[i] <= 0]
         for size in range(len(candidates), 0, -1):  # the simultaneous hypothesis first
             for J in itertools.combinations(candidates, size):
@@ -609,8 +621,13 @@ def han_gilmore(mass_matrix, gradients, velocity, restitution=1, *, max_stages: 
                 explore(v2, p_total + p, seq + [tuple(j + 1 for j in J)], depth + 1)
 
     explore(sc.v, la.zeros(sc.k, 1), [], 0)
+    if not outcomes:
+        raise NonTermination(f"Han-Gilmore: no sequence of impacts ends within max_stages = {max_stages} stages")
     conv = _values(sc, exact)
     outs = [HanGilmoreOutcome(conv(v), conv(p), seqs, conv(sc.energy(v))) for v, p, seqs in outcomes]
     notes = ["stages: Newton's law as an equality on every set J of closed contacts with H_i v <= 0 containing "
              "an approaching one; hypotheses needing p_J < 0 or singular W_JJ rejected"]
-    return HanGilmoreResult(outs, exact, conv(sc.T), notes)
+    if unterminated:
+        notes.append(f"{len(unterminated)} sequence(s) still approaching after max_stages = {max_stages} stages "
+                     "(cut; see unterminated)")
+    return HanGilmoreResult(outs, exact, conv(sc.T), notes, unterminated)
