@@ -56,6 +56,9 @@ def test_pool_coupling_reports_forced_zero(capsys):
     d = js(capsys, "--law", "impulse-ratio", "--scene", "pool", "--theta", "pi/2", "--ratios", "1/2", "--coupling")
     assert d["ratios"] == ["1", "0"] and d["impulses"][1] == "0"
     assert d["coupling"][0]["ratio"] == "alpha_12" and d["coupling"][0]["cos_kinetic_angle"] == "0"
+    assert d["coupling_decision"]["coupled"] == {"1-2": False}
+    d = js(capsys, "--law", "impulse-ratio", "--scene", "pool", "--theta", "pi/3", "--ratios", "1/2", "--coupling")
+    assert d["coupling_decision"]["cos_kinetic_angles"] == {"1-2": "-1/4"}  # eq. 42: -cos(pi/3)/2
     d = js(capsys, "--law", "impulse-ratio", "--scene", "pool", "--theta", "pi/4", "--ratios", "1/2",
            "--restitution", "9/10", "--coupling")
     assert d["ratios"] == ["1", "1/2"] and "coupling" not in d

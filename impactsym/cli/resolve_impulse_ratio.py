@@ -9,8 +9,9 @@ unless ``--allow-invalid``.
 
 from __future__ import annotations
 
+from ..laws.coupling import coupling_decision
 from ..laws.impulse_ratio import impulse_ratio_law
-from ..numbers import parse_number
+from ..numbers import exact_str, parse_number
 from .scene_args import read_scene, scene_json
 
 __all__ = ["run", "render"]
@@ -30,6 +31,15 @@ def run(args) -> dict:
                                coupling=args.coupling)
     out = result.as_json()
     out["restitution"] = str(e)
+    if args.coupling:
+        d = coupling_decision(M, H, v)
+        out["coupling_decision"] = {
+            "participating": d.participating,
+            "approaching": d.approaching,
+            "cos_kinetic_angles": {f"{i + 1}-{j + 1}": exact_str(c) for (i, j), c in d.cosines.items()},
+            "coupled": {f"{i + 1}-{j + 1}": c for (i, j), c in d.coupled.items()},
+            "reachable_from_primary": d.reachable,
+        }
     out.update(scene_json(desc))
     return out
 

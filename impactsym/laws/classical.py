@@ -68,7 +68,7 @@ from scipy.optimize import nnls
 
 from ..errors import DomainError, ImpactInputError, NonTermination
 from ..mechanics import check_gradients, check_mass_matrix, check_velocity
-from ..numbers import exact_json, is_exact, to_exact
+from ..numbers import is_exact, to_exact
 from .delassus import ExactLinearAlgebra, exact_data, sign_of, tidy
 from .impulse_ratio import Violation, energy_balance_along
 from .reflection import check_restitution
@@ -238,8 +238,8 @@ def _equal(p, s, k):
 
 def _lcp_nnls(sc: _Scene, Mx, Hx, vx, q_factor, q):
     """k > MAX_ENUMERATED_CONTACTS: NNLS in floats, then the active set re-solved exactly."""
-    Mf, Hf, vf = (np.asarray(np.array(x.tolist() if hasattr(x, "tolist") else x, dtype=float)) for x in (Mx, Hx, vx))
-    vf = vf.reshape(-1)
+    Mf, Hf = (np.array(x.tolist(), dtype=float) for x in (Mx, Hx))
+    vf = np.array(vx.tolist(), dtype=float).reshape(-1)
     R = np.linalg.cholesky(Mf)
     G = np.linalg.solve(R, Hf.T)
     c = q_factor * (R.T @ vf)
