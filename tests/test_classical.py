@@ -240,3 +240,21 @@ def test_laws_on_the_pool_scene():
     assert sp.simplify(r.energy_after - r.energy_before) == 0
     hg = han_gilmore(sc.M, sc.H, sc.v, 1)
     assert len(hg.outcomes) >= 1
+
+
+def test_poisson_energy_proof():
+    from derivations.impulse_ratio import poisson_energy_proof
+
+    assert poisson_energy_proof()["proven"]
+
+
+@settings(max_examples=40, deadline=None, suppress_health_check=[HealthCheck.too_slow, HealthCheck.large_base_example])
+@given(scenes())
+def test_poisson_energy_identity(scene):
+    # T+ - T- = -(1 - e^2)/2 p_c^T W p_c (poisson_energy_proof), exactly
+    M, H, v, e = scene
+    r = poisson(M, H, v, e, allow_invalid=True)
+    pc = r.details["compression_impulses"]
+    W = H * M.inv() * H.T
+    assert r.energy_after - r.energy_before == -(1 - e**2) / 2 * (pc.T * W * pc)[0, 0]
+    assert M * (r.velocity - v) == H.T * r.impulses

@@ -101,3 +101,13 @@ def test_bernoulli_eq43_contradicts_eq37_choice():
 
 def test_chain3_degree_two():
     assert impact_degree(chain3().M, chain3().H, chain3().v) == 2
+
+
+def test_eq41_printed_cone_sign_is_reversed():
+    # printed: T_i = {p | -grad h_i . p >= 0}; "-v in T_i" then means grad h_i . v >= 0 (leaving), which
+    # would declare "no impact" for the chain's approaching first contact, whose impact the paper computes.
+    sc = chain3()
+    w1 = (sc.H[0, :] * sc.v)[0, 0]
+    printed_condition = -(sc.H[0, :] * (-sc.v))[0, 0] >= 0
+    assert w1 == -1 and not bool(printed_condition)
+    assert participating_contacts(sc.H, sc.v)[0] is True  # the corrected cone: H_1 v- <= 0

@@ -348,3 +348,16 @@ def test_float_path_agrees_with_exact_path(scene):
         ref = [float(x) for x in r.velocity]
         scale = max(1.0, max(abs(x) for x in ref))
         assert max(abs(a - b) for a, b in zip(rf.velocity, ref)) <= 1e-9 * scale
+
+
+def test_eq12_as_printed_contradicts_sec33():
+    # eq. 12 prints (1/2) q+^T M q+ = e q-^T M q-  (no 1/2 on the right), i.e. T+ = 2 e T-.
+    # Sec. 3.3 says alpha = 1, e = 1 gives [0, 0, 1]: true with 1/2 on both sides (CONVENTIONS), false as printed.
+    sc = chain3()
+    both = general_quadratic(sc.M, sc.H, sc.v, 1, [1])
+    printed = general_quadratic(sc.M, sc.H, sc.v, 2, [1])  # T+ = 2 e T- at e = 1
+    assert list(both.vplus) == [0, 0, 1]
+    assert sp.simplify(printed.p1 - (1 + sp.sqrt(3)) / 2) == 0 and list(printed.vplus) != [0, 0, 1]
+    # and the printed form makes the elastic law create energy: T+ = 2 T-
+    T = lambda x: (x.T * sc.M * x)[0, 0] / 2  # noqa: E731
+    assert sp.simplify(T(printed.vplus) - 2 * T(sc.v)) == 0

@@ -36,6 +36,8 @@ Energy of Newton/Moreau (proved in :func:`derivations.impulse_ratio.moreau_energ
 ``p_i > 0`` approach. So the sec. 3.2 state ``[−1/3, 2/3, 2/3]`` conserves energy; the paper's
 "not acceptable" is qualitative, not energetic, and eq. 12's "advantage ... ensures the
 energetic balance contrary to both aforementioned cases" does not hold against Newton at e = 1.
+Likewise Poisson with one coefficient: ``T⁺ − T⁻ = −½(1 − e²) p_cᵀ W p_c ≤ 0``
+(:func:`derivations.impulse_ratio.poisson_energy_proof`).
 
 Examples
 --------
