@@ -110,10 +110,12 @@ class ValidityDomain:
         for k, v in self.region.items():
             if isinstance(v, tuple):
                 reg[k] = [exact_str(x) for x in v]
-                reg[k + "_float"] = [float(sp.N(x, 17)) for x in v]
+                if not any(sp.sympify(x).free_symbols for x in v):
+                    reg[k + "_float"] = [float(sp.N(x, 17)) for x in v]
             elif isinstance(v, sp.Basic):
                 reg[k] = exact_str(v)
-                reg[k + "_float"] = float(sp.N(v, 17))
+                if not v.free_symbols:
+                    reg[k + "_float"] = float(sp.N(v, 17))
             else:
                 reg[k] = v
         out = {"scene": self.scene, "theta": None if self.theta is None else exact_str(self.theta),
@@ -137,16 +139,18 @@ def _chain_or_pool(cs, scene: str, theta) -> ValidityDomain:
     g, h = pool_g(cs), pool_h(cs)
     lo = sp.Max(0, cs / 2)
     emin = sp.simplify(g.subs(alpha, lo))
-    where = "cos(theta)/2" if scene == "pool" else "1/2"
+    pool_ = scene == "pool"
+    cos_ = "cos(theta)" if pool_ else "1"
     bnds = [
         Boundary("alpha_min", "alpha", lo,
-                 f"alpha >= {exact_str(lo)}: v2+ >= 0 at contact 2-3 (v2+ = (2 alpha - cos theta) p1) and p2 = alpha p1 >= 0"),
+                 f"alpha >= {exact_str(lo)}: v2+ >= 0 at contact 2-3 (v2+ = (2 alpha - {cos_}) p1) and p2 = alpha p1 >= 0"),
         Boundary("g", "e", sp.simplify(g),
-                 "e >= g(alpha): v1+ >= 0 at contact 1-2 (eq. 29); g <= 1 iff alpha <= 1, so alpha <= 1"),
+                 f"e >= g(alpha): v1+ >= 0 at contact 1-2 ({'eq. 29' if pool_ else 'eq. 19'}); g <= 1 iff alpha <= 1, "
+                 "so alpha <= 1"),
         Boundary("h", "e", sp.simplify(h),
-                 "e >= h(alpha): Delta >= 0 (eq. 31, corrected); implied by e >= g since g - h = "
-                 "alpha^2 (2 alpha - cos theta)^2 / (2 A (2 - alpha cos theta)^2) >= 0; touches g at alpha = 0 and "
-                 f"alpha = {where}"),
+                 f"e >= h(alpha): Delta >= 0 ({'eq. 31, corrected' if pool_ else 'eq. 18'}); implied by e >= g since g - h = "
+                 f"alpha^2 (2 alpha - {cos_})^2 / (2 A (2 - alpha {cos_})^2) >= 0; touches g at alpha = 0 and "
+                 f"alpha = {cos_}/2"),
         Boundary("e_max", "e", sp.Integer(1), "e <= 1: dissipative energetic coefficient (eq. 12)"),
     ]
     ineq = [f"alpha >= {exact_str(lo)}", f"{exact_str(sp.simplify(g))} <= e <= 1"]
