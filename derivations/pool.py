@@ -516,7 +516,7 @@ def kernels():
     # contact 1–2 approaches iff H₁q̇⁻ = −cos τ < 0; contact 2–3 has H₂q̇⁻ = 0 (balls 2, 3 at rest)
     hv = (sc.H * sc.v).applyfunc(lambda x: sp.simplify(sp.expand_trig(x)))
     assert sp.simplify(hv[0] + sp.cos(ta)) == 0 and hv[1] == 0
-    p1 = sp.Piecewise((stable_root(A, B, C).args[0][0], sp.cos(ta) > 0), (0, True))
+    p1 = sp.Piecewise(((sp.cos(ta) + sp.sqrt(B**2 - 4 * A * C)) / (2 * A), sp.cos(ta) > 0), (0, True))
     w = [vi + ci * p1 for vi, ci in zip(sc.v, _velocity_direction(sc, (a12,)))]
     pool_k = ScalarKernel(
         "pool_impulse_ratio", [th, ta, ee, a12], [p1, a12 * p1, *w], ["p1", "p2", *names],

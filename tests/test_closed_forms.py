@@ -73,20 +73,19 @@ def test_chain3_paper_numbers():
 
 
 def test_stable_root_branches_equal_the_physical_root():
-    A, c = sp.symbols("A c", positive=True)
+    A, c, b = sp.symbols("A c b", positive=True)
     B = sp.Symbol("B", real=True)
     s = sp.Symbol("s", nonnegative=True)  # s = sqrt(D), s^2 = B^2 - 4AC
-    D = B**2 - 4 * A * c
     pw = C.stable_root(A, B, c)
-    assert isinstance(pw, sp.Piecewise) and len(pw.args) == 3
-    naive = (-B + s) / (2 * A)
-    for (expr, cond), on in zip(pw.args, (B < 0, B > 0, True)):
-        assert cond == on
-        diff = (expr.subs(sp.sqrt(D), s) - naive)
-        if on is True:
-            diff = diff.subs(B, 0)
+    assert isinstance(pw, sp.Piecewise) and len(pw.args) == 2
+    assert pw.args[0][1] == (B <= 0) and pw.args[1][1] == sp.true
+    for (expr, _cond), Bval in zip(pw.args, (-b, b)):  # each branch on its side: B = -b <= 0, B = b > 0
+        D = Bval**2 - 4 * A * c
+        diff = expr.subs(B, Bval).subs(sp.sqrt(D), s) - (-Bval + s) / (2 * A)
         num = sp.expand(sp.numer(sp.together(diff)))
         assert sp.expand(num.subs(s**2, D)) == 0
+    # B = 0 (first branch): sqrt(D)/(2A)
+    assert sp.simplify(pw.args[0][0].subs(B, 0) - sp.sqrt(-4 * A * c) / (2 * A)) == 0
 
 
 # ------------------------------------------------------------------ pool (eqs. 27, 33-36)

@@ -64,24 +64,23 @@ def bernoulli_impulse_ratio(tau, e, alpha, alpha13):
     x0 = numpy.cos(tau)
     x1 = numpy.sin(tau + (1/6)*numpy.pi)
     x2 = 2*alpha**2 + alpha*alpha13 + alpha + 2*alpha13**2 + alpha13 + 2
-    x3 = x2**(-1.0)
-    x4 = alpha13*x1 + x0
-    x5 = e - 1
-    x6 = numpy.sqrt(x2*x5 + x4**2)
-    x7 = numpy.select([numpy.logical_and.reduce((numpy.less_equal(x0, 0),numpy.less_equal(x1, 0))),numpy.greater(x4, 0),numpy.less(x4, 0),True], [0,x3*(x4 + x6),-x5/(x4 - x6),x3*x6], default=numpy.nan)
-    x8 = alpha13*x7
-    x9 = tau + (1/3)*numpy.pi
-    x10 = (1/2)*x7
-    x11 = numpy.sqrt(3)
-    x12 = x10*x11
-    x13 = 2*alpha
-    p1 = x7
-    p2 = alpha*x7
-    p3 = x8
-    w1x = -x10*(alpha13 - 1) - numpy.cos(x9)
-    w1y = -x12*(alpha13 + 1) + numpy.sin(x9)
-    w2x = -x10*(x13 + 1)
-    w2y = x12
-    w3x = x10*(alpha13 + x13)
-    w3y = (1/2)*x11*x8
+    x3 = alpha13*x1 + x0
+    x4 = e - 1
+    x5 = numpy.sqrt(x2*x4 + x3**2) + abs(x3)
+    x6 = numpy.select([numpy.logical_and.reduce((numpy.less_equal(x0, 0),numpy.less_equal(x1, 0))),numpy.greater_equal(x3, 0),True], [0,x5/x2,x4/x5], default=numpy.nan)
+    x7 = alpha13*x6
+    x8 = tau + (1/3)*numpy.pi
+    x9 = (1/2)*x6
+    x10 = numpy.sqrt(3)
+    x11 = x10*x9
+    x12 = 2*alpha
+    p1 = x6
+    p2 = alpha*x6
+    p3 = x7
+    w1x = -x9*(alpha13 - 1) - numpy.cos(x8)
+    w1y = -x11*(alpha13 + 1) + numpy.sin(x8)
+    w2x = -x9*(x12 + 1)
+    w2y = x11
+    w3x = x9*(alpha13 + x12)
+    w3y = (1/2)*x10*x7
     return (p1, p2, p3, w1x, w1y, w2x, w2y, w3x, w3y)
