@@ -178,9 +178,9 @@ def chain3_general() -> dict:
     --------
     >>> g = chain3_general()
     >>> g["A"]
-    (alpha**2*m1*m2 + alpha**2*m1*m3 + 2*alpha*m1*m3 + m1*m3 + m2*m3)/(2*m1*m2*m3)
+    (alpha**2*m1*m2 + alpha**2*m1*m3 - 2*alpha*m1*m3 + m1*m3 + m2*m3)/(2*m1*m2*m3)
     >>> g["B"]
-    alpha*v3 - alpha*v2 - v1 + v2
+    -alpha*v2 + alpha*v3 - v1 + v2
 
     References
     ----------
@@ -204,7 +204,7 @@ def printed_eq18():
     Examples
     --------
     >>> printed_eq18()["q3+"]
-    -alpha*(sqrt(2*alpha**2*e - 2*alpha**2 - 2*alpha*e + 2*alpha + 2*e - 1) + 1)/(2*alpha**2 - 2*alpha + 2)
+    alpha*(-sqrt(2*alpha**2*e - 2*alpha**2 - 2*alpha*e + 2*alpha + 2*e - 1) - 1)/(2*alpha**2 - 2*alpha + 2)
     """
     Delta = -1 + 2 * e - 2 * alpha * e + 2 * alpha + 2 * alpha**2 * e - 2 * alpha**2
     den = 2 * (1 - alpha + alpha**2)

@@ -126,7 +126,7 @@ def pool_tau0() -> dict:
     Examples
     --------
     >>> pool_tau0()["x2+"]
-    (-alpha + cos(theta))*(sqrt(2*alpha**2*e - 2*alpha**2 - 2*alpha*e*cos(theta) + 2*alpha*cos(theta) + 2*e - 1) + 1)/(2*(alpha**2 - alpha*cos(theta) + 1))
+    (-alpha + cos(theta))*(sqrt(2*alpha**2*e - 2*alpha**2 - 2*alpha*e*cos(theta) + 2*alpha*cos(theta) + 2*e - 1) + 1)/(2*alpha**2 - 2*alpha*cos(theta) + 2)
 
     References
     ----------
@@ -142,7 +142,7 @@ def pool_at_theta(theta_value, restitution=e) -> dict:
     Examples
     --------
     >>> pool_at_theta(sp.pi / 3, 1)["x2+"]
-    (1 - 2*alpha)/(2*alpha**2 - alpha + 2)
+    -(2*alpha - 1)/(2*alpha**2 - alpha + 2)
     >>> pool_at_theta(sp.pi / 2)["p1"]
     (sqrt(2*alpha**2*e - 2*alpha**2 + 2*e - 1) + 1)/(2*(alpha**2 + 1))
 
@@ -370,7 +370,7 @@ def momentum_energy_residuals(velocities: dict, vminus=None, restitution=1) -> d
 
     >>> r = momentum_energy_residuals(printed_eq33(), (sp.Rational(1, 2), sp.sqrt(3) / 2))
     >>> sp.factor(r["px"]), sp.factor(r["py"])
-    (3*(2*alpha - 1)/(2*alpha**2 - alpha + 2), sqrt(3)/(2*alpha**2 - alpha + 2))
+    (2*(2*alpha - 1)/(2*alpha**2 - alpha + 2), sqrt(3)/(2*alpha**2 - alpha + 2))
     """
     vx, vy = vminus
     q = [sp.sympify(velocities[k]) for k in VELOCITY_NAMES]

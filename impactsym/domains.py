@@ -23,7 +23,7 @@ Examples
 ['alpha_min', 'g', 'h', 'e_max']
 >>> d.region["alpha"], d.region["e"]
 ((1/2, 1), (1/3, 1))
->>> d.contains("3/4", "9/10"), d.contains("3/4", "1/2")
+>>> d.contains("3/4", "9/10"), d.contains("3/4", "2/5")
 (True, False)
 """
 
