@@ -181,3 +181,16 @@ def test_plot_domain_writes_png_and_draws_the_derived_curves(tmp_path):
     assert out["e_min"] == sp.Rational(3, 7)
     with pytest.raises(ImpactInputError):
         plot_domain("2*pi/3", tmp_path / "x.png")
+
+
+@pytest.mark.parametrize("theta", [None, sp.pi / 3], ids=["chain3", "pi/3"])
+def test_domain_agrees_with_the_impulse_ratio_law_validity(theta):
+    """Cross-check against the package's general law (its own validity verdict)."""
+    from impactsym.laws.impulse_ratio import impulse_ratio_law
+
+    dom = validity_domain("chain3") if theta is None else validity_domain("pool", theta)
+    sc = chain3() if theta is None else pool(theta, 0, third_contact=False)
+    for a in GRID_A[::2]:
+        for ee in GRID_E[1::2]:
+            r = impulse_ratio_law(sc.M, sc.H, sc.v, ee, [a], allow_invalid=True)
+            assert dom.contains(a, ee) == bool(r.valid), (a, ee, r.violations)
