@@ -187,20 +187,28 @@ class TwoSurfaceResolution:
     bound : int
         The paper's ``N = ⌈S_total/(2S₀)⌉ = ⌈π/β⌉`` (certified), the maximum count over all velocities.
     kinetic_angle_cos : exact number or float
-        ``cos φ = H_1M⁻¹H_2ᵀ/√(s_1 s_2)``; the wedge opening is ``β = π − φ``.
+        ``cos φ = H_1M⁻¹H_2ᵀ/√(s_1 s_2)`` (computed on first access); the wedge opening is
+        ``β = π − φ``.
     wedge_angle : mpmath.mpf
         ``β`` to ``digits`` digits.
     exact : bool
         Whether the input was exact.
+    decisions : dict
+        How the counts were certified: ``arb`` (an Arb ball excluded every integer),
+        ``exact_tie`` (an integer was confirmed exactly: an iterate on an edge), ``max_bits``.
     """
 
     outcomes: list
     by_first: dict
     bound: int
-    kinetic_angle_cos: Any
     wedge_angle: Any
     exact: bool
     decisions: dict = field(default_factory=dict)
+    _data: Any = field(default=None, repr=False)
+
+    @property
+    def kinetic_angle_cos(self):
+        return _kinetic_cos(self._data, self.exact)
 
 
 # --------------------------------------------------------------------------- exact scalars
@@ -418,6 +426,10 @@ def _certified_exit(d: _Data, m: int, digits: int, W, gram, vec, swap: bool):
     raise UndecidableSign(f"the exit velocity could not be certified to {digits} digits within {MAX_PRECISION_BITS} bits")
 
 
+def _mid_scale(vel) -> mpmath.mpf:
+    return max(abs(vel[i]) for i in range(vel.rows))
+
+
 def _arb_to_mpf(x: arb):
     man, exp = x.mid().man_exp()
     return mpmath.mpf((int(man), int(exp)))
@@ -481,7 +493,6 @@ def resolve_two_surfaces(mass_matrix, gradients, velocity, *, digits: int = DEFA
     # bound N = ceil(pi/beta), certified; pi/beta is an integer only for beta = pi/K with
     # cos^2(pi/K) = g^2/(s_A s_B); decided exactly with SymPy for the candidate K.
     bound = _certified_bound(d, decisions)
-    cosphi_exact = _kinetic_cos(d, exact)
     with mpmath.workdps(digits):
         *_, beta = d.balls(int(digits * 3.33) + 32)
         wedge = _arb_to_mpf(beta)
@@ -493,7 +504,7 @@ def resolve_two_surfaces(mass_matrix, gradients, velocity, *, digits: int = DEFA
         zero = sp.zeros(2, 1) if exact else np.zeros(2)
         o = TwoSurfaceOutcome(first=-1, order=AlternatingOrder(0, 0), reflections=0, velocity=vel,
                               velocity_float=_floats(vel), impulse=zero, exact=exact)
-        return TwoSurfaceResolution([o], by_first, bound, cosphi_exact, wedge, exact, decisions)
+        return TwoSurfaceResolution([o], by_first, bound, wedge, exact, decisions, d)
 
     # exact entries for the certified path (enclosed at each precision tried)
     W_ex = [[W[i, 0], W[i, 1]] for i in range(n)]
@@ -527,7 +538,7 @@ def resolve_two_surfaces(mass_matrix, gradients, velocity, *, digits: int = DEFA
                 with mpmath.workdps(digits + 5):
                     vel = mpmath.matrix([_arb_to_mpf(x) for x in vel_b])
                     imp = mpmath.matrix([_arb_to_mpf(x) for x in imp_b])
-                    err = _arb_to_mpf(rad + arb(0)) * 2
+                    err = _arb_to_mpf(rad) * 2 + _mid_scale(vel) * mpmath.mpf(10) ** -(digits + 4)
                 outcomes.append(TwoSurfaceOutcome(first, order, m, vel, _floats(vel), imp, False,
                                                   digits=digits, error_bound=err))
             else:
@@ -545,11 +556,11 @@ def resolve_two_surfaces(mass_matrix, gradients, velocity, *, digits: int = DEFA
                 with mpmath.workdps(digits + 5):
                     vel = mpmath.matrix([_arb_to_mpf(x) for x in vel_b])
                     imp = mpmath.matrix([_arb_to_mpf(x) for x in imp_b])
-                    err = _arb_to_mpf(rad) * 2
+                    err = _arb_to_mpf(rad) * 2 + _mid_scale(vel) * mpmath.mpf(10) ** -(digits + 4)
                 outcomes.append(TwoSurfaceOutcome(first, order, m, vel, _floats(vel), imp, False,
                                                   digits=digits, error_bound=err))
         by_first[first] = outcomes[-1]
-    return TwoSurfaceResolution(outcomes, by_first, bound, cosphi_exact, wedge, exact, decisions)
+    return TwoSurfaceResolution(outcomes, by_first, bound, wedge, exact, decisions, d)
 
 
 def _as_output(exact, v, vq):
@@ -560,7 +571,7 @@ def _as_output(exact, v, vq):
 
 def _floats(vel) -> np.ndarray:
     if isinstance(vel, sp.MatrixBase):
-        return np.array([float(sp.N(x, 17)) for x in vel])
+        return np.array([float(Fraction(int(x.p), int(x.q))) if x.is_Rational else float(sp.N(x, 17)) for x in vel])
     if isinstance(vel, mpmath.matrix):
         return np.array([float(vel[i]) for i in range(vel.rows)])
     return np.asarray(vel, dtype=float)
