@@ -201,14 +201,14 @@ def test_exit_is_valid_energy_preserving_and_impulses_nonnegative():
 def test_large_counts_exact_against_iteration(eps_den, v):
     M, H = [[1, 0], [0, 2]], [[1, 0], [-eps_den, 1]]
     vv = [Fraction(x) for x in v.split(",")]
-    res = resolve_two_surfaces(_text(M), _text(H), v, max_exact_reflections=10**5)
+    res = resolve_two_surfaces(_text(M), _text(H), v, max_exact_digits=10**6)
     refs = _check_against(res, _fr_matrix(M), _fr_matrix(H), vv)
     assert max(len(r[0]) for r in refs.values() if r) > 20
 
 
 def test_certified_digits_against_80_digit_iteration():
     M, H, v = [[2, 1], [1, 3]], [[1, 0], [-4000, 1]], [Fraction(-1), Fraction(-1, 3)]
-    res = resolve_two_surfaces(_text(M), _text(H), "-1,-1/3", max_exact_reflections=0, digits=40)
+    res = resolve_two_surfaces(_text(M), _text(H), "-1,-1/3", max_exact_digits=0, digits=40)
     for o in res.outcomes:
         count, vm = iterate_mpmath(M, H, v, o.first)
         assert o.reflections == count > 1000 and not o.exact and o.digits == 40
@@ -221,8 +221,8 @@ def test_certified_digits_against_80_digit_iteration():
 
 def test_exact_and_certified_paths_agree():
     M, H, v = "3,1;1,2", "1,0;-200,1", "-2,1"
-    ex = resolve_two_surfaces(M, H, v, max_exact_reflections=10**4)
-    ce = resolve_two_surfaces(M, H, v, max_exact_reflections=0, digits=50)
+    ex = resolve_two_surfaces(M, H, v, max_exact_digits=10**5)
+    ce = resolve_two_surfaces(M, H, v, max_exact_digits=0, digits=50)
     for a, b in zip(ex.outcomes, ce.outcomes):
         assert a.exact and not b.exact and a.reflections == b.reflections
         with mpmath.workdps(60):
