@@ -24,6 +24,7 @@ True
 
 from __future__ import annotations
 
+from fractions import Fraction
 from typing import Any
 
 import flint
@@ -233,11 +234,14 @@ def tidy(x):
     y = sp.radsimp(sp.simplify(y))
     if y.is_Rational:
         return y
+    # a rational in disguise? guess it from 40 digits, then confirm exactly (certified sign 0)
     try:
-        z = sp.Dummy("z")
-        poly = sp.Poly(sp.minimal_polynomial(y, z), z)
-        if poly.degree() == 1:
-            return sp.Rational(-poly.nth(0), poly.nth(1))
-    except Exception:  # noqa: BLE001 - not algebraic or too hard: keep the simplified form
+        val = y.evalf(40)
+        if val.is_real:
+            guess = Fraction(str(sp.Float(val, 40))).limit_denominator(10**12)
+            r = sp.Rational(guess.numerator, guess.denominator)
+            if abs(val - r) < sp.Float("1e-30") * (1 + abs(r)) and certified_sign(y - r) == 0:
+                return r
+    except Exception:  # noqa: BLE001 - a number SymPy cannot evaluate: keep the simplified form
         pass
     return y
