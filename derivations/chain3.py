@@ -178,9 +178,9 @@ def chain3_general() -> dict:
     --------
     >>> g = chain3_general()
     >>> g["A"]
-    (alpha**2*m1*m2 + alpha**2*m1*m3 + 2*alpha*m1*m3 + m1*m3 + m2*m3)/(2*m1*m2*m3)
+    (alpha**2*m1*m2 + alpha**2*m1*m3 - 2*alpha*m1*m3 + m1*m3 + m2*m3)/(2*m1*m2*m3)
     >>> g["B"]
-    alpha*v3 - alpha*v2 - v1 + v2
+    -alpha*v2 + alpha*v3 - v1 + v2
 
     References
     ----------
@@ -204,7 +204,7 @@ def printed_eq18():
     Examples
     --------
     >>> printed_eq18()["q3+"]
-    -alpha*(sqrt(2*alpha**2*e - 2*alpha**2 - 2*alpha*e + 2*alpha + 2*e - 1) + 1)/(2*alpha**2 - 2*alpha + 2)
+    alpha*(-sqrt(2*alpha**2*e - 2*alpha**2 - 2*alpha*e + 2*alpha + 2*e - 1) - 1)/(2*alpha**2 - 2*alpha + 2)
     """
     Delta = -1 + 2 * e - 2 * alpha * e + 2 * alpha + 2 * alpha**2 * e - 2 * alpha**2
     den = 2 * (1 - alpha + alpha**2)
@@ -262,28 +262,28 @@ def momentum_energy_residuals(velocities: dict, masses=(m, m, m), vminus=(1, 0, 
 def stable_root(A, B, C):
     """The physical root ``(−B + √D)/(2A)`` of ``A p² + B p + C``, in cancellation-free form.
 
-    ``D = B² − 4AC``. For ``B < 0`` the two terms of ``−B + √D`` have the same sign, so
-    ``q/A`` with ``q = (−B + √D)/2`` loses nothing; for ``B > 0`` the same root is ``C/q'`` with
-    ``q' = −(B + √D)/2`` (product of the roots ``C/A``), again without cancellation; ``B = 0``
-    gives ``√D/(2A)``. All three branches equal ``(−B + √D)/(2A)`` (proved in the tests).
+    ``D = B² − 4AC``. For ``B ≤ 0`` the two terms of ``−B + √D = |B| + √D`` have the same sign,
+    so ``(|B| + √D)/(2A)`` loses nothing; for ``B > 0`` the same root is ``−2C/(|B| + √D)`` (the
+    product of the roots is ``C/A``), again without cancellation. Writing ``|B|`` in both
+    branches keeps the branch that is not selected free of ``0/0`` when a vectorized kernel
+    evaluates both. Both branches equal ``(−B + √D)/(2A)`` on their side (proved in the tests).
 
     Examples
     --------
     >>> a, b, c = sp.symbols("a b c", positive=True)
-    >>> stable_root(a, -b, c).args[0][0]
-    (b/2 + sqrt(-4*a*c + b**2)/2)/a
+    >>> stable_root(a, -b, c)
+    (b + sqrt(-4*a*c + b**2))/(2*a)
     """
     D = B**2 - 4 * A * C
     return sp.Piecewise(
-        ((-B + sp.sqrt(D)) / 2 / A, B < 0),
-        (-2 * C / (B + sp.sqrt(D)), B > 0),
-        (sp.sqrt(D) / (2 * A), True),
+        ((sp.Abs(B) + sp.sqrt(D)) / (2 * A), B <= 0),
+        (-2 * C / (sp.Abs(B) + sp.sqrt(D)), True),
     )
 
 
 MODULE_DOC = """Impulse-ratio law for the 3-ball chain (Acary & Taha sec. 3.3, eqs. 13-18), general masses
-and pre-impact velocities; the physical root in cancellation-free form (q/A for B < 0,
-C/q' for B > 0)."""
+and pre-impact velocities; the physical root in cancellation-free form ((|B| + sqrt(D))/(2A) for
+B <= 0, -2C/(|B| + sqrt(D)) for B > 0)."""
 
 
 def kernels():
@@ -308,7 +308,7 @@ def kernels():
 and pre-impact velocities: p = p1 (1, alpha), w = post-impact velocities.
 
 p1 is the physical root (-B + sqrt(D))/(2A) of A p1^2 + B p1 + C = 0, evaluated without
-cancellation. D < 0 (no solution) gives nan. No admissibility check: see
+cancellation: (|B| + sqrt(D))/(2A) for B <= 0, -2C/(|B| + sqrt(D)) for B > 0. D < 0 (no solution) gives nan. No admissibility check: see
 impactsym.domains.validity_domain and the impulse-ratio law for those.
 """,
     )

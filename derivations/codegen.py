@@ -213,7 +213,7 @@ class _CPrinter(C99CodePrinter):
     def __init__(self):
         super().__init__({"math_macros": {}})
 
-    def _print_Pi(self, expr):  # pragma: no cover - no kernel uses pi yet
+    def _print_Pi(self, expr):
         return "3.14159265358979323846"
 
 
@@ -235,6 +235,9 @@ class _RustPrinter(RustCodePrinter):
 
     def _print_Piecewise(self, expr):
         return "(" + super()._print_Piecewise(expr) + ")"
+
+    def _print_Pi(self, expr):
+        return "std::f64::consts::PI"
 
     def _print_ceiling(self, expr):
         return f"({self._print(expr.args[0])}).ceil()"
@@ -266,8 +269,23 @@ class _RustPrinter(RustCodePrinter):
 
 
 class _FortranPrinter(FCodePrinter):
+    """Free-form Fortran 2008; π as a double-precision literal (the stock printer emits a
+    ``parameter`` declaration inside the expression)."""
+
     def __init__(self):
         super().__init__({"source_format": "free", "standard": 2008})
+
+    def _print_Pi(self, expr):
+        return "3.14159265358979323846264338327950d0"
+
+    def _print_Piecewise(self, expr):
+        """``merge`` needs both values of one type and kind: every branch as ``real(·, c_double)``."""
+        if expr.args[-1].cond != True:  # noqa: E712 - SymPy's true
+            return super()._print_Piecewise(expr)
+        code = f"real({self._print(expr.args[-1].expr)}, c_double)"
+        for e, c in reversed(expr.args[:-1]):
+            code = f"merge(real({self._print(e)}, c_double), {code}, {self._print(c)})"
+        return code
 
 
 def _printers():

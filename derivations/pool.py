@@ -126,7 +126,7 @@ def pool_tau0() -> dict:
     Examples
     --------
     >>> pool_tau0()["x2+"]
-    (-alpha + cos(theta))*(sqrt(2*alpha**2*e - 2*alpha**2 - 2*alpha*e*cos(theta) + 2*alpha*cos(theta) + 2*e - 1) + 1)/(2*(alpha**2 - alpha*cos(theta) + 1))
+    (-alpha + cos(theta))*(sqrt(2*alpha**2*e - 2*alpha**2 - 2*alpha*e*cos(theta) + 2*alpha*cos(theta) + 2*e - 1) + 1)/(2*alpha**2 - 2*alpha*cos(theta) + 2)
 
     References
     ----------
@@ -142,7 +142,7 @@ def pool_at_theta(theta_value, restitution=e) -> dict:
     Examples
     --------
     >>> pool_at_theta(sp.pi / 3, 1)["x2+"]
-    (1 - 2*alpha)/(2*alpha**2 - alpha + 2)
+    -(2*alpha - 1)/(2*alpha**2 - alpha + 2)
     >>> pool_at_theta(sp.pi / 2)["p1"]
     (sqrt(2*alpha**2*e - 2*alpha**2 + 2*e - 1) + 1)/(2*(alpha**2 + 1))
 
@@ -370,7 +370,7 @@ def momentum_energy_residuals(velocities: dict, vminus=None, restitution=1) -> d
 
     >>> r = momentum_energy_residuals(printed_eq33(), (sp.Rational(1, 2), sp.sqrt(3) / 2))
     >>> sp.factor(r["px"]), sp.factor(r["py"])
-    (3*(2*alpha - 1)/(2*alpha**2 - alpha + 2), sqrt(3)/(2*alpha**2 - alpha + 2))
+    (2*(2*alpha - 1)/(2*alpha**2 - alpha + 2), sqrt(3)/(2*alpha**2 - alpha + 2))
     """
     vx, vy = vminus
     q = [sp.sympify(velocities[k]) for k in VELOCITY_NAMES]
@@ -420,6 +420,17 @@ def eq33_theta() -> dict:
     return {"solutions": sols, "theta": thetas, "misprinted": mis, "at_pi_over_2": at_pi2}
 
 
+def _identical_states(a: dict, b: dict) -> bool:
+    """Exact identity in α of two states; decided first at α = 1/3 (a difference there, certified,
+    already proves non-identity), then symbolically."""
+    from impactsym.exact import certified_sign
+
+    for k in VELOCITY_NAMES:
+        if certified_sign(sp.radsimp(sp.sympify(a[k] - b[k]).subs(alpha, sp.Rational(1, 3)))) != 0:
+            return False
+    return all(sp.simplify(a[k] - b[k]) == 0 for k in VELOCITY_NAMES)
+
+
 def eq37_analysis() -> dict:
     """Audit eq. 37 against every reading, and prove what is wrong with it.
 
@@ -450,8 +461,8 @@ def eq37_analysis() -> dict:
                 sc = pool(2 * sp.pi / 3, -sp.pi / 6, incidence=incidence, constraint=constraint, third_contact=True)
                 law = general_quadratic(sc.M, sc.H, sc.v, 1, list(ratios))
                 v = dict(zip(VELOCITY_NAMES, law.vplus))
-                ok_p = all(sp.simplify(v[k] - printed[k]) == 0 for k in VELOCITY_NAMES)
-                ok_r = all(sp.simplify(v[k] - repaired[k]) == 0 for k in VELOCITY_NAMES)
+                ok_p = _identical_states(v, printed)
+                ok_r = _identical_states(v, repaired)
                 readings.append({"incidence": incidence, "constraint": constraint, "ratios": label,
                                  "matches_printed": ok_p, "matches_repaired": ok_r})
     matches = [r for r in readings if r["matches_printed"] or r["matches_repaired"]]
@@ -472,3 +483,72 @@ def eq37_analysis() -> dict:
             "py_printed": sp.simplify(res_p["py"] + vm[1]), "momentum_repaired": (res_r["px"], res_r["py"]),
             "implied_impulses": (sol[P1], sol[P2], sol[P3]), "implied_ratios": implied,
             "energy_ratio": energy_ratio}
+
+
+# ------------------------------------------------------------------ generated kernels
+MODULE_DOC = """Impulse-ratio law on the pool (Acary & Taha sec. 4): any theta and tau with two closed
+contacts (eqs. 27, 35, 36), and Bernoulli's problem (theta = 2pi/3, three closed contacts, eq. 37)
+with independent ratios. Physical root in cancellation-free form; no impact (p = 0, w = v-) when
+no closed contact approaches (criterion 41; at e = 1 this is the epsilon = sign(cos tau) device)."""
+
+
+def _velocity_direction(sc, ratios):
+    return [sp.factor(sp.simplify(x)) for x in sc.M.LUsolve(sc.H.T * sp.Matrix([1, *ratios]))]
+
+
+def kernels():
+    """The pool family: ``pool_impulse_ratio(theta, tau, e, alpha)`` and
+    ``bernoulli_impulse_ratio(tau, e, alpha12, alpha13)``.
+
+    Outputs ``(p1, p2[, p3], w1x, w1y, w2x, w2y, w3x, w3y)``: impulses and post-impact velocities.
+
+    >>> [k.name for k in kernels()]
+    ['pool_impulse_ratio', 'bernoulli_impulse_ratio']
+    """
+    th, ta = sp.symbols("theta tau", real=True)
+    a12, a13 = sp.symbols("alpha alpha13", real=True)
+    ee = sp.Symbol("e", real=True)
+    names = ["w1x", "w1y", "w2x", "w2y", "w3x", "w3y"]
+    # two contacts, any θ, τ
+    sc, law = pool_law(th, ta, ee, (a12,))
+    A, B, C = sp.factor(law.A), sp.simplify(law.B), sp.factor(law.C)
+    assert sp.simplify(B + sp.cos(ta)) == 0
+    # contact 1–2 approaches iff H₁q̇⁻ = −cos τ < 0; contact 2–3 has H₂q̇⁻ = 0 (balls 2, 3 at rest)
+    hv = (sc.H * sc.v).applyfunc(lambda x: sp.simplify(sp.expand_trig(x)))
+    assert sp.simplify(hv[0] + sp.cos(ta)) == 0 and hv[1] == 0
+    p1 = sp.Piecewise(((sp.cos(ta) + sp.sqrt(B**2 - 4 * A * C)) / (2 * A), sp.cos(ta) > 0), (0, True))
+    w = [vi + ci * p1 for vi, ci in zip(sc.v, _velocity_direction(sc, (a12,)))]
+    pool_k = ScalarKernel(
+        "pool_impulse_ratio", [th, ta, ee, a12], [p1, a12 * p1, *w], ["p1", "p2", *names],
+        """The impulse-ratio law on the pool with two closed contacts (1-2, 2-3), any theta and tau
+(Acary & Taha eqs. 27, 35, 36; incidence qdot1- = (cos(theta - tau), sin(theta - tau))).
+
+p1 = (cos(tau) + sqrt(D))/(2A) for cos(tau) > 0 (A = alpha^2 - alpha cos(theta) + 1,
+D = cos(tau)^2 - 2A(1 - e)); p1 = 0 (no impact) for cos(tau) <= 0. Returns
+(p1, p2, w1x, w1y, w2x, w2y, w3x, w3y). No admissibility check (see impactsym.domains).
+""")
+    # Bernoulli: θ = 2π/3, three contacts, independent ratios
+    sc3, law3 = pool_law(2 * sp.pi / 3, ta, ee, (a12, a13), third_contact=True)
+    A3, B3, C3 = sp.factor(law3.A), sp.simplify(law3.B), sp.factor(law3.C)
+    hv = sc3.H * sc3.v
+    b1, b3 = sp.simplify(hv[0]), sp.simplify(hv[2])
+    root = stable_root(A3, B3, C3)
+    p1b = sp.Piecewise((0, sp.And(b1 >= 0, b3 >= 0)), *[(ex, cond) for ex, cond in root.args])
+    wb = [vi + ci * p1b for vi, ci in zip(sc3.v, _velocity_direction(sc3, (a12, a13)))]
+    bern_k = ScalarKernel(
+        "bernoulli_impulse_ratio", [ta, ee, a12, a13], [p1b, a12 * p1b, a13 * p1b, *wb],
+        ["p1", "p2", "p3", *names],
+        """Bernoulli's problem (Acary & Taha sec. 4.2 case 3, eq. 37): theta = 2pi/3, contacts 1-2, 2-3,
+1-3 closed, ratios alpha12 = p2/p1 and alpha13 = p3/p1 independent (eq. 37 takes them equal).
+
+No impact (p = 0) when neither 1-2 nor 1-3 approaches; otherwise the physical root
+(-B + sqrt(D))/(2A) in cancellation-free form. Returns (p1, p2, p3, w1x, w1y, w2x, w2y, w3x, w3y).
+""")
+    return [pool_k, bern_k]
+
+
+def generate(outdir) -> list[Path]:
+    """Write ``pool.py`` into ``outdir``."""
+    path = Path(outdir) / "pool.py"
+    path.write_text(render_family("pool", "pool", MODULE_DOC, kernels()))
+    return [path]

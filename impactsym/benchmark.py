@@ -43,7 +43,8 @@ from .references import OutsideDomain, error_ratio, kernel_reference
 __all__ = ["FORMULAS", "BACKENDS", "run", "naive_outputs", "compile_c", "check_targets", "table", "plot"]
 
 KERNEL_DIR = Path(__file__).resolve().parent / "kernels"
-FORMULAS = ("chain3_impulse_ratio", "impulse_ratio_root", "reflect_2", "reflect_3", "two_surface_resolution")
+FORMULAS = ("chain3_impulse_ratio", "impulse_ratio_root", "reflect_2", "reflect_3", "pool_impulse_ratio",
+            "two_surface_resolution")
 QUICK_FORMULAS = ("chain3_impulse_ratio", "impulse_ratio_root", "reflect_2")
 BACKENDS = ("sympy-evalf", "sympy-exact", "mpmath-50", "lambdify-naive", "numpy-batched", "numpy-scalar", "c-loop")
 

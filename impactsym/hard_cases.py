@@ -148,6 +148,25 @@ def _two_surface_cases() -> list[HardCase]:
     return out
 
 
+def _pool_cases() -> list[HardCase]:
+    out = []
+    for t in (1e-3, 1e-6, 1e-9):
+        out.append(HardCase("pool_impulse_ratio", f"grazing tau=pi/2-{t:g}, theta=pi/4", "grazing",
+                            {"theta": math.pi / 4, "tau": math.pi / 2 - t, "e": 1.0, "alpha": 0.5}))
+        out.append(HardCase("pool_impulse_ratio", f"theta=pi/2-{t:g}, tau=0", "theta->pi/2",
+                            {"theta": math.pi / 2 - t, "tau": 0.0, "e": 1.0, "alpha": 0.5}))
+    for a in (1e-9, 1e9):
+        out.append(HardCase("pool_impulse_ratio", f"alpha={a:g}, theta=pi/6", "alpha->0" if a < 1 else "alpha->inf",
+                            {"theta": math.pi / 6, "tau": 0.0, "e": 1.0, "alpha": a}))
+    for e in (0.0, 1.0):
+        out.append(HardCase("pool_impulse_ratio", f"e={e:g}, theta=pi/6, alpha=1/4", "e-corner",
+                            {"theta": math.pi / 6, "tau": 0.0, "e": e, "alpha": 0.25}))
+    for t in (1e-6, 1e-9):
+        out.append(HardCase("bernoulli_impulse_ratio", f"grazing tau=pi/2-{t:g}", "grazing",
+                            {"tau": -(math.pi / 2 - t), "e": 1.0, "alpha": 0.5, "alpha13": 0.5}))
+    return out
+
+
 def _domain_cases() -> list[HardCase]:
     out = []
     for t in (1e-6, 1e-9):
@@ -160,7 +179,8 @@ def _domain_cases() -> list[HardCase]:
 
 
 #: every hard case, all kernels
-HARD_CASES: list[HardCase] = _reflection_cases() + _root_cases() + _chain3_cases() + _two_surface_cases() + _domain_cases()
+HARD_CASES: list[HardCase] = (_reflection_cases() + _root_cases() + _chain3_cases() + _two_surface_cases()
+                              + _pool_cases() + _domain_cases())
 
 
 def hard_cases(kernel: str | None = None) -> list[HardCase]:
@@ -207,7 +227,9 @@ def domain_sample(kernel: str, size: int, seed: int = 0) -> dict:
     Domains: reflection — SPD ``M = LLᵀ`` (``L = 2I + U(−1,1)``), ``u, v ∈ U(−1,1)``, ``e ∈ U(0,1)``;
     impulse-ratio root — ``A ∈ U(0.1,10)``, ``B ∈ −U(0.1,10)``, ``C ∈ U(0,1)·B²/(4A)`` (``D ≥ 0``);
     chain3 — masses ``U(0.1,10)``, ``v1 ∈ U(0.1,2)``, ``v2 = v3 = 0``, ``e ∈ U(0.5,1)``, ``α ∈ U(0.05,1)``;
-    two-surface — ``s ∈ U(0.1,10)``, kinetic angle ``π − β`` with ``β ∈ U(0.05, π−0.05)``.
+    two-surface — ``s ∈ U(0.1,10)``, kinetic angle ``π − β`` with ``β ∈ U(0.05, π−0.05)``;
+    pool — ``θ ∈ U(0.1,1.2)``, ``τ ∈ U(−0.3,0.3)``, ``e ∈ U(0.8,1)``, ``α ∈ U(0.05,0.6)`` (points outside
+    the law's validity domain are answered NaN and left out of the error statistics).
     """
     rng = np.random.default_rng(seed)
     if kernel in ("reflect_2", "reflect_3"):
@@ -216,6 +238,9 @@ def domain_sample(kernel: str, size: int, seed: int = 0) -> dict:
         return _sample_root(size, rng)
     if kernel == "chain3_impulse_ratio":
         return _sample_chain3(size, rng)
+    if kernel == "pool_impulse_ratio":
+        return {"theta": rng.uniform(0.1, 1.2, size), "tau": rng.uniform(-0.3, 0.3, size),
+                "e": rng.uniform(0.8, 1.0, size), "alpha": rng.uniform(0.05, 0.6, size)}
     if kernel == "two_surface_resolution":
         d = _sample_two_surface(size, rng)
         beta = d.pop("beta")
@@ -225,4 +250,4 @@ def domain_sample(kernel: str, size: int, seed: int = 0) -> dict:
 
 
 DOMAIN_KERNELS = ("reflect_2", "reflect_3", "impulse_ratio_root", "impulse_ratio_root_naive",
-                  "chain3_impulse_ratio", "two_surface_resolution")
+                  "chain3_impulse_ratio", "two_surface_resolution", "pool_impulse_ratio")

@@ -53,7 +53,9 @@ MAX_DPS = 800
 
 class OutsideDomain(ArithmeticError):
     """The exact value is not real (the inputs lie outside the formula's domain, e.g. D < 0):
-    a float kernel must answer NaN there."""
+    a float kernel must answer NaN there, in the components listed in ``nonreal``."""
+
+    nonreal: list = []
 
 
 class ReferenceUnstable(ArithmeticError):
@@ -99,8 +101,11 @@ class Reference:
                 raw = self._f(*xs)
             except ZeroDivisionError:
                 raise OutsideDomain("the exact value divides by zero at these inputs (degenerate input)") from None
-            if any(isinstance(v, mpmath.mpc) and v.imag != 0 for v in raw):
-                raise OutsideDomain(f"the exact value is not real at these inputs (e.g. D < 0): {raw}")
+            nonreal = [i for i, v in enumerate(raw) if isinstance(v, mpmath.mpc) and v.imag != 0]
+            if nonreal:
+                err = OutsideDomain(f"the exact value is not real at these inputs (e.g. D < 0): {raw}")
+                err.nonreal = nonreal
+                raise err
             vals = [mpmath.mpf(v.real if isinstance(v, mpmath.mpc) else v) for v in raw]
             grads = self._g(*xs)
             sens = [mpmath.fsum(abs(x * mpmath.mpf(d)) for x, d in zip(xs, row)) for row in grads]

@@ -107,3 +107,63 @@ def test_cli_codegen_prints_each_language(capsys, lang):
 def test_cli_codegen_bad_input_exits_2(capsys, argv):
     assert main(argv) == 2
     assert "error" in capsys.readouterr().err
+
+
+def test_cli_bench_json_contract(capsys):
+    """One formula, quick: the JSON carries the documented fields for every backend and case set."""
+    assert main(["bench", "--quick", "--json", "--formula", "impulse-ratio-root"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    rows = out["results"]
+    keys = {"formula", "backend", "case_set", "evals_per_second", "median_rel_error", "max_rel_error"}
+    assert rows and all(keys <= set(r) for r in rows)
+    assert {r["case_set"] for r in rows} == {"uniform", "hard"}
+    got = {(r["backend"], r["case_set"]): r for r in rows}
+    # the generated kernels keep the target on the hard set; the naive lambdify loses the partner root
+    assert got[("numpy-batched", "hard")]["max_error_ratio"] <= 16
+    assert got[("lambdify-naive", "hard")]["max_error_ratio"] > 1e3
+
+
+def test_cli_bench_unknown_formula_exits_2(capsys):
+    assert main(["bench", "--quick", "--formula", "no-such"]) == 2
+
+
+@pytest.mark.skipif(shutil.which("rustc") is None, reason="rustc not on PATH (Rust toolchain not installed)")
+def test_rust_every_closed_form_matches_numpy(tmp_path):
+    """Every closed-form kernel's Rust form, on one in-domain input each, equals the NumPy kernel."""
+    import math
+
+    import numpy as np
+
+    from impactsym import kernels as K
+    from impactsym.hard_cases import HARD_CASES
+
+    cat = json.loads((KERNEL_DIR / "catalog.json").read_text())["kernels"]
+    calls, expected = [], []
+    for k in cat:
+        if k["kind"] != "closed form" or k["code"]["rust"] is None:
+            continue
+        cases = [c for c in HARD_CASES if c.kernel == k["name"]]
+        inputs = cases[0].inputs if cases else {a: 0.4 + 0.05 * i for i, a in enumerate(k["args"])}
+        want = getattr(K, k["name"])(**inputs)
+        want = [float(x) for x in (want if isinstance(want, tuple) else (want,))]
+        if not all(math.isfinite(x) for x in want):
+            continue
+        args = ", ".join(f"{float(inputs[a])!r}_f64" for a in k["args"])
+        outs = ", ".join(f"o{i}" for i in range(len(k["outputs"])))
+        pat = " ".join("{:e}" for _ in k["outputs"])
+        bind = f"let ({outs},) = " if len(k["outputs"]) == 1 else f"let ({outs}) = "
+        if len(k["outputs"]) == 1:
+            bind = "let o0 = "
+        calls.append(f'    {{ {bind}{k["family"]}::{k["name"]}({args}); println!("{pat}", {outs}); }}')
+        expected.append((k["name"], want))
+    mods = sorted({k["family"] for k in cat if k["code"]["rust"] is not None})
+    src = "".join(f'#[path = "{KERNEL_DIR / "rust" / (m + ".rs")}"]\n#[allow(dead_code)]\nmod {m};\n' for m in mods)
+    src += "fn main() {\n" + "\n".join(calls) + "\n}\n"
+    (tmp_path / "all.rs").write_text(src)
+    res = subprocess.run(["rustc", "--edition", "2021", "-O", str(tmp_path / "all.rs"), "-o", str(tmp_path / "all")],
+                         capture_output=True, text=True)
+    assert res.returncode == 0, res.stderr
+    lines = subprocess.run([str(tmp_path / "all")], capture_output=True, text=True).stdout.splitlines()
+    assert len(expected) >= 10 and len(lines) == len(expected)
+    for (name, want), line in zip(expected, lines):
+        np.testing.assert_allclose([float(x) for x in line.split()], want, rtol=1e-9, atol=1e-300, err_msg=name)

@@ -3,8 +3,8 @@
  * tests/test_codegen_sync.py regenerates this file and fails on any difference.
  *
  * Impulse-ratio law for the 3-ball chain (Acary & Taha sec. 3.3, eqs. 13-18), general masses
- * and pre-impact velocities; the physical root in cancellation-free form (q/A for B < 0,
- * C/q' for B > 0).
+ * and pre-impact velocities; the physical root in cancellation-free form ((|B| + sqrt(D))/(2A) for
+ * B <= 0, -2C/(|B| + sqrt(D)) for B > 0).
  *
  * C99; compile with e.g. gcc -std=c99 -O2 -c chain3.c (link with -lm).
  */
@@ -17,29 +17,26 @@
 /* and pre-impact velocities: p = p1 (1, alpha), w = post-impact velocities. */
 /* */
 /* p1 is the physical root (-B + sqrt(D))/(2A) of A p1^2 + B p1 + C = 0, evaluated without */
-/* cancellation. D < 0 (no solution) gives nan. No admissibility check: see */
+/* cancellation: (|B| + sqrt(D))/(2A) for B <= 0, -2C/(|B| + sqrt(D)) for B > 0. D < 0 (no solution) gives nan. No admissibility check: see */
 /* impactsym.domains.validity_domain and the impulse-ratio law for those. */
 void chain3_impulse_ratio(double m1, double m2, double m3, double v1, double v2, double v3, double e, double alpha, double *p1, double *p2, double *w1, double *w2, double *w3)
 {
-    const double x0 = alpha*v2;
-    const double x1 = alpha*v3;
-    const double x2 = v1 - v2 + x0 - x1;
-    const double x3 = 1.0/m1;
-    const double x4 = 1.0/m2;
-    const double x5 = 1.0/m3;
-    const double x6 = m1*m3;
-    const double x7 = pow(alpha, 2);
-    const double x8 = -2*alpha*x6 + m1*m2*x7 + m2*m3 + x6*x7 + x6;
-    const double x9 = (e - 1)*(m1*pow(v1, 2) + m2*pow(v2, 2) + m3*pow(v3, 2));
-    const double x10 = sqrt(pow(x2, 2) + x3*x4*x5*x8*x9);
-    const double x11 = m2*x6/x8;
-    const double x12 = ((x2 > 0) ? ( x11*(x10 + x2) ) : ((x2 < 0) ? ( x9/(-v1 + v2 - x0 + x1 + x10) ) : ( x10*x11 )));
-    const double x13 = alpha*x12;
-    *p1 = x12;
-    *p2 = x13;
-    *w1 = v1 - x12*x3;
-    *w2 = v2 - x12*x4*(alpha - 1);
-    *w3 = v3 + x13*x5;
+    const double x0 = m1*m3;
+    const double x1 = pow(alpha, 2);
+    const double x2 = -2*alpha*x0 + m1*m2*x1 + m2*m3 + x0*x1 + x0;
+    const double x3 = alpha*v2 - alpha*v3 + v1 - v2;
+    const double x4 = 1.0/m1;
+    const double x5 = 1.0/m2;
+    const double x6 = 1.0/m3;
+    const double x7 = (e - 1)*(m1*pow(v1, 2) + m2*pow(v2, 2) + m3*pow(v3, 2));
+    const double x8 = sqrt(x2*x4*x5*x6*x7 + pow(x3, 2)) + fabs(x3);
+    const double x9 = ((x3 >= 0) ? ( m2*x0*x8/x2 ) : ( x7/x8 ));
+    const double x10 = alpha*x9;
+    *p1 = x9;
+    *p2 = x10;
+    *w1 = v1 - x4*x9;
+    *w2 = v2 - x5*x9*(alpha - 1);
+    *w3 = v3 + x10*x6;
 }
 
 void chain3_impulse_ratio_batch(size_t n, const double *m1, const double *m2, const double *m3, const double *v1, const double *v2, const double *v3, const double *e, const double *alpha, double *p1, double *p2, double *w1, double *w2, double *w3)

@@ -3,8 +3,8 @@
  * tests/test_codegen_sync.py regenerates this file and fails on any difference.
  *
  * Impulse-ratio law for the 3-ball chain (Acary & Taha sec. 3.3, eqs. 13-18), general masses
- * and pre-impact velocities; the physical root in cancellation-free form (q/A for B < 0,
- * C/q' for B > 0).
+ * and pre-impact velocities; the physical root in cancellation-free form ((|B| + sqrt(D))/(2A) for
+ * B <= 0, -2C/(|B| + sqrt(D)) for B > 0).
  *
  * C99; compile with e.g. gcc -std=c99 -O2 -c chain3.c (link with -lm).
  */

@@ -18,11 +18,11 @@ pure subroutine impulse_ratio_root(A, B, C, p1, p1_partner) bind(C, name="f_impu
     real(c_double) :: x1, x2, x3
     logical :: x0
     x0 = B < 0
-    x1 = B - sqrt(-4*A*C + B**2)*merge(1, -1, x0)
+    x1 = B - sqrt(-4*A*C + B**2)*merge(real(1, c_double), real(-1, c_double), x0)
     x2 = -1.0d0/2.0d0*x1/A
     x3 = -2*C/x1
-    p1 = merge(x2, x3, x0)
-    p1_partner = merge(x3, x2, x0)
+    p1 = merge(real(x2, c_double), real(x3, c_double), x0)
+    p1_partner = merge(real(x3, c_double), real(x2, c_double), x0)
 end subroutine impulse_ratio_root
 
 ! Roots of A p^2 + B p + C = 0 for the impulse-ratio law (Acary & Taha eq. 38): the physical

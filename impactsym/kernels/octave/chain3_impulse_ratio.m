@@ -6,25 +6,22 @@ function [p1, p2, w1, w2, w3] = chain3_impulse_ratio(m1, m2, m3, v1, v2, v3, e, 
   % and pre-impact velocities: p = p1 (1, alpha), w = post-impact velocities.
   %
   % p1 is the physical root (-B + sqrt(D))/(2A) of A p1^2 + B p1 + C = 0, evaluated without
-  % cancellation. D < 0 (no solution) gives nan. No admissibility check: see
+  % cancellation: (|B| + sqrt(D))/(2A) for B <= 0, -2C/(|B| + sqrt(D)) for B > 0. D < 0 (no solution) gives nan. No admissibility check: see
   % impactsym.domains.validity_domain and the impulse-ratio law for those.
-  x0 = alpha.*v2;
-  x1 = alpha.*v3;
-  x2 = v1 - v2 + x0 - x1;
-  x3 = 1./m1;
-  x4 = 1./m2;
-  x5 = 1./m3;
-  x6 = m1.*m3;
-  x7 = alpha.^2;
-  x8 = -2*alpha.*x6 + m1.*m2.*x7 + m2.*m3 + x6.*x7 + x6;
-  x9 = (e - 1).*(m1.*v1.^2 + m2.*v2.^2 + m3.*v3.^2);
-  x10 = sqrt(x2.^2 + x3.*x4.*x5.*x8.*x9);
-  x11 = m2.*x6./x8;
-  x12 = ((x2 > 0).*(x11.*(x10 + x2)) + (~(x2 > 0)).*( ... (x2 < 0).*(x9./(-v1 + v2 - x0 + x1 + x10)) + (~(x2 < 0)).*(x10.*x11)));
-  x13 = alpha.*x12;
-  p1 = x12;
-  p2 = x13;
-  w1 = v1 - x12.*x3;
-  w2 = v2 - x12.*x4.*(alpha - 1);
-  w3 = v3 + x13.*x5;
+  x0 = m1.*m3;
+  x1 = alpha.^2;
+  x2 = -2*alpha.*x0 + m1.*m2.*x1 + m2.*m3 + x0.*x1 + x0;
+  x3 = alpha.*v2 - alpha.*v3 + v1 - v2;
+  x4 = 1./m1;
+  x5 = 1./m2;
+  x6 = 1./m3;
+  x7 = (e - 1).*(m1.*v1.^2 + m2.*v2.^2 + m3.*v3.^2);
+  x8 = sqrt(x2.*x4.*x5.*x6.*x7 + x3.^2) + abs(x3);
+  x9 = ((x3 >= 0).*(m2.*x0.*x8./x2) + (~(x3 >= 0)).*(x7./x8));
+  x10 = alpha.*x9;
+  p1 = x9;
+  p2 = x10;
+  w1 = v1 - x4.*x9;
+  w2 = v2 - x5.*x9.*(alpha - 1);
+  w3 = v3 + x10.*x6;
 end

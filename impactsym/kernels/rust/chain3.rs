@@ -3,36 +3,33 @@
 // tests/test_codegen_sync.py regenerates this file and fails on any difference.
 
 //! Impulse-ratio law for the 3-ball chain (Acary & Taha sec. 3.3, eqs. 13-18), general masses
-//! and pre-impact velocities; the physical root in cancellation-free form (q/A for B < 0,
-//! C/q' for B > 0).
+//! and pre-impact velocities; the physical root in cancellation-free form ((|B| + sqrt(D))/(2A) for
+//! B <= 0, -2C/(|B| + sqrt(D)) for B > 0).
 
 /// The impulse-ratio law on the 3-ball chain (Acary & Taha eqs. 13, 17, 38), any masses
 /// and pre-impact velocities: p = p1 (1, alpha), w = post-impact velocities.
 ///
 /// p1 is the physical root (-B + sqrt(D))/(2A) of A p1^2 + B p1 + C = 0, evaluated without
-/// cancellation. D < 0 (no solution) gives nan. No admissibility check: see
+/// cancellation: (|B| + sqrt(D))/(2A) for B <= 0, -2C/(|B| + sqrt(D)) for B > 0. D < 0 (no solution) gives nan. No admissibility check: see
 /// impactsym.domains.validity_domain and the impulse-ratio law for those.
 #[allow(non_snake_case, unused_parens, clippy::all)]
 pub fn chain3_impulse_ratio(m1: f64, m2: f64, m3: f64, v1: f64, v2: f64, v3: f64, e: f64, alpha: f64) -> (f64, f64, f64, f64, f64) {
-    let x0 = alpha*v2;
-    let x1 = alpha*v3;
-    let x2 = v1 - v2 + x0 - x1;
-    let x3 = (m1).recip();
-    let x4 = (m2).recip();
-    let x5 = (m3).recip();
-    let x6 = m1*m3;
-    let x7 = (alpha).powi(2);
-    let x8 = -2_f64*alpha*x6 + m1*m2*x7 + m2*m3 + x6*x7 + x6;
-    let x9 = (e - 1_f64)*(m1*(v1).powi(2) + m2*(v2).powi(2) + m3*(v3).powi(2));
-    let x10 = ((x2).powi(2) + x3*x4*x5*x8*x9).sqrt();
-    let x11 = m2*x6/x8;
-    let x12 = (if (x2 > 0.0_f64) { x11*(x10 + x2) } else if (x2 < 0.0_f64) { x9/(-v1 + v2 - x0 + x1 + x10) } else { x10*x11 });
-    let x13 = alpha*x12;
-    let p1 = x12;
-    let p2 = x13;
-    let w1 = v1 - x12*x3;
-    let w2 = v2 - x12*x4*(alpha - 1_f64);
-    let w3 = v3 + x13*x5;
+    let x0 = m1*m3;
+    let x1 = (alpha).powi(2);
+    let x2 = -2_f64*alpha*x0 + m1*m2*x1 + m2*m3 + x0*x1 + x0;
+    let x3 = alpha*v2 - alpha*v3 + v1 - v2;
+    let x4 = (m1).recip();
+    let x5 = (m2).recip();
+    let x6 = (m3).recip();
+    let x7 = (e - 1_f64)*(m1*(v1).powi(2) + m2*(v2).powi(2) + m3*(v3).powi(2));
+    let x8 = (x2*x4*x5*x6*x7 + (x3).powi(2)).sqrt() + x3.abs();
+    let x9 = (if (x3 >= 0.0_f64) { m2*x0*x8/x2 } else { x7/x8 });
+    let x10 = alpha*x9;
+    let p1 = x9;
+    let p2 = x10;
+    let w1 = v1 - x4*x9;
+    let w2 = v2 - x5*x9*(alpha - 1_f64);
+    let w3 = v3 + x10*x6;
     (p1, p2, w1, w2, w3)
 }
 
