@@ -239,6 +239,16 @@ class _RustPrinter(RustCodePrinter):
     def _print_Pi(self, expr):
         return "std::f64::consts::PI"
 
+    def _print_NaN(self, expr):
+        return "f64::NAN"
+
+    def _print_Infinity(self, expr):
+        return "f64::INFINITY"
+
+    def _print_Mod(self, expr):  # SymPy's Mod is floored: the sign of the (positive) divisor
+        a, b = expr.args
+        return f"({self._print(a)}).rem_euclid({self._print(b)})"
+
     def _print_ceiling(self, expr):
         return f"({self._print(expr.args[0])}).ceil()"
 
@@ -268,6 +278,17 @@ class _RustPrinter(RustCodePrinter):
         return f"{b}.powf({self._print(exp)})"
 
 
+class _PythonPrinter(PythonCodePrinter):
+    """Python (``math``) printer that parenthesizes ``%``: SymPy 1.14 prints ``2*Mod(ceiling(x), 2)*y``
+    inside a longer product as ``2*math.ceil(x) % 2*y``, which Python reads as ``((2*ceil(x)) % 2)*y``."""
+
+    def __init__(self):
+        super().__init__({"fully_qualified_modules": True})
+
+    def _print_Mod(self, expr):
+        return "(" + super()._print_Mod(expr) + ")"
+
+
 class _FortranPrinter(FCodePrinter):
     """Free-form Fortran 2008; π as a double-precision literal (the stock printer emits a
     ``parameter`` declaration inside the expression)."""
@@ -295,7 +316,7 @@ def _printers():
         "octave": OctaveCodePrinter({"inline": True}),
         "fortran": _FortranPrinter(),
         "rust": _RustPrinter(),
-        "python": PythonCodePrinter({"fully_qualified_modules": True}),
+        "python": _PythonPrinter(),
     }
 
 

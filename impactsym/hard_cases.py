@@ -137,14 +137,24 @@ def _chain3_cases() -> list[HardCase]:
 def _two_surface_cases() -> list[HardCase]:
     k = "two_surface_resolution"
     out = []
-    for beta in (1e-3, 1e-6, 1e-9):
-        # unit-speed gradients (s_a = s_b = 1), kinetic angle pi - beta: g = cos(angle) = -cos(beta)
+    for beta in (1e-3, 1e-6, 1e-7):
+        # unit-speed gradients (s_a = s_b = 1), kinetic angle pi - beta: g = cos(angle) = -cos(beta).
+        # Below beta ~ 1e-8, -cos(beta) rounds to -1.0 and the float inputs (s_a, s_b, g) describe a
+        # degenerate wedge (Delta = 0): such wedges are given through M and H instead (below).
         out.append(HardCase(k, f"wedge beta={beta:g}", "wedge-angle",
                             {"s_a": 1.0, "s_b": 1.0, "g": -math.cos(beta), "c_a": -1.0, "c_b": 0.5},
-                            "from (s_a, s_b, g) the wedge angle is ill-conditioned by nature: "
-                            "d beta / d g ~ 1/beta, Delta = s_a s_b - g^2 loses all digits at beta ~ 1e-8"))
+                            "ill-conditioned by nature in (s_a, s_b, g): d beta / d g ~ 1/beta"))
         out.append(HardCase(k, f"nearly parallel, beta={beta:g}, both approaching", "nearly-parallel",
                             {"s_a": 2.0, "s_b": 0.5, "g": -math.cos(beta), "c_a": -1.0, "c_b": -0.25}))
+    for beta in (1e-3, 1e-6, 1e-9):
+        # M = I, rows (1, 0) and (-cos beta, sin beta): wedge angle beta, representable down to 1e-9
+        # (reflection counts ~ pi/beta ~ 3e9)
+        h = {"m_00": 1.0, "m_01": 0.0, "m_11": 1.0, "h_00": 1.0, "h_01": 0.0,
+             "h_10": -math.cos(beta), "h_11": math.sin(beta)}
+        out.append(HardCase("two_surface_resolution_2", f"wedge beta={beta:g} (M, H form)", "wedge-angle",
+                            {**h, "v_0": -1.0, "v_1": 0.5}))
+        out.append(HardCase("two_surface_resolution_2", f"nearly parallel, beta={beta:g}, M ill-conditioned",
+                            "nearly-parallel", {**h, "m_00": 1e6, "m_11": 1e-6, "v_0": -1.0, "v_1": -0.5}))
     return out
 
 
@@ -241,6 +251,14 @@ def domain_sample(kernel: str, size: int, seed: int = 0) -> dict:
     if kernel == "pool_impulse_ratio":
         return {"theta": rng.uniform(0.1, 1.2, size), "tau": rng.uniform(-0.3, 0.3, size),
                 "e": rng.uniform(0.8, 1.0, size), "alpha": rng.uniform(0.05, 0.6, size)}
+    if kernel == "two_surface_resolution_2":
+        L = rng.uniform(-1, 1, size=(size, 2, 2)) + 2 * np.eye(2)
+        M = L @ np.swapaxes(L, -1, -2)
+        beta = rng.uniform(0.05, math.pi - 0.05, size)
+        phi = rng.uniform(0, 2 * math.pi, size)
+        return {"m_00": M[:, 0, 0], "m_01": M[:, 0, 1], "m_11": M[:, 1, 1],
+                "h_00": np.cos(phi), "h_01": np.sin(phi), "h_10": -np.cos(phi + beta), "h_11": -np.sin(phi + beta),
+                "v_0": rng.uniform(-1, 1, size), "v_1": rng.uniform(-1, 1, size)}
     if kernel == "two_surface_resolution":
         d = _sample_two_surface(size, rng)
         beta = d.pop("beta")
@@ -250,4 +268,4 @@ def domain_sample(kernel: str, size: int, seed: int = 0) -> dict:
 
 
 DOMAIN_KERNELS = ("reflect_2", "reflect_3", "impulse_ratio_root", "impulse_ratio_root_naive",
-                  "chain3_impulse_ratio", "two_surface_resolution", "pool_impulse_ratio")
+                  "chain3_impulse_ratio", "two_surface_resolution", "two_surface_resolution_2", "pool_impulse_ratio")

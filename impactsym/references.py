@@ -40,6 +40,7 @@ from typing import Mapping, Sequence
 import mpmath
 import numpy as np
 import sympy as sp
+from sympy.printing.pycode import MpmathPrinter
 
 __all__ = ["Reference", "ReferenceValue", "ReferenceUnstable", "OutsideDomain", "error_ratio", "relative_error",
            "EPS", "GUARD_DIGITS", "MAX_DPS", "kernel_reference"]
@@ -49,6 +50,19 @@ EPS = float(np.finfo(float).eps)
 GUARD_DIGITS = 10
 #: the highest precision the ladder climbs to
 MAX_DPS = 800
+
+
+class _MpmathPrinter(MpmathPrinter):
+    """lambdify's mpmath printer with ``%`` parenthesized: SymPy 1.14 prints ``2*Mod(ceiling(x), 2)*y``
+    inside a longer product as ``2*ceil(x) % 2*y`` (read by Python as ``((2*ceil(x)) % 2)*y``)."""
+
+    def _print_Mod(self, expr):
+        return "(" + super()._print_Mod(expr) + ")"
+
+
+def _mpmath_printer() -> _MpmathPrinter:
+    return _MpmathPrinter({"fully_qualified_modules": False, "inline": True, "allow_unknown_functions": True,
+                           "user_functions": {}})
 
 
 class OutsideDomain(ArithmeticError):
@@ -89,11 +103,11 @@ class Reference:
         self.args = list(args)
         self.names = [str(a) for a in self.args]
         self.outputs = [sp.sympify(o) for o in outputs]
-        self._f = sp.lambdify(self.args, self.outputs, modules="mpmath")
+        self._f = sp.lambdify(self.args, self.outputs, modules="mpmath", printer=_mpmath_printer())
         # d/dx of a step (ceiling, sign, a Piecewise condition) is 0 almost everywhere
         grads = [[sp.diff(o, a).replace(lambda x: isinstance(x, (sp.Derivative, sp.Subs)), lambda x: sp.S.Zero)
                   for a in self.args] for o in self.outputs]
-        self._g = sp.lambdify(self.args, grads, modules="mpmath")
+        self._g = sp.lambdify(self.args, grads, modules="mpmath", printer=_mpmath_printer())
 
     def _at(self, xs, dps):
         with mpmath.workdps(dps):
@@ -129,7 +143,7 @@ class Reference:
                     f"reference at {lo} and {hi} digits agrees to only {agreed:.1f} digits (inputs {dict(inputs)})")
             lo, vals, sens = hi, vals2, sens2
         with mpmath.workdps(hi):
-            cond = [s / abs(v) if v != 0 else mpmath.inf for v, s in zip(vals2, sens2)]
+            cond = [s / abs(v) if v != 0 and not mpmath.isnan(v) else mpmath.inf for v, s in zip(vals2, sens2)]
         return ReferenceValue(vals2, sens2, cond, hi, agreed)
 
 
@@ -163,7 +177,7 @@ def _digits_agreed(a, b, dps, sens) -> float:
     worst = float(dps)
     with mpmath.workdps(dps):
         for x, y, s in zip(a, b, sens):
-            if x == y:
+            if x == y or (mpmath.isnan(x) and mpmath.isnan(y)):
                 continue
             scale = max(abs(x), abs(y), s)
             worst = min(worst, float(-mpmath.log10(abs(x - y) / scale)))
@@ -175,6 +189,9 @@ def relative_error(ref: ReferenceValue, computed: Sequence[float]) -> list[float
     out = []
     with mpmath.workdps(ref.dps):
         for v, c in zip(ref.values, computed):
+            if mpmath.isnan(v) and np.isnan(float(c)):
+                out.append(0.0)
+                continue
             d = abs(mpmath.mpf(float(c)) - v)
             out.append(0.0 if d == 0 else (float(d / abs(v)) if v != 0 else float("inf")))
     return out
@@ -190,6 +207,9 @@ def error_ratio(ref: ReferenceValue, computed: Sequence[float]) -> list[float]:
     with mpmath.workdps(ref.dps):
         for v, s, c in zip(ref.values, ref.sensitivity, computed):
             c = float(c)
+            if mpmath.isnan(v) and np.isnan(c):  # "no such branch" (NaN) in both
+                out.append(0.0)
+                continue
             if not np.isfinite(c):
                 out.append(float("inf"))
                 continue

@@ -21,3 +21,91 @@ pub fn two_surface_reflection_count(s_a: f64, s_b: f64, g: f64, c_a: f64, c_b: f
     let count_b = (if (x0) { 0_f64 } else if (c_b < 0.0_f64) { (x2*(-c_b*x1).atan2(c_a*s_b - c_b*g)).ceil() } else { -1_f64 });
     (count_a, count_b)
 }
+
+/// Counts and exit relative velocities (H v+) of both branches: (count_a, ca_a, cb_a,
+/// count_b, ca_b, cb_b). c' = (sqrt(s_a)|p| sin th, sqrt(s_b)|p| sin(beta - th)),
+/// th = sigma (m beta - psi) + (1 - sigma) beta / 2, sigma = (-1)^m (A-first frame).
+/// Float: the angle error grows like m * eps; the law gives certified values.
+#[allow(non_snake_case, unused_parens, clippy::all)]
+pub fn two_surface_resolution(s_a: f64, s_b: f64, g: f64, c_a: f64, c_b: f64) -> (f64, f64, f64, f64, f64, f64) {
+    let x0 = c_a >= 0.0_f64 && c_b >= 0.0_f64;
+    let x1 = (-(g).powi(2) + s_a*s_b).sqrt();
+    let x2 = x1.atan2(-g);
+    let x3 = (x2).recip();
+    let x4 = c_a*g;
+    let x5 = (-c_a*x1).atan2(c_b*s_a - x4);
+    let x6 = (x3*x5).ceil();
+    let x7 = c_a < 0.0_f64;
+    let x8 = (x6).rem_euclid(2_f64);
+    let x9 = x2*x8;
+    let x10 = x2*x6 + 2_f64*x5*x8 - x5 - 2_f64*x6*x9 + x9;
+    let x11 = ((c_a).powi(2)*s_b + (c_b).powi(2)*s_a - 2_f64*c_b*x4).sqrt()/x1;
+    let x12 = (s_a).sqrt()*x11;
+    let x13 = -x2;
+    let x14 = (s_b).sqrt()*x11;
+    let x15 = (-c_b*x1).atan2(c_a*s_b - c_b*g);
+    let x16 = (x15*x3).ceil();
+    let x17 = c_b < 0.0_f64;
+    let x18 = (x16).rem_euclid(2_f64);
+    let x19 = x18*x2;
+    let x20 = 2_f64*x15*x18 - x15 - 2_f64*x16*x19 + x16*x2 + x19;
+    let count_a = (if (x0) { 0_f64 } else if (x7) { x6 } else { -1_f64 });
+    let ca_a = (if (x0) { c_a } else if (x7) { x12*x10.sin() } else { f64::NAN });
+    let cb_a = (if (x0) { c_b } else if (x7) { -x14*(x10 + x13).sin() } else { f64::NAN });
+    let count_b = (if (x0) { 0_f64 } else if (x17) { x16 } else { -1_f64 });
+    let ca_b = (if (x0) { c_a } else if (x17) { -x12*(x13 + x20).sin() } else { f64::NAN });
+    let cb_b = (if (x0) { c_b } else if (x17) { x14*x20.sin() } else { f64::NAN });
+    (count_a, ca_a, cb_a, count_b, ca_b, cb_b)
+}
+
+/// n = 2 closed form: M by its upper triangle, H = [[h_00, h_01], [h_10, h_11]], v = (v_0, v_1).
+/// Returns (count_a, v0_a, v1_a, count_b, v0_b, v1_b): counts and exit velocities of the branches
+/// starting with row 0 (a) and row 1 (b). Float, uncertified (see impactsym.laws.two_surface).
+#[allow(non_snake_case, unused_parens, clippy::all)]
+pub fn two_surface_resolution_2(m_00: f64, m_01: f64, m_11: f64, h_00: f64, h_01: f64, h_10: f64, h_11: f64, v_0: f64, v_1: f64) -> (f64, f64, f64, f64, f64, f64) {
+    let x0 = h_00*v_0 + h_01*v_1;
+    let x1 = h_10*v_0 + h_11*v_1;
+    let x2 = x0 >= 0.0_f64 && x1 >= 0.0_f64;
+    let x3 = h_00*h_11 - h_01*h_10;
+    let x4 = (m_00*m_11 - (m_01).powi(2)).recip();
+    let x5 = (x4).sqrt();
+    let x6 = x5*x3.abs();
+    let x7 = h_10*m_11 - h_11*m_01;
+    let x8 = h_10*m_01 - h_11*m_00;
+    let x9 = x6.atan2(-x4*(h_00*x7 - h_01*x8));
+    let x10 = (x9).recip();
+    let x11 = h_00*m_01 - h_01*m_00;
+    let x12 = h_00*m_11 - h_01*m_01;
+    let x13 = x3*x4;
+    let x14 = (-x0*x6).atan2(x13*(v_0*x11 + v_1*x12));
+    let x15 = (x10*x14).ceil();
+    let x16 = x0 < 0.0_f64;
+    let x17 = (x3).recip();
+    let x18 = x15*x9;
+    let x19 = (x15).rem_euclid(2_f64);
+    let x20 = x19*x9;
+    let x21 = 2_f64*x14*x19;
+    let x22 = 2_f64*x15*x20;
+    let x23 = (x4*(v_0*(m_00*v_0 + m_01*v_1) + v_1*(m_01*v_0 + m_11*v_1))).sqrt()/x5;
+    let x24 = x23*(x4*(h_00*x12 - h_01*x11)).sqrt();
+    let x25 = (if (x2) { x0 } else if (x16) { x24*(-x14 + x18 + x20 + x21 - x22).sin() } else { f64::NAN });
+    let x26 = x23*(x4*(h_10*x7 - h_11*x8)).sqrt();
+    let x27 = (if (x2) { x1 } else if (x16) { x26*(x14 - x18 - x20 - x21 + x22 + x9).sin() } else { f64::NAN });
+    let x28 = (-x1*x6).atan2(-x13*(v_0*x8 + v_1*x7));
+    let x29 = (x10*x28).ceil();
+    let x30 = x1 < 0.0_f64;
+    let x31 = x29*x9;
+    let x32 = (x29).rem_euclid(2_f64);
+    let x33 = x32*x9;
+    let x34 = 2_f64*x28*x32;
+    let x35 = 2_f64*x29*x33;
+    let x36 = (if (x2) { x1 } else if (x30) { x26*(-x28 + x31 + x33 + x34 - x35).sin() } else { f64::NAN });
+    let x37 = (if (x2) { x0 } else if (x30) { x24*(x28 - x31 - x33 - x34 + x35 + x9).sin() } else { f64::NAN });
+    let count_a = (if (x2) { 0_f64 } else if (x16) { x15 } else { -1_f64 });
+    let v0_a = -x17*(h_01*x27 - h_11*x25);
+    let v1_a = x17*(h_00*x27 - h_10*x25);
+    let count_b = (if (x2) { 0_f64 } else if (x30) { x29 } else { -1_f64 });
+    let v0_b = -x17*(h_01*x36 - h_11*x37);
+    let v1_b = x17*(h_00*x36 - h_10*x37);
+    (count_a, v0_a, v1_a, count_b, v0_b, v1_b)
+}
