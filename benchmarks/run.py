@@ -57,7 +57,7 @@ def main() -> None:
           "Relative error of one evaluation: max over output components of |f^ - f|/|f| against the "
           "ladder-checked mpmath reference (50 digits, exact binary inputs). `max err / (eps(1+cond))` is "
           "the largest error in units of eps (|f| + sum_j |x_j df/dx_j|): the stable-form target is a small "
-          "constant there (<= 16). Plot: `bench.png`.", "",
+          "constant there (<= 64; see benchmarks/README.md). Plot: `bench.png`.", "",
           benchmark.table(res), "", "## Scaling", "",
           "### Derivation and codegen time against chain length (n balls, n - 1 contacts, all symbolic)", "",
           "| balls | contacts | derive s | codegen (NumPy + C) s | C lines |", "|---:|---:|---:|---:|---:|"]

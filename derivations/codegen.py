@@ -299,6 +299,18 @@ class _FortranPrinter(FCodePrinter):
     def _print_Pi(self, expr):
         return "3.14159265358979323846264338327950d0"
 
+    def _print_ceiling(self, expr):
+        """``ceiling`` in reals (the intrinsic returns a default integer, which overflows past 2^31)."""
+        a = self._print(expr.args[0])
+        return f"merge(aint({a}) + 1d0, aint({a}), aint({a}) < {a})"
+
+    def _print_Mod(self, expr):
+        a, b = (self._print(x) for x in expr.args)
+        return f"modulo(real({a}, c_double), real({b}, c_double))"
+
+    def _print_NaN(self, expr):
+        return "ieee_value(0.0_c_double, ieee_quiet_nan)"
+
     def _print_Piecewise(self, expr):
         """``merge`` needs both values of one type and kind: every branch as ``real(·, c_double)``."""
         if expr.args[-1].cond != True:  # noqa: E712 - SymPy's true
@@ -601,6 +613,7 @@ def render_fortran(derivation, family, module_doc, kernels) -> str:
              "! " + module_doc.strip().replace("\n", "\n! ").replace("! \n", "!\n"),
              f"module impactsym_{family}",
              "    use, intrinsic :: iso_c_binding, only: c_double",
+             "    use, intrinsic :: ieee_arithmetic, only: ieee_value, ieee_quiet_nan",
              "    implicit none",
              "    private",
              _fortran_wrap("public :: " + ", ".join(names), "    ") if names else "",

@@ -6,6 +6,7 @@
 ! B <= 0, -2C/(|B| + sqrt(D)) for B > 0).
 module impactsym_chain3
     use, intrinsic :: iso_c_binding, only: c_double
+    use, intrinsic :: ieee_arithmetic, only: ieee_value, ieee_quiet_nan
     implicit none
     private
     public :: chain3_impulse_ratio, chain3_alpha_max

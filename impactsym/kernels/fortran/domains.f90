@@ -5,6 +5,7 @@
 ! chain3_alpha_max(e), and the pool's g (v1+ = 0) and h (Delta = 0) as functions of theta and alpha.
 module impactsym_domains
     use, intrinsic :: iso_c_binding, only: c_double
+    use, intrinsic :: ieee_arithmetic, only: ieee_value, ieee_quiet_nan
     implicit none
     private
     public :: pool_g, pool_h

@@ -5,6 +5,7 @@
 ! stable (product-of-roots) and naive (quadratic formula) forms.
 module impactsym_impulse_ratio_root
     use, intrinsic :: iso_c_binding, only: c_double
+    use, intrinsic :: ieee_arithmetic, only: ieee_value, ieee_quiet_nan
     implicit none
     private
     public :: impulse_ratio_root, impulse_ratio_root_naive

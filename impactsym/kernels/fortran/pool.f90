@@ -7,6 +7,7 @@
 ! no closed contact approaches (criterion 41; at e = 1 this is the epsilon = sign(cos tau) device).
 module impactsym_pool
     use, intrinsic :: iso_c_binding, only: c_double
+    use, intrinsic :: ieee_arithmetic, only: ieee_value, ieee_quiet_nan
     implicit none
     private
     public :: pool_impulse_ratio, bernoulli_impulse_ratio

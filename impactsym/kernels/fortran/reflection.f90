@@ -6,6 +6,7 @@
 ! G_u(e) = I - (1+e) M^-1 u^T u / (u M^-1 u^T); e = 1 is the elastic reflection G_u.
 module impactsym_reflection
     use, intrinsic :: iso_c_binding, only: c_double
+    use, intrinsic :: ieee_arithmetic, only: ieee_value, ieee_quiet_nan
     implicit none
     private
     public :: reflection_map_2, reflect_2, reflection_map_3, reflect_3

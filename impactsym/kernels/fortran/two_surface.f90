@@ -8,7 +8,133 @@
 ! ceil(psi_i / beta) reflections. Float kernels, uncertified; impactsym.laws.two_surface certifies.
 module impactsym_two_surface
     use, intrinsic :: iso_c_binding, only: c_double
+    use, intrinsic :: ieee_arithmetic, only: ieee_value, ieee_quiet_nan
     implicit none
     private
+    public :: two_surface_reflection_count, two_surface_resolution, two_surface_resolution_2
 contains
+! Reflection counts (count_a, count_b) of the branches that start with surface A, B
+! (Seghete & Murphey sec. III-B/C): ceil(psi/beta), psi = atan2(-c_i sqrt(Delta), s_i c_j - g c_i),
+! beta = atan2(sqrt(Delta), -g), Delta = s_a s_b - g^2; 0 when c >= 0 (valid), -1 when the branch
+! does not exist. Float arithmetic, uncertified: impactsym.laws.two_surface certifies the count.
+pure subroutine two_surface_reflection_count(s_a, s_b, g, c_a, c_b, count_a, count_b) bind(C, &
+    name="f_two_surface_reflection_count")
+    real(c_double), value, intent(in) :: s_a, s_b, g, c_a, c_b
+    real(c_double), intent(out) :: count_a, count_b
+    real(c_double) :: x1, x2
+    logical :: x0
+    x0 = c_a >= 0 .and. c_b >= 0
+    x1 = sqrt(-g**2 + s_a*s_b)
+    x2 = 1d0/atan2(x1, -g)
+    count_a = merge(real(0, c_double), merge(real(merge(aint(x2*atan2(-c_a*x1, -c_a*g + c_b*s_a)) + &
+        1d0, aint(x2*atan2(-c_a*x1, -c_a*g + c_b*s_a)), aint(x2*atan2(-c_a*x1, -c_a*g + c_b*s_a)) < &
+        x2*atan2(-c_a*x1, -c_a*g + c_b*s_a)), c_double), real(-1, c_double), c_a < 0), x0)
+    count_b = merge(real(0, c_double), merge(real(merge(aint(x2*atan2(-c_b*x1, c_a*s_b - c_b*g)) + &
+        1d0, aint(x2*atan2(-c_b*x1, c_a*s_b - c_b*g)), aint( x2*atan2(-c_b*x1, c_a*s_b - c_b*g)) < &
+        x2*atan2(-c_b*x1, c_a*s_b - c_b*g)), c_double), real(-1, c_double), c_b < 0), x0)
+end subroutine two_surface_reflection_count
+
+! Counts and exit relative velocities (H v+) of both branches: (count_a, ca_a, cb_a,
+! count_b, ca_b, cb_b). c' = (sqrt(s_a)|p| sin th, sqrt(s_b)|p| sin(beta - th)),
+! th = sigma (m beta - psi) + (1 - sigma) beta / 2, sigma = (-1)^m (A-first frame).
+! Float: the angle error grows like m * eps; the law gives certified values.
+pure subroutine two_surface_resolution(s_a, s_b, g, c_a, c_b, count_a, ca_a, cb_a, count_b, ca_b, &
+    cb_b) bind(C, name="f_two_surface_resolution")
+    real(c_double), value, intent(in) :: s_a, s_b, g, c_a, c_b
+    real(c_double), intent(out) :: count_a, ca_a, cb_a, count_b, ca_b, cb_b
+    real(c_double) :: x1, x2, x3, x4, x5, x6, x8, x9, x10, x11, x12, x13, x14, x15, x16, x18, x19, &
+        x20
+    logical :: x0, x7, x17
+    x0 = c_a >= 0 .and. c_b >= 0
+    x1 = sqrt(-g**2 + s_a*s_b)
+    x2 = atan2(x1, -g)
+    x3 = 1d0/x2
+    x4 = c_a*g
+    x5 = atan2(-c_a*x1, c_b*s_a - x4)
+    x6 = merge(aint(x3*x5) + 1d0, aint(x3*x5), aint(x3*x5) < x3*x5)
+    x7 = c_a < 0
+    x8 = modulo(real(x6, c_double), real(2, c_double))
+    x9 = x2*x8
+    x10 = x2*x6 + 2*x5*x8 - x5 - 2*x6*x9 + x9
+    x11 = sqrt(c_a**2*s_b + c_b**2*s_a - 2*c_b*x4)/x1
+    x12 = sqrt(s_a)*x11
+    x13 = -x2
+    x14 = sqrt(s_b)*x11
+    x15 = atan2(-c_b*x1, c_a*s_b - c_b*g)
+    x16 = merge(aint(x15*x3) + 1d0, aint(x15*x3), aint(x15*x3) < x15*x3)
+    x17 = c_b < 0
+    x18 = modulo(real(x16, c_double), real(2, c_double))
+    x19 = x18*x2
+    x20 = 2*x15*x18 - x15 - 2*x16*x19 + x16*x2 + x19
+    count_a = merge(real(0, c_double), merge(real(x6, c_double), real(-1, c_double), x7), x0)
+    ca_a = merge(real(c_a, c_double), merge(real(x12*sin(x10), c_double), real( &
+        ieee_value(0.0_c_double, ieee_quiet_nan), c_double), x7), x0)
+    cb_a = merge(real(c_b, c_double), merge(real(-x14*sin(x10 + x13), c_double), &
+        real(ieee_value(0.0_c_double, ieee_quiet_nan), c_double), x7), x0 )
+    count_b = merge(real(0, c_double), merge(real(x16, c_double), real(-1, c_double), x17), x0)
+    ca_b = merge(real(c_a, c_double), merge(real(-x12*sin(x13 + x20), c_double), &
+        real(ieee_value(0.0_c_double, ieee_quiet_nan), c_double), x17), x0)
+    cb_b = merge(real(c_b, c_double), merge(real(x14*sin(x20), c_double), real( &
+        ieee_value(0.0_c_double, ieee_quiet_nan), c_double), x17), x0)
+end subroutine two_surface_resolution
+
+! n = 2 closed form: M by its upper triangle, H = [[h_00, h_01], [h_10, h_11]], v = (v_0, v_1).
+! Returns (count_a, v0_a, v1_a, count_b, v0_b, v1_b): counts and exit velocities of the branches
+! starting with row 0 (a) and row 1 (b). Float, uncertified (see impactsym.laws.two_surface).
+pure subroutine two_surface_resolution_2(m_00, m_01, m_11, h_00, h_01, h_10, h_11, v_0, v_1, &
+    count_a, v0_a, v1_a, count_b, v0_b, v1_b) bind(C, name="f_two_surface_resolution_2")
+    real(c_double), value, intent(in) :: m_00, m_01, m_11, h_00, h_01, h_10, h_11, v_0, v_1
+    real(c_double), intent(out) :: count_a, v0_a, v1_a, count_b, v0_b, v1_b
+    real(c_double) :: x0, x1, x3, x4, x5, x6, x7, x8, x9, x10, x11, x12, x13, x14, x15, x17, x18, &
+        x19, x20, x21, x22, x23, x24, x25, x26, x27, x28, x29, x31, x32, x33, x34, x35, x36, x37
+    logical :: x2, x16, x30
+    x0 = h_00*v_0 + h_01*v_1
+    x1 = h_10*v_0 + h_11*v_1
+    x2 = x0 >= 0 .and. x1 >= 0
+    x3 = h_00*h_11 - h_01*h_10
+    x4 = 1d0/(m_00*m_11 - m_01**2)
+    x5 = sqrt(x4)
+    x6 = x5*abs(x3)
+    x7 = h_10*m_11 - h_11*m_01
+    x8 = h_10*m_01 - h_11*m_00
+    x9 = atan2(x6, -x4*(h_00*x7 - h_01*x8))
+    x10 = 1d0/x9
+    x11 = h_00*m_01 - h_01*m_00
+    x12 = h_00*m_11 - h_01*m_01
+    x13 = x3*x4
+    x14 = atan2(-x0*x6, x13*(v_0*x11 + v_1*x12))
+    x15 = merge(aint(x10*x14) + 1d0, aint(x10*x14), aint(x10*x14) < x10*x14)
+    x16 = x0 < 0
+    x17 = 1d0/x3
+    x18 = x15*x9
+    x19 = modulo(real(x15, c_double), real(2, c_double))
+    x20 = x19*x9
+    x21 = 2*x14*x19
+    x22 = 2*x15*x20
+    x23 = sqrt(x4*(v_0*(m_00*v_0 + m_01*v_1) + v_1*(m_01*v_0 + m_11*v_1)))/x5
+    x24 = x23*sqrt(x4*(h_00*x12 - h_01*x11))
+    x25 = merge(real(x0, c_double), merge(real(x24*sin(-x14 + x18 + x20 + x21 - x22), c_double), &
+        real(ieee_value(0.0_c_double, ieee_quiet_nan), c_double), x16), x2)
+    x26 = x23*sqrt(x4*(h_10*x7 - h_11*x8))
+    x27 = merge(real(x1, c_double), merge(real(x26*sin(x14 - x18 - x20 - x21 + x22 + x9), &
+        c_double), real(ieee_value(0.0_c_double, ieee_quiet_nan), c_double), x16), x2)
+    x28 = atan2(-x1*x6, -x13*(v_0*x8 + v_1*x7))
+    x29 = merge(aint(x10*x28) + 1d0, aint(x10*x28), aint(x10*x28) < x10*x28)
+    x30 = x1 < 0
+    x31 = x29*x9
+    x32 = modulo(real(x29, c_double), real(2, c_double))
+    x33 = x32*x9
+    x34 = 2*x28*x32
+    x35 = 2*x29*x33
+    x36 = merge(real(x1, c_double), merge(real(x26*sin(-x28 + x31 + x33 + x34 - x35), c_double), &
+        real(ieee_value(0.0_c_double, ieee_quiet_nan), c_double), x30), x2)
+    x37 = merge(real(x0, c_double), merge(real(x24*sin(x28 - x31 - x33 - x34 + x35 + x9), &
+        c_double), real(ieee_value(0.0_c_double, ieee_quiet_nan), c_double), x30), x2)
+    count_a = merge(real(0, c_double), merge(real(x15, c_double), real(-1, c_double), x16), x2)
+    v0_a = -x17*(h_01*x27 - h_11*x25)
+    v1_a = x17*(h_00*x27 - h_10*x25)
+    count_b = merge(real(0, c_double), merge(real(x29, c_double), real(-1, c_double), x30), x2)
+    v0_b = -x17*(h_01*x36 - h_11*x37)
+    v1_b = x17*(h_00*x36 - h_10*x37)
+end subroutine two_surface_resolution_2
 end module impactsym_two_surface
