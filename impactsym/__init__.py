@@ -11,6 +11,7 @@ Matrix([
 [1, 0]])
 """
 
+from .domains import plot_domain, validity_domain
 from .errors import DomainError, ImpactError, ImpactInputError, NonTermination, UndecidableSign
 from .laws.reflection import impulse_multiplier, reflect, reflection_map
 from .mechanics import (
@@ -28,6 +29,7 @@ from .mechanics import (
 __version__ = "0.1.0"
 
 __all__ = [
+    "validity_domain", "plot_domain",
     "ImpactError", "ImpactInputError", "DomainError", "NonTermination", "UndecidableSign",
     "reflection_map", "reflect", "impulse_multiplier",
     "check_mass_matrix", "check_gradient", "check_gradients", "check_velocity",

@@ -30,6 +30,7 @@ Examples
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from functools import lru_cache
 from typing import Any
 
 import sympy as sp
@@ -248,11 +249,16 @@ def validity_domain(scene: str, theta=None) -> ValidityDomain:
     """
     if scene not in SCENES:
         raise ImpactInputError("scene", f"unknown scene {scene!r}; known: {', '.join(SCENES)}")
+    return _validity_domain(scene, _parse_theta(theta) if scene == "pool" else theta)
+
+
+@lru_cache(maxsize=None)
+def _validity_domain(scene: str, theta) -> ValidityDomain:
     if scene == "chain3":
         if theta is not None:
             raise ImpactInputError("theta", "only the pool scene takes theta")
         return _chain_or_pool(sp.Integer(1), "chain3", None)
-    t = _parse_theta(theta)
+    t = theta
     if t is None:
         return _pool_symbolic()
     if certified_sign(t - 2 * sp.pi / 3) == 0:
