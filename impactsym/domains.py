@@ -150,7 +150,9 @@ def _chain_or_pool(cs, scene: str, theta) -> ValidityDomain:
                  "so alpha <= 1"),
         Boundary("h", "e", sp.simplify(h),
                  f"e >= h(alpha): Delta >= 0 ({'eq. 31, corrected' if pool_ else 'eq. 18'}); implied by e >= g since g - h = "
-                 f"alpha^2 (2 alpha - {cos_})^2 / (2 A (2 - alpha {cos_})^2) >= 0; touches g at alpha = 0 and "
+                 + ("alpha^2 (2 alpha - cos(theta))^2 / (2 A (2 - alpha cos(theta))^2)" if pool_ else
+                    "alpha^2 (2 alpha - 1)^2 / (2 A (2 - alpha)^2)")
+                 + " >= 0; touches g at alpha = 0 and "
                  f"alpha = {cos_}/2"),
         Boundary("e_max", "e", sp.Integer(1), "e <= 1: dissipative energetic coefficient (eq. 12)"),
     ]
