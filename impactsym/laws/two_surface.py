@@ -21,9 +21,9 @@ How each answer is obtained
   edge, i.e. grazing) is decided exactly from the exact iterate. Float inputs are decided from
   their exact binary values. If neither settles it, :class:`~impactsym.errors.UndecidableSign` is
   raised (never a guess).
-* **Exit velocity**: exact (SymPy ``Rational``) for rational input when the count is at most
-  ``max_exact_reflections`` (the closed form above in exact rational arithmetic: O(log m)
-  multiplications); otherwise an ``mpmath.matrix`` certified to ``digits`` significant digits
+* **Exit velocity**: exact (SymPy ``Rational``) for rational input when its numbers have at most
+  about ``max_exact_digits`` digits (they grow linearly with the count; the closed form above is
+  evaluated in exact integer arithmetic with O(log m) multiplications); otherwise an ``mpmath.matrix`` certified to ``digits`` significant digits
   (normwise: every component's enclosure radius is below ``10^-digits · max_i |v⁺_i|``), plus
   floats. Float input gives a float answer (rounded from a certified enclosure).
 
@@ -64,7 +64,7 @@ from typing import Any
 import mpmath
 import numpy as np
 import sympy as sp
-from flint import arb, ctx, fmpq, fmpq_mat
+from flint import arb, ctx, fmpq, fmpq_mat, fmpz
 
 from ..errors import ImpactInputError, UndecidableSign
 from ..exact import certified_sign
@@ -77,13 +77,14 @@ __all__ = [
     "TwoSurfaceOutcome",
     "AlternatingOrder",
     "DEFAULT_DIGITS",
-    "DEFAULT_MAX_EXACT_REFLECTIONS",
+    "DEFAULT_MAX_EXACT_DIGITS",
 ]
 
 #: significant digits of a certified (non-exact) exit velocity, unless ``digits`` is given
 DEFAULT_DIGITS = 30
-#: largest count for which a rational input gets an exact exit velocity (sizes grow linearly in m)
-DEFAULT_MAX_EXACT_REFLECTIONS = 1000
+#: a rational input gets an exact exit velocity when its numbers have at most about this many
+#: digits (the size grows linearly with the count: about m · log10(s_A s_B) digits)
+DEFAULT_MAX_EXACT_DIGITS = 2000
 #: largest Arb precision (bits) tried before an undecided comparison raises
 MAX_PRECISION_BITS = 1 << 16
 #: largest bit size of an exact iterate computed to settle a possible tie (grazing) exactly
@@ -187,20 +188,42 @@ class TwoSurfaceResolution:
     bound : int
         The paper's ``N = ⌈S_total/(2S₀)⌉ = ⌈π/β⌉`` (certified), the maximum count over all velocities.
     kinetic_angle_cos : exact number or float
-        ``cos φ = H_1M⁻¹H_2ᵀ/√(s_1 s_2)``; the wedge opening is ``β = π − φ``.
+        ``cos φ = H_1M⁻¹H_2ᵀ/√(s_1 s_2)`` (computed on first access); the wedge opening is
+        ``β = π − φ``.
     wedge_angle : mpmath.mpf
         ``β`` to ``digits`` digits.
     exact : bool
         Whether the input was exact.
+    decisions : dict
+        How the counts were certified: ``arb`` (an Arb ball excluded every integer),
+        ``exact_tie`` (an integer was confirmed exactly: an iterate on an edge), ``max_bits``.
     """
 
     outcomes: list
     by_first: dict
     bound: int
-    kinetic_angle_cos: Any
     wedge_angle: Any
     exact: bool
     decisions: dict = field(default_factory=dict)
+    _data: Any = field(default=None, repr=False)
+
+    @property
+    def kinetic_angle_cos(self):
+        return _kinetic_cos(self._data, self.exact)
+
+    def as_dict(self) -> dict:
+        """JSON-ready form: ``outcomes`` (see :meth:`TwoSurfaceOutcome.as_dict`), ``bound``,
+        ``wedge_angle`` and ``kinetic_angle_cos`` (exact string and float), ``decisions``.
+
+        >>> d = resolve_two_surfaces("1,0;0,1", "1,0;-1,1", "-1,-2").as_dict()
+        >>> d["bound"], d["outcomes"][0]["order"], d["outcomes"][0]["velocity"], d["kinetic_angle_cos"]
+        (4, [0, 1, 0, 1], ['1', '2'], '-sqrt(2)/2')
+        """
+        c = self.kinetic_angle_cos
+        return {"outcomes": [o.as_dict() for o in self.outcomes], "bound": self.bound,
+                "wedge_angle": mpmath.nstr(self.wedge_angle, 17), "wedge_angle_float": float(self.wedge_angle),
+                "kinetic_angle_cos": str(c), "kinetic_angle_cos_float": float(c),
+                "exact": self.exact, "decisions": dict(self.decisions)}
 
 
 # --------------------------------------------------------------------------- exact scalars
@@ -263,26 +286,50 @@ class _Data:
 
 
 def _field_power_exit(d: _Data, m: int):
-    """Exact ``(c_A', c_B')`` after ``m`` reflections starting with A, for rational data."""
-    D = d.D
+    """Exact ``(c_A', c_B')`` after ``m`` reflections starting with A, for rational data.
+
+    The closed form ``α_f = α ρ^k`` (or its conjugate) of :mod:`derivations.two_surface`, in
+    integer arithmetic: with ``Δ = P/Q`` and ``r = √(−PQ)`` (so ``√−Δ = r/Q``), elements of
+    ``Q(√−Δ)`` are ``(X + Y r)/den`` with integers ``X, Y``; the power ``(a + b r)^k`` is taken by
+    squaring on integer pairs (no gcd until the end).
+    """
+    P, Q = fmpz(d.D.p), fmpz(d.D.q)
+    Dint = P * Q
 
     def mul(u, v):
-        return (u[0] * v[0] - D * u[1] * v[1], u[0] * v[1] + u[1] * v[0])
+        return (u[0] * v[0] - Dint * u[1] * v[1], u[0] * v[1] + u[1] * v[0])
 
-    n = d.sa * d.sb
-    rho = ((d.g * d.g - D) / n, -2 * d.g / n)
-    k, acc, base = m // 2, (fmpq(1), fmpq(0)), rho
+    # rho = ((g^2 - Δ) + (-2g/Q) r) / (s_A s_B): integer numerators over a common denominator
+    re, im = (d.g * d.g - d.D) / (d.sa * d.sb), (-2 * d.g / Q) / (d.sa * d.sb)
+    den_rho = _lcm(re.q, im.q)
+    a, b = re.p * (den_rho // re.q), im.p * (den_rho // im.q)
+    # alpha = (s_A c_B - g c_A) + (c_A/Q) r
+    are, aim = d.sa * d.cb - d.g * d.ca, d.ca / Q
+    den_alpha = _lcm(are.q, aim.q)
+    alpha = (are.p * (den_alpha // are.q), aim.p * (den_alpha // aim.q))
+    k, acc, base = m // 2, (fmpz(1), fmpz(0)), (a, b)
     while k:
         if k & 1:
             acc = mul(acc, base)
         k >>= 1
         if k:
             base = mul(base, base)
-    af = mul((d.sa * d.cb - d.g * d.ca, d.ca), acc)
+    X, Y = mul(alpha, acc)
     if m % 2:
-        af = (af[0], -af[1])
-    ca = af[1]
-    return ca, (af[0] + d.g * ca) / d.sa
+        Y = -Y
+    den = den_alpha * den_rho ** (m // 2)
+    ca = fmpq(Y * Q, den)  # the coefficient of √−Δ = r/Q
+    x = fmpq(X, den)
+    return ca, (x + d.g * ca) / d.sa
+
+
+def _lcm(p, q):
+    return (p * q) // p.gcd(q)
+
+
+def _rational(x: fmpq) -> sp.Rational:
+    """SymPy ``Rational`` of an fmpq."""
+    return sp.Rational(int(x.p), int(x.q))
 
 
 def _bits(x: fmpq) -> int:
@@ -418,13 +465,17 @@ def _certified_exit(d: _Data, m: int, digits: int, W, gram, vec, swap: bool):
     raise UndecidableSign(f"the exit velocity could not be certified to {digits} digits within {MAX_PRECISION_BITS} bits")
 
 
+def _mid_scale(vel) -> mpmath.mpf:
+    return max(abs(vel[i]) for i in range(vel.rows))
+
+
 def _arb_to_mpf(x: arb):
     man, exp = x.mid().man_exp()
     return mpmath.mpf((int(man), int(exp)))
 
 
 def resolve_two_surfaces(mass_matrix, gradients, velocity, *, digits: int = DEFAULT_DIGITS,
-                         max_exact_reflections: int = DEFAULT_MAX_EXACT_REFLECTIONS) -> TwoSurfaceResolution:
+                         max_exact_digits: int = DEFAULT_MAX_EXACT_DIGITS) -> TwoSurfaceResolution:
     """Resolve an impact against exactly two surfaces, every first-surface choice, in O(1).
 
     Parameters
@@ -435,8 +486,9 @@ def resolve_two_surfaces(mass_matrix, gradients, velocity, *, digits: int = DEFA
     velocity : vector-like (n,), the pre-impact velocity ``v``
     digits : int
         Significant digits of an exit velocity that is not exact (certified, normwise).
-    max_exact_reflections : int
-        Rational input with at most this many reflections gets an exact exit velocity.
+    max_exact_digits : int
+        Rational input gets an exact exit velocity when its numbers have at most about this many
+        digits (``0``: always certified digits; small counts of small data are exact by default).
 
     Returns
     -------
@@ -481,7 +533,6 @@ def resolve_two_surfaces(mass_matrix, gradients, velocity, *, digits: int = DEFA
     # bound N = ceil(pi/beta), certified; pi/beta is an integer only for beta = pi/K with
     # cos^2(pi/K) = g^2/(s_A s_B); decided exactly with SymPy for the candidate K.
     bound = _certified_bound(d, decisions)
-    cosphi_exact = _kinetic_cos(d, exact)
     with mpmath.workdps(digits):
         *_, beta = d.balls(int(digits * 3.33) + 32)
         wedge = _arb_to_mpf(beta)
@@ -493,7 +544,7 @@ def resolve_two_surfaces(mass_matrix, gradients, velocity, *, digits: int = DEFA
         zero = sp.zeros(2, 1) if exact else np.zeros(2)
         o = TwoSurfaceOutcome(first=-1, order=AlternatingOrder(0, 0), reflections=0, velocity=vel,
                               velocity_float=_floats(vel), impulse=zero, exact=exact)
-        return TwoSurfaceResolution([o], by_first, bound, cosphi_exact, wedge, exact, decisions)
+        return TwoSurfaceResolution([o], by_first, bound, wedge, exact, decisions, d)
 
     # exact entries for the certified path (enclosed at each precision tried)
     W_ex = [[W[i, 0], W[i, 1]] for i in range(n)]
@@ -509,7 +560,7 @@ def resolve_two_surfaces(mass_matrix, gradients, velocity, *, digits: int = DEFA
             rows = (HA, HB) if first == 0 else (HB, HA)
             m = _certified_ceil_ratio(df, _make_tie_check_algebraic(M, rows[0], rows[1], v), decisions)
         order = AlternatingOrder(first, m)
-        if rational_path and exact and m <= max_exact_reflections:
+        if rational_path and exact and _exact_feasible(df, m, int(3.33 * max_exact_digits)):
             ca2, cb2 = _field_power_exit(df, m)
             if first == 1:
                 ca2, cb2 = cb2, ca2
@@ -517,8 +568,8 @@ def resolve_two_surfaces(mass_matrix, gradients, velocity, *, digits: int = DEFA
                 raise AssertionError("exact exit velocity is not valid: a bug in the two-surface law")
             jump = gram.solve(fmpq_mat(2, 1, [ca2 - c[0, 0], cb2 - c[1, 0]]))
             vplus = vq + W * jump
-            vel = sp.Matrix([sp.Rational(int(vplus[i, 0].p), int(vplus[i, 0].q)) for i in range(n)])
-            imp = sp.Matrix([sp.Rational(int(jump[i, 0].p), int(jump[i, 0].q)) for i in range(2)])
+            vel = sp.Matrix([_rational(vplus[i, 0]) for i in range(n)])
+            imp = sp.Matrix([_rational(jump[i, 0]) for i in range(2)])
             outcomes.append(TwoSurfaceOutcome(first, order, m, vel, _floats(vel), imp, True))
         elif rational_path:
             want = digits if exact else 20
@@ -527,7 +578,7 @@ def resolve_two_surfaces(mass_matrix, gradients, velocity, *, digits: int = DEFA
                 with mpmath.workdps(digits + 5):
                     vel = mpmath.matrix([_arb_to_mpf(x) for x in vel_b])
                     imp = mpmath.matrix([_arb_to_mpf(x) for x in imp_b])
-                    err = _arb_to_mpf(rad + arb(0)) * 2
+                    err = _arb_to_mpf(rad) * 2 + _mid_scale(vel) * mpmath.mpf(10) ** -(digits + 4)
                 outcomes.append(TwoSurfaceOutcome(first, order, m, vel, _floats(vel), imp, False,
                                                   digits=digits, error_bound=err))
             else:
@@ -545,11 +596,11 @@ def resolve_two_surfaces(mass_matrix, gradients, velocity, *, digits: int = DEFA
                 with mpmath.workdps(digits + 5):
                     vel = mpmath.matrix([_arb_to_mpf(x) for x in vel_b])
                     imp = mpmath.matrix([_arb_to_mpf(x) for x in imp_b])
-                    err = _arb_to_mpf(rad) * 2
+                    err = _arb_to_mpf(rad) * 2 + _mid_scale(vel) * mpmath.mpf(10) ** -(digits + 4)
                 outcomes.append(TwoSurfaceOutcome(first, order, m, vel, _floats(vel), imp, False,
                                                   digits=digits, error_bound=err))
         by_first[first] = outcomes[-1]
-    return TwoSurfaceResolution(outcomes, by_first, bound, cosphi_exact, wedge, exact, decisions)
+    return TwoSurfaceResolution(outcomes, by_first, bound, wedge, exact, decisions, d)
 
 
 def _as_output(exact, v, vq):
@@ -560,7 +611,7 @@ def _as_output(exact, v, vq):
 
 def _floats(vel) -> np.ndarray:
     if isinstance(vel, sp.MatrixBase):
-        return np.array([float(sp.N(x, 17)) for x in vel])
+        return np.array([float(Fraction(int(x.p), int(x.q))) if x.is_Rational else float(sp.N(x, 17)) for x in vel])
     if isinstance(vel, mpmath.matrix):
         return np.array([float(vel[i]) for i in range(vel.rows)])
     return np.asarray(vel, dtype=float)
