@@ -428,3 +428,21 @@ def test_outcomes_differ_when_pi_over_beta_is_not_an_integer():
         v = sp.Matrix([-rng.randint(1, 50), -rng.randint(51, 200)])
         r = resolve_two_surfaces("11/10,0;0,1", "1,0;-1,1", v)
         assert len(r.outcomes) == 2 and r.outcomes[0].velocity != r.outcomes[1].velocity
+
+
+@pytest.mark.parametrize("q", [318, pytest.param(3183, marks=pytest.mark.slow)])
+def test_large_count_by_exact_signs_of_exact_iterates(q):
+    """Independent of the angle formula: the law's count m is right iff the exact m-th iterate is
+    valid and the exact (m−1)-th is not. Exact iterates from the derivation's Fraction closed form
+    α ρ^k (equal to the products of G's: tests/test_two_surface_derivation.py)."""
+    from derivations.two_surface import exact_exit_relative_velocity as iterate_closed_form
+
+    res = resolve_two_surfaces(sp.eye(2), sp.Matrix([[1, 0], [-q, 1]]), sp.Matrix([-1, -(q + 1)]))
+    sA, sB, g = 1, q * q + 1, -q
+    cA, cB = -1, -1  # H v for v = (-1, -(q+1))
+    for o in res.outcomes:
+        args = (sA, sB, g, cA, cB) if o.first == 0 else (sB, sA, g, cB, cA)
+        last = iterate_closed_form(*args, o.reflections)
+        before = iterate_closed_form(*args, o.reflections - 1)
+        assert min(last) >= 0 and min(before) < 0
+        assert o.reflections > 3 * q - 1
