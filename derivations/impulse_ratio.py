@@ -32,7 +32,7 @@ from dataclasses import dataclass
 
 import sympy as sp
 
-__all__ = ["QuadraticLaw", "general_quadratic", "physical_root_proof", "general_coefficients_proof", "moreau_energy_proof"]
+__all__ = ["QuadraticLaw", "general_quadratic", "physical_root_proof", "general_coefficients_proof", "moreau_energy_proof", "poisson_energy_proof"]
 
 
 @dataclass
@@ -162,3 +162,32 @@ def moreau_energy_proof():
     step2 = sp.expand(pi * (wp + wm) - (1 - e) * pi * wm) == 0 and sp.expand((0 * (wp + wm)) - (1 - e) * 0 * wm) == 0
     return {"step1": step1, "step2": step2, "proven": bool(step1 and step2),
             "energy_change": "(1 - e)/2 * p^T H v-"}
+
+
+def poisson_energy_proof():
+    """Energy of Poisson's law with one coefficient ``e`` for all contacts (eq. 11, ``p = (1+e) p_c``),
+    for every ``n`` and ``k``.
+
+    The compression impulse ``p_c`` solves ``0 ≤ H v_c ⊥ p_c ≥ 0`` with ``v_c = v⁻ + M⁻¹Hᵀp_c``, so
+    ``p_cᵀ H v_c = 0``, i.e. ``p_cᵀHv⁻ = −p_cᵀHM⁻¹Hᵀp_c`` (the rewriting rule). With
+    ``v⁺ = v⁻ + (1+e) M⁻¹Hᵀp_c``:
+
+        T⁺ − T⁻ = −½ (1 − e²) p_cᵀ H M⁻¹ Hᵀ p_c  ≤ 0,
+
+    with equality at ``e = 1``. Like Newton/Moreau, this Poisson law never creates energy.
+
+    >>> poisson_energy_proof()["proven"]
+    True
+    """
+    from .algebra import nc_symbols, rewrite
+
+    M, Mi, H, Ht, v, vt, p, pt = nc_symbols("M Mi H Ht v vt p pt")
+    e = sp.Symbol("e")
+    vplus, vplus_t = v + (1 + e) * Mi * Ht * p, vt + (1 + e) * pt * H * Mi
+    change = vplus_t * M * vplus / 2 - vt * M * v / 2
+    claim = -(1 - e**2) * pt * H * Mi * Ht * p / 2
+    rules = {M * Mi: 1, Mi * M: 1, vt * Ht * p: pt * H * v}
+    residual = rewrite(change - claim, rules)
+    # complementarity of the compression phase: p_c^T H v = -p_c^T H M^-1 H^T p_c
+    residual = rewrite(residual, {pt * H * v: -pt * H * Mi * Ht * p})
+    return {"residual": residual, "proven": residual == 0}

@@ -36,6 +36,8 @@ Energy of Newton/Moreau (proved in :func:`derivations.impulse_ratio.moreau_energ
 ``p_i > 0`` approach. So the sec. 3.2 state ``[−1/3, 2/3, 2/3]`` conserves energy; the paper's
 "not acceptable" is qualitative, not energetic, and eq. 12's "advantage ... ensures the
 energetic balance contrary to both aforementioned cases" does not hold against Newton at e = 1.
+Likewise Poisson with one coefficient: ``T⁺ − T⁻ = −½(1 − e²) p_cᵀ W p_c ≤ 0``
+(:func:`derivations.impulse_ratio.poisson_energy_proof`).
 
 Examples
 --------
@@ -68,8 +70,8 @@ from scipy.optimize import nnls
 
 from ..errors import DomainError, ImpactInputError, NonTermination
 from ..mechanics import check_gradients, check_mass_matrix, check_velocity
-from ..numbers import exact_json, is_exact, to_exact
-from .delassus import ExactLinearAlgebra, delassus, exact_data, sign_of
+from ..numbers import is_exact, to_exact
+from .delassus import ExactLinearAlgebra, exact_data, sign_of, tidy
 from .impulse_ratio import Violation, energy_balance_along
 from .reflection import check_restitution
 
@@ -182,7 +184,7 @@ class _Scene:
         self.MinvHt = self.M.LUsolve(Ht) if self.kind == "sympy" else self.M.solve(Ht)
         self.W = self.H * self.MinvHt
         if self.kind == "sympy":
-            self.W = self.W.applyfunc(lambda x: sp.radsimp(sp.simplify(x)))
+            self.W = self.W.applyfunc(lambda x: tidy(x))
         self.k = Hx.shape[0]
         self.n = Mx.shape[0]
         self.w = self.H * self.v
@@ -224,7 +226,7 @@ def _lcp_enumerate(sc: _Scene, q):
                 p[j, 0] = pJ[i, 0]
             y = W * p + q
             if sc.kind == "sympy":
-                y = y.applyfunc(lambda x: sp.radsimp(sp.simplify(x)))
+                y = y.applyfunc(lambda x: tidy(x))
             if any(sign_of(y[i, 0]) < 0 for i in range(k) if i not in J):
                 continue
             if not any(_equal(p, s, k) for s in sols):
@@ -238,8 +240,8 @@ def _equal(p, s, k):
 
 def _lcp_nnls(sc: _Scene, Mx, Hx, vx, q_factor, q):
     """k > MAX_ENUMERATED_CONTACTS: NNLS in floats, then the active set re-solved exactly."""
-    Mf, Hf, vf = (np.asarray(np.array(x.tolist() if hasattr(x, "tolist") else x, dtype=float)) for x in (Mx, Hx, vx))
-    vf = vf.reshape(-1)
+    Mf, Hf = (np.array(x.tolist(), dtype=float) for x in (Mx, Hx))
+    vf = np.array(vx.tolist(), dtype=float).reshape(-1)
     R = np.linalg.cholesky(Mf)
     G = np.linalg.solve(R, Hf.T)
     c = q_factor * (R.T @ vf)
@@ -334,7 +336,7 @@ def _finish(law, exact, sc, p, extra_violations=(), notes=(), details=None, uniq
 
 
 def _str(sc, x) -> str:
-    return str(sc.la.to_sympy(x)) if sc.kind == "rational" else str(sp.radsimp(sp.simplify(x)))
+    return str(sc.la.to_sympy(x)) if sc.kind == "rational" else str(tidy(x))
 
 
 def _values(sc, exact):
@@ -343,7 +345,7 @@ def _values(sc, exact):
             return x
         s = sc.la.to_sympy(x)
         if sc.kind == "sympy":
-            s = s.applyfunc(lambda t: sp.radsimp(sp.simplify(t))) if isinstance(s, sp.MatrixBase) else sp.radsimp(sp.simplify(s))
+            s = s.applyfunc(lambda t: tidy(t)) if isinstance(s, sp.MatrixBase) else tidy(s)
         if exact:
             return s
         if isinstance(s, sp.MatrixBase):
@@ -489,7 +491,7 @@ def energetic(mass_matrix, gradients, velocity, restitution=1, ratios=None, *, a
     Tplus = None
     if r.velocity is not None:
         if exact:
-            Tplus = sp.radsimp(sp.simplify((r.velocity.T * sp.Matrix(Mx) * r.velocity)[0, 0] / 2))
+            Tplus = tidy((r.velocity.T * sp.Matrix(Mx) * r.velocity)[0, 0] / 2)
         else:
             Tplus = 0.5 * float(r.velocity @ np.asarray(Mx, dtype=float) @ r.velocity)
     res = ClassicalResult("energetic", r.impulses, r.velocity, exact, r.valid, r.violations, conv(sc.T), Tplus,
@@ -520,6 +522,7 @@ class HanGilmoreResult:
     exact: bool
     energy_before: Any = None
     notes: list = field(default_factory=list)
+    unterminated: list = field(default_factory=list)  # stage sequences cut at max_stages
 
     @property
     def unique(self) -> bool:
@@ -539,12 +542,13 @@ class HanGilmoreResult:
         out.update(_json("impulses", first.impulses))
         out.update(_json("velocity", first.velocity))
         out.update(_json("energy_before", self.energy_before))
-        out.update({"valid": True, "violations": [], "unique": self.unique, "outcomes": outs, "notes": self.notes})
+        out.update({"valid": True, "violations": [], "unique": self.unique, "outcomes": outs, "notes": self.notes,
+                    "unterminated": [[list(stage) for stage in seq] for seq in self.unterminated]})
         return out
 
 
 def han_gilmore(mass_matrix, gradients, velocity, restitution=1, *, max_stages: int = 50,
-                max_outcomes: int = 64) -> HanGilmoreResult:
+                max_outcomes: int = 64, max_nodes: int = 20000) -> HanGilmoreResult:
     """Sequential impacts in the manner of Han & Gilmore (eqs. 15–16), every hypothesis followed.
 
     At each stage, for every set ``J`` of closed contacts with ``H_i v ≤ 0`` containing an
@@ -557,11 +561,15 @@ def han_gilmore(mass_matrix, gradients, velocity, restitution=1, *, max_stages: 
     impact) gives eq. 15, which is the Newton/Moreau solution (its LCP's active set is {1, 2});
     ``J = {1}`` then ``{2}`` (1–2 first, then 2–3) gives eq. 16.
 
+    A branch still approaching after ``max_stages`` stages (e.g. plastic impacts one at a time,
+    whose velocities only converge) is cut and reported in ``unterminated``, never dropped
+    silently.
+
     Raises
     ------
     NonTermination
-        A branch needs more than ``max_stages`` stages (e.g. inelastic collapse), or more than
-        ``max_outcomes`` outcomes arise.
+        No branch terminates within ``max_stages``, more than ``max_outcomes`` outcomes arise, or
+        more than ``max_nodes`` hypotheses are explored.
 
     Examples
     --------
@@ -574,8 +582,13 @@ def han_gilmore(mass_matrix, gradients, velocity, restitution=1, *, max_stages: 
     la = sc.la
     e = sc.scalar(ex if exact else to_exact(ex))
     outcomes: list = []  # (v, p, [sequences])
+    unterminated: list = []
+    nodes = [0]
 
     def explore(v, p_total, seq, depth):
+        nodes[0] += 1
+        if nodes[0] > max_nodes:
+            raise NonTermination(f"Han-Gilmore: more than max_nodes = {max_nodes} hypotheses explored")
         w = sc.H * v
         signs = [sign_of(w[i, 0]) for i in range(sc.k)]
         if all(s >= 0 for s in signs):
@@ -588,7 +601,8 @@ def han_gilmore(mass_matrix, gradients, velocity, restitution=1, *, max_stages: 
             outcomes.append((v, p_total, [list(seq)]))
             return
         if depth >= max_stages:
-            raise NonTermination(f"Han-Gilmore: a sequence exceeded max_stages = {max_stages} stages")
+            unterminated.append(list(seq))
+            return
         candidates = [i for i in range(sc.k) if signs[i] <= 0]
         for size in range(len(candidates), 0, -1):  # the simultaneous hypothesis first
             for J in itertools.combinations(candidates, size):
@@ -605,12 +619,17 @@ def han_gilmore(mass_matrix, gradients, velocity, restitution=1, *, max_stages: 
                     p[j, 0] = pJ[i, 0]
                 v2 = v + sc.MinvHt * p
                 if sc.kind == "sympy":
-                    v2 = v2.applyfunc(lambda x: sp.radsimp(sp.simplify(x)))
+                    v2 = v2.applyfunc(lambda x: tidy(x))
                 explore(v2, p_total + p, seq + [tuple(j + 1 for j in J)], depth + 1)
 
     explore(sc.v, la.zeros(sc.k, 1), [], 0)
+    if not outcomes:
+        raise NonTermination(f"Han-Gilmore: no sequence of impacts ends within max_stages = {max_stages} stages")
     conv = _values(sc, exact)
     outs = [HanGilmoreOutcome(conv(v), conv(p), seqs, conv(sc.energy(v))) for v, p, seqs in outcomes]
     notes = ["stages: Newton's law as an equality on every set J of closed contacts with H_i v <= 0 containing "
              "an approaching one; hypotheses needing p_J < 0 or singular W_JJ rejected"]
-    return HanGilmoreResult(outs, exact, conv(sc.T), notes)
+    if unterminated:
+        notes.append(f"{len(unterminated)} sequence(s) still approaching after max_stages = {max_stages} stages "
+                     "(cut; see unterminated)")
+    return HanGilmoreResult(outs, exact, conv(sc.T), notes, unterminated)

@@ -207,7 +207,7 @@ def apply_coupling(M, H, v, ratios):
     if given is not None and len(given) != k - 1:
         from ..errors import ImpactInputError
 
-        raise ImpactInputError("ratios", f"expected {k - 1} ratios alpha_12..alpha_1{k} for {k} closed contacts, got {len(given)}")
+        raise ImpactInputError("ratios", f"expected {k - 1} ratio(s) alpha_12, ..., alpha_1{k} for {k} closed contacts, got {len(given)}")
     d = coupling_decision(Mx, Hx, vx)
     out, notes = [], []
     for j in range(1, k):

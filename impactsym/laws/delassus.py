@@ -199,7 +199,7 @@ class ExactLinearAlgebra:
         det = sp.simplify(A.det(method="berkowitz"))
         if sign_of(det) == 0:
             return None
-        return A.LUsolve(b).applyfunc(lambda x: sp.radsimp(sp.simplify(x)))
+        return A.LUsolve(b).applyfunc(tidy)
 
     def rank(self, A) -> int:
         if self.kind == "rational":
@@ -212,3 +212,32 @@ class ExactLinearAlgebra:
         if isinstance(X, flint.fmpq_mat):
             return to_sympy_matrix(X)
         return to_sympy_rational(X) if isinstance(X, flint.fmpq) else sp.sympify(X)
+
+
+def tidy(x):
+    """A canonical-looking exact form of a closed-form number (value unchanged): rationals stay,
+    nested square roots are denested (``sqrt(10*sqrt(5) + 30)`` → ``sqrt(5) + 5``... when SymPy can),
+    denominators rationalized; a number whose minimal polynomial is linear becomes that rational.
+
+    >>> tidy(sp.sympify("(-sqrt(10)*sqrt(sqrt(5) + 3) - 3 + sqrt(5))**2/64"))
+    1
+    >>> tidy(sp.sympify("7/29 + (-8*sqrt(5) + 5*sqrt(2*sqrt(5) + 6) + 11*sqrt(10*sqrt(5) + 30))/116"))
+    2*sqrt(5)/29 + 22/29
+    """
+    x = sp.sympify(x)
+    if x.is_Rational:
+        return x
+    if x.free_symbols:
+        return sp.simplify(x)
+    y = sp.radsimp(sp.sqrtdenest(sp.expand(x)))
+    y = sp.radsimp(sp.simplify(y))
+    if y.is_Rational:
+        return y
+    try:
+        z = sp.Dummy("z")
+        poly = sp.Poly(sp.minimal_polynomial(y, z), z)
+        if poly.degree() == 1:
+            return sp.Rational(-poly.nth(0), poly.nth(1))
+    except Exception:  # noqa: BLE001 - not algebraic or too hard: keep the simplified form
+        pass
+    return y

@@ -68,7 +68,7 @@ from ..errors import DomainError, ImpactInputError
 from ..mechanics import check_gradients, check_mass_matrix, check_velocity
 from ..numbers import exact_json, exact_str, is_exact, to_exact
 from .coupling import apply_coupling
-from .delassus import exact_data, sign_of, sign_surd, to_sympy_matrix, to_sympy_rational
+from .delassus import exact_data, sign_of, sign_surd, tidy, to_sympy_matrix, to_sympy_rational
 from .reflection import check_restitution
 
 __all__ = ["Violation", "ImpulseRatioResult", "impulse_ratio_law", "VIOLATION_CONDITIONS"]
@@ -161,7 +161,7 @@ def _ratio_vector(ratios, k: int, exact: bool):
         ratios = [x for x in ratios.split(",") if x.strip()] if ratios.strip() else []
     ratios = list(ratios)
     if len(ratios) != k - 1:
-        raise ImpactInputError("ratios", f"expected {k - 1} ratios alpha_12..alpha_1{k} for {k} closed contacts, got {len(ratios)}")
+        raise ImpactInputError("ratios", f"expected {k - 1} ratio(s) alpha_12, ..., alpha_1{k} for {k} closed contacts, got {len(ratios)}")
     if exact:
         return [sp.Integer(1)] + [to_exact(x, "ratios") for x in ratios]
     out = [1.0]
@@ -264,12 +264,12 @@ def energy_balance_along(Mx, Hx, vx, ex, a, *, exact: bool, allow_invalid: bool 
         Ms, Hs, vs, as_ = Mq, Hq, vq, aq
         r = Hs.T * as_
         w = Ms.LUsolve(r)
-        A = sp.radsimp(sp.simplify((r.T * w)[0, 0] / 2))
-        b = (Hs * vs).applyfunc(lambda x: sp.radsimp(sp.simplify(x)))
-        B = sp.radsimp(sp.simplify((as_.T * b)[0, 0]))
+        A = tidy((r.T * w)[0, 0] / 2)
+        b = (Hs * vs).applyfunc(tidy)
+        B = tidy((as_.T * b)[0, 0])
         T = sp.simplify((vs.T * Ms * vs)[0, 0] / 2)
-        C = sp.radsimp(sp.simplify((1 - e_q) * T))
-        c = (Hs * w).applyfunc(lambda x: sp.radsimp(sp.simplify(x)))
+        C = tidy((1 - e_q) * T)
+        c = (Hs * w).applyfunc(tidy)
     if sign_of(A) == 0:
         raise DomainError("ratios: H^T a = 0 (the impulse direction changes no velocity); "
                           "the energy balance cannot fix p_1")
@@ -341,10 +341,7 @@ def energy_balance_along(Mx, Hx, vx, ex, a, *, exact: bool, allow_invalid: bool 
 
 
 def _tidy(x):
-    x = sp.sympify(x)
-    if x.is_Rational:
-        return x
-    return sp.radsimp(sp.simplify(x))
+    return tidy(x)
 
 
 def _show(x) -> str:
