@@ -447,3 +447,37 @@ def test_large_count_by_exact_signs_of_exact_iterates(q):
         before = iterate_closed_form(*args, o.reflections - 1)
         assert min(last) >= 0 and min(before) < 0
         assert o.reflections > 3 * q - 1
+
+
+@settings(max_examples=40, deadline=None)
+@given(st.integers(0, 10**6), st.fractions(min_value=Fraction(1, 50), max_value=50),
+       st.fractions(min_value=Fraction(1, 50), max_value=50))
+@example(0, Fraction(1), Fraction(1))
+def test_row_scaling_and_swapping_invariance(seed, a, b):
+    """G_{αu} = G_u and validity is unchanged for α > 0: scaling rows changes nothing; swapping
+    the rows swaps the branches (their first-surface labels)."""
+    rng = random.Random(seed)
+    M, H, v = _random_case(rng, rng.choice([2, 3]), size=6)
+    r = resolve_two_surfaces(sp.Matrix(M), sp.Matrix(H), sp.Matrix(v))
+    Hs = [[x * a for x in H[0]], [x * b for x in H[1]]]
+    rs = resolve_two_surfaces(sp.Matrix(M), sp.Matrix(Hs), sp.Matrix(v))
+    rw = resolve_two_surfaces(sp.Matrix(M), sp.Matrix([H[1], H[0]]), sp.Matrix(v))
+    assert r.bound == rs.bound == rw.bound
+    for f in (0, 1):
+        o, os_, ow = r.by_first[f], rs.by_first[f], rw.by_first[1 - f]
+        assert (o is None) == (os_ is None) == (ow is None)
+        if o is not None:
+            assert o.reflections == os_.reflections == ow.reflections
+            assert o.velocity == os_.velocity == ow.velocity
+
+
+def test_precision_ladder():
+    """The same certified exit at 30 and 60 digits agrees to 30 digits (mpmath's self-check)."""
+    args = ("2,1;1,3", "1,0;-50000,1", "-1,-1/3")
+    lo = resolve_two_surfaces(*args, digits=30, max_exact_digits=0)
+    hi = resolve_two_surfaces(*args, digits=60, max_exact_digits=0)
+    with mpmath.workdps(70):
+        for a, b in zip(lo.outcomes, hi.outcomes):
+            assert a.reflections == b.reflections > 10**5
+            for i in range(2):
+                assert abs(a.velocity[i] - b.velocity[i]) <= mpmath.mpf(10) ** -30 * abs(b.velocity[i])
