@@ -481,3 +481,25 @@ def test_precision_ladder():
             assert a.reflections == b.reflections > 10**5
             for i in range(2):
                 assert abs(a.velocity[i] - b.velocity[i]) <= mpmath.mpf(10) ** -30 * abs(b.velocity[i])
+
+
+def test_irrational_input_certified_path():
+    """M = diag(√2, 1) and 264/265 reflections: beyond exact SymPy iteration, certified digits;
+    reference: the iteration at 60 digits with √2 at 60 digits."""
+    r = resolve_two_surfaces("sqrt(2),0;0,1", "1,0;-100,1", "-1,-101")
+    with mpmath.workdps(60):
+        Mm = mpmath.matrix([[mpmath.sqrt(2), 0], [0, 1]])
+        Hm = [mpmath.matrix([1, 0]), mpmath.matrix([-100, 1])]
+        for o in r.outcomes:
+            assert not o.exact and o.digits == 30
+            v, i, k = mpmath.matrix([-1, -101]), o.first, 0
+            while True:
+                w = mpmath.lu_solve(Mm, Hm[i])
+                v = v - (2 * (Hm[i].T * v)[0] / (Hm[i].T * w)[0]) * w
+                k += 1
+                if all((h.T * v)[0] >= 0 for h in Hm):
+                    break
+                i = 1 - i
+            assert k == o.reflections
+            for j in range(2):
+                assert abs(o.velocity[j] - v[j]) <= mpmath.mpf(10) ** -29 * abs(v[j])
