@@ -251,8 +251,12 @@ def _arb(x, prec: int) -> arb:
     digits = int(prec * 0.30103) + 10
     if certified_sign(x) == 0:
         return arb(0)
+    # SymPy's evalf with strict=True either reaches `digits` correct significant digits or raises;
+    # the binary value it returns is taken exactly, and widened by a relative 10^-(digits-3).
     val = x.evalf(digits, strict=True)
-    mid = arb(mpmath.nstr(mpmath.mpf(val._mpf_), digits + 5, min_fixed=1, max_fixed=0))
+    sign, man, exp, _ = val._mpf_
+    man = -int(man) if sign else int(man)
+    mid = arb(fmpq(man * 2**exp)) if exp >= 0 else arb(fmpq(man, 2 ** (-exp)))
     return mid + arb(0, abs(mid) * arb(10) ** (-(digits - 3)))
 
 
