@@ -96,12 +96,14 @@ def test_reflection_cap_names_the_cap():
     # narrow wedge: the valid lune has angle ~0.0997, the paper's bound is 32
     H = sp.Matrix([[0, 1], [-1, -10]])
     v0 = sp.Matrix([11, -1])
-    r = resolve_sequential(sp.eye(2), H, v0)
+    r = resolve_sequential(sp.eye(2), H, v0, two_surface="iterate")
     need = r.max_reflections_used
     assert need > 3
     with pytest.raises(NonTermination, match=f"max_reflections={need - 1}"):
-        resolve_sequential(sp.eye(2), H, v0, max_reflections=need - 1)
-    assert resolve_sequential(sp.eye(2), H, v0, max_reflections=need).max_reflections_used == need
+        resolve_sequential(sp.eye(2), H, v0, max_reflections=need - 1, two_surface="iterate")
+    assert resolve_sequential(sp.eye(2), H, v0, max_reflections=need, two_surface="iterate").max_reflections_used == need
+    # the closed form iterates nothing: the cap does not apply
+    assert resolve_sequential(sp.eye(2), H, v0, max_reflections=1).max_reflections_used == need
 
 
 @pytest.mark.parametrize("kw, arg", [({"reading": "sphere"}, "reading"), ({"max_reflections": 0}, "max_reflections"),
@@ -144,7 +146,7 @@ def test_termination_bound_of_the_paper_examples():
 # ------------------------------------------------------------------ float mode
 def test_float_mode_matches_exact_and_counts_fallbacks():
     sc = three_ball_cradle()
-    rf = resolve_sequential(np.eye(3), np.array(sc.H, dtype=float), np.array([1.0, 0, 0]))
+    rf = resolve_sequential(np.eye(3), np.array(sc.H, dtype=float), np.array([1.0, 0, 0]), two_surface="iterate")
     assert not rf.exact and rf.backend == "float" and rf.exact_fallbacks > 0
     assert rf.outcomes[0].velocity.tolist() == [0.0, 0.0, 1.0]
     re = resolve_sequential(sc.M, sc.H, sc.v)
@@ -155,11 +157,13 @@ def test_float_mode_decides_a_near_grazing_sign_exactly():
     # v0 grazes contact 2 up to one ulp: the float bound straddles zero, the exact binary value decides
     eps = 2.0**-52
     for v2, expect_branches in ((1.0 + eps, 2), (1.0, 1), (1.0 - eps, 1)):
-        r = resolve_sequential(np.eye(2), np.array([[1.0, 0.0], [-1.0, 1.0]]), np.array([-1.0, -v2]))
+        r = resolve_sequential(np.eye(2), np.array([[1.0, 0.0], [-1.0, 1.0]]), np.array([-1.0, -v2]),
+                               two_surface="iterate")
         first = {o[0] for o, _ in r.iter_orderings()}
         assert len(first) == expect_branches, v2
         assert r.exact_fallbacks >= 1
-        rx = resolve_sequential(np.eye(2), np.array([[1.0, 0.0], [-1.0, 1.0]]), np.array([-1.0, -v2]), exact=True)
+        rx = resolve_sequential(np.eye(2), np.array([[1.0, 0.0], [-1.0, 1.0]]), np.array([-1.0, -v2]), exact=True,
+                                two_surface="iterate")
         assert {o[0] for o, _ in rx.iter_orderings()} == first
 
 

@@ -108,10 +108,13 @@ __all__ = [
     "DEFAULT_MAX_REFLECTIONS",
     "FLOAT_SAFETY",
     "SELECTION_FACE_LIMIT",
+    "TWO_SURFACE_PATHS",
 ]
 
 #: the two readings of the feasible set (see the module docstring)
 READINGS = ("energy", "cone")
+#: how two independent surfaces are resolved (see ``resolve_sequential(two_surface=...)``)
+TWO_SURFACE_PATHS = ("closed-form", "iterate")
 #: default cap on the reflections of any one ordering
 DEFAULT_MAX_REFLECTIONS = 10_000
 #: safety factor on the float sign-test bound
@@ -370,6 +373,10 @@ class Outcome:
 
 
 def _floats(v) -> list[float]:
+    import mpmath
+
+    if isinstance(v, mpmath.matrix):
+        return [float(v[i]) for i in range(v.rows)]
     if isinstance(v, sp.MatrixBase):
         return [float(sp.N(x, 17)) for x in v]
     return [float(x) for x in np.asarray(v, dtype=float).reshape(-1)]
@@ -409,6 +416,11 @@ class SequentialResolution:
         ``H_i v0 < 0`` for each contact (decided exactly or certified).
     witness : sympy.Matrix
         A non-zero valid velocity (``H v ≥ 0``), the certificate that the refusal check passed.
+    method : str
+        ``"iteration"`` (the DAG search) or ``"two-surface closed form"``
+        (:func:`impactsym.laws.two_surface.resolve_two_surfaces`, used for two independent rows).
+    bound : int or None
+        Two surfaces: the paper's ``N = ⌈S_total/(2S₀)⌉`` (sec. III-C), certified.
     """
 
     outcomes: tuple
@@ -423,7 +435,10 @@ class SequentialResolution:
     backend: str
     approaching: tuple
     witness: Any
+    method: str = "iteration"
+    bound: int | None = None
     _graph: Any = field(default=None, repr=False, compare=False)
+    _orders: Any = field(default=None, repr=False, compare=False)
 
     @property
     def selected_float(self) -> list[list[float]]:
@@ -436,6 +451,12 @@ class SequentialResolution:
         >>> list(r.iter_orderings())
         [((0, 1, 0, 1), 0), ((1, 0, 1, 0), 0)]
         """
+        if self._graph is None:  # two-surface closed form: one ordering per first surface
+            for count, (order, idx) in enumerate(self._orders, 1):
+                yield tuple(order), idx
+                if limit is not None and count >= limit:
+                    return
+            return
         g = self._graph
         count = 0
         stack = [(g.root, ())]
@@ -582,7 +603,7 @@ def _check_inputs(mass_matrix, gradients, velocity, exact):
 
 def resolve_sequential(mass_matrix, gradients, velocity, *, reading: str = "energy",
                        max_reflections: int = DEFAULT_MAX_REFLECTIONS, exact: bool | None = None,
-                       select: bool = True) -> SequentialResolution:
+                       select: bool = True, two_surface: str = "closed-form") -> SequentialResolution:
     """Every impact ordering of a corner impact, its outcomes, and the selected solution.
 
     Parameters
@@ -599,6 +620,12 @@ def resolve_sequential(mass_matrix, gradients, velocity, *, reading: str = "ener
         Force the exact (``True``) or float (``False``) path; default: exact iff every input is.
     select : bool
         Compute the selection (steps 4–5). ``False`` skips it (``selected`` is empty).
+    two_surface : ``"closed-form"`` (default) or ``"iterate"``
+        With exactly two linearly independent rows, ``"closed-form"`` takes every branch from
+        :func:`impactsym.laws.two_surface.resolve_two_surfaces` in O(1), whatever the count (the
+        reflection cap does not apply: nothing is iterated); ``"iterate"`` forces the search.
+        When a closed-form exit velocity is certified digits rather than exact, the selection
+        is skipped (``selected`` is empty).
 
     Returns
     -------
@@ -629,7 +656,7 @@ def resolve_sequential(mass_matrix, gradients, velocity, *, reading: str = "ener
 
     Float mode counts its exact fallbacks (here the grazing contact 2–3 of the cradle):
 
-    >>> r = resolve_sequential(np.eye(3), [[-1.0, 1, 0], [0, -1, 1]], [1.0, 0, 0])
+    >>> r = resolve_sequential(np.eye(3), [[-1.0, 1, 0], [0, -1, 1]], [1.0, 0, 0], two_surface="iterate")
     >>> r.outcomes[0].velocity, r.exact, r.exact_fallbacks > 0
     (array([0., 0., 1.]), False, True)
 
@@ -642,6 +669,8 @@ def resolve_sequential(mass_matrix, gradients, velocity, *, reading: str = "ener
     if isinstance(max_reflections, bool) or not isinstance(max_reflections, (int, np.integer)) or max_reflections < 1:
         raise ImpactInputError("max_reflections", f"must be a positive integer, got {max_reflections!r}")
     cap = int(max_reflections)
+    if two_surface not in TWO_SURFACE_PATHS:
+        raise ImpactInputError("two_surface", f"must be one of {', '.join(TWO_SURFACE_PATHS)}, got {two_surface!r}")
     exact, M, H, v0 = _check_inputs(mass_matrix, gradients, velocity, exact)
     if exact:
         Mx, Hx, vx = M, H, v0
@@ -655,6 +684,8 @@ def resolve_sequential(mass_matrix, gradients, velocity, *, reading: str = "ener
                           "(the closed contacts admit no elastic exit velocity)")
     system = _ExactSystem(Mx, Hx, vx)
     F = system.F
+    if two_surface == "closed-form" and system.k == 2 and _rank(system.H, F) == 2:
+        return _two_surface_path(M, H, v0, system, exact, reading, select, witness)
     if exact:
         def sign_of(v, i, node):
             wi = system.w(v, i)
@@ -708,7 +739,54 @@ def resolve_sequential(mass_matrix, gradients, velocity, *, reading: str = "ener
     if select:
         selected = _select(system, [v for v, _ in exact_outcomes], [p for _, p in exact_outcomes], reading)
     return SequentialResolution(tuple(outcomes), selected, reading, total, longest, len(g.vel), tests,
-                                fallbacks, exact, F.name if exact else "float", approaching, witness, g)
+                                fallbacks, exact, F.name if exact else "float", approaching, witness, _graph=g)
+
+
+def _two_surface_path(M, H, v0, system, exact, reading, select, witness):
+    """Outcomes of two independent surfaces from the O(1) closed form, merged exactly."""
+    from .two_surface import resolve_two_surfaces
+
+    F = system.F
+    ts = resolve_two_surfaces(M, H, v0)
+    groups: list = []  # [velocity, [orders], impulse, exact]
+    for o in ts.outcomes:
+        order = tuple(o.order) if o.reflections <= 10_000 else o.order
+        for grp in groups:
+            if o.exact and grp[3] and all(certified_sign(a - b) == 0 for a, b in zip(o.velocity, grp[0])):
+                grp[1].append(order)
+                break
+            if not exact and not o.exact and grp[3] is False and np.array_equal(o.velocity, grp[0]):
+                grp[1].append(order)
+                break
+        else:
+            groups.append([o.velocity, [order], o.impulse, o.exact])
+    outcomes = []
+    orders = []
+    key = lambda t: (len(t), tuple(t[:2]))  # noqa: E731 (the iteration's order: shortest, then first surface)
+    for grp in groups:
+        grp[1] = sorted(grp[1], key=key)
+    groups.sort(key=lambda grp: key(grp[1][0]))
+    for idx, (vel, ords, imp, _) in enumerate(groups):
+        lens = [len(t) for t in ords]
+        outcomes.append(Outcome(ords[0], lens[0], vel, imp, len(ords), min(lens), max(lens)))
+        orders.extend((t, idx) for t in ords)
+    selected: tuple = ()
+    all_exact = all(g[3] for g in groups)
+    if select and (all_exact or not exact):
+        if exact:
+            exact_outs = [tuple(F.num(x) for x in o.velocity) for o in outcomes]
+        else:  # float input: replay the (short or long) orderings exactly only when they are short
+            if max(o.reflections for o in outcomes) > 10_000:
+                exact_outs = None
+            else:
+                exact_outs = [system.replay(o.order)[0] for o in outcomes]
+        if exact_outs is not None:
+            selected = _select(system, exact_outs, None, reading)
+    approaching = tuple(F.sign(system.w(system.v0, i)) < 0 for i in range(system.k))
+    return SequentialResolution(tuple(outcomes), selected, reading, len(orders),
+                                max(o.reflections_max for o in outcomes), 0, 2, 0, exact and all_exact,
+                                (F.name if exact else "float"), approaching, witness,
+                                method="two-surface closed form", bound=ts.bound, _orders=orders)
 
 
 class _Reflector:
