@@ -9,8 +9,9 @@ derivation emitted* (not from the generated code), in mpmath at ``dps ≥ 50`` d
   with itself to ``dps − GUARD_DIGITS`` digits; if not, the ladder climbs (``dps → 2·dps``) until
   two rungs agree, up to ``MAX_DPS`` (then :class:`ReferenceUnstable` is raised, never a guess);
 * the componentwise relative condition number of output ``f_i`` with respect to the inputs,
-  ``κ_i = Σ_j |x_j ∂f_i/∂x_j| / |f_i|``, comes from SymPy's exact derivatives evaluated at the
-  same precision.
+  ``κ_i = Σ_j |x_j ∂f_i/∂x_j| / |f_i|``, comes from central differences of the exact formula in
+  relative steps ``10^(−dps/2)`` at the working precision (about ``dps/2`` correct digits, ample
+  for a condition number; symbolic derivatives of the larger kernels cost tens of seconds).
 
 The accuracy target of the generated kernels (issue 5) is stated with these numbers: for every
 output component, ``|f̂_i − f_i| ≤ c · eps · (|f_i| + Σ_j |x_j ∂f_i/∂x_j|)``, i.e. a relative error
@@ -60,6 +61,14 @@ class _MpmathPrinter(MpmathPrinter):
         return "(" + super()._print_Mod(expr) + ")"
 
 
+def _ok(ref, xs) -> bool:
+    try:
+        ref._values(xs)
+        return True
+    except OutsideDomain:
+        return False
+
+
 def _mpmath_printer() -> _MpmathPrinter:
     return _MpmathPrinter({"fully_qualified_modules": False, "inline": True, "allow_unknown_functions": True,
                            "user_functions": {}})
@@ -104,25 +113,41 @@ class Reference:
         self.names = [str(a) for a in self.args]
         self.outputs = [sp.sympify(o) for o in outputs]
         self._f = sp.lambdify(self.args, self.outputs, modules="mpmath", printer=_mpmath_printer())
-        # d/dx of a step (ceiling, sign, a Piecewise condition) is 0 almost everywhere
-        grads = [[sp.diff(o, a).replace(lambda x: isinstance(x, (sp.Derivative, sp.Subs)), lambda x: sp.S.Zero)
-                  for a in self.args] for o in self.outputs]
-        self._g = sp.lambdify(self.args, grads, modules="mpmath", printer=_mpmath_printer())
+
+    def _values(self, xs):
+        try:
+            raw = self._f(*xs)
+        except ZeroDivisionError:
+            raise OutsideDomain("the exact value divides by zero at these inputs (degenerate input)") from None
+        nonreal = [i for i, v in enumerate(raw) if isinstance(v, mpmath.mpc) and v.imag != 0]
+        if nonreal:
+            err = OutsideDomain(f"the exact value is not real at these inputs (e.g. D < 0): {raw}")
+            err.nonreal = nonreal
+            raise err
+        return [mpmath.mpf(v.real if isinstance(v, mpmath.mpc) else v) for v in raw]
 
     def _at(self, xs, dps):
+        """Values, and ``Σ_j |x_j ∂f/∂x_j|`` by central differences in relative steps ``δ = 10^(−dps/2)``
+        (``x_j ∂f/∂x_j ≈ (f(x_j(1+δ)) − f(x_j(1−δ)))/(2δ)``, accurate to about ``dps/2`` digits; a
+        step function such as ``ceiling`` contributes 0 except within ``δ`` of its jumps)."""
         with mpmath.workdps(dps):
-            try:
-                raw = self._f(*xs)
-            except ZeroDivisionError:
-                raise OutsideDomain("the exact value divides by zero at these inputs (degenerate input)") from None
-            nonreal = [i for i, v in enumerate(raw) if isinstance(v, mpmath.mpc) and v.imag != 0]
-            if nonreal:
-                err = OutsideDomain(f"the exact value is not real at these inputs (e.g. D < 0): {raw}")
-                err.nonreal = nonreal
-                raise err
-            vals = [mpmath.mpf(v.real if isinstance(v, mpmath.mpc) else v) for v in raw]
-            grads = self._g(*xs)
-            sens = [mpmath.fsum(abs(x * mpmath.mpf(d)) for x, d in zip(xs, row)) for row in grads]
+            vals = self._values(xs)
+            delta = mpmath.mpf(10) ** (-(dps // 2))
+            sens = [mpmath.mpf(0)] * len(vals)
+            for j, x in enumerate(xs):
+                if x == 0:
+                    continue
+                up, down = list(xs), list(xs)
+                up[j], down[j] = x * (1 + delta), x * (1 - delta)
+                if _ok(self, up) and _ok(self, down):
+                    fu, fd, width = self._values(up), self._values(down), 2 * delta
+                elif _ok(self, up):  # on the domain's boundary: one-sided
+                    fu, fd, width = self._values(up), vals, delta
+                elif _ok(self, down):
+                    fu, fd, width = vals, self._values(down), delta
+                else:
+                    continue
+                sens = [s + abs(a - b) / width for s, a, b in zip(sens, fu, fd)]
             return vals, sens
 
     def evaluate(self, inputs: Mapping[str, float], dps: int = 50) -> ReferenceValue:
