@@ -63,7 +63,12 @@ def _exprs(name):
 @lru_cache(maxsize=None)
 def naive_outputs(name: str):
     """``(args, outputs)`` of the naive formula: the quadratic formula for the impulse-ratio root
-    (chain3: ``p₁ = (−B + √D)/(2A)``), the emitted expressions otherwise."""
+    (chain3: ``p₁ = (−B + √D)/(2A)``), the emitted expressions otherwise.
+
+    >>> args, outs = naive_outputs("impulse_ratio_root")
+    >>> [str(a) for a in args], outs[1]
+    (['A', 'B', 'C'], (-B - sqrt(-4*A*C + B**2))/(2*A))
+    """
     args, outs = _exprs(name)
     if name == "impulse_ratio_root":
         return _exprs("impulse_ratio_root_naive")
@@ -266,7 +271,13 @@ def run(quick: bool = False, formulas=None, backends=BACKENDS, progress=None) ->
 
 
 def table(result: dict) -> str:
-    """The results as a Markdown table (one row per formula, case set and backend)."""
+    """The results as a Markdown table (one row per formula, case set and backend).
+
+    >>> row = {"formula": "f", "case_set": "hard", "backend": "c-loop", "evals_per_second": 1e8,
+    ...        "median_rel_error": 1e-16, "max_rel_error": 2e-16, "max_error_ratio": 0.5}
+    >>> print(table({"results": [row], "targets": []}).splitlines()[2])
+    | f | hard | c-loop | 1e+08 | 1e-16 | 2e-16 | 0.5 |
+    """
     def g(x):
         return "-" if x is None else f"{x:.3g}"
 
@@ -325,7 +336,14 @@ def _rate(results, formula, backend, case_set="uniform"):
 
 
 def check_targets(results) -> list[dict]:
-    """The issue's targets for chain3, as ratios from this run (met or missed, with the numbers)."""
+    """The issue's targets for chain3, as ratios from this run (met or missed, with the numbers).
+
+    >>> rows = [{"formula": "chain3_impulse_ratio", "backend": b, "case_set": "uniform", "evals_per_second": r,
+    ...          "max_error_ratio": 1.0} for b, r in (("numpy-batched", 2e7), ("sympy-evalf", 20.0),
+    ...                                               ("mpmath-50", 4e3), ("c-loop", 6e7))]
+    >>> [(t["target"], t["met"]) for t in check_targets(rows)][:3]
+    [('numpy-batched / sympy-evalf', True), ('numpy-batched / mpmath-50', True), ('c-loop / numpy-batched', True)]
+    """
     f = "chain3_impulse_ratio"
     nb, ev, mp, c = (_rate(results, f, b) for b in ("numpy-batched", "sympy-evalf", "mpmath-50", "c-loop"))
     out = []

@@ -167,3 +167,54 @@ def test_rust_every_closed_form_matches_numpy(tmp_path):
     assert len(expected) >= 10 and len(lines) == len(expected)
     for (name, want), line in zip(expected, lines):
         np.testing.assert_allclose([float(x) for x in line.split()], want, rtol=1e-9, atol=1e-300, err_msg=name)
+
+
+def _fortran_literal(x: float) -> str:
+    r = repr(float(x)).replace("e", "d")
+    return r if "d" in r else r + "d0"
+
+
+@pytest.mark.skipif(shutil.which("gfortran") is None,
+                    reason="gfortran not on PATH (Debian package gfortran; not installed by .ci/run)")
+def test_fortran_every_closed_form_matches_numpy(tmp_path):
+    """Every closed-form kernel's Fortran form, on one in-domain input each, equals the NumPy kernel."""
+    import math
+
+    import numpy as np
+
+    from impactsym import kernels as K
+    from impactsym.hard_cases import HARD_CASES
+
+    cat = json.loads((KERNEL_DIR / "catalog.json").read_text())["kernels"]
+    calls, expected = [], []
+    for k in cat:
+        if k["kind"] != "closed form" or k["code"]["fortran"] is None:
+            continue
+        cases = [c for c in HARD_CASES if c.kernel == k["name"]]
+        inputs = cases[0].inputs if cases else {a: 0.4 + 0.05 * i for i, a in enumerate(k["args"])}
+        want = getattr(K, k["name"])(**inputs)
+        want = [float(x) for x in (want if isinstance(want, tuple) else (want,))]
+        if not all(math.isfinite(x) for x in want):
+            continue
+        n = len(k["outputs"])
+        args = ", &\n        ".join(_fortran_literal(inputs[a]) for a in k["args"])
+        outs = ", ".join(f"o({i + 1})" for i in range(n))
+        calls.append(f"    call {k['name']}({args}, &\n        {outs})\n    print '(*(ES26.17E3,1x))', o(1:{n})")
+        expected.append((k["name"], want))
+    for f in sorted((KERNEL_DIR / "fortran").glob("*.f90")):
+        res = subprocess.run(["gfortran", "-c", str(f), "-J", str(tmp_path), "-o", str(tmp_path / (f.stem + ".o"))],
+                             capture_output=True, text=True)
+        assert res.returncode == 0, res.stderr
+    mods = sorted(f.stem for f in (KERNEL_DIR / "fortran").glob("*.f90"))
+    prog = ("program allk\n    use, intrinsic :: iso_c_binding, only: c_double\n"
+            + "".join(f"    use impactsym_{m}\n" for m in mods)
+            + "    implicit none\n    real(c_double) :: o(16)\n" + "\n".join(calls) + "\nend program allk\n")
+    (tmp_path / "allk.f90").write_text(prog)
+    res = subprocess.run(["gfortran", "-I", str(tmp_path), str(tmp_path / "allk.f90"),
+                          *[str(tmp_path / (m + ".o")) for m in mods], "-o", str(tmp_path / "allk")],
+                         capture_output=True, text=True)
+    assert res.returncode == 0, res.stderr
+    lines = subprocess.run([str(tmp_path / "allk")], capture_output=True, text=True).stdout.splitlines()
+    assert len(expected) >= 10 and len(lines) == len(expected)
+    for (name, want), line in zip(expected, lines):
+        np.testing.assert_allclose([float(x) for x in line.split()], want, rtol=1e-9, atol=1e-300, err_msg=name)
