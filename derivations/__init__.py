@@ -9,8 +9,12 @@ Modules
 -------
 algebra     verified rewriting in the non-commutative algebra of w, u, M (general-n proofs)
 codegen     the one writer of generated files (header, deterministic formatting)
+chain3      closed forms of the 3-ball chain (Acary & Taha eqs. 13-19)
+domains     validity domains of the impulse-ratio law (Acary & Taha eqs. 19, 28-32)
+pool        closed forms of the pool and Bernoulli's problem (Acary & Taha eqs. 25-37)
 reflection  the single-impact map G_u and the Newton-restitution map G_u(e) (Seghete & Murphey eq. 1)
+two_surface the two-surface problem: plane reduction, exact reflection count, the paper's bound (sec. III-C)
 """
 
 #: derivation modules that write generated code, in generation order
-FAMILIES = ["reflection"]
+FAMILIES = ["reflection", "two_surface", "chain3", "pool", "domains"]

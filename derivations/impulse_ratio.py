@@ -32,7 +32,7 @@ from dataclasses import dataclass
 
 import sympy as sp
 
-__all__ = ["QuadraticLaw", "general_quadratic", "physical_root_proof"]
+__all__ = ["QuadraticLaw", "general_quadratic", "physical_root_proof", "general_coefficients_proof", "moreau_energy_proof", "poisson_energy_proof"]
 
 
 @dataclass
@@ -102,3 +102,92 @@ def physical_root_proof():
     proven = at_elastic_minus == 0 and sp.simplify(at_elastic_plus - Bn / A) == 0 and pair_ok
     return {"plus_at_e1": at_elastic_plus, "minus_at_e1": at_elastic_minus, "stable_pair": pair_ok,
             "proven": bool(proven)}
+
+
+def general_coefficients_proof():
+    """Prove the coefficients of the quadratic for **every** dimension ``n`` and contact count ``k``.
+
+    Matrices are non-commutative symbols (:mod:`derivations.algebra`): ``M``, ``Mi = M⁻¹``,
+    ``H`` (k×n), ``Ht = Hᵀ``, ``v`` (n×1), ``vt = vᵀ``, ``a`` (k×1), ``at = aᵀ``; ``p₁`` and ``e``
+    commute. With ``v⁺ = v + p₁ M⁻¹Hᵀa`` (so ``v⁺ᵀ = vᵀ + p₁ aᵀ H M⁻¹``, using ``(M⁻¹)ᵀ = M⁻¹``),
+    the rewriting rules are the defining relations ``M M⁻¹ = M⁻¹ M = I`` and the transpose of a
+    scalar, ``vᵀHᵀa = aᵀHv``. The claim:
+
+        ½ v⁺ᵀ M v⁺ − e·½ vᵀ M v = A p₁² + B p₁ + C,
+        A = ½ aᵀHM⁻¹Hᵀa,  B = aᵀHv,  C = (1 − e)·½ vᵀMv.
+
+    >>> general_coefficients_proof()["proven"]
+    True
+    """
+    from .algebra import nc_symbols, rewrite
+
+    M, Mi, H, Ht, v, vt, a, at = nc_symbols("M Mi H Ht v vt a at")
+    p1, e = sp.symbols("p_1 e")
+    vplus, vplus_t = v + p1 * Mi * Ht * a, vt + p1 * at * H * Mi
+    balance = vplus_t * M * vplus / 2 - e * vt * M * v / 2
+    A = at * H * Mi * Ht * a / 2
+    B = at * H * v
+    C = (1 - e) * vt * M * v / 2
+    rules = {M * Mi: 1, Mi * M: 1, vt * Ht * a: at * H * v}
+    residual = rewrite(balance - (A * p1**2 + B * p1 + C), rules)
+    return {"A": A, "B": B, "C": C, "residual": residual, "proven": residual == 0}
+
+
+def moreau_energy_proof():
+    """Energy of Newton/Moreau's law (eq. 10), for every ``n`` and ``k``.
+
+    1. ``T⁺ − T⁻ = ½ pᵀ H (v⁺ + v⁻)`` for ``v⁺ = v⁻ + M⁻¹Hᵀp`` (non-commutative rewriting, as in
+       :func:`general_coefficients_proof`).
+    2. Contact by contact, complementarity ``p_i (w⁺_i + e w⁻_i) = 0`` gives
+       ``p_i (w⁺_i + w⁻_i) = (1 − e) p_i w⁻_i``; summing, ``T⁺ − T⁻ = ½ (1 − e) pᵀ H v⁻``.
+
+    Hence at ``e = 1`` Newton/Moreau conserves kinetic energy exactly, for any number of contacts,
+    and for ``e < 1`` it dissipates as long as the contacts carrying impulse approach.
+
+    >>> r = moreau_energy_proof()
+    >>> r["proven"], r["energy_change"]
+    (True, '(1 - e)/2 * p^T H v-')
+    """
+    from .algebra import nc_symbols, rewrite
+
+    M, Mi, H, Ht, v, vt, p, pt = nc_symbols("M Mi H Ht v vt p pt")
+    vplus, vplus_t = v + Mi * Ht * p, vt + pt * H * Mi
+    change = vplus_t * M * vplus / 2 - vt * M * v / 2
+    claim = pt * H * (vplus + v) / 2
+    rules = {M * Mi: 1, Mi * M: 1, vt * Ht * p: pt * H * v}
+    step1 = rewrite(change - claim, rules) == 0
+    # step 2, one contact: w+ = -e w- wherever p_i > 0 (complementarity); where p_i = 0 both sides vanish
+    pi, wm, e = sp.symbols("p_i w_minus e")
+    wp = -e * wm
+    step2 = sp.expand(pi * (wp + wm) - (1 - e) * pi * wm) == 0 and sp.expand((0 * (wp + wm)) - (1 - e) * 0 * wm) == 0
+    return {"step1": step1, "step2": step2, "proven": bool(step1 and step2),
+            "energy_change": "(1 - e)/2 * p^T H v-"}
+
+
+def poisson_energy_proof():
+    """Energy of Poisson's law with one coefficient ``e`` for all contacts (eq. 11, ``p = (1+e) p_c``),
+    for every ``n`` and ``k``.
+
+    The compression impulse ``p_c`` solves ``0 ≤ H v_c ⊥ p_c ≥ 0`` with ``v_c = v⁻ + M⁻¹Hᵀp_c``, so
+    ``p_cᵀ H v_c = 0``, i.e. ``p_cᵀHv⁻ = −p_cᵀHM⁻¹Hᵀp_c`` (the rewriting rule). With
+    ``v⁺ = v⁻ + (1+e) M⁻¹Hᵀp_c``:
+
+        T⁺ − T⁻ = −½ (1 − e²) p_cᵀ H M⁻¹ Hᵀ p_c  ≤ 0,
+
+    with equality at ``e = 1``. Like Newton/Moreau, this Poisson law never creates energy.
+
+    >>> poisson_energy_proof()["proven"]
+    True
+    """
+    from .algebra import nc_symbols, rewrite
+
+    M, Mi, H, Ht, v, vt, p, pt = nc_symbols("M Mi H Ht v vt p pt")
+    e = sp.Symbol("e")
+    vplus, vplus_t = v + (1 + e) * Mi * Ht * p, vt + (1 + e) * pt * H * Mi
+    change = vplus_t * M * vplus / 2 - vt * M * v / 2
+    claim = -(1 - e**2) * pt * H * Mi * Ht * p / 2
+    rules = {M * Mi: 1, Mi * M: 1, vt * Ht * p: pt * H * v}
+    residual = rewrite(change - claim, rules)
+    # complementarity of the compression phase: p_c^T H v = -p_c^T H M^-1 H^T p_c
+    residual = rewrite(residual, {pt * H * v: -pt * H * Mi * Ht * p})
+    return {"residual": residual, "proven": residual == 0}

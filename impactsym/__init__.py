@@ -13,6 +13,10 @@ Matrix([
 
 from .errors import DomainError, ImpactError, ImpactInputError, NonTermination, UndecidableSign
 from .laws.reflection import impulse_multiplier, reflect, reflection_map
+from .laws.impulse_ratio import impulse_ratio_law
+from .laws.classical import energetic, han_gilmore, newton_moreau, poisson
+from .laws.coupling import apply_coupling, coupling_decision, impact_degree
+from .laws.two_surface import resolve_two_surfaces
 from .mechanics import (
     check_gradient,
     check_gradients,
@@ -30,6 +34,9 @@ __version__ = "0.1.0"
 __all__ = [
     "ImpactError", "ImpactInputError", "DomainError", "NonTermination", "UndecidableSign",
     "reflection_map", "reflect", "impulse_multiplier",
+    "impulse_ratio_law", "newton_moreau", "poisson", "energetic", "han_gilmore",
+    "apply_coupling", "coupling_decision", "impact_degree",
+    "resolve_two_surfaces",
     "check_mass_matrix", "check_gradient", "check_gradients", "check_velocity",
     "kinetic_energy", "m_normal", "kinetic_angle_cos", "kinetic_angle", "relative_velocity",
 ]

@@ -186,7 +186,9 @@ def kinetic_energy(M, v):
     return 0.5 * float(v @ np.asarray(M, dtype=float) @ v)
 
 
-def _row(h):
+def _row(h, exact: bool = False):
+    if exact and not isinstance(h, sp.MatrixBase):
+        h = to_exact_matrix(h, "gradient", vector=True)
     if isinstance(h, sp.MatrixBase):
         return h if h.rows == 1 else h.T
     return np.asarray(h, dtype=float).reshape(-1)
@@ -202,7 +204,7 @@ def m_normal(M, h):
     (Matrix([[sqrt(6)/6, sqrt(6)/3]]), 1)
     """
     if isinstance(M, sp.MatrixBase):
-        h = _row(h)
+        h = _row(h, exact=True)
         w = M.LUsolve(h.T)
         return sp.simplify(w / sp.sqrt((h * w)[0, 0]))
     h = _row(h)
@@ -217,7 +219,7 @@ def kinetic_angle_cos(M, hi, hj):
     -sqrt(2)/2
     """
     if isinstance(M, sp.MatrixBase):
-        hi, hj = _row(hi), _row(hj)
+        hi, hj = _row(hi, exact=True), _row(hj, exact=True)
         Minv_hj = M.LUsolve(hj.T)
         Minv_hi = M.LUsolve(hi.T)
         num = (hi * Minv_hj)[0, 0]

@@ -14,6 +14,11 @@ from .common import add_json_flag
 
 #: CLI law name -> "module:function" (module relative to impactsym)
 LAWS: dict[str, str] = {
+    "impulse-ratio": "cli.resolve_impulse_ratio:run",
+    "newton": "cli.resolve_classical:run_newton",
+    "poisson": "cli.resolve_classical:run_poisson",
+    "energetic": "cli.resolve_classical:run_energetic",
+    "han-gilmore": "cli.resolve_classical:run_han_gilmore",
 }
 
 
@@ -28,7 +33,15 @@ def register(sub) -> None:
     p.add_argument("--gradients", metavar="H", help='gradient rows of the closed contacts "a,b;c,d"')
     p.add_argument("--velocity", metavar="v", help='pre-impact velocity "a,b"')
     p.add_argument("--restitution", metavar="e", help="restitution coefficient")
-    p.add_argument("--scene", metavar="NAME", help="a canonical scene instead of matrices")
+    p.add_argument("--scene", metavar="NAME", help="a canonical scene instead of matrices: chain3, pool, bernoulli")
+    p.add_argument("--ratios", metavar="A", help="impulse ratios alpha_12,alpha_13,... against contact 1")
+    p.add_argument("--allow-invalid", action="store_true", help="report a result outside the law's domain (exit 0)")
+    p.add_argument("--coupling", action="store_true", help="apply the kinetic-angle coupling criteria (eqs. 41-45)")
+    p.add_argument("--theta", metavar="T", help="pool: angle between the lines 1-2 and 2-3 (e.g. pi/4)")
+    p.add_argument("--tau", metavar="T", help="pool/bernoulli: incidence angle of ball 1")
+    p.add_argument("--masses", metavar="m", help='chain3: the three masses "m1,m2,m3"')
+    p.add_argument("--velocities", metavar="v", help='chain3: the three pre-impact velocities "v1,v2,v3"')
+    p.add_argument("--variant", metavar="V", help="poisson: paper (default) or glocker-pfeiffer")
     add_json_flag(p)
     p.set_defaults(func=run, _resolve_parser=p)
 
@@ -39,3 +52,13 @@ def run(args) -> dict:
     module_name, func_name = LAWS[args.law].split(":")
     module = importlib.import_module(f"impactsym.{module_name}")
     return getattr(module, func_name)(args)
+
+
+def render(result: dict) -> str:
+    """Text output: the law module's own ``render`` (the result's ``"law"`` is its LAWS key)."""
+    import json
+
+    module_name, _ = LAWS.get(result.get("law"), ":").split(":")
+    module = importlib.import_module(f"impactsym.{module_name}") if module_name else None
+    render_law = getattr(module, "render", None)
+    return render_law(result) if render_law else json.dumps(result, indent=2)

@@ -5,8 +5,20 @@ every kernel is importable as ``impactsym.kernels.<name>``.
 
 from .reflection import *  # noqa: F401,F403
 from .reflection import CODEGEN_NAMES as _reflection_names
+from .two_surface import *  # noqa: F401,F403
+from .two_surface import CODEGEN_NAMES as _two_surface_names
+from .chain3 import *  # noqa: F401,F403
+from .chain3 import CODEGEN_NAMES as _chain3_names
+from .pool import *  # noqa: F401,F403
+from .pool import CODEGEN_NAMES as _pool_names
+from .domains import *  # noqa: F401,F403
+from .domains import CODEGEN_NAMES as _domains_names
 
 #: every kernel's kebab-case codegen name -> (family, kernel name)
 CODEGEN_NAMES = {
     **{k: ('reflection', v) for k, v in _reflection_names.items()},
+    **{k: ('two_surface', v) for k, v in _two_surface_names.items()},
+    **{k: ('chain3', v) for k, v in _chain3_names.items()},
+    **{k: ('pool', v) for k, v in _pool_names.items()},
+    **{k: ('domains', v) for k, v in _domains_names.items()},
 }

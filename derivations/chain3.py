@@ -1,0 +1,333 @@
+"""Closed forms of the 3-ball chain (Acary & Taha sec. 3.3, eqs. 13–18), derived from the general law.
+
+Nothing here is typed from the paper: every closed form is the general impulse-ratio quadratic
+(:func:`derivations.impulse_ratio.general_quadratic`, eq. 38) applied to the chain scene
+(:func:`impactsym.models.acary_taha.chain3`, eqs. 13–14), then recomposed as
+
+    p₁ = (−B + √Δ) / (2A),   p₂ = α p₁,   q̇⁺ = q̇⁻ + p₁ M⁻¹Hᵀ(1, α)ᵀ,
+
+with ``A``, ``B``, ``C`` and the discriminant ``Δ = B² − 4AC`` read off the derived quadratic.
+The paper's printed eq. 18 is kept only as a *transcription* (:func:`printed_eq18`) so that the
+two can be compared (:func:`compare_eq18`).
+
+Quantity names (stable; the paper-audit helper keys on them)
+-------------------------------------------------------------
+``"A"``, ``"B"``, ``"C"``  coefficients of ``A p₁² + B p₁ + C = 0``
+``"Delta"``                the discriminant ``B² − 4AC`` (the paper's Δ for the unit-speed chain)
+``"p1"``, ``"p2"``         impulses at contacts 1–2 and 2–3
+``"q1+"``, ``"q2+"``, ``"q3+"``  post-impact velocities of balls 1, 2, 3
+
+Findings against the print (proved in :func:`compare_eq18` and the tests)
+--------------------------------------------------------------------------
+* eq. 18, ``q̇₃⁺``: printed ``−(1+√Δ)α / (2(1−α+α²))``, derived ``+(1+√Δ)α / (2(1−α+α²))``
+  (sign misprint). Proof: momentum ``Σ m q̇ᵢ⁺ = m`` holds for the derived value and fails for the
+  printed one (``Σ = 1 − (1+√Δ)α/(1−α+α²) ≠ 1`` for ``α > 0``); also eq. 13's third line,
+  ``m(q̇₃⁺ − 0) = p₂ ≥ 0``, forbids a negative ``q̇₃⁺``.
+* every other entry of eq. 18 (``p₁``, ``p₂``, ``q̇₁⁺``, ``q̇₂⁺``, ``Δ``) equals the derived form.
+* eq. 17 and eq. 12 read ``½ q̇⁺ᵀMq̇⁺ = e q̇⁻ᵀMq̇⁻`` without ½ on the right in eq. 12; eq. 17 (no
+  ½ on either side) is the reading used here, ``T⁺ = e T⁻`` (``CONVENTIONS.md``).
+
+Examples
+--------
+>>> cf = chain3_equal_masses()
+>>> cf["Delta"]
+2*alpha**2*e - 2*alpha**2 - 2*alpha*e + 2*alpha + 2*e - 1
+>>> cf["p1"]
+m*(sqrt(2*alpha**2*e - 2*alpha**2 - 2*alpha*e + 2*alpha + 2*e - 1) + 1)/(2*(alpha**2 - alpha + 1))
+>>> {k: v for k, v in compare_eq18().items() if not v}
+{'q3+': False}
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import sympy as sp
+
+from impactsym.models.acary_taha import chain3
+
+from .codegen import ScalarKernel, render_family
+from .impulse_ratio import QuadraticLaw, general_quadratic
+
+__all__ = [
+    "SYMBOLS",
+    "chain3_law",
+    "closed_form",
+    "chain3_equal_masses",
+    "chain3_general",
+    "printed_eq18",
+    "compare_eq18",
+    "momentum_energy_residuals",
+    "stable_root",
+    "kernels",
+    "generate",
+]
+
+alpha, e, m = sp.symbols("alpha e m", positive=True)
+m1, m2, m3 = sp.symbols("m1 m2 m3", positive=True)
+v1, v2, v3 = sp.symbols("v1 v2 v3", real=True)
+
+#: the symbols the closed forms are written in (``alpha`` = α = p₂/p₁, ``e`` the energetic coefficient)
+SYMBOLS = {"alpha": alpha, "e": e, "m": m, "m1": m1, "m2": m2, "m3": m3, "v1": v1, "v2": v2, "v3": v3}
+
+VELOCITY_NAMES = ("q1+", "q2+", "q3+")
+
+
+def chain3_law(masses=(m, m, m), velocities=(1, 0, 0), ratio=alpha, restitution=e) -> QuadraticLaw:
+    """The general quadratic (eq. 38) for the chain scene with the given masses and velocities.
+
+    Parameters
+    ----------
+    masses, velocities : three numbers or SymPy symbols each (default: equal masses ``m``,
+        ``q̇⁻ = (1, 0, 0)`` as in sec. 3.2)
+    ratio : the impulse ratio α = p₂/p₁ (eq. 17)
+    restitution : the energetic coefficient e (eq. 12/17)
+
+    Returns
+    -------
+    QuadraticLaw
+
+    Examples
+    --------
+    >>> sp.factor(chain3_law().A)
+    (alpha**2 - alpha + 1)/m
+
+    References
+    ----------
+    Acary & Taha, eqs. 13, 17, 38.
+    """
+    sc = chain3(masses, velocities)
+    return general_quadratic(sc.M, sc.H, sc.v, restitution, [ratio])
+
+
+def closed_form(scene, law: QuadraticLaw, velocity_names, impulse_names=None) -> dict:
+    """Recompose a derived law into readable closed forms keyed by quantity name.
+
+    ``p₁ = (−B + √Δ)/(2A)`` with ``A`` factored and ``Δ`` expanded; ``p_j = α₁ⱼ p₁``; each
+    post-impact velocity is ``v⁻ᵢ + cᵢ p₁`` with ``c = M⁻¹Hᵀa`` (entries factored). This equals
+    the law's own ``p`` and ``v⁺`` by construction; the tests check it symbolically.
+
+    Parameters
+    ----------
+    scene : the :class:`impactsym.scenes.Scene` the law was derived for (``M``, ``H``, ``v⁻``)
+    law : QuadraticLaw from :func:`derivations.impulse_ratio.general_quadratic` on that scene
+    velocity_names : names of the post-impact velocity components, in coordinate order
+    impulse_names : names of the impulses (default ``p1, p2, ...``)
+
+    Returns
+    -------
+    dict
+        ``{"A", "B", "C", "Delta", impulse names..., velocity names...}``
+
+    Examples
+    --------
+    >>> sc = chain3((1, 1, 1), (1, 0, 0))
+    >>> law = general_quadratic(sc.M, sc.H, sc.v, 1, [sp.Rational(1, 2)])
+    >>> closed_form(sc, law, VELOCITY_NAMES)["q3+"]
+    2/3
+    """
+    A = sp.factor(law.A)
+    B = sp.simplify(law.B)
+    C = sp.factor(law.C)
+    Delta = sp.expand(law.D)
+    p1 = (-B + sp.sqrt(Delta)) / (2 * A)
+    out = {"A": A, "B": B, "C": C, "Delta": Delta}
+    names = impulse_names or [f"p{i + 1}" for i in range(len(law.ratios))]
+    for name, r in zip(names, law.ratios):
+        out[name] = p1 if r == 1 else sp.factor(r) * p1
+    direction = scene.M.LUsolve(scene.H.T * law.ratios)
+    for name, vm, c in zip(velocity_names, scene.v, direction):
+        c = sp.factor(sp.simplify(c))
+        out[name] = sp.simplify(vm) + c * p1 if c != 0 else sp.simplify(vm)
+    return out
+
+
+def chain3_equal_masses() -> dict:
+    """Eq. 18 derived: equal masses ``m``, ``q̇⁻ = (1, 0, 0)``, ratio α, coefficient e.
+
+    Returns
+    -------
+    dict
+        keys ``A, B, C, Delta, p1, p2, q1+, q2+, q3+`` (see the module docstring).
+
+    Examples
+    --------
+    >>> cf = chain3_equal_masses()
+    >>> cf["q3+"]
+    alpha*(sqrt(2*alpha**2*e - 2*alpha**2 - 2*alpha*e + 2*alpha + 2*e - 1) + 1)/(2*(alpha**2 - alpha + 1))
+
+    References
+    ----------
+    Acary & Taha, eqs. 13, 17, 18.
+    """
+    sc = chain3((m, m, m), (1, 0, 0))
+    law = general_quadratic(sc.M, sc.H, sc.v, e, [alpha])
+    return closed_form(sc, law, VELOCITY_NAMES)
+
+
+def chain3_general() -> dict:
+    """The chain with unequal masses ``m1, m2, m3`` and any pre-impact velocities ``v1, v2, v3``.
+
+    Returns
+    -------
+    dict
+        keys ``A, B, C, Delta, p1, p2, q1+, q2+, q3+``; ``B = (v2 − v1) + α (v3 − v2)`` is the
+        ratio-weighted relative velocity (approaching along ``(1, α)`` when ``B < 0``).
+
+    Examples
+    --------
+    >>> g = chain3_general()
+    >>> g["A"]
+    (alpha**2*m1*m2 + alpha**2*m1*m3 - 2*alpha*m1*m3 + m1*m3 + m2*m3)/(2*m1*m2*m3)
+    >>> g["B"]
+    -alpha*v2 + alpha*v3 - v1 + v2
+
+    References
+    ----------
+    Acary & Taha, eqs. 13, 17 (generalized), 38.
+    """
+    sc = chain3((m1, m2, m3), (v1, v2, v3))
+    law = general_quadratic(sc.M, sc.H, sc.v, e, [alpha])
+    out = closed_form(sc, law, VELOCITY_NAMES)
+    out["B"] = sp.expand(out["B"])
+    out["Delta"] = sp.factor(sp.cancel(out["Delta"]))
+    return out
+
+
+def printed_eq18():
+    """TRANSCRIPTION of the paper's printed eq. 18 (for comparison only; never used to compute).
+
+    Returns
+    -------
+    dict with keys ``p1, p2, q1+, q2+, q3+, Delta`` as printed (``m`` the common mass).
+
+    Examples
+    --------
+    >>> printed_eq18()["q3+"]
+    alpha*(-sqrt(2*alpha**2*e - 2*alpha**2 - 2*alpha*e + 2*alpha + 2*e - 1) - 1)/(2*alpha**2 - 2*alpha + 2)
+    """
+    Delta = -1 + 2 * e - 2 * alpha * e + 2 * alpha + 2 * alpha**2 * e - 2 * alpha**2
+    den = 2 * (1 - alpha + alpha**2)
+    s = 1 + sp.sqrt(Delta)
+    return {
+        "p1": s * m / den,
+        "p2": s * m * alpha / den,
+        "q1+": -s / den + 1,
+        "q2+": -s * (alpha - 1) / den,
+        "q3+": -s * alpha / den,
+        "Delta": Delta,
+    }
+
+
+def compare_eq18() -> dict:
+    """For each quantity of eq. 18: does the derived closed form equal the transcription?
+
+    Equality is decided exactly: ``Δ`` is a polynomial (expanded difference), the others are
+    rational in ``√Δ`` (``√Δ`` replaced by a fresh symbol ``s``, then the difference cancelled),
+    so a ``True`` is an identity in ``α, e, m`` and a ``False`` a non-identity.
+
+    Examples
+    --------
+    >>> compare_eq18()
+    {'p1': True, 'p2': True, 'q1+': True, 'q2+': True, 'q3+': False, 'Delta': True}
+    """
+    derived, printed = chain3_equal_masses(), printed_eq18()
+    return {k: _identical(derived[k], printed[k], derived["Delta"]) for k in printed}
+
+
+def _identical(a, b, Delta) -> bool:
+    from .pool import _sqrt_delta_to_symbol
+
+    return sp.cancel(sp.together(_sqrt_delta_to_symbol(sp.sympify(a) - sp.sympify(b), Delta))) == 0
+
+
+def momentum_energy_residuals(velocities: dict, masses=(m, m, m), vminus=(1, 0, 0)) -> dict:
+    """Momentum and energy residuals of a post-impact state: ``Σmᵢq̇ᵢ⁺ − Σmᵢq̇ᵢ⁻`` and
+    ``T⁺ − e T⁻`` (simplified). Used to prove the eq. 18 misprint.
+
+    Examples
+    --------
+    >>> r = momentum_energy_residuals(printed_eq18())
+    >>> sp.factor(r["momentum"])
+    -alpha*m*(sqrt(2*alpha**2*e - 2*alpha**2 - 2*alpha*e + 2*alpha + 2*e - 1) + 1)/(alpha**2 - alpha + 1)
+    >>> momentum_energy_residuals(chain3_equal_masses())
+    {'momentum': 0, 'energy': 0}
+    """
+    qp = [velocities[k] for k in VELOCITY_NAMES]
+    mom = sum(mi * (q - v) for mi, q, v in zip(masses, qp, vminus))
+    en = sum(mi * q**2 for mi, q in zip(masses, qp)) / 2 - e * sum(mi * v**2 for mi, v in zip(masses, vminus)) / 2
+    return {"momentum": sp.simplify(mom), "energy": sp.simplify(sp.expand(en))}
+
+
+def stable_root(A, B, C):
+    """The physical root ``(−B + √D)/(2A)`` of ``A p² + B p + C``, in cancellation-free form.
+
+    ``D = B² − 4AC``. For ``B ≤ 0`` the two terms of ``−B + √D = |B| + √D`` have the same sign,
+    so ``(|B| + √D)/(2A)`` loses nothing; for ``B > 0`` the same root is ``−2C/(|B| + √D)`` (the
+    product of the roots is ``C/A``), again without cancellation. Writing ``|B|`` in both
+    branches keeps the branch that is not selected free of ``0/0`` when a vectorized kernel
+    evaluates both. Both branches equal ``(−B + √D)/(2A)`` on their side (proved in the tests).
+
+    Examples
+    --------
+    >>> a, b, c = sp.symbols("a b c", positive=True)
+    >>> stable_root(a, -b, c)
+    (b + sqrt(-4*a*c + b**2))/(2*a)
+    """
+    D = B**2 - 4 * A * C
+    return sp.Piecewise(
+        ((sp.Abs(B) + sp.sqrt(D)) / (2 * A), B <= 0),
+        (-2 * C / (sp.Abs(B) + sp.sqrt(D)), True),
+    )
+
+
+MODULE_DOC = """Impulse-ratio law for the 3-ball chain (Acary & Taha sec. 3.3, eqs. 13-18), general masses
+and pre-impact velocities; the physical root in cancellation-free form ((|B| + sqrt(D))/(2A) for
+B <= 0, -2C/(|B| + sqrt(D)) for B > 0)."""
+
+
+def kernels():
+    """The chain3 family: ``chain3_impulse_ratio`` and the eq. 19 boundary ``chain3_alpha_max``.
+
+    Examples
+    --------
+    >>> [k.name for k in kernels()]
+    ['chain3_impulse_ratio', 'chain3_alpha_max']
+    """
+    g = chain3_general()
+    sc = chain3((m1, m2, m3), (v1, v2, v3))
+    c = sc.M.LUsolve(sc.H.T * sp.Matrix([1, alpha]))
+    p1 = stable_root(g["A"], g["B"], g["C"])
+    w = [vi + sp.factor(ci) * p1 for vi, ci in zip((v1, v2, v3), c)]
+    law_kernel = ScalarKernel(
+        "chain3_impulse_ratio",
+        [m1, m2, m3, v1, v2, v3, e, alpha],
+        [p1, alpha * p1, *w],
+        ["p1", "p2", "w1", "w2", "w3"],
+        """The impulse-ratio law on the 3-ball chain (Acary & Taha eqs. 13, 17, 38), any masses
+and pre-impact velocities: p = p1 (1, alpha), w = post-impact velocities.
+
+p1 is the physical root (-B + sqrt(D))/(2A) of A p1^2 + B p1 + C = 0, evaluated without
+cancellation: (|B| + sqrt(D))/(2A) for B <= 0, -2C/(|B| + sqrt(D)) for B > 0. D < 0 (no solution) gives nan. No admissibility check: see
+impactsym.domains.validity_domain and the impulse-ratio law for those.
+""",
+    )
+    from .domains import chain3_alpha_max_expr
+
+    amax = ScalarKernel(
+        "chain3_alpha_max",
+        [e],
+        [chain3_alpha_max_expr()],
+        ["alpha_max"],
+        """Upper end of the chain's admissible impulse ratios at energetic coefficient e
+(eq. 19, 1/3 <= e <= 1): alpha_max(e) = (2e - 2 - sqrt(6e - 2))/(e - 3).
+""",
+    )
+    return [law_kernel, amax]
+
+
+def generate(outdir) -> list[Path]:
+    """Write ``chain3.py`` into ``outdir`` (``python -m derivations``)."""
+    path = Path(outdir) / "chain3.py"
+    path.write_text(render_family("chain3", "chain3", MODULE_DOC, kernels()))
+    return [path]

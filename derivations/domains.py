@@ -1,0 +1,370 @@
+"""Validity domains of the impulse-ratio law (Acary & Taha eqs. 19, 28–32), derived exactly.
+
+For a scene ``(M, H, q̇⁻)`` with ratios ``a = (1, α, …)`` the law (eq. 38) gives
+``p₁ = (−B + √Δ)/(2A)`` with ``Δ = B² − 4A(1 − e)T⁻`` (*linear in e*). The conditions of eq. 28 are
+
+* existence, ``Δ ≥ 0``  ⟺  ``e ≥ h(α) := 1 − B²/(4AT⁻)``;
+* ``p ≥ 0``: ``p₁ > 0`` (for ``B < 0``) and every ratio ``≥ 0``;
+* ``w_j⁺ = H_j q̇⁺ ≥ 0`` on every closed contact. With ``b_j = H_j q̇⁻`` and
+  ``c_j = (H M⁻¹ Hᵀ a)_j``, ``w_j⁺ = b_j + c_j p₁``. For ``c_j > 0`` this is ``√Δ ≥ R_j`` with
+  ``R_j = B − 2A b_j / c_j``, i.e. ``R_j ≤ 0`` or ``e ≥ g_j(α) := 1 − (B² − R_j²)/(4AT⁻)``;
+  for ``c_j < 0`` it is ``√Δ ≤ R_j``; for ``c_j = 0`` it is ``b_j ≥ 0``.
+
+:func:`admissibility_conditions` derives ``h``, ``b_j``, ``c_j``, ``R_j``, ``g_j`` for any scene;
+the functions below specialize it to the chain (eq. 19) and the pool (eqs. 29–32), prove the
+paper's claims or their corrections, and describe the domain for every θ.
+
+Findings (proved below, see :func:`pool_claims`)
+------------------------------------------------
+* eq. 19 (chain) is **correct**: ``{1/3 ≤ e ≤ 1, 1/2 ≤ α ≤ (2e − 2 − √(6e − 2))/(e − 3)}``.
+* eq. 29 (g) is correct as a function of α₁₂ (its printed signature ``g: [0,1] → R, e ↦ …``
+  names the wrong variable: it maps α₁₂ to e).
+* eq. 31 (h) is misprinted: ``2α² − 2cos θ + 1`` should read ``2α² − 2α cos θ + 1``.
+* eq. 32 (D₂) prints ``g`` where ``h`` is meant: ``D₂ = {α ≥ 0, h(α) ≤ e ≤ 1}``.
+* the minimum of g is at ``α = cos θ/2`` with value ``(2 − cos²θ)/(4 − cos²θ)`` — correct for
+  ``θ ≤ π/2`` (``cos θ ≥ 0``); for ``θ > π/2`` the minimum over ``α ≥ 0`` is ``g(0) = 1/2``.
+* "∀α ∈ [cos θ/2, ∞[ h(α) ≥ g(α)" is **reversed**: ``g − h = α²(2α − cos θ)²/(2A(2 − α cos θ)²)``
+  ``≥ 0`` for every α, with equality only at ``α = 0`` and ``α = cos θ/2`` (where g and h touch);
+  so ``e ≥ g`` implies ``Δ ≥ 0`` and ``D = D₁ ∩ D₂ = D₁``: that is why only g needs drawing.
+* "positiveness of v₂⁺ implies α ≥ cos θ/2 for θ < π/2": correct (``w₂⁺ = (2α − cos θ)p₁``).
+* "When θ > π/2 the relative normal velocities are always positive irrespective of α and e":
+  **false** for ``v₁⁺``; true only for ``v₂⁺``. ``v₁⁺ ≥ 0`` still needs ``e ≥ g(α)`` (e.g.
+  ``cos θ = −1/4``, ``α = 2``, ``e = 1`` gives ``v₁⁺ = −6/11``).
+
+Examples
+--------
+>>> d = chain3_domain()
+>>> d["g"], d["alpha_min"], d["e_min"]
+((3*alpha**2 - 4*alpha + 2)/(alpha - 2)**2, 1/2, 1/3)
+>>> d["eq19_verified"]
+True
+"""
+
+from __future__ import annotations
+
+from functools import lru_cache
+from pathlib import Path
+
+import sympy as sp
+
+from impactsym.models.acary_taha import chain3, pool
+
+from .codegen import ScalarKernel, render_family
+from .impulse_ratio import general_quadratic
+
+__all__ = [
+    "admissibility_conditions",
+    "chain3_domain",
+    "chain3_alpha_max_expr",
+    "pool_g",
+    "pool_h",
+    "printed_eq29_g",
+    "printed_eq31_h",
+    "pool_claims",
+    "pool_domain_at",
+    "bernoulli_tau0_domain",
+    "kernels",
+    "generate",
+]
+
+alpha = sp.Symbol("alpha", nonnegative=True)
+e = sp.Symbol("e", positive=True)
+theta = sp.Symbol("theta", real=True)
+c = sp.Symbol("c", real=True)  # cos θ, the pool's kinetic-angle parameter (eq. 42: cos θ₁₂ = −c/2)
+
+
+def admissibility_conditions(scene, ratios, restitution=e) -> dict:
+    """Derive the existence and admissibility conditions of eq. 28 for one scene.
+
+    Parameters
+    ----------
+    scene : :class:`impactsym.scenes.Scene` (numbers or symbols)
+    ratios : the ``k − 1`` impulse ratios
+    restitution : the energetic coefficient symbol
+
+    Returns
+    -------
+    dict
+        ``"h"`` (``Δ ≥ 0 ⟺ e ≥ h``), ``"A"``, ``"B"``, ``"T"`` (``T⁻``), and ``"contacts"``: one dict
+        per closed contact with ``b`` (``H_j q̇⁻``), ``c`` (``(HM⁻¹Hᵀa)_j``), and, when ``b ≠ 0``,
+        ``R`` and ``g`` (``w_j⁺ ≥ 0 ⟺ R ≤ 0 or e ≥ g`` where ``c > 0``).
+
+    Examples
+    --------
+    >>> cond = admissibility_conditions(chain3(), [alpha])
+    >>> cond["h"]
+    (2*alpha**2 - 2*alpha + 1)/(2*(alpha**2 - alpha + 1))
+    >>> [(x["b"], x["c"]) for x in cond["contacts"]]
+    [(-1, 2 - alpha), (0, 2*alpha - 1)]
+    """
+    law = general_quadratic(scene.M, scene.H, scene.v, restitution, list(ratios))
+    T = sp.simplify((scene.v.T * scene.M * scene.v)[0, 0] / 2)
+    # Δ is linear in e: Δ = B² − 4A(1 − e)T⁻ (checked, not assumed)
+    assert sp.simplify(law.D - (law.B**2 - 4 * law.A * (1 - restitution) * T)) == 0
+    h = _tidy(1 - law.B**2 / (4 * law.A * T))
+    b = scene.H * scene.v
+    cvec = scene.H * scene.M.LUsolve(scene.H.T * law.ratios)
+    contacts = []
+    for j in range(scene.H.rows):
+        bj, cj = _tidy(b[j]), _tidy(cvec[j])
+        item = {"b": bj, "c": cj}
+        if bj != 0:
+            R = _tidy(law.B - 2 * law.A * bj / cj)
+            item["R"] = R
+            item["g"] = _tidy(1 - (law.B**2 - R**2) / (4 * law.A * T))
+        contacts.append(item)
+    return {"h": h, "A": _tidy(law.A), "B": law.B, "T": T, "contacts": contacts}
+
+
+def _tidy(x):
+    x = sp.sympify(x)
+    if x.has(sp.sin, sp.cos):
+        x = sp.trigsimp(sp.expand(x).subs(sp.sin(theta) ** 2, 1 - sp.cos(theta) ** 2))
+    return sp.factor(sp.simplify(x))
+
+
+# ------------------------------------------------------------------ the chain (eq. 19)
+@lru_cache(maxsize=None)
+def chain3_domain() -> dict:
+    """The chain's domain (unit-speed ball 1, equal masses), derived; eq. 19 verified.
+
+    Derivation: contact 2–3 has ``b = 0``, ``c = 2α − 1``: ``w₂⁺ ≥ 0 ⟺ α ≥ 1/2``. Contact 1–2
+    has ``b = −1``, ``c = 2 − α`` (> 0 for α < 2; for α ≥ 2, ``w₁⁺ = −1 + c p₁ < 0``),
+    ``R = α(2α − 1)/(2 − α) ≥ 0`` on ``[1/2, 2)``, so ``w₁⁺ ≥ 0 ⟺ e ≥ g(α)``. ``g`` increases on
+    ``[1/2, 2)`` (``g′ = 4(2α − 1)/(2 − α)³``, checked), ``g(1/2) = 1/3``, ``g(1) = 1``; and ``g − h ≥ 0``
+    (so Δ ≥ 0 is implied). With ``e ≤ 1``: ``α ∈ [1/2, 1]``, ``e ∈ [g(α), 1]``, equivalently
+    ``e ∈ [1/3, 1]``, ``α ∈ [1/2, α_max(e)]`` with ``α_max`` the root of ``g(α) = e`` in ``[1/2, 1]``.
+
+    Returns
+    -------
+    dict: ``g``, ``h``, ``g_minus_h``, ``alpha_min``, ``alpha_max`` (expression in e), ``e_min``,
+    ``eq19_alpha_max`` (transcription), ``eq19_verified``, ``g_increasing``.
+    """
+    cond = admissibility_conditions(chain3(), [alpha])
+    c1, c2 = cond["contacts"]
+    assert c2["b"] == 0 and sp.expand(c2["c"] - (2 * alpha - 1)) == 0
+    g, h = c1["g"], cond["h"]
+    alpha_min = sp.solve(c2["c"], alpha)[0]
+    dg = sp.factor(sp.diff(g, alpha))
+    # g′ = 4(2α − 1)/(2 − α)³ > 0 on (1/2, 2): no root of numerator or denominator inside
+    g_increasing = _positive_on(dg, sp.Rational(1, 2), 2)
+    e_min = sp.simplify(g.subs(alpha, alpha_min))
+    amax = chain3_alpha_max_expr()
+    printed = (2 * e - 2 - sp.sqrt(6 * e - 2)) / (e - 3)
+    verified = (
+        sp.simplify(amax - printed) == 0
+        and e_min == sp.Rational(1, 3)
+        and sp.simplify(g.subs(alpha, 1) - 1) == 0
+        and sp.simplify(sp.factor(g - h) - alpha**2 * (2 * alpha - 1) ** 2 / (2 * cond["A"] * (2 - alpha) ** 2)) == 0
+        and bool(g_increasing)
+    )
+    return {"g": g, "h": h, "g_minus_h": sp.factor(g - h), "alpha_min": alpha_min, "alpha_max": amax,
+            "e_min": e_min, "eq19_alpha_max": printed, "eq19_verified": bool(verified),
+            "g_increasing": bool(g_increasing), "dg": dg}
+
+
+def _positive_on(expr, lo, hi) -> bool:
+    """``expr > 0`` on the open interval ``(lo, hi)``: no real root of numerator or denominator
+    inside, and positive at the midpoint (exact)."""
+    num, den = sp.fraction(sp.together(expr))
+    for poly in (num, den):
+        for r in sp.Poly(poly, alpha).real_roots():
+            if lo < r < hi:
+                return False
+    return bool(expr.subs(alpha, (lo + hi) / 2) > 0)
+
+
+@lru_cache(maxsize=None)
+def chain3_alpha_max_expr():
+    """``α_max(e)``: the root of ``g(α) = e`` in ``[1/2, 1]`` for ``1/3 ≤ e ≤ 1`` (eq. 19), derived.
+
+    ``g(α) = e`` ⟺ ``(e − 3)α² + 4(1 − e)α + 4e − 2 = 0``; of its two roots
+    ``(2e − 2 ± √(6e − 2))/(e − 3)`` the ``−`` one is ≥ 1/2 (``e − 3 < 0``).
+
+    Examples
+    --------
+    >>> chain3_alpha_max_expr()
+    (2*e - sqrt(6*e - 2) - 2)/(e - 3)
+    """
+    g = admissibility_conditions(chain3(), [alpha])["contacts"][0]["g"]
+    a = sp.Symbol("a", real=True)
+    roots = sp.solve(sp.numer(sp.together(g.subs(alpha, a) - e)), a)
+    # choose the root that is 1 at e = 1 and 1/2 at e = 1/3 (the branch inside [1/2, 1])
+    picked = [r for r in roots if sp.simplify(r.subs(e, 1) - 1) == 0 and sp.simplify(r.subs(e, sp.Rational(1, 3)) - sp.Rational(1, 2)) == 0]
+    assert len(picked) == 1, roots
+    r = picked[0]
+    return sp.simplify(r) if sp.count_ops(sp.simplify(r)) <= sp.count_ops(r) else r
+
+
+# ------------------------------------------------------------------ the pool (eqs. 29–32)
+@lru_cache(maxsize=None)
+def _pool_conditions():
+    cond = admissibility_conditions(pool(theta, 0, third_contact=False), [alpha])
+    return {k: (v.subs(sp.cos(theta), c) if isinstance(v, sp.Basic) else v) for k, v in cond.items()} | {
+        "contacts": [{k: v.subs(sp.cos(theta), c) for k, v in x.items()} for x in cond["contacts"]]}
+
+
+def pool_g(cos_theta=c):
+    """``g(α)``: ``v₁⁺ = 0`` on ``e = g(α)`` (eq. 29), derived, in terms of ``c = cos θ``.
+
+    Examples
+    --------
+    >>> pool_g()
+    (alpha**2*c**2 + 2*alpha**2 - 4*alpha*c + 2)/(alpha**2*c**2 - 4*alpha*c + 4)
+    """
+    g = _pool_conditions()["contacts"][0]["g"]
+    g = sp.factor(sp.expand(sp.numer(g))) / sp.factor(sp.expand(sp.denom(g)))
+    g = sp.expand(sp.numer(g)) / sp.expand(sp.denom(g))
+    return g.subs(c, cos_theta)
+
+
+def pool_h(cos_theta=c):
+    """``h(α)``: ``Δ = 0`` on ``e = h(α)`` (eq. 31, corrected), derived.
+
+    Examples
+    --------
+    >>> pool_h()
+    (2*alpha**2 - 2*alpha*c + 1)/(2*(alpha**2 - alpha*c + 1))
+    """
+    return _pool_conditions()["h"].subs(c, cos_theta)
+
+
+def printed_eq29_g(cos_theta=c):
+    """TRANSCRIPTION of eq. 29 (comparison only)."""
+    return ((2 + cos_theta**2) * alpha**2 - 4 * cos_theta * alpha + 2) / (cos_theta**2 * alpha**2 - 4 * cos_theta * alpha + 4)
+
+
+def printed_eq31_h(cos_theta=c):
+    """TRANSCRIPTION of eq. 31 (comparison only): note ``− 2cos θ`` without α."""
+    return (2 * alpha**2 - 2 * cos_theta + 1) / (2 * (alpha**2 - cos_theta * alpha + 1))
+
+
+@lru_cache(maxsize=None)
+def pool_claims() -> dict:
+    """Check every claim of sec. 4.1.1 on the valid set, exactly. Each entry has ``verdict``
+    (``"confirmed"``/``"corrected"``/``"refuted"``) and the ``proof`` data.
+
+    Examples
+    --------
+    >>> {k: v["verdict"] for k, v in pool_claims().items()}  # doctest: +NORMALIZE_WHITESPACE
+    {'v2_positive_iff': 'confirmed', 'eq29_g': 'confirmed', 'eq29_signature': 'corrected',
+     'eq31_h': 'corrected', 'eq32_D2': 'corrected', 'g_minimum': 'confirmed',
+     'h_geq_g': 'corrected', 'theta_gt_pi2_always_positive': 'refuted', 'domain_nonempty': 'confirmed'}
+    """
+    cond = _pool_conditions()
+    (k1, k2), A = cond["contacts"], cond["A"]
+    g, h = pool_g(), pool_h()
+    out = {}
+    # w₂⁺ = c₂ p₁ with c₂ = 2α − c, b₂ = 0: w₂⁺ ≥ 0 ⟺ α ≥ c/2 (p₁ > 0)
+    out["v2_positive_iff"] = {"verdict": "confirmed" if (k2["b"] == 0 and sp.expand(k2["c"] - (2 * alpha - c)) == 0) else "refuted",
+                              "proof": {"b2": k2["b"], "c2": k2["c"], "w2+": "c2 * p1, p1 > 0"}}
+    out["eq29_g"] = {"verdict": "confirmed" if sp.cancel(g - printed_eq29_g()) == 0 else "corrected",
+                     "proof": {"g": g, "R1": k1["R"], "c1": k1["c"]}}
+    out["eq29_signature"] = {"verdict": "corrected", "proof": {"printed": "g: [0,1] -> R, e -> ...",
+                             "derived": "g: alpha12 -> e (its free variable is alpha12)", "free_symbols": sorted(map(str, g.free_symbols))}}
+    out["eq31_h"] = {"verdict": "confirmed" if sp.cancel(h - printed_eq31_h()) == 0 else "corrected",
+                     "proof": {"h": h, "printed_minus_derived": sp.factor(printed_eq31_h() - h)}}
+    out["eq32_D2"] = {"verdict": "corrected", "proof": {"printed": "D2 = {alpha in [0, oo[, e in [g(alpha), 1]}",
+                      "derived": "D2 = {alpha >= 0, h(alpha) <= e <= 1} (Delta >= 0 <=> e >= h)"}}
+    dg = sp.factor(sp.diff(g, alpha))
+    crit = sp.solve(sp.numer(dg), alpha)
+    d2 = sp.factor(sp.diff(g, alpha, 2).subs(alpha, c / 2))
+    gmin = sp.factor(g.subs(alpha, c / 2))
+    out["g_minimum"] = {"verdict": "confirmed" if (crit == [c / 2] and sp.simplify(gmin - (2 - c**2) / (4 - c**2)) == 0) else "refuted",
+                        "proof": {"dg": dg, "critical_points": crit, "second_derivative_at_c/2": d2, "g(c/2)": gmin,
+                                  "h(c/2)": sp.factor(h.subs(alpha, c / 2)),
+                                  "note": "minimum over alpha >= 0 only when c >= 0; for c < 0, g increases on [0, oo[ and min is g(0) = 1/2"}}
+    gmh = sp.factor(g - h)
+    target = alpha**2 * (2 * alpha - c) ** 2 / (2 * A * (2 - alpha * c) ** 2)
+    out["h_geq_g"] = {"verdict": "corrected" if sp.cancel(gmh - target) == 0 else "refuted",
+                      "proof": {"g_minus_h": gmh, "equals": target,
+                                "statement": "g(alpha) >= h(alpha) for every alpha (A > 0), equality iff alpha = 0 or alpha = cos(theta)/2"}}
+    # θ > π/2: w₂⁺ > 0 always (c₂ = 2α − c > 0); w₁⁺ needs e ≥ g. Counterexample c = −1/4, α = 2, e = 1.
+    cx = {c: -sp.Rational(1, 4), alpha: 2}
+    p1 = 1 / A.subs(cx)  # e = 1: p₁ = −B/A = 1/A
+    w1 = sp.nsimplify(-1 + k1["c"].subs(cx) * p1)
+    out["theta_gt_pi2_always_positive"] = {"verdict": "refuted" if w1 < 0 else "confirmed",
+                                           "proof": {"cos_theta": -sp.Rational(1, 4), "alpha": 2, "e": 1, "v1+": w1,
+                                                     "v2+": sp.nsimplify(k2["c"].subs(cx) * p1),
+                                                     "true_part": "v2+ = (2 alpha - cos theta) p1 > 0 for cos theta < 0"}}
+    g_at_1 = sp.simplify(g.subs(alpha, 1))
+    out["domain_nonempty"] = {"verdict": "confirmed" if g_at_1 == 1 else "refuted",
+                              "proof": {"g(1)": g_at_1, "g <= 1 iff": sp.factor(sp.numer(sp.together(1 - g))),
+                                        "statement": "(alpha, e) = (1, 1) is valid for every theta in [0, 2pi/3)"}}
+    return out
+
+
+def pool_domain_at(cos_theta) -> dict:
+    """The pool's domain (τ = 0, two closed contacts, θ ∈ [0, 2π/3)) at one exact ``cos θ``.
+
+    Region: ``max(0, cos θ/2) ≤ α ≤ 1`` and ``g(α) ≤ e ≤ 1`` (h is implied). Its lowest ``e`` is
+    ``(2 − cos²θ)/(4 − cos²θ)`` at ``α = cos θ/2`` for ``cos θ ≥ 0``, and ``1/2`` at ``α = 0`` for
+    ``cos θ < 0``. The region is never empty; it shrinks as θ grows from 0 (``e_min`` = 1/3)
+    to π/2 (``e_min`` = 1/2).
+
+    Examples
+    --------
+    >>> d = pool_domain_at(sp.cos(sp.pi / 4))
+    >>> d["alpha_range"], d["e_min"], d["e_min_at"]
+    ((sqrt(2)/4, 1), 3/7, sqrt(2)/4)
+    """
+    cs = sp.sympify(cos_theta)
+    lo = sp.Max(0, cs / 2)
+    emin_at = lo
+    emin = sp.simplify(pool_g(cs).subs(alpha, emin_at))
+    return {"cos_theta": cs, "alpha_range": (sp.simplify(lo), sp.Integer(1)), "e_min": sp.nsimplify(emin) if emin.is_Rational else emin,
+            "e_min_at": sp.simplify(emin_at), "g": pool_g(cs), "h": pool_h(cs)}
+
+
+@lru_cache(maxsize=None)
+def bernoulli_tau0_domain() -> dict:
+    """θ = 2π/3, τ = 0, three closed contacts, ``α₁₃ = α₁₂ = α`` (the paper's choice at θ = 2π/3).
+
+    Contact 1–3 approaches too (``b₃ = −1/2``). Conditions: ``e ≥ g₁(α)`` (contact 1–2),
+    ``e ≥ g₃(α)`` where ``R₃ > 0`` (contact 1–3; ``R₃ = (α − 1)(5α − 2)/(2(5α + 1))``, positive for
+    ``α < 2/5`` and ``α > 1``), contact 2–3 automatic, ``e ≥ h`` implied. With ``e ≤ 1``:
+    ``α ∈ [0, 1]``; the lowest ``e`` is where ``g₁ = g₃`` on ``(0, 2/5)``.
+
+    Examples
+    --------
+    >>> d = bernoulli_tau0_domain()
+    >>> d["g1"], d["g3"]
+    ((5*alpha**2 + 2*alpha + 2)/(alpha + 2)**2, (25*alpha**2 + alpha + 1)/(5*alpha + 1)**2)
+    """
+    cond = admissibility_conditions(pool(2 * sp.pi / 3, 0, third_contact=True), [alpha, alpha])
+    k1, k2, k3 = cond["contacts"]
+    g1, g3 = k1["g"], k3["g"]
+    cross = [r for r in sp.Poly(sp.numer(sp.together(g1 - g3)), alpha).real_roots() if 0 < r < sp.Rational(2, 5)]
+    assert len(cross) == 1
+    a_star = cross[0]
+    e_min = sp.nsimplify(g1.subs(alpha, a_star)) if a_star.is_Rational else g1.subs(alpha, a_star)
+    return {"g1": g1, "g3": g3, "R3": k3["R"], "h": cond["h"], "c2": k2["c"], "alpha_range": (sp.Integer(0), sp.Integer(1)),
+            "e_min_at": a_star, "e_min": sp.simplify(e_min)}
+
+
+MODULE_DOC = """Boundary curves of the impulse-ratio law's validity domains (Acary & Taha eqs. 19, 29, 31):
+chain3_alpha_max(e), and the pool's g (v1+ = 0) and h (Delta = 0) as functions of theta and alpha."""
+
+
+def kernels():
+    """The ``domains`` family: ``pool_g(theta, alpha)``, ``pool_h(theta, alpha)``.
+
+    (``chain3_alpha_max`` lives in the chain3 family.)
+
+    >>> [k.name for k in kernels()]
+    ['pool_g', 'pool_h']
+    """
+    th = sp.Symbol("theta", real=True)
+    return [
+        ScalarKernel("pool_g", [th, alpha], [pool_g(sp.cos(th))], ["g"],
+                     "Pool (tau = 0): e = g(alpha) is where v1+ = 0 (eq. 29); valid e >= g(alpha).\n"),
+        ScalarKernel("pool_h", [th, alpha], [pool_h(sp.cos(th))], ["h"],
+                     "Pool (tau = 0): e = h(alpha) is where Delta = 0 (eq. 31, corrected: -2 alpha cos(theta)).\n"),
+    ]
+
+
+def generate(outdir) -> list[Path]:
+    """Write ``domains.py`` into ``outdir``."""
+    path = Path(outdir) / "domains.py"
+    path.write_text(render_family("domains", "domains", MODULE_DOC, kernels()))
+    return [path]

@@ -1,0 +1,672 @@
+"""Two constraint surfaces: the reduction to a 2-plane, the exact reflection count, the bound.
+
+Seghete & Murphey, sec. III-B (sequential single impacts) and sec. III-C (proof of termination).
+Everything below is derived by SymPy from the single-impact map ``G_u = I − 2 w u/(u w)``,
+``w = M⁻¹uᵀ`` (sec. II-A, derived in :mod:`derivations.reflection`); nothing is retyped.
+
+Notation (impactsym conventions): gradient rows ``H_A``, ``H_B``; ``w_i = M⁻¹H_iᵀ``;
+``s_i = H_i M⁻¹ H_iᵀ > 0``; ``g = H_A M⁻¹ H_Bᵀ``; ``Δ = s_A s_B − g² ≥ 0`` (zero exactly when the
+rows are parallel); ``c_i = H_i v`` (approaching when ``c_i < 0``).
+
+Results
+-------
+1. **Plane reduction** (:func:`plane_reduction`, any dimension, by non-commutative rewriting):
+   both reflections fix ``ker H_A ∩ ker H_B`` pointwise, and that subspace is the M-orthogonal
+   complement of ``P = span(w_A, w_B)``; both map ``P`` to itself. Validity (``H v ≥ 0``) depends
+   only on the ``P``-part of ``v``. So the two-surface problem *in any dimension* is a problem in
+   the Euclidean plane ``P`` (with the M inner product).
+2. **Frame** (:func:`plane_frame`): in the M-orthonormal frame ``E1 = e_A/|e_A|``, ``E2 = n_A``
+   (``e_A`` the edge of the admissible wedge lying in surface A, ``n_A`` the M-normal of A), the
+   admissible wedge is ``{0 ≤ θ ≤ β}``, ``G_A`` is the Euclidean reflection ``θ ↦ −θ``, ``G_B`` the
+   reflection ``θ ↦ 2β − θ`` and ``G_B G_A`` the rotation by ``2β`` (≡ ``−2φ``), where
+   ``cos β = −g/√(s_A s_B) = −cos φ``, ``sin β = √Δ/√(s_A s_B)``: the wedge opening is
+   ``β = π − φ`` with ``φ`` the kinetic angle (``impactsym.mechanics.kinetic_angle``). The pre-impact
+   velocity has angle ``θ₀ = atan2(c_A √Δ, s_A c_B − g c_A)``.
+3. **Exact count** (:func:`reflection_count_derivation`): the sequence that starts with A (only
+   possible when ``c_A < 0``) is forced to alternate, and it stops after exactly
+   ``m_A = ⌈ψ_A/β⌉`` reflections, ``ψ_A = −θ₀ = atan2(−c_A √Δ, s_A c_B − g c_A) ∈ (0, π)`` (the
+   M-angle between ``v`` and the edge ``e_A``). Symmetrically ``m_B = ⌈ψ_B/β⌉`` with A and B swapped.
+   A velocity that is already valid needs 0 reflections. Grazing at any step (an iterate exactly on
+   an edge, ``ψ/β`` an integer) is valid and stops the sequence; the ceiling handles it exactly.
+4. **Exit velocity** (:func:`exit_angle`, :func:`exit_relative_velocity`): after ``m`` reflections
+   the angle is ``θ_f = σ(mβ − ψ) + (1 − σ)β/2``, ``σ = (−1)^m``; exactly, with
+   ``α = (s_A c_B − g c_A) + c_A√−Δ`` and ``ρ = (−g + √−Δ)²/(s_A s_B) = e^{2iβ}``, the exit is
+   ``α_f = α ρ^k`` (m = 2k) or ``conj(α ρ^k)`` (m = 2k+1), read back as ``c_A' = Im α_f/√Δ``,
+   ``c_B' = (Re α_f + g c_A')/s_A``, and ``v⁺ = v + W Γ⁻¹ (c' − c)`` (``Γ`` the Gram matrix).
+   For rational data ``ρ`` and ``α`` have rational coordinates in ``Q(√−Δ)``: the exit is rational.
+5. **The paper's bound** (:func:`paper_bound`): the admissible part of the kinetic-energy sphere is a
+   lune of dihedral angle β; its area fraction is ``β/(2π)`` in every dimension (derived for
+   n = 2, 3 by integration and for every n by the Gaussian measure), so
+   ``N = ⌈S_total/(2S₀)⌉ = ⌈π/β⌉``. It equals the exact maximum of the count over all velocities
+   (:func:`bound_versus_count`): never exceeded, attained on an open set of velocities, for every β.
+
+Examples
+--------
+>>> r = plane_reduction()
+>>> r["proven"]
+True
+>>> f = plane_frame()
+>>> f["proven"]
+True
+>>> c = reflection_count_derivation()
+>>> c["proven"], c["count"]
+(True, ceiling(psi/beta))
+>>> paper_bound()["N"]
+ceiling(pi/beta)
+"""
+
+from __future__ import annotations
+
+from fractions import Fraction
+from pathlib import Path
+
+import sympy as sp
+
+from .algebra import nc_symbols, rewrite
+from .codegen import ArrayKernel, ScalarKernel, numpy_code, render_family
+
+__all__ = [
+    "plane_reduction",
+    "plane_frame",
+    "reflection_count_derivation",
+    "exit_angle",
+    "exit_relative_velocity",
+    "exact_exit_relative_velocity",
+    "lune_fraction",
+    "paper_bound",
+    "bound_versus_count",
+    "area_step_counterexample",
+    "reachable_arc_lengths",
+    "paper_example_counts",
+    "kernels",
+    "generate",
+]
+
+# --------------------------------------------------------------------------- symbols
+s_A, s_B, Delta = sp.symbols("s_A s_B Delta", positive=True)
+g = sp.Symbol("g", real=True)
+c_A, c_B = sp.symbols("c_A c_B", real=True)
+beta, psi, theta, phi = sp.symbols("beta psi theta phi", real=True)
+m_ = sp.Symbol("m", integer=True, positive=True)
+
+#: s_B eliminated through Δ = s_A s_B − g² (so that radicals simplify): s_B = (Δ + g²)/s_A
+S_B_OF_DELTA = (Delta + g**2) / s_A
+
+WA, WB, UA, UB, MM, X, Xt, UAt, UBt = nc_symbols("WA WB UA UB M X Xt UAt UBt")
+#: defining relations of the two-surface algebra (each an identity of the actual matrices)
+RULES = {UA * WA: s_A, UB * WB: s_B, UA * WB: g, UB * WA: g, MM * WA: UAt, MM * WB: UBt}
+RULE_REASONS = {
+    "UA*WA -> s_A, UB*WB -> s_B": "definitions s_i = H_i M^-1 H_i^T",
+    "UA*WB -> g, UB*WA -> g": "g = H_A M^-1 H_B^T = H_B M^-1 H_A^T (M^-1 symmetric)",
+    "M*WA -> UAt, M*WB -> UBt": "definition w_i = M^-1 H_i^T",
+    "UA*X -> 0, UB*X -> 0": "X is any vector of ker H_A ∩ ker H_B",
+    "Xt*UAt -> 0, Xt*UBt -> 0": "transposes of the previous rule",
+}
+G_A = 1 - 2 * WA * UA / s_A
+G_B = 1 - 2 * WB * UB / s_B
+
+
+def _coeffs(expr) -> tuple:
+    """Coordinates of an element of span(WA, WB) (checked to have no other part)."""
+    a, b = expr.coeff(WA), expr.coeff(WB)
+    assert sp.expand(expr - a * WA - b * WB) == 0, expr
+    return sp.simplify(a), sp.simplify(b)
+
+
+def plane_reduction() -> dict:
+    """Prove, for every dimension, that the two-surface problem lives in ``P = span(w_A, w_B)``.
+
+    Steps (non-commutative rewriting, :mod:`derivations.algebra`):
+
+    * ``G_A x = x``, ``G_B x = x`` for ``x ∈ ker H_A ∩ ker H_B`` (so every product of them fixes x);
+    * ``ker H_A ∩ ker H_B`` is M-orthogonal to ``w_A`` and ``w_B`` (``xᵀ M w_i = (H_i x)ᵀ = 0``), and
+      it has dimension n − 2 when ``Δ ≠ 0`` (the rows are independent), so it *is* the
+      M-orthogonal complement of ``P``;
+    * ``G_i w_j ∈ P``: the 2×2 matrices of ``G_A``, ``G_B`` on ``P`` in the basis ``(w_A, w_B)``;
+    * ``H_i (x + a w_A + b w_B) = a H_i w_A + b H_i w_B``: validity depends only on the P-part.
+
+    Returns a dict with ``proven``, the 2×2 matrices ``G_A_P``, ``G_B_P``, the Gram matrix and the
+    steps.
+
+    >>> r = plane_reduction()
+    >>> r["G_A_P"]
+    Matrix([
+    [-1, -2*g/s_A],
+    [ 0,         1]])
+    """
+    ker_rules = {**RULES, UA * X: 0, UB * X: 0}
+    fixA = rewrite(G_A * X - X, ker_rules)
+    fixB = rewrite(G_B * X - X, ker_rules)
+    orthA = rewrite(Xt * MM * WA, {MM * WA: UAt, Xt * UAt: 0})
+    orthB = rewrite(Xt * MM * WB, {MM * WB: UBt, Xt * UBt: 0})
+    a, b = sp.symbols("a b", real=True)
+    validity = [rewrite(U * (X + a * WA + b * WB), ker_rules) for U in (UA, UB)]
+    imgs = {(i, j): _coeffs(rewrite(G * W, RULES)) for i, G in (("A", G_A), ("B", G_B))
+            for j, W in (("A", WA), ("B", WB))}
+    GAP = sp.Matrix([[imgs["A", "A"][0], imgs["A", "B"][0]], [imgs["A", "A"][1], imgs["A", "B"][1]]])
+    GBP = sp.Matrix([[imgs["B", "A"][0], imgs["B", "B"][0]], [imgs["B", "A"][1], imgs["B", "B"][1]]])
+    gram = sp.Matrix([[s_A, g], [g, s_B]])
+    # the restricted maps are M-isometries of P and involutions: G^T Γ G = Γ, G^2 = I
+    iso = all(sp.simplify(Gp.T * gram * Gp - gram) == sp.zeros(2, 2) for Gp in (GAP, GBP))
+    invol = all(sp.simplify(Gp * Gp - sp.eye(2)) == sp.zeros(2, 2) for Gp in (GAP, GBP))
+    ok = fixA == 0 and fixB == 0 and orthA == 0 and orthB == 0 and iso and invol and \
+        validity == [a * s_A + b * g, a * g + b * s_B]
+    steps = [
+        f"G_A x - x rewrites (H_A x = H_B x = 0) to {fixA}; G_B x - x to {fixB}",
+        f"x^T M w_A rewrites to {orthA}, x^T M w_B to {orthB}: ker H_A ∩ ker H_B ⟂_M P",
+        "dim(ker H_A ∩ ker H_B) = n − 2 = dim P^⟂ when the rows are independent (Δ ≠ 0)",
+        f"G_A on P in the basis (w_A, w_B): {GAP.tolist()}; G_B: {GBP.tolist()}",
+        f"H_A (x + a w_A + b w_B) = {validity[0]}, H_B (...) = {validity[1]}: only the P-part matters",
+        f"G^T Γ G = Γ on P (Γ = Gram matrix [[s_A, g], [g, s_B]]): {iso}; G^2 = I on P: {invol}",
+    ]
+    return {"proven": bool(ok), "G_A_P": GAP, "G_B_P": GBP, "gram": gram, "steps": steps,
+            "rules": RULE_REASONS}
+
+
+def _reflection_across(angle):
+    """The Euclidean reflection across the line at ``angle``, as a matrix."""
+    return sp.Matrix([[sp.cos(2 * angle), sp.sin(2 * angle)], [sp.sin(2 * angle), -sp.cos(2 * angle)]])
+
+
+def _rotation(angle):
+    return sp.Matrix([[sp.cos(angle), -sp.sin(angle)], [sp.sin(angle), sp.cos(angle)]])
+
+
+def plane_frame() -> dict:
+    """The M-orthonormal frame of ``P`` in which the wedge is ``{0 ≤ θ ≤ β}``.
+
+    ``E2 = n_A = w_A/√s_A`` (the M-normal of surface A), ``E1 = e_A/|e_A|_M`` with
+    ``e_A = w_B − (g/s_A) w_A`` (``H_A e_A = 0``, ``H_B e_A = Δ/s_A > 0``: the edge of the admissible
+    wedge on surface A). SymPy checks, with ``s_B = (Δ + g²)/s_A``:
+
+    * the frame is M-orthonormal (``FᵀΓF = I``);
+    * ``F⁻¹ G_A F = diag(1, −1)`` (reflection across ``θ = 0``),
+      ``F⁻¹ G_B F`` = reflection across ``θ = β``, ``F⁻¹ G_B G_A F`` = rotation by ``2β``,
+      with ``cos β = −g/√(s_A s_B)``, ``sin β = √Δ/√(s_A s_B)``;
+    * the kinetic angle satisfies ``cos φ = g/√(s_A s_B) = −cos β`` and ``sin φ = sin β``: ``β = π − φ``;
+    * on ``x = r(cos θ E1 + sin θ E2)``: ``H_A x = √s_A r sin θ``, ``H_B x = √s_B r sin(β − θ)``,
+      so the admissible wedge is ``0 ≤ θ ≤ β`` (0 < β < π);
+    * a velocity with ``H v = (c_A, c_B)`` has frame coordinates
+      ``(x1, x2) = ((s_A c_B − g c_A)/√(s_A Δ), c_A/√s_A)``, so its angle is
+      ``θ₀ = atan2(c_A √Δ, s_A c_B − g c_A)`` (both coordinates scaled by ``√(s_A Δ) > 0``).
+
+    >>> f = plane_frame()
+    >>> f["cos_beta"], f["sin_beta"]
+    (-g/sqrt(Delta + g**2), sqrt(Delta)/sqrt(Delta + g**2))
+    """
+    sB = S_B_OF_DELTA
+    gram = sp.Matrix([[s_A, g], [g, sB]])
+    red = plane_reduction()
+    GA, GB = red["G_A_P"].subs(s_B, sB), red["G_B_P"].subs(s_B, sB)
+    eA = sp.Matrix([-g / s_A, 1])
+    nA = sp.Matrix([1 / sp.sqrt(s_A), 0])
+    norm_eA2 = sp.simplify((eA.T * gram * eA)[0, 0])
+    F = sp.Matrix.hstack(eA / sp.sqrt(norm_eA2), nA)
+    orthonormal = sp.simplify(F.T * gram * F - sp.eye(2)) == sp.zeros(2, 2)
+    cosb = -g / sp.sqrt(s_A * sB)
+    sinb = sp.sqrt(Delta) / sp.sqrt(s_A * sB)
+    cosb, sinb = sp.simplify(cosb), sp.simplify(sinb)
+    unit = sp.simplify(cosb**2 + sinb**2 - 1) == 0
+    Fi = F.inv()
+    refl_B = sp.Matrix([[cosb**2 - sinb**2, 2 * sinb * cosb], [2 * sinb * cosb, sinb**2 - cosb**2]])
+    rot_2b = sp.Matrix([[cosb**2 - sinb**2, -2 * sinb * cosb], [2 * sinb * cosb, cosb**2 - sinb**2]])
+    A_ok = sp.simplify(Fi * GA * F - sp.diag(1, -1)) == sp.zeros(2, 2)
+    B_ok = sp.simplify(Fi * GB * F - refl_B) == sp.zeros(2, 2)
+    R_ok = sp.simplify(Fi * GB * GA * F - rot_2b) == sp.zeros(2, 2)
+    # refl_B and rot_2b are the reflection across angle beta and the rotation by 2 beta:
+    # refl_B / rot_2b are the reflection across the line at beta / the rotation by 2 beta, with
+    # beta = atan2(sin_beta, cos_beta): checked at sample data (the forms are double-angle identities)
+    trig_ok = True
+    bnum = sp.atan2(sinb, cosb)
+    for vals in ({s_A: 2, g: -1, Delta: 3}, {s_A: sp.Rational(10, 11), g: sp.Rational(-10, 11), Delta: 1}):
+        b = bnum.subs(vals)
+        trig_ok &= sp.simplify(_reflection_across(b) - refl_B.subs(vals)) == sp.zeros(2, 2)
+        trig_ok &= sp.simplify(_rotation(2 * b) - rot_2b.subs(vals)) == sp.zeros(2, 2)
+    # kinetic angle: cos(phi) = g / sqrt(s_A s_B)
+    cosphi = g / sp.sqrt(s_A * sB)
+    kin_ok = sp.simplify(cosphi + cosb) == 0 and sp.simplify(sp.sqrt(1 - cosphi**2) - sinb) == 0
+    # validity in the frame
+    r = sp.Symbol("r", positive=True)
+    x = F * sp.Matrix([r * sp.cos(theta), r * sp.sin(theta)])
+    HA_x = sp.simplify((sp.Matrix([[s_A, g]]) * x)[0, 0])
+    HB_x = sp.simplify((sp.Matrix([[g, sB]]) * x)[0, 0])
+    HA_ok = sp.simplify(HA_x - sp.sqrt(s_A) * r * sp.sin(theta)) == 0
+    HB_target = sp.sqrt(sB) * r * (sinb * sp.cos(theta) - cosb * sp.sin(theta))  # sqrt(s_B) r sin(beta - theta)
+    HB_ok = sp.simplify(HB_x - HB_target) == 0
+    # coordinates of a velocity with H v = (c_A, c_B)
+    x1, x2 = sp.symbols("x1 x2", real=True)
+    p = F * sp.Matrix([x1, x2])
+    sol = sp.solve([(sp.Matrix([[s_A, g]]) * p)[0, 0] - c_A, (sp.Matrix([[g, sB]]) * p)[0, 0] - c_B], [x1, x2], dict=True)[0]
+    coords = (sp.simplify(sol[x1]), sp.simplify(sol[x2]))
+    coords_ok = (sp.simplify(coords[0] - (s_A * c_B - g * c_A) / sp.sqrt(s_A * Delta)) == 0
+                 and sp.simplify(coords[1] - c_A / sp.sqrt(s_A)) == 0)
+    ok = all([orthonormal, unit, A_ok, B_ok, R_ok, trig_ok, kin_ok, HA_ok, HB_ok, coords_ok])
+    return {
+        "proven": bool(ok), "frame": F, "cos_beta": cosb, "sin_beta": sinb,
+        "velocity_coordinates": coords,
+        "theta0": sp.atan2(c_A * sp.sqrt(Delta), s_A * c_B - g * c_A),
+        "checks": {"orthonormal": orthonormal, "G_A=diag(1,-1)": A_ok, "G_B=reflection(beta)": B_ok,
+                   "G_B G_A=rotation(2 beta)": R_ok, "trig forms": bool(trig_ok),
+                   "beta=pi-phi": kin_ok, "H_A x=sqrt(s_A) r sin(theta)": HA_ok,
+                   "H_B x=sqrt(s_B) r sin(beta-theta)": HB_ok, "coordinates": coords_ok},
+    }
+
+
+def reflection_count_derivation() -> dict:
+    """Derive the exact reflection count ``m = ⌈ψ/β⌉`` of the branch that starts with surface A.
+
+    In the frame of :func:`plane_frame`, reflection across the line at angle ``a`` maps the angle
+    ``θ`` to ``2a − θ`` (checked on the matrices). Define the *excess* of a state: after a reflection
+    in A (last mirror A) the angle ``θ`` lies in ``(0, π)`` and the excess is ``x = θ``; after a
+    reflection in B the angle lies in ``(β − π, β)`` and the excess is ``y = β − θ``. Then
+
+    * a state is valid exactly when its excess is ``≤ β`` (A-last: ``θ ≤ β`` is ``H_B ≥ 0``;
+      B-last: ``θ ≥ 0`` is ``H_A ≥ 0``), otherwise exactly the other surface is violated, strictly,
+      so the next reflection is forced (the paper's "no reasonable choice");
+    * the forced reflection lowers the excess by exactly β (checked symbolically below);
+    * the first reflection (in A, which ``v`` violates: ``θ₀ ∈ (−π, 0)``) gives the excess
+      ``ψ = −θ₀ ∈ (0, π)``.
+
+    So after ``m`` reflections the excess is ``ψ − (m − 1)β`` and the sequence stops at the first
+    ``m ≥ 1`` with ``ψ − (m − 1)β ≤ β``: ``m = ⌈ψ/β⌉``. An iterate exactly on an edge (grazing) is
+    valid: it is the case ``ψ/β ∈ ℤ`` and the ceiling returns that integer.
+
+    >>> reflection_count_derivation()["steps"][1]
+    'A-last excess x, reflect in B: new excess y = -beta + x'
+    """
+    a = sp.Symbol("a", real=True)
+    img = _reflection_across(a) * sp.Matrix([sp.cos(theta), sp.sin(theta)])
+    refl_ok = sp.simplify(img - sp.Matrix([sp.cos(2 * a - theta), sp.sin(2 * a - theta)])) == sp.zeros(2, 1)
+    refl = lambda ang, th: 2 * ang - th  # noqa: E731  (checked just above)
+    x = sp.Symbol("x", real=True)
+    # A-last, excess x = theta; reflect in B (line at beta):
+    theta_after_B = refl(beta, x)
+    y_new = sp.simplify(beta - theta_after_B)
+    # B-last, excess y = beta - theta; reflect in A (line at 0):
+    y = sp.Symbol("y", real=True)
+    theta_after_A = refl(0, beta - y)
+    x_new = sp.simplify(theta_after_A)
+    first = sp.simplify(refl(0, -psi))  # theta0 = -psi, reflect in A
+    steps_ok = sp.simplify(y_new - (x - beta)) == 0 and sp.simplify(x_new - (y - beta)) == 0 and first == psi
+    # closed form of the excess after m reflections, and the stopping rule
+    excess = psi - (m_ - 1) * beta
+    count = sp.ceiling(psi / beta)
+    # induction: excess(1) = psi, excess(m+1) = excess(m) - beta
+    ind_ok = sp.simplify(excess.subs(m_, 1) - psi) == 0 and \
+        sp.simplify(excess.subs(m_, m_ + 1) - (excess - beta)) == 0
+    steps = [
+        f"reflection across the line at angle a maps theta to 2a - theta: {refl_ok}",
+        "A-last excess x, reflect in B: new excess y = " + str(y_new),
+        "B-last excess y, reflect in A: new excess x = " + str(x_new),
+        f"first reflection (in A) maps theta0 = -psi to the A-last excess {first}",
+        f"excess after m reflections: {excess} (induction: {ind_ok})",
+        "stop at the first m >= 1 with excess <= beta: m >= psi/beta, m = ceiling(psi/beta)",
+    ]
+    return {"proven": bool(refl_ok and steps_ok and ind_ok), "count": count, "excess": excess,
+            "psi_A": sp.atan2(-c_A * sp.sqrt(Delta), s_A * c_B - g * c_A),
+            "psi_B": sp.atan2(-c_B * sp.sqrt(Delta), s_B * c_A - g * c_B),
+            "beta": sp.atan2(sp.sqrt(Delta), -g), "steps": steps}
+
+
+def exit_angle(m=m_, psi_=psi, beta_=beta):
+    """The frame angle of the exit velocity after ``m`` reflections starting with A.
+
+    ``θ_f = σ(mβ − ψ) + (1 − σ)β/2``, ``σ = (−1)^m``: for ``m = 2k`` the map is the rotation by
+    ``2kβ`` (``θ₀ + 2kβ = mβ − ψ``), for ``m = 2k + 1`` it is ``G_A`` after it
+    (``−(θ₀ + 2kβ) = ψ − (m − 1)β``).
+
+    >>> exit_angle(3), exit_angle(4)
+    (-2*beta + psi, 4*beta - psi)
+    """
+    sigma = 1 - 2 * sp.Mod(m, 2) if not isinstance(m, int) else (-1) ** m
+    return sp.expand(sigma * (m * beta_ - psi_) + (1 - sigma) * beta_ / 2)
+
+
+def exit_relative_velocity(m=m_):
+    """``(c_A', c_B')``, the exit relative velocities of the branch starting with A, in trigonometric
+    closed form: ``c_A' = √s_A |p| sin θ_f``, ``c_B' = √s_B |p| sin(β − θ_f)``, with
+    ``|p|² = cᵀΓ⁻¹c = (s_B c_A² − 2g c_A c_B + s_A c_B²)/Δ`` (the kinetic norm of the P-part).
+
+    >>> ca, cb = exit_relative_velocity(1)
+    >>> ca
+    sqrt(s_A)*sqrt(c_A**2*s_B - 2*c_A*c_B*g + c_B**2*s_A)*sin(psi)/sqrt(Delta)
+    """
+    gram = sp.Matrix([[s_A, g], [g, s_B]])
+    c = sp.Matrix([c_A, c_B])
+    p2 = (s_B * c_A**2 - 2 * g * c_A * c_B + s_A * c_B**2) / Delta
+    assert sp.simplify((p2 - (c.T * gram.inv() * c)[0, 0]).subs(s_B, S_B_OF_DELTA)) == 0
+    th = exit_angle(m)
+    pn = sp.sqrt(p2)
+    return sp.sqrt(s_A) * pn * sp.sin(th), sp.sqrt(s_B) * pn * sp.sin(beta - th)
+
+
+def exact_exit_relative_velocity(sA, sB, gg, cA, cB, m: int):
+    """Exact ``(c_A', c_B')`` after ``m`` reflections starting with A, for rational data, in the
+    field ``Q(√−Δ)``: ``α = (s_A c_B − g c_A) + c_A√−Δ``, ``ρ = (−g + √−Δ)²/(s_A s_B)``,
+    ``α_f = α ρ^k`` (m = 2k) or its conjugate (m = 2k + 1). Elements ``x + y√−Δ`` are pairs.
+
+    This is the derivation's reference; ``impactsym.laws.two_surface`` evaluates the same closed
+    form (the tests check them against each other and against explicit iteration).
+
+    >>> exact_exit_relative_velocity(1, 2, -1, -1, -1, 4)   # equal masses, v0 = (-1, -2)
+    (Fraction(1, 1), Fraction(1, 1))
+    """
+    sA, sB, gg, cA, cB = (Fraction(x) for x in (sA, sB, gg, cA, cB))
+    D = sA * sB - gg * gg
+
+    def mul(u, v):
+        return (u[0] * v[0] - D * u[1] * v[1], u[0] * v[1] + u[1] * v[0])
+
+    alpha = (sA * cB - gg * cA, cA)
+    n = sA * sB
+    rho = ((gg * gg - D) / n, -2 * gg / n)
+    k, acc, base = m // 2, (Fraction(1), Fraction(0)), rho
+    while k:
+        if k & 1:
+            acc = mul(acc, base)
+        base = mul(base, base)
+        k >>= 1
+    af = mul(alpha, acc)
+    if m % 2:
+        af = (af[0], -af[1])
+    ca = af[1]
+    return ca, (af[0] + gg * ca) / sA
+
+
+# --------------------------------------------------------------------------- the bound
+def lune_fraction(n) -> sp.Expr:
+    """Area fraction ``S₀/S_total`` of the admissible lune (dihedral angle β) on the unit sphere of
+    ``R^n`` (M-orthonormal coordinates, the first two spanning P).
+
+    * ``n = 2``: arc length ``β`` over ``2π``;
+    * ``n = 3``: ``∫₀^β∫₀^π sin ϑ dϑ dλ`` over ``4π``;
+    * ``n = "n"``: the standard Gaussian measure is rotation invariant and its radial projection is
+      the uniform measure on the sphere; the lune's condition involves only the angle of the first
+      two coordinates, whose joint density ``e^{−r²/2} r/(2π)`` integrates over ``[0, β] × (0, ∞)`` to
+      the fraction (the other coordinates integrate to 1).
+
+    >>> [lune_fraction(k) for k in (2, 3, "n")]
+    [beta/(2*pi), beta/(2*pi), beta/(2*pi)]
+    """
+    lam, vt, r = sp.symbols("lambda vartheta r", positive=True)
+    b = sp.Symbol("beta", positive=True)
+    if n == 2:
+        out = sp.integrate(1, (lam, 0, b)) / sp.integrate(1, (lam, 0, 2 * sp.pi))
+    elif n == 3:
+        out = sp.integrate(sp.sin(vt), (vt, 0, sp.pi), (lam, 0, b)) / sp.integrate(
+            sp.sin(vt), (vt, 0, sp.pi), (lam, 0, 2 * sp.pi))
+    elif n == "n":
+        dens = sp.exp(-r**2 / 2) * r / (2 * sp.pi)
+        total = sp.integrate(dens, (r, 0, sp.oo), (lam, 0, 2 * sp.pi))
+        assert sp.simplify(total - 1) == 0
+        out = sp.integrate(dens, (r, 0, sp.oo), (lam, 0, b))
+    else:
+        raise ValueError("n must be 2, 3 or 'n'")
+    return sp.simplify(out).subs(b, beta)
+
+
+def paper_bound() -> dict:
+    """The paper's ``N = ⌈S_total/(2S₀)⌉`` (sec. III-C) in closed form: ``⌈π/β⌉``.
+
+    >>> b = paper_bound()
+    >>> b["ratio"], b["N"], b["same_in_every_dimension"]
+    (pi/beta, ceiling(pi/beta), True)
+    """
+    fr = [lune_fraction(k) for k in (2, 3, "n")]
+    same = all(sp.simplify(f - fr[0]) == 0 for f in fr)
+    ratio = sp.simplify(1 / (2 * fr[0]))
+    return {"fraction": fr[0], "ratio": ratio, "N": sp.ceiling(ratio), "same_in_every_dimension": same}
+
+
+def bound_versus_count(beta_over_pi) -> dict:
+    """Compare the bound ``N = ⌈π/β⌉`` with the exact counts, for ``β = beta_over_pi · π``.
+
+    * ``max_count``: ``sup_{ψ∈(0,π)} ⌈ψ/β⌉`` (every branch; the supremum of a non-decreasing step
+      function on an open interval: its left limit at ``π``). It is attained: on
+      ``ψ ∈ ((max−1)β, π)``, a non-empty open interval.
+    * ``both_approaching``: the counts possible when the velocity approaches both surfaces
+      (``ψ ∈ (π − β, π)``), each first-surface choice.
+
+    >>> bound_versus_count(sp.Rational(1, 4))
+    {'N': 4, 'max_count': 4, 'attained_on': (3*pi/4, pi), 'both_approaching': [4]}
+    >>> bound_versus_count(sp.Rational(2, 7))
+    {'N': 4, 'max_count': 4, 'attained_on': (6*pi/7, pi), 'both_approaching': [3, 4]}
+    """
+    bp = sp.Rational(beta_over_pi)
+    if not 0 < bp < 1:
+        raise ValueError("beta/pi must lie in (0, 1)")
+    b = bp * sp.pi
+    K = 1 / bp  # pi / beta
+    N = int(sp.ceiling(K))
+    # left limit of ceiling(t) at t = K (psi < pi is strict)
+    max_count = int(K) if K.is_integer else N
+    # psi/beta over the open interval (K - 1, K): ceiling takes {K} or {ceil(K) - 1, ceil(K)}
+    both = [int(K)] if K.is_integer else [N - 1, N]
+    return {"N": N, "max_count": max_count, "attained_on": ((max_count - 1) * b, sp.pi),
+            "both_approaching": both}
+
+
+def reachable_arc_lengths(beta_over_pi, iterations: int) -> list:
+    """The paper's reachable set, exactly, on the circle (n = 2; every n is a cylinder over it):
+    start with the wedge ``[0, β]`` and alternately join its images under ``G_A``, ``G_B``. Each
+    set is an arc ``[lo, hi]`` (checked: the union of an arc and its mirror image is an arc when
+    they overlap); returns the lengths, capped at ``2π``. The paper's claim is ``2kβ`` after k
+    iterations, and ``S_u = 2 max(S_u⁺, S_u⁻)`` at each step — both checked here.
+
+    >>> reachable_arc_lengths(sp.Rational(1, 5), 4)
+    [pi/5, 2*pi/5, 4*pi/5, 6*pi/5, 8*pi/5]
+    """
+    b = sp.Rational(beta_over_pi) * sp.pi
+    lo, hi = sp.Integer(0), b
+    out = [hi - lo]
+    mirror = [sp.Integer(0), b]  # line angles of A and B
+    for k in range(iterations):
+        a = mirror[k % 2]
+        if hi - lo >= 2 * sp.pi:
+            out.append(2 * sp.pi)
+            continue
+        # the reflected arc [2a - hi, 2a - lo]; the arc contains the mirror point a (it always
+        # does: it contains [0, beta]), so the union is [min, max]
+        assert lo <= a <= hi
+        nlo, nhi = sp.Min(lo, 2 * a - hi), sp.Max(hi, 2 * a - lo)
+        plus, minus = hi - a, a - lo  # the two sides of the mirror inside the arc
+        assert sp.simplify((nhi - nlo) - 2 * sp.Max(plus, minus)) == 0  # S_u = 2 max(S+, S-)
+        lo, hi = nlo, nhi
+        out.append(sp.Min(hi - lo, 2 * sp.pi))
+    return out
+
+
+def area_step_counterexample() -> dict:
+    """A connected set on the 2-sphere for which the paper's ``S_u = 2 max{S_u⁺, S_u⁻}`` fails.
+
+    Mirror: the plane ``z = 0`` (``u = e_z``). ``S`` = the cap of angular radius ``r`` around
+    ``a = (1, 0, ½)/|·|`` ∪ the cap around ``b = (−1, 0, −½)/|·|`` ∪ a great-circle arc joining them
+    (area 0). The caps are disjoint from each other and from their mirror images (centre distances
+    exceed ``2r``), so ``|S ∪ G_u S| = 4·cap`` while ``2 max{S⁺, S⁻} = 2·cap``. On the circle
+    (n = 2) and for the lunes the proof actually meets, the step is right
+    (:func:`reachable_arc_lengths` checks it).
+
+    >>> area_step_counterexample()["fails"]
+    True
+    """
+    r = sp.Rational(1, 10)
+    cap = 2 * sp.pi * (1 - sp.cos(r))
+    a = sp.Matrix([1, 0, sp.Rational(1, 2)]).normalized()
+    b = sp.Matrix([-1, 0, -sp.Rational(1, 2)]).normalized()
+    Gu = sp.diag(1, 1, -1)
+    centres = [a, b, Gu * a, Gu * b]
+    dists = [sp.acos((centres[i].T * centres[j])[0]) for i in range(4) for j in range(i + 1, 4)]
+    disjoint = all(sp.N(d - 2 * r, 30) > 0 for d in dists)
+    # caps are within one hemisphere each: |z| of the centre exceeds sin(r)
+    inside = all(sp.N(abs(c[2]) - sp.sin(r), 30) > 0 for c in (a, b))
+    union = 4 * cap if disjoint else None
+    two_max = 2 * cap
+    return {"fails": bool(disjoint and inside and sp.N(union - two_max) > 0),
+            "union_area": union, "two_max": two_max}
+
+
+def paper_example_counts() -> dict:
+    """Sec. III-B.3 (``M = diag(11/10, 1)``, ``u = [1, 0]``, ``v = [−1, 1]``): the counts depend on v0.
+
+    The u-first branch needs 4 reflections exactly when ``H_v G_u G_v G_u v0 < 0`` (the third iterate
+    still violates v), else 3; the v-first branch needs 4 exactly when ``H_u G_v G_u G_v v0 < 0``.
+    With ``v0 = v1 (1, t)``, ``v1 < 0``, approaching both (``t > 1``): u-first needs 4 iff ``t > 23/19``,
+    v-first needs 4 iff ``t < 439/40``.
+
+    >>> e = paper_example_counts()
+    >>> e["u_first_four_iff"], e["v_first_four_iff"], e["N"]
+    (23/19 < t, t < 439/40, 4)
+    """
+    M = sp.diag(sp.Rational(11, 10), 1)
+    Hu, Hv = sp.Matrix([[1, 0]]), sp.Matrix([[-1, 1]])
+
+    def G(h):
+        w = M.inv() * h.T
+        return sp.eye(2) - 2 * w * h / (h * w)[0, 0]
+
+    Gu, Gv = G(Hu), G(Hv)
+    lu = Hv * Gu * Gv * Gu
+    lv = Hu * Gv * Gu * Gv
+    t = sp.Symbol("t", real=True)
+    v1 = sp.Symbol("v1", negative=True)
+    v0 = sp.Matrix([v1, t * v1])
+    cond_u = sp.solve_univariate_inequality((lu * v0)[0, 0] / (-v1) < 0, t, relational=True)
+    cond_v = sp.solve_univariate_inequality((lv * v0)[0, 0] / (-v1) < 0, t, relational=True)
+    cosphi = (Hu * M.inv() * Hv.T)[0, 0] / sp.sqrt((Hu * M.inv() * Hu.T)[0, 0] * (Hv * M.inv() * Hv.T)[0, 0])
+    b = sp.pi - sp.acos(cosphi)
+    return {"G_u": Gu, "G_v": Gv, "u_first_four_iff": cond_u, "v_first_four_iff": cond_v,
+            "ell_u": lu, "ell_v": lv, "beta": sp.simplify(b), "N": int(sp.ceiling(sp.pi / b)),
+            "v4a": Gv * Gu * Gv * Gu, "v4b": Gu * Gv * Gu * Gv}
+
+
+# --------------------------------------------------------------------------- code generation
+_ARGS = sp.symbols("s_a s_b g c_a c_b", real=True)
+
+
+def _branch_expressions(first_is_a: bool):
+    """Count and exit (c_A', c_B') of one branch in the kernel's arguments (float closed form)."""
+    sa, sb, gg, ca, cb = _ARGS
+    if not first_is_a:  # swap roles: the branch starting with B is the A-branch of (B, A)
+        sa, sb, ca, cb = sb, sa, cb, ca
+    D = sa * sb - gg**2
+    der = reflection_count_derivation()
+    sub = {s_A: sa, s_B: sb, g: gg, c_A: ca, c_B: cb, Delta: D}
+    psi_e = der["psi_A"].subs(sub)
+    beta_e = der["beta"].subs(sub)
+    count = sp.ceiling(psi_e / beta_e)
+    mm = sp.Symbol("m_count", real=True)
+    ea, eb = exit_relative_velocity(mm)
+    ea = ea.subs({psi: sp.Symbol("psi_x"), beta: sp.Symbol("beta_x")})
+    eb = eb.subs({psi: sp.Symbol("psi_x"), beta: sp.Symbol("beta_x")})
+    ea, eb = (e.subs(sub).subs({sp.Symbol("psi_x"): psi_e, sp.Symbol("beta_x"): beta_e}) for e in (ea, eb))
+    ea, eb = (e.subs(mm, count) for e in (ea, eb))
+    if not first_is_a:
+        ea, eb = eb, ea
+    return count, ea, eb
+
+
+def kernels() -> list:
+    """Float kernels of the O(1) two-surface resolution (uncertified: the law certifies).
+
+    * ``two_surface_reflection_count(s_a, s_b, g, c_a, c_b)``: the count of each branch
+      (``-1`` when the branch does not exist: that surface is not approached; ``0`` when the
+      velocity is already valid);
+    * ``two_surface_resolution(s_a, s_b, g, c_a, c_b)``: counts and exit relative velocities
+      ``H v⁺`` of both branches;
+    * ``two_surface_exit_velocity(mass_matrix, gradients, velocity)``: general n, both branches'
+      counts and exit velocities ``v⁺ = v + W Γ⁻¹ (c' − c)``;
+    * ``two_surface_resolution_2``: the n = 2 closed form from ``M`` (upper triangle), ``H``, ``v``.
+    """
+    sa, sb, gg, ca, cb = _ARGS
+    valid = sp.And(ca >= 0, cb >= 0)
+    outs_count, outs_res = [], []
+    for first_is_a, c_first in ((True, ca), (False, cb)):
+        count, ea, eb = _branch_expressions(first_is_a)
+        cnt = sp.Piecewise((0, valid), (count, c_first < 0), (-1, True))
+        outs_count.append(cnt)
+        nan = sp.nan
+        outs_res += [cnt,
+                     sp.Piecewise((ca, valid), (ea, c_first < 0), (nan, True)),
+                     sp.Piecewise((cb, valid), (eb, c_first < 0), (nan, True))]
+    doc_c = ("Reflection counts (count_a, count_b) of the branches that start with surface A, B\n"
+             "(Seghete & Murphey sec. III-B/C): ceil(psi/beta), psi = atan2(-c_i sqrt(Delta), s_i c_j - g c_i),\n"
+             "beta = atan2(sqrt(Delta), -g), Delta = s_a s_b - g^2; 0 when c >= 0 (valid), -1 when the branch\n"
+             "does not exist. Float arithmetic, uncertified: impactsym.laws.two_surface certifies the count.")
+    doc_r = ("Counts and exit relative velocities (H v+) of both branches: (count_a, ca_a, cb_a,\n"
+             "count_b, ca_b, cb_b). c' = (sqrt(s_a)|p| sin th, sqrt(s_b)|p| sin(beta - th)),\n"
+             "th = sigma (m beta - psi) + (1 - sigma) beta / 2, sigma = (-1)^m (A-first frame).\n"
+             "Float: the angle error grows like m * eps; the law gives certified values.")
+    out = [
+        ScalarKernel("two_surface_reflection_count", list(_ARGS), outs_count, ["count_a", "count_b"], doc_c),
+        ScalarKernel("two_surface_resolution", list(_ARGS), outs_res,
+                     ["count_a", "ca_a", "cb_a", "count_b", "ca_b", "cb_b"], doc_r),
+    ]
+    general = ArrayKernel(
+        "two_surface_exit_velocity",
+        '''
+        def two_surface_exit_velocity(mass_matrix, gradients, velocity):
+            """Both branches of a two-surface impact in general dimension n (float, uncertified).
+
+            Returns (counts, exits): counts (2,) as in two_surface_reflection_count, exits (2, n) the
+            exit velocities v+ = v + W Gamma^-1 (c' - c) of the branches starting with row 0 and row 1
+            (NaN rows for a branch that does not exist). W = M^-1 H^T, Gamma = H M^-1 H^T.
+            """
+            mass_matrix = numpy.asarray(mass_matrix, dtype=float)
+            gradients = numpy.asarray(gradients, dtype=float)
+            velocity = numpy.asarray(velocity, dtype=float)
+            w = numpy.linalg.solve(mass_matrix, gradients.T)
+            gram = gradients @ w
+            c = gradients @ velocity
+            res = two_surface_resolution(gram[0, 0], gram[1, 1], gram[0, 1], c[0], c[1])
+            counts = numpy.array([res[0], res[3]])
+            exits = numpy.empty((2, velocity.shape[-1]))
+            for i, (ca_, cb_) in enumerate(((res[1], res[2]), (res[4], res[5]))):
+                jump = numpy.linalg.solve(gram, numpy.array([ca_, cb_]) - c)
+                exits[i] = velocity + w @ jump
+            return counts, exits
+        ''',
+    )
+    out.append(general)
+    # n = 2 closed form from the matrices
+    m00, m01, m11 = sp.symbols("m_00 m_01 m_11", real=True)
+    h = sp.symbols("h_00 h_01 h_10 h_11", real=True)
+    v0, v1 = sp.symbols("v_0 v_1", real=True)
+    M = sp.Matrix([[m00, m01], [m01, m11]])
+    H = sp.Matrix([[h[0], h[1]], [h[2], h[3]]])
+    v = sp.Matrix([v0, v1])
+    adj = M.adjugate()
+    det = M.det()
+    W = adj * H.T / det
+    gram = sp.simplify(H * W)
+    cvec = H * v
+    sub = {sa: gram[0, 0], sb: gram[1, 1], gg: gram[0, 1], ca: cvec[0], cb: cvec[1]}
+    outs2, names2 = [], []
+    ginv = gram.inv()
+    for k, tag in ((0, "a"), (3, "b")):
+        cnt = outs_res[k].subs(sub)
+        cprime = sp.Matrix([outs_res[k + 1], outs_res[k + 2]]).subs(sub)
+        vexit = v + W * ginv * (cprime - cvec)
+        outs2 += [cnt, vexit[0], vexit[1]]
+        names2 += [f"count_{tag}", f"v0_{tag}", f"v1_{tag}"]
+    out.append(ScalarKernel(
+        "two_surface_resolution_2", [m00, m01, m11, *h, v0, v1], outs2, names2,
+        "n = 2 closed form: M by its upper triangle, H = [[h_00, h_01], [h_10, h_11]], v = (v_0, v_1).\n"
+        "Returns (count_a, v0_a, v1_a, count_b, v0_b, v1_b): counts and exit velocities of the branches\n"
+        "starting with row 0 (a) and row 1 (b). Float, uncertified (see impactsym.laws.two_surface).",
+    ))
+    return out
+
+
+MODULE_DOC = """O(1) resolution of a two-surface impact (Seghete & Murphey sec. III-B, III-C).
+
+The alternating reflections act on the 2-plane span(M^-1 H_1^T, M^-1 H_2^T) as reflections in a
+wedge of opening beta = pi - phi (phi the kinetic angle); the branch starting with surface i needs
+ceil(psi_i / beta) reflections. Float kernels, uncertified; impactsym.laws.two_surface certifies.
+"""
+
+
+def generate(outdir) -> list[Path]:
+    """Write ``two_surface.py`` into ``outdir`` (committed copy in ``impactsym/kernels``)."""
+    path = Path(outdir) / "two_surface.py"
+    path.write_text(render_family("two_surface", "two_surface", MODULE_DOC, kernels()))
+    return [path]

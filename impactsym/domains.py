@@ -1,0 +1,353 @@
+"""Validity domains of the impulse-ratio law: where it has a solution and where that solution is
+admissible, as exact inequalities in ``(α, e)`` with their boundary curves (Acary & Taha eqs. 19,
+28–32, Fig. 3).
+
+The curves are derived in :mod:`derivations.domains` (SymPy, from the general law); this module
+packages them per scene, decides membership exactly, and draws Fig. 3.
+
+Scenes
+------
+``"chain3"``  the 3-ball chain, equal masses, ``q̇⁻ = (1, 0, 0)`` (sec. 3.3, eq. 19)
+``"pool"``    the pool at ``τ = 0`` (sec. 4.1.1, eqs. 29–32); θ ∈ [0, 2π/3]. At ``θ = 2π/3`` contact
+              1–3 is closed and approaching; the domain is that of three contacts with
+              ``α₁₃ = α₁₂`` (the paper's choice for that angle, eq. 37).
+
+In every case ``0 ≤ e ≤ 1`` (a dissipative energetic coefficient, eq. 12). The existence condition
+``Δ ≥ 0`` (``e ≥ h(α)``) is implied by every active velocity condition ``e ≥ g_j(α)``, since
+``g_j − h = R_j²/(4AT⁻) ≥ 0`` (:func:`derivations.domains.admissibility_conditions`).
+
+Examples
+--------
+>>> d = validity_domain("chain3")
+>>> [b.name for b in d.boundaries]
+['alpha_min', 'g', 'h', 'e_max']
+>>> d.region["alpha"], d.region["e"]
+((1/2, 1), (1/3, 1))
+>>> d.contains("3/4", "9/10"), d.contains("3/4", "2/5")
+(True, False)
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Any
+
+import sympy as sp
+
+from .errors import ImpactInputError
+from .exact import certified_sign
+from .numbers import exact_str, parse_number, to_exact
+
+__all__ = ["Boundary", "ValidityDomain", "validity_domain", "plot_domain", "SCENES", "THETA_SWEEP"]
+
+SCENES = ("chain3", "pool")
+
+#: the angles at which :func:`validity_domain` (pool, θ unspecified) tabulates the domain
+THETA_SWEEP = (0, sp.pi / 6, sp.pi / 4, sp.pi / 3, sp.pi / 2, 7 * sp.pi / 12, 2 * sp.pi / 3)
+
+alpha = sp.Symbol("alpha", nonnegative=True)
+e = sp.Symbol("e", positive=True)
+
+
+@dataclass
+class Boundary:
+    """One boundary curve of a validity domain.
+
+    Attributes
+    ----------
+    name : short name (``"g"``, ``"h"``, ``"alpha_min"``, ...)
+    lhs : ``"e"`` or ``"alpha"``: the curve is ``lhs = expression``
+    expression : exact SymPy expression (in α, or a constant)
+    condition : the inequality it bounds and why (which contact, which condition of eq. 28)
+    """
+
+    name: str
+    lhs: str
+    expression: Any
+    condition: str
+
+    def as_json(self) -> dict:
+        return {"name": self.name, "expression": f"{self.lhs} = {exact_str(self.expression)}",
+                "condition": self.condition}
+
+
+@dataclass
+class ValidityDomain:
+    """The validity domain of one scene (at one θ for the pool), exactly.
+
+    Attributes
+    ----------
+    scene, theta : what it is the domain of
+    boundaries : the boundary curves (:class:`Boundary`)
+    inequalities : the defining inequalities, as text
+    region : its extent: ``alpha`` and ``e`` ranges (exact), ``e_min_at`` (the α of the lowest e),
+        ``empty`` and a ``description``
+    """
+
+    scene: str
+    theta: Any
+    boundaries: list
+    inequalities: list
+    region: dict
+    _member: Any = field(repr=False, default=None)
+    sweep: list = field(default_factory=list)
+
+    def contains(self, alpha_value, e_value) -> bool:
+        """Exact membership of ``(α, e)`` (numbers or numeric text; floats by their exact value).
+
+        >>> validity_domain("pool", "pi/4").contains("sqrt(2)/4", "3/7")
+        True
+        """
+        if self._member is None:
+            raise ImpactInputError("theta", "membership needs a specific theta")
+        a, ee = to_exact(alpha_value, "alpha"), to_exact(e_value, "e")
+        return self._member(a, ee)
+
+    def as_json(self) -> dict:
+        """The JSON form (``boundaries`` as ``{"name", "expression", "condition"}``, exact strings and
+        ``_float`` twins for the region's extent)."""
+        reg = {}
+        for k, v in self.region.items():
+            if isinstance(v, tuple):
+                reg[k] = [exact_str(x) for x in v]
+                if not any(sp.sympify(x).free_symbols for x in v):
+                    reg[k + "_float"] = [float(sp.N(x, 17)) for x in v]
+            elif isinstance(v, sp.Basic):
+                reg[k] = exact_str(v)
+                if not v.free_symbols:
+                    reg[k + "_float"] = float(sp.N(v, 17))
+            else:
+                reg[k] = v
+        out = {"scene": self.scene, "theta": None if self.theta is None else exact_str(self.theta),
+               "variables": ["alpha", "e"], "boundaries": [b.as_json() for b in self.boundaries],
+               "inequalities": list(self.inequalities), "region": reg}
+        if self.theta is not None:
+            out["theta_float"] = float(sp.N(self.theta, 17))
+        if self.sweep:
+            out["theta_sweep"] = self.sweep
+        return out
+
+
+def _ge(x, y) -> bool:
+    return certified_sign(sp.sympify(x) - sp.sympify(y)) >= 0
+
+
+def _chain_or_pool(cs, scene: str, theta) -> ValidityDomain:
+    """The two-contact domain for ``c = cos θ`` (the chain is c = 1)."""
+    from derivations.domains import pool_g, pool_h
+
+    g, h = pool_g(cs), pool_h(cs)
+    lo = sp.Max(0, cs / 2)
+    emin = sp.simplify(g.subs(alpha, lo))
+    pool_ = scene == "pool"
+    cos_ = "cos(theta)" if pool_ else "1"
+    bnds = [
+        Boundary("alpha_min", "alpha", lo,
+                 f"alpha >= {exact_str(lo)}: v2+ >= 0 at contact 2-3 (v2+ = (2 alpha - {cos_}) p1) and p2 = alpha p1 >= 0"),
+        Boundary("g", "e", sp.simplify(g),
+                 f"e >= g(alpha): v1+ >= 0 at contact 1-2 ({'eq. 29' if pool_ else 'eq. 19'}); g <= 1 iff alpha <= 1, "
+                 "so alpha <= 1"),
+        Boundary("h", "e", sp.simplify(h),
+                 f"e >= h(alpha): Delta >= 0 ({'eq. 31, corrected' if pool_ else 'eq. 18'}); implied by e >= g since g - h = "
+                 f"alpha^2 (2 alpha - {cos_})^2 / (2 A (2 - alpha {cos_})^2) >= 0; touches g at alpha = 0 and "
+                 f"alpha = {cos_}/2"),
+        Boundary("e_max", "e", sp.Integer(1), "e <= 1: dissipative energetic coefficient (eq. 12)"),
+    ]
+    ineq = [f"alpha >= {exact_str(lo)}", f"{exact_str(sp.simplify(g))} <= e <= 1"]
+    if scene == "chain3":
+        from derivations.domains import chain3_alpha_max_expr
+
+        ineq.append(f"equivalently (eq. 19): 1/3 <= e <= 1 and 1/2 <= alpha <= {exact_str(chain3_alpha_max_expr())}")
+    region = {"alpha": (sp.simplify(lo), sp.Integer(1)), "e": (emin, sp.Integer(1)), "e_min_at": sp.simplify(lo),
+              "empty": False,
+              "description": (f"the set above the curve e = g(alpha) for {exact_str(sp.simplify(lo))} <= alpha <= 1, "
+                              f"e up to 1; lowest point (alpha, e) = ({exact_str(sp.simplify(lo))}, {exact_str(emin)}), "
+                              "g(1) = 1 closes it at (1, 1)")}
+
+    def member(a, ee):
+        if not (_ge(ee, 0) and _ge(1, ee) and _ge(a, 0) and _ge(2 * a, cs)):
+            return False
+        if certified_sign(2 - a * cs) <= 0:  # w1+ = -1 + (2 - alpha c) p1 < 0
+            return False
+        return _ge(ee, g.subs(alpha, a))
+
+    return ValidityDomain(scene, theta, bnds, ineq, region, member)
+
+
+def _bernoulli_tau0(theta) -> ValidityDomain:
+    from derivations.domains import bernoulli_tau0_domain
+
+    d = bernoulli_tau0_domain()
+    g1, g3, R3, h = d["g1"], d["g3"], d["R3"], d["h"]
+    bnds = [
+        Boundary("alpha_min", "alpha", sp.Integer(0), "alpha13 = alpha12 = alpha >= 0: p >= 0"),
+        Boundary("g1", "e", g1, "e >= g1(alpha): v+ >= 0 at contact 1-2"),
+        Boundary("g3", "e", g3, "e >= g3(alpha) where R3 > 0, i.e. alpha < 2/5 or alpha > 1: v+ >= 0 at contact 1-3 "
+                 f"(R3 = {exact_str(R3)})"),
+        Boundary("h", "e", h, "e >= h(alpha): Delta >= 0; implied by e >= g1 (g1 - h = R1^2/(4 A T) >= 0)"),
+        Boundary("e_max", "e", sp.Integer(1), "e <= 1: dissipative energetic coefficient (eq. 12)"),
+    ]
+    ineq = ["0 <= alpha <= 1 (alpha13 = alpha12 = alpha, three closed contacts)", f"e >= {exact_str(g1)}",
+            f"e >= {exact_str(g3)} if alpha < 2/5", "e <= 1"]
+    region = {"alpha": d["alpha_range"], "e": (d["e_min"], sp.Integer(1)), "e_min_at": d["e_min_at"], "empty": False,
+              "description": ("theta = 2pi/3: contact 1-3 closes and approaches; with alpha13 = alpha12 the set lies "
+                              f"above max(g1, g3) (g3 active for alpha < 2/5); lowest point ({exact_str(d['e_min_at'])}, "
+                              f"{exact_str(d['e_min'])}) where g1 = g3; alpha = 0 needs e = 1")}
+
+    def member(a, ee):
+        if not (_ge(ee, 0) and _ge(1, ee) and _ge(a, 0) and _ge(ee, g1.subs(alpha, a))):
+            return False
+        if certified_sign(R3.subs(alpha, a)) > 0 and not _ge(ee, g3.subs(alpha, a)):
+            return False
+        return True
+
+    return ValidityDomain("pool", theta, bnds, ineq, region, member)
+
+
+def _parse_theta(theta):
+    if theta is None:
+        return None
+    t = to_exact(theta, "theta") if not isinstance(theta, str) else parse_number(theta, "theta")
+    if certified_sign(t) < 0 or certified_sign(t - 2 * sp.pi / 3) > 0:
+        raise ImpactInputError("theta", f"must lie in [0, 2*pi/3] (balls 1 and 3 would overlap beyond), got {t}")
+    return t
+
+
+def validity_domain(scene: str, theta=None) -> ValidityDomain:
+    """The validity domain of the impulse-ratio law on a scene, exactly.
+
+    Parameters
+    ----------
+    scene : ``"chain3"`` or ``"pool"``
+    theta : the pool's angle θ ∈ [0, 2π/3] (exact number, numeric text such as ``"pi/4"``, or a
+        float, taken at its exact binary value). ``None`` for the pool gives the domain as a
+        function of θ with a table over :data:`THETA_SWEEP`. Not accepted for ``"chain3"``.
+
+    Returns
+    -------
+    ValidityDomain
+
+    Raises
+    ------
+    ImpactInputError
+        unknown scene; θ outside [0, 2π/3]; θ given for the chain.
+
+    Examples
+    --------
+    >>> d = validity_domain("pool", "pi/4")
+    >>> d.region["alpha"], d.region["e"]
+    ((sqrt(2)/4, 1), (3/7, 1))
+    >>> validity_domain("pool", "3")
+    Traceback (most recent call last):
+    ...
+    impactsym.errors.ImpactInputError: theta: must lie in [0, 2*pi/3] (balls 1 and 3 would overlap beyond), got 3
+
+    References
+    ----------
+    Acary & Taha, eqs. 19, 28–32, Fig. 3.
+    """
+    if scene not in SCENES:
+        raise ImpactInputError("scene", f"unknown scene {scene!r}; known: {', '.join(SCENES)}")
+    if scene == "chain3":
+        if theta is not None:
+            raise ImpactInputError("theta", "only the pool scene takes theta")
+        return _chain_or_pool(sp.Integer(1), "chain3", None)
+    t = _parse_theta(theta)
+    if t is None:
+        return _pool_symbolic()
+    if certified_sign(t - 2 * sp.pi / 3) == 0:
+        return _bernoulli_tau0(t)
+    return _chain_or_pool(sp.cos(t), "pool", t)
+
+
+def _pool_symbolic() -> ValidityDomain:
+    from derivations.domains import pool_g, pool_h
+
+    c = sp.cos(sp.Symbol("theta", real=True))
+    g, h = pool_g(c), pool_h(c)
+    bnds = [
+        Boundary("alpha_min", "alpha", sp.Max(0, c / 2), "alpha >= max(0, cos(theta)/2): v2+ >= 0 and p >= 0"),
+        Boundary("g", "e", g, "e >= g(alpha): v1+ >= 0 (eq. 29)"),
+        Boundary("h", "e", h, "e >= h(alpha): Delta >= 0 (eq. 31 corrected); implied by e >= g"),
+        Boundary("e_max", "e", sp.Integer(1), "e <= 1"),
+    ]
+    sweep = []
+    for t in THETA_SWEEP:
+        d = validity_domain("pool", t)
+        sweep.append({"theta": exact_str(t), "theta_float": float(sp.N(t, 17)),
+                      "alpha": [exact_str(x) for x in d.region["alpha"]],
+                      "e": [exact_str(x) for x in d.region["e"]],
+                      "e_float": [float(sp.N(x, 17)) for x in d.region["e"]],
+                      "empty": d.region["empty"]})
+    region = {"alpha": (sp.Max(0, c / 2), sp.Integer(1)), "e": (sp.Piecewise(((2 - c**2) / (4 - c**2), c >= 0), (sp.Rational(1, 2), True)), sp.Integer(1)),
+              "empty": False,
+              "description": ("theta in [0, 2pi/3): alpha in [max(0, cos(theta)/2), 1], e in [g(alpha), 1]; never empty "
+                              "((1, 1) always valid); e_min = (2 - cos^2 theta)/(4 - cos^2 theta) rises from 1/3 (theta = 0, "
+                              "the chain) to 1/2 (theta = pi/2) and stays 1/2 (at alpha = 0) on ]pi/2, 2pi/3[; "
+                              "theta = 2pi/3: three closed contacts (alpha13 = alpha12): alpha in [0, 1], e_min = 5/9 at alpha = 1/4")}
+    return ValidityDomain("pool", None, bnds, ["alpha >= max(0, cos(theta)/2)", "g(alpha) <= e <= 1"], region, None, sweep)
+
+
+def plot_domain(theta, path, *, alpha_max=None, points: int = 400) -> dict:
+    """Draw the valid domain of ``(α₁₂, e)`` for the pool at θ (Fig. 3 is θ = π/4) into ``path`` (PNG).
+
+    The curves are the generated kernels ``pool_g`` and ``pool_h`` (derived in
+    :mod:`derivations.domains`); the domain is shaded between ``g`` and ``e = 1``.
+
+    Parameters
+    ----------
+    theta : θ ∈ [0, 2π/3) (exact or float)
+    path : output file
+    alpha_max : right end of the α axis (default 1.5)
+    points : samples per curve
+
+    Returns
+    -------
+    dict with the plotted arrays ``alpha``, ``g``, ``h`` (exactly the data of the drawn lines), the
+    shaded range and ``path``.
+
+    Examples
+    --------
+    >>> import tempfile, os
+    >>> out = plot_domain("pi/4", os.path.join(tempfile.mkdtemp(), "fig3.png"))
+    >>> round(float(out["e_min"]), 6)
+    0.428571
+    """
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    import numpy as np
+
+    from .kernels import pool_g as g_kernel, pool_h as h_kernel
+
+    t = _parse_theta(theta)
+    if certified_sign(t - 2 * sp.pi / 3) == 0:
+        raise ImpactInputError("theta", "plot_domain draws the two-contact pool, theta < 2*pi/3")
+    dom = validity_domain("pool", t)
+    tf = float(sp.N(t, 17))
+    a_hi = 1.5 if alpha_max is None else float(alpha_max)
+    a = np.linspace(0.0, a_hi, points)
+    g, h = g_kernel(tf, a), h_kernel(tf, a)
+    lo, hi = (float(sp.N(x, 17)) for x in dom.region["alpha"])
+    fig, ax = plt.subplots(figsize=(6, 4.5))
+    ax.plot(a, g, color="C0", label="g: v1+ = 0 (eq. 29)")
+    ax.plot(a, h, color="C1", linestyle="--", label="h: Delta = 0 (eq. 31, corrected)")
+    inside = (a >= lo) & (a <= hi)
+    ax.fill_between(a[inside], g[inside], 1.0, color="C2", alpha=0.3, label="valid domain D")
+    ax.axvline(lo, color="grey", linewidth=0.8, linestyle=":")
+    emin = dom.region["e"][0]
+    ax.plot([lo], [float(sp.N(emin, 17))], "ko", markersize=4)
+    ax.set_xlim(0, a_hi)
+    ax.set_ylim(0, 1.05)
+    ax.set_xlabel("alpha_12")
+    ax.set_ylabel("e")
+    ax.set_title(f"Valid domain of e and alpha_12, theta = {exact_str(t)}")
+    ax.legend(loc="lower right", fontsize=8)
+    fig.tight_layout()
+    fig.savefig(path, dpi=100)
+    lines = {"g": ax.lines[0].get_ydata().copy(), "h": ax.lines[1].get_ydata().copy(), "alpha": ax.lines[0].get_xdata().copy()}
+    plt.close(fig)
+    return {"path": str(path), "alpha": lines["alpha"], "g": lines["g"], "h": lines["h"],
+            "alpha_range": (lo, hi), "e_min": emin, "theta": t}
+

@@ -1,0 +1,649 @@
+"""Two-surface impacts resolved in O(1): every first-surface choice, its exact reflection count and
+its exit velocity, whatever the count (Seghete & Murphey, sec. III-B and III-C).
+
+The sequential resolution of an impact against two surfaces (gradient rows ``H_A``, ``H_B``) is a
+sequence of single impacts ``G_A``, ``G_B`` that is forced to alternate once the first surface is
+chosen. :mod:`derivations.two_surface` reduces it, in any dimension, to reflections in a planar
+wedge of opening ``β = π − φ`` (``φ`` the kinetic angle) and derives
+
+* the count of the branch that starts with surface ``i`` (possible only if ``H_i v < 0``):
+  ``m_i = ⌈ψ_i/β⌉``, ``ψ_A = atan2(−c_A√Δ, s_A c_B − g c_A)``, ``β = atan2(√Δ, −g)``, with
+  ``s_i = H_i M⁻¹H_iᵀ``, ``g = H_A M⁻¹H_Bᵀ``, ``Δ = s_A s_B − g²``, ``c_i = H_i v`` (B: swap A and B);
+* the exit: ``α_f = α ρ^k`` (``m = 2k``) or ``conj(α ρ^k)`` (``m = 2k + 1``) in ``Q(√−Δ)``, with
+  ``α = (s_A c_B − g c_A) + c_A√−Δ``, ``ρ = (−g + √−Δ)²/(s_A s_B)``; then
+  ``H v⁺ = (Im α_f/√Δ, (Re α_f + g Im α_f/√Δ)/s_A)`` and ``v⁺ = v + M⁻¹Hᵀ Γ⁻¹ (H v⁺ − H v)``;
+* the paper's bound ``N = ⌈π/β⌉`` (the maximum count over all velocities).
+
+How each answer is obtained
+---------------------------
+* **Count** (always certain): ``ψ/β`` is enclosed in an Arb ball (python-flint) at rising precision
+  until the ball holds no integer; an integer inside the ball (an iterate possibly exactly on an
+  edge, i.e. grazing) is decided exactly from the exact iterate. Float inputs are decided from
+  their exact binary values. If neither settles it, :class:`~impactsym.errors.UndecidableSign` is
+  raised (never a guess).
+* **Exit velocity**: exact (SymPy ``Rational``) for rational input when its numbers have at most
+  about ``max_exact_digits`` digits (they grow linearly with the count; the closed form above is
+  evaluated in exact integer arithmetic with O(log m) multiplications); otherwise an ``mpmath.matrix`` certified to ``digits`` significant digits
+  (normwise: every component's enclosure radius is below ``10^-digits · max_i |v⁺_i|``), plus
+  floats. Float input gives a float answer (rounded from a certified enclosure).
+
+References
+----------
+Seghete & Murphey, sec. II-A (``G_u``), sec. III-B (branching over orderings; the claim of at most
+two solutions for two surfaces), sec. III-C (termination, ``N = ⌈S_total/(2S₀)⌉``).
+
+Examples
+--------
+>>> r = resolve_two_surfaces("11/10,0;0,1", "1,0;-1,1", "-1,-2")
+>>> [(list(o.order), o.reflections) for o in r.outcomes]
+[([0, 1, 0, 1], 4), ([1, 0, 1, 0], 4)]
+>>> r.outcomes[0].velocity.T
+Matrix([[173/147, 278/147]])
+>>> r.bound
+4
+>>> big = resolve_two_surfaces("1,0;0,1", "1,0;-1000000,1", "-1,0")   # wedge of about 1e-6 rad
+>>> big.outcomes[0].reflections, big.outcomes[0].exact, big.bound
+(1570797, False, 3141593)
+>>> big.outcomes[0].order
+AlternatingOrder(first=0, length=1570797)
+>>> mpmath.nstr(big.outcomes[0].velocity[1], 30), big.outcomes[0].digits
+('0.999999999999946602376662304211', 30)
+>>> resolve_two_surfaces("1,0;0,1", "1,0;2,0", "-1,0")
+Traceback (most recent call last):
+...
+impactsym.errors.ImpactInputError: gradients: the two rows are parallel (Δ = s_1 s_2 − g² = 0): the wedge is degenerate (opening 0 or π)
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import dataclass, field
+from fractions import Fraction
+from typing import Any
+
+import mpmath
+import numpy as np
+import sympy as sp
+from flint import arb, ctx, fmpq, fmpq_mat, fmpz
+
+from ..errors import ImpactInputError, UndecidableSign
+from ..exact import certified_sign
+from ..mechanics import check_gradients, check_mass_matrix, check_velocity
+from ..numbers import is_exact
+
+__all__ = [
+    "resolve_two_surfaces",
+    "TwoSurfaceResolution",
+    "TwoSurfaceOutcome",
+    "AlternatingOrder",
+    "DEFAULT_DIGITS",
+    "DEFAULT_MAX_EXACT_DIGITS",
+]
+
+#: significant digits of a certified (non-exact) exit velocity, unless ``digits`` is given
+DEFAULT_DIGITS = 30
+#: a rational input gets an exact exit velocity when its numbers have at most about this many
+#: digits (the size grows linearly with the count: about m · log10(s_A s_B) digits)
+DEFAULT_MAX_EXACT_DIGITS = 2000
+#: largest Arb precision (bits) tried before an undecided comparison raises
+MAX_PRECISION_BITS = 1 << 16
+#: largest bit size of an exact iterate computed to settle a possible tie (grazing) exactly
+TIE_CHECK_BITS = 1 << 22
+#: largest count for which an irrational (algebraic) input is iterated exactly
+MAX_EXACT_ALGEBRAIC_REFLECTIONS = 24
+
+
+class AlternatingOrder(Sequence):
+    """The ordering of a branch: ``first, 1 − first, first, ...`` (``length`` surface indices).
+
+    A list-like view that is never materialized (a branch may have 10⁹ reflections).
+
+    >>> o = AlternatingOrder(1, 5)
+    >>> list(o), o[-1], len(o), o == [1, 0, 1, 0, 1]
+    ([1, 0, 1, 0, 1], 1, 5, True)
+    """
+
+    __slots__ = ("first", "length")
+
+    def __init__(self, first: int, length: int):
+        self.first, self.length = int(first), int(length)
+
+    def __len__(self) -> int:
+        return self.length
+
+    def __getitem__(self, i):
+        if isinstance(i, slice):
+            return [self[k] for k in range(*i.indices(self.length))]
+        if i < 0:
+            i += self.length
+        if not 0 <= i < self.length:
+            raise IndexError("AlternatingOrder index out of range")
+        return self.first if i % 2 == 0 else 1 - self.first
+
+    def __eq__(self, other) -> bool:
+        if isinstance(other, AlternatingOrder):
+            return (self.length, self.first if self.length else 0) == (other.length, other.first if other.length else 0)
+        if isinstance(other, (list, tuple)):
+            return len(other) == self.length and all(a == b for a, b in zip(self, other))
+        return NotImplemented
+
+    def __hash__(self):
+        return hash((self.first if self.length else 0, self.length))
+
+    def __repr__(self) -> str:
+        return f"AlternatingOrder(first={self.first}, length={self.length})"
+
+    def to_json(self, limit: int = 10000):
+        """The list of indices when ``length <= limit``, else ``{"first", "length", "alternating"}``."""
+        if self.length <= limit:
+            return list(self)
+        return {"first": self.first, "length": self.length, "alternating": True}
+
+
+@dataclass
+class TwoSurfaceOutcome:
+    """One branch: the ordering (surface indices, alternating), the count and the exit velocity.
+
+    ``velocity`` is a SymPy column (``exact``), a float64 array (float input), or an
+    ``mpmath.matrix`` certified to ``digits`` significant digits (normwise), with ``error_bound``
+    an upper bound of every component's error. ``impulse`` is ``p`` in ``M(v⁺ − v) = Hᵀp``, in the
+    same form.
+    """
+
+    first: int
+    order: AlternatingOrder
+    reflections: int
+    velocity: Any
+    velocity_float: np.ndarray
+    impulse: Any
+    exact: bool
+    digits: int | None = None
+    error_bound: Any = None
+
+    def as_dict(self) -> dict:
+        """JSON-ready form (exact numbers as SymPy strings, mpmath values as strings)."""
+        def text(v):
+            if isinstance(v, sp.MatrixBase):
+                return [str(x) for x in v]
+            if isinstance(v, mpmath.matrix):
+                return [mpmath.nstr(v[i], self.digits or 17) for i in range(v.rows)]
+            return [float(x) for x in v]
+        return {"order": self.order.to_json(), "first": self.first, "reflections": self.reflections,
+                "velocity": text(self.velocity), "velocity_float": [float(x) for x in self.velocity_float],
+                "exact": self.exact, "digits": self.digits}
+
+
+@dataclass
+class TwoSurfaceResolution:
+    """Every branch of a two-surface impact and the quantities that govern it.
+
+    Attributes
+    ----------
+    outcomes : list of TwoSurfaceOutcome
+        One per surface that the velocity approaches, by first surface; a single outcome with no
+        reflection when the velocity is already valid.
+    by_first : dict
+        ``{0: outcome or None, 1: outcome or None}`` (``None``: that surface is not approached, so
+        no branch starts with it).
+    bound : int
+        The paper's ``N = ⌈S_total/(2S₀)⌉ = ⌈π/β⌉`` (certified), the maximum count over all velocities.
+    kinetic_angle_cos : exact number or float
+        ``cos φ = H_1M⁻¹H_2ᵀ/√(s_1 s_2)`` (computed on first access); the wedge opening is
+        ``β = π − φ``.
+    wedge_angle : mpmath.mpf
+        ``β`` to ``digits`` digits.
+    exact : bool
+        Whether the input was exact.
+    decisions : dict
+        How the counts were certified: ``arb`` (an Arb ball excluded every integer),
+        ``exact_tie`` (an integer was confirmed exactly: an iterate on an edge), ``max_bits``.
+    """
+
+    outcomes: list
+    by_first: dict
+    bound: int
+    wedge_angle: Any
+    exact: bool
+    decisions: dict = field(default_factory=dict)
+    _data: Any = field(default=None, repr=False)
+
+    @property
+    def kinetic_angle_cos(self):
+        return _kinetic_cos(self._data, self.exact)
+
+    def as_dict(self) -> dict:
+        """JSON-ready form: ``outcomes`` (see :meth:`TwoSurfaceOutcome.as_dict`), ``bound``,
+        ``wedge_angle`` and ``kinetic_angle_cos`` (exact string and float), ``decisions``.
+
+        >>> d = resolve_two_surfaces("1,0;0,1", "1,0;-1,1", "-1,-2").as_dict()
+        >>> d["bound"], d["outcomes"][0]["order"], d["outcomes"][0]["velocity"], d["kinetic_angle_cos"]
+        (4, [0, 1, 0, 1], ['1', '2'], '-sqrt(2)/2')
+        """
+        c = self.kinetic_angle_cos
+        return {"outcomes": [o.as_dict() for o in self.outcomes], "bound": self.bound,
+                "wedge_angle": mpmath.nstr(self.wedge_angle, 17), "wedge_angle_float": float(self.wedge_angle),
+                "kinetic_angle_cos": str(c), "kinetic_angle_cos_float": float(c),
+                "exact": self.exact, "decisions": dict(self.decisions)}
+
+
+# --------------------------------------------------------------------------- exact scalars
+def _is_rational_matrix(A) -> bool:
+    return all(x.is_Rational for x in A)
+
+
+def _fmpq(x) -> fmpq:
+    if isinstance(x, (float, np.floating)):
+        f = Fraction(float(x))
+        return fmpq(f.numerator, f.denominator)
+    if isinstance(x, Fraction):
+        return fmpq(x.numerator, x.denominator)
+    x = sp.Rational(x)
+    return fmpq(int(x.p), int(x.q))
+
+
+def _arb(x, prec: int) -> arb:
+    """An Arb ball enclosing the exact number ``x`` (fmpq exactly; SymPy by rigorous evalf)."""
+    if isinstance(x, fmpq):
+        return arb(x)
+    if x.is_Rational:
+        return arb(fmpq(int(x.p), int(x.q)))
+    digits = int(prec * 0.30103) + 10
+    if certified_sign(x) == 0:
+        return arb(0)
+    val = x.evalf(digits, strict=True)
+    mid = arb(mpmath.nstr(mpmath.mpf(val._mpf_), digits + 5, min_fixed=1, max_fixed=0))
+    return mid + arb(0, abs(mid) * arb(10) ** (-(digits - 3)))
+
+
+def _sign(x) -> int:
+    if isinstance(x, fmpq):
+        return (x > 0) - (x < 0)
+    return certified_sign(x)
+
+
+class _Data:
+    """``s_A, s_B, g, c_A, c_B, Δ`` of one ordering of the two rows (exact), and ``W``, ``Γ``."""
+
+    def __init__(self, sa, sb, g, ca, cb):
+        self.sa, self.sb, self.g, self.ca, self.cb = sa, sb, g, ca, cb
+        self.D = sa * sb - g * g
+        if not isinstance(self.D, fmpq):
+            self.D = sp.radsimp(sp.expand(self.D))
+
+    def swapped(self) -> "_Data":
+        return _Data(self.sb, self.sa, self.g, self.cb, self.ca)
+
+    def balls(self, prec: int):
+        with ctx.workprec(prec):
+            sa, sb, g, ca, cb, D = (_arb(x, prec) for x in (self.sa, self.sb, self.g, self.ca, self.cb, self.D))
+            rD = D.sqrt()
+            psi = arb.atan2(-ca * rD, sa * cb - g * ca)
+            beta = arb.atan2(rD, -g)
+        return sa, sb, g, ca, cb, D, rD, psi, beta
+
+    def rational(self) -> bool:
+        return isinstance(self.D, fmpq)
+
+
+def _field_power_exit(d: _Data, m: int):
+    """Exact ``(c_A', c_B')`` after ``m`` reflections starting with A, for rational data.
+
+    The closed form ``α_f = α ρ^k`` (or its conjugate) of :mod:`derivations.two_surface`, in
+    integer arithmetic: with ``Δ = P/Q`` and ``r = √(−PQ)`` (so ``√−Δ = r/Q``), elements of
+    ``Q(√−Δ)`` are ``(X + Y r)/den`` with integers ``X, Y``; the power ``(a + b r)^k`` is taken by
+    squaring on integer pairs (no gcd until the end).
+    """
+    P, Q = fmpz(d.D.p), fmpz(d.D.q)
+    Dint = P * Q
+
+    def mul(u, v):
+        return (u[0] * v[0] - Dint * u[1] * v[1], u[0] * v[1] + u[1] * v[0])
+
+    # rho = ((g^2 - Δ) + (-2g/Q) r) / (s_A s_B): integer numerators over a common denominator
+    re, im = (d.g * d.g - d.D) / (d.sa * d.sb), (-2 * d.g / Q) / (d.sa * d.sb)
+    den_rho = _lcm(re.q, im.q)
+    a, b = re.p * (den_rho // re.q), im.p * (den_rho // im.q)
+    # alpha = (s_A c_B - g c_A) + (c_A/Q) r
+    are, aim = d.sa * d.cb - d.g * d.ca, d.ca / Q
+    den_alpha = _lcm(are.q, aim.q)
+    alpha = (are.p * (den_alpha // are.q), aim.p * (den_alpha // aim.q))
+    k, acc, base = m // 2, (fmpz(1), fmpz(0)), (a, b)
+    while k:
+        if k & 1:
+            acc = mul(acc, base)
+        k >>= 1
+        if k:
+            base = mul(base, base)
+    X, Y = mul(alpha, acc)
+    if m % 2:
+        Y = -Y
+    den = den_alpha * den_rho ** (m // 2)
+    ca = fmpq(Y * Q, den)  # the coefficient of √−Δ = r/Q
+    x = fmpq(X, den)
+    return ca, (x + d.g * ca) / d.sa
+
+
+def _lcm(p, q):
+    return (p * q) // p.gcd(q)
+
+
+def _rational(x: fmpq) -> sp.Rational:
+    """SymPy ``Rational`` of an fmpq."""
+    return sp.Rational(int(x.p), int(x.q))
+
+
+def _bits(x: fmpq) -> int:
+    return max(int(x.p).bit_length(), int(x.q).bit_length())
+
+
+def _exact_feasible(d: _Data, m: int, budget: int) -> bool:
+    size = max(_bits(d.sa * d.sb), _bits(d.g * d.g), _bits(d.D)) + 2
+    return m * size <= budget
+
+
+# --------------------------------------------------------------------------- the law
+def _checked(mass_matrix, gradients, velocity):
+    exact = is_exact(mass_matrix, gradients, velocity)
+    M = check_mass_matrix(mass_matrix, exact=exact)
+    n = M.shape[0]
+    H = check_gradients(gradients, n, exact=exact)
+    rows = H.rows if exact else H.shape[0]
+    if rows != 2:
+        raise ImpactInputError("gradients", f"must have exactly 2 rows (two closed contacts), got {rows}")
+    v = check_velocity(velocity, n, exact=exact)
+    return exact, M, H, v, n
+
+
+def _invariants(exact, M, H, v, n):
+    """``W = M⁻¹Hᵀ``, ``Γ``, ``c`` exactly; rational data as fmpq, irrational as SymPy."""
+    if exact and not (_is_rational_matrix(M) and _is_rational_matrix(H) and _is_rational_matrix(v)):
+        W = M.LUsolve(H.T).applyfunc(sp.radsimp)
+        gram = (H * W).applyfunc(sp.radsimp)
+        c = (H * v).applyfunc(sp.radsimp)
+        return W, gram, c, False
+    if exact:
+        Mq = fmpq_mat(n, n, [_fmpq(x) for x in M])
+        Hq = fmpq_mat(2, n, [_fmpq(x) for x in H])
+        vq = fmpq_mat(n, 1, [_fmpq(x) for x in v])
+    else:
+        Mq = fmpq_mat(n, n, [_fmpq(x) for x in np.asarray(M).ravel()])
+        Hq = fmpq_mat(2, n, [_fmpq(x) for x in np.asarray(H).ravel()])
+        vq = fmpq_mat(n, 1, [_fmpq(x) for x in np.asarray(v).ravel()])
+    W = Mq.solve(Hq.transpose())
+    gram = Hq * W
+    c = Hq * vq
+    return (W, gram, c, True), vq
+
+
+def _certified_ceil_ratio(d: _Data, tie_check, decisions: dict) -> int:
+    """``⌈ψ/β⌉`` of the A-first branch, certified (Arb at rising precision, exact tie test)."""
+    prec, tried = 64, set()
+    while prec <= MAX_PRECISION_BITS:
+        *_, psi, beta = d.balls(prec)
+        with ctx.workprec(prec):
+            q = psi / beta
+        if q.is_finite() and not q.contains_integer():
+            decisions["arb"] = decisions.get("arb", 0) + 1
+            decisions["max_bits"] = max(decisions.get("max_bits", 0), prec)
+            return int(q.lower().floor().unique_fmpz()) + 1
+        if q.is_finite() and q.rad() < 0.25:
+            j = int(q.mid().floor().unique_fmpz()) if q.mid() - q.mid().floor() < 0.5 else \
+                int(q.mid().ceil().unique_fmpz())
+            if j >= 1 and j not in tried:
+                tried.add(j)
+                verdict = tie_check(d, j)
+                if verdict is True:
+                    decisions["exact_tie"] = decisions.get("exact_tie", 0) + 1
+                    return j
+        prec *= 2
+    raise UndecidableSign(
+        f"the reflection count ceil(psi/beta) could not be certified: psi/beta is within 2^-{MAX_PRECISION_BITS} "
+        "of an integer and an exact check of that tie (an iterate exactly on an edge) was not feasible")
+
+
+def _tie_check_rational(d: _Data, j: int):
+    """Whether the j-th iterate of the A-first branch lies exactly on an edge (``ψ = jβ``)."""
+    if not _exact_feasible(d, j, TIE_CHECK_BITS):
+        return None
+    ca, cb = _field_power_exit(d, j)
+    return (cb if j % 2 else ca) == 0
+
+
+def _make_tie_check_algebraic(M, HA, HB, v):
+    def check(d: _Data, j: int):
+        if j > MAX_EXACT_ALGEBRAIC_REFLECTIONS:
+            return None
+        it = _iterate_exact(M, HA, HB, v, j)
+        last = it[-1]
+        row = HB if j % 2 else HA
+        return certified_sign((row * last)[0, 0]) == 0
+    return check
+
+
+def _iterate_exact(M, HA, HB, v, m):
+    """Explicit alternating SymPy iteration (irrational inputs, small counts), starting with A."""
+    out, cur = [], v
+    for k in range(m):
+        h = HA if k % 2 == 0 else HB
+        w = M.LUsolve(h.T)
+        cur = (cur - 2 * w * (h * cur)[0, 0] / (h * w)[0, 0]).applyfunc(sp.radsimp)
+        out.append(cur)
+    return out
+
+
+def _certified_exit(d: _Data, m: int, digits: int, W, gram, vec, swap: bool):
+    """Certified ``H v⁺`` and ``v⁺`` (Arb), relative radius below ``10^-digits``.
+
+    ``W`` (n×2), ``gram`` (2×2) and ``vec`` (n) hold exact numbers (fmpq or SymPy); they are
+    enclosed at each working precision."""
+    extra = max(m, 1).bit_length()
+    prec = int(digits * 3.33) + extra + 64
+    while prec <= MAX_PRECISION_BITS:
+        sa, sb, g, ca, cb, D, rD, psi, beta = d.balls(prec)
+        with ctx.workprec(prec):
+            Wb = [[_arb(W[i][0], prec), _arb(W[i][1], prec)] for i in range(len(W))]
+            gram_b = [[_arb(gram[i][j], prec) for j in range(2)] for i in range(2)]
+            v_arb = [_arb(x, prec) for x in vec]
+            sigma = 1 if m % 2 == 0 else -1
+            th = sigma * (m * beta - psi) + (beta if sigma == -1 else 0)
+            pn = ((sb * ca * ca - 2 * g * ca * cb + sa * cb * cb) / D).sqrt()
+            ca2 = sa.sqrt() * pn * th.sin()
+            cb2 = sb.sqrt() * pn * (beta - th).sin()
+            if swap:
+                ca, cb, ca2, cb2 = cb, ca, cb2, ca2
+            dA, dB = ca2 - ca, cb2 - cb
+            (g00, g01), (g10, g11) = gram_b
+            det = g00 * g11 - g01 * g10
+            pA = (g11 * dA - g01 * dB) / det
+            pB = (g00 * dB - g10 * dA) / det
+            vel = [v_arb[i] + Wb[i][0] * pA + Wb[i][1] * pB for i in range(len(v_arb))]
+            scale = max((abs(x.mid()) for x in vel), default=arb(0))
+            rad = max((x.rad() for x in vel), default=arb(0))
+        if rad <= scale * arb(10) ** (-digits) or (scale == 0 and rad == 0):
+            return vel, (pA, pB), rad
+        prec *= 2
+    raise UndecidableSign(f"the exit velocity could not be certified to {digits} digits within {MAX_PRECISION_BITS} bits")
+
+
+def _mid_scale(vel) -> mpmath.mpf:
+    return max(abs(vel[i]) for i in range(vel.rows))
+
+
+def _arb_to_mpf(x: arb):
+    man, exp = x.mid().man_exp()
+    return mpmath.mpf((int(man), int(exp)))
+
+
+def resolve_two_surfaces(mass_matrix, gradients, velocity, *, digits: int = DEFAULT_DIGITS,
+                         max_exact_digits: int = DEFAULT_MAX_EXACT_DIGITS) -> TwoSurfaceResolution:
+    """Resolve an impact against exactly two surfaces, every first-surface choice, in O(1).
+
+    Parameters
+    ----------
+    mass_matrix : matrix-like (n×n), symmetric positive definite
+    gradients : matrix-like (2×n), the gradient rows ``H_1``, ``H_2`` of the two closed contacts,
+        linearly independent
+    velocity : vector-like (n,), the pre-impact velocity ``v``
+    digits : int
+        Significant digits of an exit velocity that is not exact (certified, normwise).
+    max_exact_digits : int
+        Rational input gets an exact exit velocity when its numbers have at most about this many
+        digits (``0``: always certified digits; small counts of small data are exact by default).
+
+    Returns
+    -------
+    TwoSurfaceResolution
+        ``outcomes`` (one per approached surface, or one with no reflection if ``v`` is valid),
+        the certified bound ``N = ⌈π/β⌉``, ``cos φ`` and ``β``.
+
+    Raises
+    ------
+    ImpactInputError
+        Bad shapes, NaN/inf, a mass matrix that is not SPD, zero rows, not exactly two rows, or
+        parallel rows (a degenerate wedge: ``Δ = 0``).
+    UndecidableSign
+        A count or digit that could not be certified (never guessed).
+
+    Examples
+    --------
+    >>> r = resolve_two_surfaces("1,0,0;0,1,0;0,0,1", "-1,1,0;0,-1,1", "1,0,0")
+    >>> [(list(o.order), o.reflections, list(o.velocity)) for o in r.outcomes]
+    [([0, 1], 2, [0, 0, 1])]
+    >>> resolve_two_surfaces([[1.1, 0.0], [0.0, 1.0]], [[1.0, 0.0], [-1.0, 1.0]], [-1.0, -2.0]).outcomes[1].velocity
+    array([0.81405896, 2.09070295])
+    """
+    if not isinstance(digits, int) or digits < 1:
+        raise ImpactInputError("digits", f"must be a positive integer, got {digits!r}")
+    exact, M, H, v, n = _checked(mass_matrix, gradients, velocity)
+    decisions: dict = {}
+    rational_path = not exact or (_is_rational_matrix(M) and _is_rational_matrix(H) and _is_rational_matrix(v))
+    if rational_path:
+        (W, gram, c, _), vq = _invariants(exact, M, H, v, n)
+        d = _Data(gram[0, 0], gram[1, 1], gram[0, 1], c[0, 0], c[1, 0])
+        tie_check = _tie_check_rational
+    else:
+        W, gram, c, _ = _invariants(exact, M, H, v, n)
+        d = _Data(gram[0, 0], gram[1, 1], gram[0, 1], c[0], c[1])
+        HA, HB = H[0, :], H[1, :]
+        tie_check = None  # built per branch below
+    if _sign(d.D) == 0:
+        raise ImpactInputError(
+            "gradients", "the two rows are parallel (Δ = s_1 s_2 − g² = 0): the wedge is degenerate (opening 0 or π)")
+    signs = (_sign(d.ca), _sign(d.cb))
+    # bound N = ceil(pi/beta), certified; pi/beta is an integer only for beta = pi/K with
+    # cos^2(pi/K) = g^2/(s_A s_B); decided exactly with SymPy for the candidate K.
+    bound = _certified_bound(d, decisions)
+    with mpmath.workdps(digits):
+        *_, beta = d.balls(int(digits * 3.33) + 32)
+        wedge = _arb_to_mpf(beta)
+
+    by_first: dict = {0: None, 1: None}
+    outcomes = []
+    if signs[0] >= 0 and signs[1] >= 0:
+        vel = _as_output(exact, v, vq if rational_path else None)
+        zero = sp.zeros(2, 1) if exact else np.zeros(2)
+        o = TwoSurfaceOutcome(first=-1, order=AlternatingOrder(0, 0), reflections=0, velocity=vel,
+                              velocity_float=_floats(vel), impulse=zero, exact=exact)
+        return TwoSurfaceResolution([o], by_first, bound, wedge, exact, decisions, d)
+
+    # exact entries for the certified path (enclosed at each precision tried)
+    W_ex = [[W[i, 0], W[i, 1]] for i in range(n)]
+    gram_ex = [[gram[0, 0], gram[0, 1]], [gram[1, 0], gram[1, 1]]]
+    v_ex = [vq[i, 0] for i in range(n)] if rational_path else list(v)
+    for first in (0, 1):
+        if signs[first] >= 0:
+            continue
+        df = d if first == 0 else d.swapped()
+        if rational_path:
+            m = _certified_ceil_ratio(df, tie_check, decisions)
+        else:
+            rows = (HA, HB) if first == 0 else (HB, HA)
+            m = _certified_ceil_ratio(df, _make_tie_check_algebraic(M, rows[0], rows[1], v), decisions)
+        order = AlternatingOrder(first, m)
+        if rational_path and exact and _exact_feasible(df, m, int(3.33 * max_exact_digits)):
+            ca2, cb2 = _field_power_exit(df, m)
+            if first == 1:
+                ca2, cb2 = cb2, ca2
+            if ca2 < 0 or cb2 < 0:  # pragma: no cover - the derivation proves this cannot happen
+                raise AssertionError("exact exit velocity is not valid: a bug in the two-surface law")
+            jump = gram.solve(fmpq_mat(2, 1, [ca2 - c[0, 0], cb2 - c[1, 0]]))
+            vplus = vq + W * jump
+            vel = sp.Matrix([_rational(vplus[i, 0]) for i in range(n)])
+            imp = sp.Matrix([_rational(jump[i, 0]) for i in range(2)])
+            outcomes.append(TwoSurfaceOutcome(first, order, m, vel, _floats(vel), imp, True))
+        elif rational_path:
+            want = digits if exact else 20
+            vel_b, imp_b, rad = _certified_exit(df, m, want, W_ex, gram_ex, v_ex, first == 1)
+            if exact:
+                with mpmath.workdps(digits + 5):
+                    vel = mpmath.matrix([_arb_to_mpf(x) for x in vel_b])
+                    imp = mpmath.matrix([_arb_to_mpf(x) for x in imp_b])
+                    err = _arb_to_mpf(rad) * 2 + _mid_scale(vel) * mpmath.mpf(10) ** -(digits + 4)
+                outcomes.append(TwoSurfaceOutcome(first, order, m, vel, _floats(vel), imp, False,
+                                                  digits=digits, error_bound=err))
+            else:
+                vel = np.array([float(_arb_to_mpf(x)) for x in vel_b])
+                imp = np.array([float(_arb_to_mpf(x)) for x in imp_b])
+                outcomes.append(TwoSurfaceOutcome(first, order, m, vel, vel.copy(), imp, False))
+        else:  # irrational exact input
+            rows = (HA, HB) if first == 0 else (HB, HA)
+            if m <= MAX_EXACT_ALGEBRAIC_REFLECTIONS:
+                vel = _iterate_exact(M, rows[0], rows[1], v, m)[-1]
+                imp = (gram.LUsolve(H * vel - c)).applyfunc(sp.radsimp)
+                outcomes.append(TwoSurfaceOutcome(first, order, m, vel, _floats(vel), imp, True))
+            else:
+                vel_b, imp_b, rad = _certified_exit(df, m, digits, W_ex, gram_ex, v_ex, first == 1)
+                with mpmath.workdps(digits + 5):
+                    vel = mpmath.matrix([_arb_to_mpf(x) for x in vel_b])
+                    imp = mpmath.matrix([_arb_to_mpf(x) for x in imp_b])
+                    err = _arb_to_mpf(rad) * 2 + _mid_scale(vel) * mpmath.mpf(10) ** -(digits + 4)
+                outcomes.append(TwoSurfaceOutcome(first, order, m, vel, _floats(vel), imp, False,
+                                                  digits=digits, error_bound=err))
+        by_first[first] = outcomes[-1]
+    return TwoSurfaceResolution(outcomes, by_first, bound, wedge, exact, decisions, d)
+
+
+def _as_output(exact, v, vq):
+    if exact:
+        return sp.Matrix(v)
+    return np.asarray(v, dtype=float).copy()
+
+
+def _floats(vel) -> np.ndarray:
+    if isinstance(vel, sp.MatrixBase):
+        return np.array([float(Fraction(int(x.p), int(x.q))) if x.is_Rational else float(sp.N(x, 17)) for x in vel])
+    if isinstance(vel, mpmath.matrix):
+        return np.array([float(vel[i]) for i in range(vel.rows)])
+    return np.asarray(vel, dtype=float)
+
+
+def _kinetic_cos(d: _Data, exact: bool):
+    if d.rational():
+        ss = d.sa * d.sb
+        val = sp.Rational(int(d.g.p), int(d.g.q)) / sp.sqrt(sp.Rational(int(ss.p), int(ss.q)))
+        return val if exact else float(sp.N(val, 17))
+    return sp.radsimp(d.g / sp.sqrt(d.sa * d.sb))
+
+
+def _certified_bound(d: _Data, decisions: dict) -> int:
+    prec = 64
+    while prec <= MAX_PRECISION_BITS:
+        *_, beta = d.balls(prec)
+        with ctx.workprec(prec):
+            q = arb.pi() / beta
+        if not q.contains_integer():
+            return int(q.lower().floor().unique_fmpz()) + 1
+        if q.rad() < 0.25:
+            K = int(q.mid().floor().unique_fmpz()) if q.mid() - q.mid().floor() < 0.5 else int(q.mid().ceil().unique_fmpz())
+            # beta = pi/K exactly  <=>  cos(beta) = cos(pi/K)  <=>  -g/sqrt(s_A s_B) = cos(pi/K)
+            if K >= 2:
+                to_sp = (lambda x: sp.Rational(int(x.p), int(x.q))) if d.rational() else (lambda x: x)
+                expr = -to_sp(d.g) / sp.sqrt(to_sp(d.sa) * to_sp(d.sb)) - sp.cos(sp.pi / K)
+                try:
+                    if certified_sign(expr, max_digits=200) == 0:
+                        decisions["exact_tie"] = decisions.get("exact_tie", 0) + 1
+                        return K
+                except UndecidableSign:
+                    pass
+        prec *= 2
+    raise UndecidableSign("the bound ceil(pi/beta) could not be certified")

@@ -1,0 +1,97 @@
+"""Mass-matrix, gradient and velocity checks; the kinetic metric (M-normals, kinetic angles)."""
+
+import numpy as np
+import pytest
+import sympy as sp
+
+from impactsym import (
+    ImpactInputError,
+    check_gradients,
+    check_mass_matrix,
+    check_velocity,
+    kinetic_angle,
+    kinetic_angle_cos,
+    m_normal,
+)
+from impactsym.numbers import parse_matrix, parse_number
+
+
+@pytest.mark.parametrize(
+    "M, message",
+    [
+        ("1,0,0;0,1,0", "square"),
+        ("1,1/2;1/3,1", "not symmetric"),
+        ("1,2;2,1", "not positive definite"),
+        ("0,0;0,1", "not positive definite"),
+        ("-1,0;0,-1", "not positive definite"),
+        ("sqrt(2),3/2;3/2,sqrt(2)", "not positive definite"),
+        ("1,oo;oo,1", "finite"),
+    ],
+)
+def test_mass_matrix_refusals_exact(M, message):
+    with pytest.raises(ImpactInputError, match=message) as info:
+        check_mass_matrix(M)
+    assert info.value.argument == "mass_matrix"
+
+
+def test_mass_matrix_algebraic_entries_decided_exactly():
+    # det = 2 - (sqrt(2) - 1e-30)^2 > 0 by a hair: decided exactly, not in floats
+    M = check_mass_matrix([[1, "sqrt(2) - 1/10^30"], ["sqrt(2) - 1/10^30", 2]])
+    assert M[0, 1] == sp.sqrt(2) - sp.Rational(1, 10**30)
+    with pytest.raises(ImpactInputError, match="not positive definite"):
+        check_mass_matrix([[1, "sqrt(2)"], ["sqrt(2)", 2]])  # det exactly 0
+
+
+def test_mass_matrix_refusals_float():
+    with pytest.raises(ImpactInputError, match="NaN or inf"):
+        check_mass_matrix(np.array([[1.0, np.nan], [np.nan, 1.0]]))
+    with pytest.raises(ImpactInputError, match="not positive definite"):
+        check_mass_matrix(np.array([[1.0, 2.0], [2.0, 1.0]]))
+    with pytest.raises(ImpactInputError, match="not symmetric"):
+        check_mass_matrix(np.array([[1.0, 0.1], [0.2, 1.0]]))
+
+
+def test_gradient_and_velocity_refusals():
+    with pytest.raises(ImpactInputError, match="row 1 is the zero covector"):
+        check_gradients("1,0;0,0", 2)
+    with pytest.raises(ImpactInputError, match="has 3 columns, expected 2"):
+        check_gradients("1,0,0", 2)
+    with pytest.raises(ImpactInputError, match="velocity: has length 1"):
+        check_velocity("1", 2)
+
+
+def test_number_parsing_is_exact_and_safe():
+    assert parse_number("1.1") == sp.Rational(11, 10)
+    assert parse_number("2^-1") == sp.Rational(1, 2)
+    for bad in ["__import__('os')", "x", "1/0", "lambda: 1", "1e999999999"]:
+        with pytest.raises(ImpactInputError):
+            parse_number(bad)
+    assert parse_matrix("1, 2 ;3,4")[1, 0] == 3
+
+
+def test_m_normal_unit_and_kinetic_angle_exact():
+    M = sp.diag(sp.Rational(11, 10), 1)
+    for h in ([1, 0], [-1, 1]):
+        n = m_normal(M, sp.Matrix([h]))
+        assert sp.simplify((n.T * M * n)[0, 0]) == 1
+    c = kinetic_angle_cos(M, sp.Matrix([[1, 0]]), sp.Matrix([[-1, 1]]))
+    assert c == -sp.sqrt(210) / 21
+    assert kinetic_angle(sp.eye(2), sp.Matrix([[1, 0]]), sp.Matrix([[-1, 1]])) == 3 * sp.pi / 4
+
+
+def test_kinetic_angle_float_matches_exact():
+    M = [[1.1, 0.0], [0.0, 1.0]]
+    c = kinetic_angle_cos(np.array(M), [1.0, 0.0], [-1.0, 1.0])
+    assert abs(c - float(-sp.sqrt(210) / 21)) < 1e-15
+    n = m_normal(np.array(M), [-1.0, 1.0])
+    assert abs(n @ np.array(M) @ n - 1) < 1e-15
+
+
+def test_pool_kinetic_angle_eq42():
+    """Acary & Taha eq. 42: n1 . n2 = -cos(theta)/2 for the pool, from the general function."""
+    from impactsym.models.acary_taha import pool
+
+    theta = sp.Symbol("theta", real=True)
+    sc = pool(theta)
+    c = kinetic_angle_cos(sc.M, sc.H[0, :], sc.H[1, :])
+    assert sp.simplify(c + sp.cos(theta) / 2) == 0
