@@ -879,21 +879,32 @@ def eq37_cons():
                         "change of one entry creates energy for every α > 0.")
 
 
-@_cl("at-sec4.2-case3a-consistent", "sec. 4.2", "Case 3.a: consistent for all τ ∈ [−π/3, 0]", "exact-match")
+@_cl("at-sec4.2-case3a-consistent", "sec. 4.2", "Case 3.a: consistent for all τ ∈ [−π/3, 0]", "refuted")
 def case3a():
     from impactsym.laws.impulse_ratio import impulse_ratio_law
     rows = []
-    ok = True
+    bad = []
     for t in (-sp.pi / 3, -sp.pi / 4, -sp.pi / 6, -sp.pi / 12, 0):
         for al in (0, sp.Rational(1, 4), sp.Rational(1, 2)):
             sc = bernoulli(t)
             r = impulse_ratio_law(sc.M, sc.H, sc.v, 1, [al, al], allow_invalid=True)
-            rows.append({"tau": t, "alpha12=alpha13": al, "valid": r.valid,
-                         "violations": [v.condition for v in r.violations]})
-            ok &= r.valid
-    return Finding("exact-match" if ok else "refuted", published="The model always yields consistent result for all τ ∈ [−π/3, 0].",
-                   derived=rows, note="impactsym.laws.impulse_ratio.impulse_ratio_law on the Bernoulli scene, e = 1, "
-                   "α₁₃ = α₁₂ ∈ {0, 1/4, 1/2}, five τ: every result valid (exact). The paper names no α; larger α can fail.")
+            rc = impulse_ratio_law(sc.M, sc.H, sc.v, 1, [al, al], allow_invalid=True, coupling=True)
+            row = {"tau": t, "alpha12=alpha13": al, "valid": r.valid,
+                   "violations": [v.condition for v in r.violations], "valid with sec. 5 coupling": rc.valid,
+                   "H v-": [sp.simplify(x) for x in sc.H * sc.v]}
+            rows.append(row)
+            if not r.valid:
+                bad.append(row)
+    return Finding("refuted" if bad else "exact-match",
+                   published="The model always yields consistent result for all τ ∈ [−π/3, 0].",
+                   derived=rows,
+                   note="impactsym.laws.impulse_ratio.impulse_ratio_law on the Bernoulli scene (θ = 2π/3, incidence θ − τ), "
+                        "e = 1, α₁₃ = α₁₂ ∈ {0, 1/4, 1/2}: "
+                        + (f"counterexample τ = {bad[0]['tau']}, α = {bad[0]['alpha12=alpha13']}: {bad[0]['violations']} "
+                           f"(contact 1–3 separates, H q̇⁻ = {bad[0]['H v-']}, yet receives α p₁). " if bad else "")
+                        + "Small ratios are valid; the paper names no α. Caveat: eq. 37 is reproduced by no reading of the "
+                          "Bernoulli geometry (see at-eq37-*), so this refutes the statement for the θ − τ reading that eqs. "
+                          "27, 35, 36 support.")
 
 
 @_cl("at-sec4.2-case3bc", "sec. 4.2", "Cases 3.b, 3.c: consistent for τ ∈ [0, π/2], [π/2, 2π/3]", "not-checkable")

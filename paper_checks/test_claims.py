@@ -23,3 +23,11 @@ def test_claim(claim_id):
 def test_ids_unique_and_papers_known():
     assert len(IDS) == len(set(IDS))
     assert {REGISTRY[i].paper for i in IDS} <= {"seghete-murphey", "acary-taha"}
+
+
+def test_crosscheck_within_bounds():
+    from paper_checks.crosscheck import run_crosschecks
+
+    r = run_crosschecks()
+    bad = [e for e in r["examples"] if not e["ok"]]
+    assert not bad, bad
