@@ -414,17 +414,38 @@ def equal_masses_unique():
 
 
 # =========================================================================== sec. III-B
-@_cl("sm-III-B-branch-count", "sec. III-B", "at most n(n−1)^(N−1) feasible solutions", "not-checkable")
-def branch_count():
+def _sequential():
     try:
-        from impactsym.laws import sequential  # noqa: F401
-        landed = True
+        from impactsym.laws.sequential import resolve_sequential
     except ImportError:
-        landed = False
-    return Finding("not-checkable", published=r"n(n-1)^{N-1}",
-                   note="A count of branches of depth N (n first choices, then at most n − 1 each); "
-                        + ("the sequential resolver has landed: wire the enumeration here." if landed else
-                           "awaiting impactsym.laws.sequential (the branch enumeration) to count leaves on n ≥ 3 examples."))
+        return None
+    return resolve_sequential
+
+
+# the pin follows the package: the count is checkable once the branch enumeration has landed
+@_cl("sm-III-B-branch-count", "sec. III-B", "at most n(n−1)^(N−1) feasible solutions",
+     "exact-match" if _sequential() else "not-checkable")
+def branch_count():
+    resolve = _sequential()
+    if resolve is None:
+        return Finding("not-checkable", published=r"n(n-1)^{N-1}",
+                       note="A count of branches of depth N (n first choices, then at most n − 1 each); awaiting "
+                            "impactsym.laws.sequential (the branch enumeration) to count orderings on n ≥ 3 examples.")
+    rows = []
+    ok = True
+    cases = [("4-ball chain, equal masses", sp.eye(4), _mat([[-1, 1, 0, 0], [0, -1, 1, 0], [0, 0, -1, 1]]), _mat([3, 2, 1, 0])),
+             ("4-ball chain, masses 1,2,3,4", sp.diag(1, 2, 3, 4), _mat([[-1, 1, 0, 0], [0, -1, 1, 0], [0, 0, -1, 1]]), _mat([3, 2, 1, 0])),
+             ("cradle (two surfaces)", sp.eye(3), _mat([[-1, 1, 0], [0, -1, 1]]), _mat([2, 1, 0]))]
+    for name, M, H, v0 in cases:
+        r = resolve(M, H, v0, select=False, two_surface="iterate")
+        n, N = H.rows, r.max_reflections_used
+        bound = n * (n - 1) ** (N - 1)
+        ok &= r.orderings <= bound and len(r.outcomes) <= r.orderings
+        rows.append({"case": name, "surfaces n": n, "N (longest ordering)": N, "orderings": r.orderings,
+                     "distinct outcomes": len(r.outcomes), "n(n-1)^(N-1)": bound})
+    return Finding("exact-match" if ok else "refuted", published=r"n(n-1)^{N-1}", derived=rows,
+                   note="impactsym.laws.sequential.resolve_sequential enumerates every ordering exactly; the number of "
+                        "orderings (and so of solutions) never exceeds n(n − 1)^(N−1) with N the longest ordering.")
 
 
 @_cl("sm-III-B1-G", "sec. III-B.1", "G_u, G_v (equal masses)", "exact-match")
