@@ -226,6 +226,11 @@ def claim(id: str, *, paper: str, ref: str, quantity: str, expect: str):
     return register
 
 
+#: findings already computed in this process, keyed by (claim id, claim function): a claim is a
+#: pure computation, so ``impactsym reproduce`` and the tests share one evaluation per process
+_MEMO: dict = {}
+
+
 def evaluate(claim_id: str) -> Claim:
     """Run one claim function; never raises (a raising check is recorded with status ``raised``)."""
     reg = REGISTRY[claim_id]
@@ -233,7 +238,12 @@ def evaluate(claim_id: str) -> Claim:
     t0 = time.perf_counter()
     saved = mpmath.mp.prec
     try:
-        f = reg.func()
+        key = (reg.id, reg.func)
+        f = _MEMO.get(key)
+        if f is None:
+            f = reg.func()
+        if isinstance(f, Finding):
+            _MEMO[key] = f
         if not isinstance(f, Finding):
             raise TypeError(f"claim {claim_id} returned {type(f).__name__}, not Finding")
         c.verdict, c.published, c.published_expr = f.verdict, f.published, f.published_expr
