@@ -466,7 +466,7 @@ def incidence():
     w = sp.simplify((pr.H * pr.v)[0])
     d35 = _pool("eq35")[2]
     from derivations import pool as pl
-    plus = pl.compare(pl.pool_any_tau(0) if False else _plus_tau_eq35(), pl.printed_eq35())
+    plus = pl.compare(_plus_tau_eq35(), pl.printed_eq35())
     return Finding("erratum", published=r"\dot q^- = [-\cos(\theta+\tau), -\sin(\theta+\tau), 0, 0, 0, 0]",
                    derived={"H_1 q̇⁻ (printed reading, tau = 0)": w, "eq. 35 vs theta-minus-tau": d35,
                             "eq. 35 vs theta-plus-tau": plus},
@@ -478,6 +478,7 @@ def incidence():
 
 
 def _plus_tau_eq35():
+    """Eq. 35's setting (θ = 0, e = 1) derived with the other incidence reading, (cos(θ+τ), sin(θ+τ))."""
     from derivations.chain3 import closed_form
     from derivations.impulse_ratio import general_quadratic
     from derivations.pool import VELOCITY_NAMES, eps, tau
