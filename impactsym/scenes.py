@@ -12,7 +12,7 @@ from dataclasses import dataclass, field
 
 import sympy as sp
 
-__all__ = ["Scene"]
+__all__ = ["Scene", "balls_on_line", "balls_in_plane", "full_velocity", "FLOAT_GAP_RTOL"]
 
 
 @dataclass
@@ -49,3 +49,296 @@ class Scene:
     def relative_velocity(self):
         """``w = H v`` (approaching when ``w_i < 0``)."""
         return self.H * self.v if isinstance(self.H, sp.MatrixBase) else self.H @ self.v
+
+
+# ---------------------------------------------------------------------------------------------
+# Builders: balls on a line, balls in the plane
+# ---------------------------------------------------------------------------------------------
+#: float scenes: a gap g counts as closed when |g| ≤ FLOAT_GAP_RTOL · L, L the scene's length scale
+#: (the largest of 1, |positions| and radii); g < −FLOAT_GAP_RTOL · L is an overlap (refused)
+FLOAT_GAP_RTOL = 1e-9
+
+
+def _is_float_input(*objs) -> bool:
+    from .numbers import is_exact
+
+    return not is_exact(*objs)
+
+
+def _numbers(values, argument: str, exact: bool, *, length: int | None = None):
+    from .errors import ImpactInputError
+    from .numbers import to_exact
+
+    if isinstance(values, (str, bytes)) or not hasattr(values, "__len__"):
+        raise ImpactInputError(argument, f"must be a sequence of numbers, got {values!r}")
+    vals = list(values)
+    if length is not None and len(vals) != length:
+        raise ImpactInputError(argument, f"has {len(vals)} entries, expected {length} (one per ball)")
+    out = []
+    for x in vals:
+        if exact:
+            out.append(to_exact(x, argument))
+        else:
+            try:
+                xf = float(sp.sympify(x)) if isinstance(x, (str, sp.Basic)) else float(x)
+            except (TypeError, ValueError, sp.SympifyError):
+                raise ImpactInputError(argument, f"entry {x!r} is not a number") from None
+            import math
+
+            if not math.isfinite(xf):
+                raise ImpactInputError(argument, f"entry {xf} is not finite")
+            out.append(xf)
+    return out
+
+
+def _sign(x, exact: bool) -> int:
+    from .exact import certified_sign
+
+    if exact:
+        return certified_sign(x)
+    return (x > 0) - (x < 0)
+
+
+def _classify_gap(gap, scale, exact: bool, tol, what: str):
+    """0 closed, 1 open; raises on overlap."""
+    from .errors import ImpactInputError
+
+    if exact:
+        s = _sign(gap, True)
+    else:
+        t = FLOAT_GAP_RTOL * scale if tol is None else tol
+        s = 0 if abs(gap) <= t else (1 if gap > 0 else -1)
+    if s < 0:
+        raise ImpactInputError("positions", f"{what} overlap (gap {gap} < 0)")
+    return s
+
+
+def _positive(vals, argument, exact, *, allow_zero=False):
+    from .errors import ImpactInputError
+
+    for i, m in enumerate(vals):
+        s = _sign(m, exact)
+        if s < 0 or (s == 0 and not allow_zero):
+            cond = "non-negative" if allow_zero else "positive"
+            raise ImpactInputError(argument, f"entry {i + 1} must be {cond}, got {m}")
+
+
+def _approaching_exact(H, v, exact: bool):
+    from .exact import certified_sign
+    from .numbers import float_to_rational
+
+    out = []
+    for i in range(H.shape[0]):
+        if exact:
+            w = sum((H[i, j] * v[j] for j in range(H.shape[1])), sp.Integer(0))
+            out.append(certified_sign(w) < 0)
+        else:  # decided on the floats' exact binary values, never on rounding noise
+            w = sum((float_to_rational(H[i, j]) * float_to_rational(v[j]) for j in range(H.shape[1])),
+                    sp.Integer(0))
+            out.append(w < 0)
+    return out
+
+
+def _assemble(masses, velocities, dim, contacts, exact, coords_of, meta):
+    """Reduce to the involved bodies: M, H, v and the bookkeeping for :func:`full_velocity`."""
+    import numpy as np
+
+    from .errors import ImpactInputError
+
+    if not contacts:
+        raise ImpactInputError("positions", "no contact is closed (every gap is positive): there is no impact")
+    involved = sorted({b for c in contacts for b, _ in c[1] if b is not None})
+    slot = {b: i for i, b in enumerate(involved)}
+    n = dim * len(involved)
+    rows = []
+    for _, entries in contacts:
+        row = [0] * n
+        for b, g in entries:
+            if b is None:
+                continue
+            for d in range(dim):
+                row[dim * slot[b] + d] = row[dim * slot[b] + d] + g[d]
+        rows.append(row)
+    mdiag = [masses[b] for b in involved for _ in range(dim)]
+    vel = [velocities[b][d] if dim > 1 else velocities[b] for b in involved for d in range(dim)]
+    if exact:
+        M = sp.diag(*mdiag)
+        H = sp.Matrix(rows)
+        v = sp.Matrix(vel)
+    else:
+        M = np.diag(np.asarray(mdiag, dtype=float))
+        H = np.asarray(rows, dtype=float)
+        v = np.asarray(vel, dtype=float)
+    names = [c[0] for c in contacts]
+    meta = dict(meta)
+    meta.update({"bodies": [b + 1 for b in involved], "dim": dim,
+                 "uninvolved": [b + 1 for b in range(len(masses)) if b not in slot],
+                 "all_velocities": velocities, "exact": exact})
+    scene = Scene(M, H, v, coords_of(involved), names, _approaching_exact(H, v, exact), meta)
+    return scene
+
+
+def balls_on_line(masses, radii, positions, velocities, walls=(), *, gap_tolerance=None) -> Scene:
+    """Balls on a line (and fixed walls), reduced to the contacts closed at the impact instant.
+
+    Coordinates are the centres ``x_b`` of the *involved* balls (those in a closed contact); a
+    ball in no closed contact stays out of ``M`` and ``H`` (the impact does not change its
+    velocity; :func:`full_velocity` puts it back). Contacts, with ``φ ≥ 0`` admissible:
+
+    * ball ``i`` left of ball ``j`` (adjacent or not): ``φ = x_j − x_i − r_i − r_j``, row ``[…, −1, …, +1, …]``;
+    * ball right of a wall at ``w``: ``φ = x − r − w`` (row ``+1``); left of it: ``φ = w − x − r`` (row ``−1``).
+
+    A contact is closed when its gap is zero: decided exactly for exact input; for float input
+    when ``|gap| ≤ gap_tolerance`` (default ``FLOAT_GAP_RTOL`` times the scene's length scale).
+
+    Parameters
+    ----------
+    masses, radii, positions, velocities : sequences, one entry per ball (masses > 0, radii ≥ 0)
+    walls : sequence of wall positions (fixed, infinite mass)
+    gap_tolerance : float, optional (float input only)
+
+    Returns
+    -------
+    Scene
+        ``contacts`` are named ``"i-j"`` and ``"wall@w-i"`` (balls numbered from 1), ``meta``
+        records the involved and uninvolved balls.
+
+    Raises
+    ------
+    ImpactInputError
+        Mismatched lengths, non-positive masses, negative radii, overlaps (negative gaps), a
+        ball centred on a wall, no closed contact.
+
+    Examples
+    --------
+    >>> sc = balls_on_line([1, 1, 1, 1], [1, 1, 1, 1], [0, 2, 4, 9], [1, 0, 0, -1])
+    >>> sc.H, sc.contacts, sc.approaching, sc.meta["uninvolved"]
+    (Matrix([
+    [-1,  1, 0],
+    [ 0, -1, 1]]), ['1-2', '2-3'], [True, False], [4])
+    >>> balls_on_line([1, 1], [1, 1], [0, "3/2"], [1, 0])
+    Traceback (most recent call last):
+    ...
+    impactsym.errors.ImpactInputError: positions: balls 1 and 2 overlap (gap -1/2 < 0)
+    """
+    from .errors import ImpactInputError
+
+    exact = not _is_float_input(masses, radii, positions, velocities, list(walls))
+    nb = len(masses) if hasattr(masses, "__len__") else None
+    if not nb:
+        raise ImpactInputError("masses", "at least one ball is needed")
+    m = _numbers(masses, "masses", exact, length=nb)
+    r = _numbers(radii, "radii", exact, length=nb)
+    x = _numbers(positions, "positions", exact, length=nb)
+    v = _numbers(velocities, "velocities", exact, length=nb)
+    w = _numbers(walls, "walls", exact) if len(walls) else []
+    _positive(m, "masses", exact)
+    _positive(r, "radii", exact, allow_zero=True)
+    scale = max([1.0] + [abs(float(t)) for t in x + r + w])
+    contacts = []
+    for i in range(nb):
+        for j in range(i + 1, nb):
+            lo, hi = (i, j) if _sign(x[j] - x[i], exact) >= 0 else (j, i)
+            gap = x[hi] - x[lo] - r[lo] - r[hi]
+            if _classify_gap(gap, scale, exact, gap_tolerance, f"balls {i + 1} and {j + 1}") == 0:
+                contacts.append((f"{i + 1}-{j + 1}", [(lo, (-1,)), (hi, (1,))]))
+    for wi, wall in enumerate(w):
+        for b in range(nb):
+            side = _sign(x[b] - wall, exact)
+            if side == 0:
+                raise ImpactInputError("positions", f"ball {b + 1} is centred on the wall at {wall}")
+            gap = (x[b] - r[b] - wall) if side > 0 else (wall - x[b] - r[b])
+            if _classify_gap(gap, scale, exact, gap_tolerance, f"ball {b + 1} and the wall at {wall}") == 0:
+                contacts.append((f"wall@{wall}-{b + 1}", [(b, (side,)), (None, None)]))
+    contacts = _dedupe(contacts)
+    return _assemble(m, v, 1, contacts, exact, lambda inv: [f"x{b + 1}" for b in inv],
+                     {"builder": "balls_on_line", "walls": w})
+
+
+def _dedupe(contacts):
+    seen = set()
+    out = []
+    for c in contacts:
+        if c[0] not in seen:
+            seen.add(c[0])
+            out.append(c)
+    return out
+
+
+def balls_in_plane(masses, radii, positions, velocities, *, gap_tolerance=None) -> Scene:
+    """Balls in the plane (frictionless, no spin), reduced to the contacts closed at the impact.
+
+    Coordinates ``(x_b, y_b)`` of the involved balls. Contact ``i–j`` (``i < j``):
+    ``φ = ‖G_j − G_i‖ − r_i − r_j``; at contact ``‖G_j − G_i‖ = r_i + r_j``, so its gradient row is
+    ``−nᵀ`` on ball ``i`` and ``+nᵀ`` on ball ``j`` with ``n = (G_j − G_i)/(r_i + r_j)``, rational for
+    rational input. Closedness is decided on ``‖G_j − G_i‖² − (r_i + r_j)²`` (exactly, no square
+    root); float input uses the tolerance ``FLOAT_GAP_RTOL`` as in :func:`balls_on_line`.
+
+    Parameters
+    ----------
+    masses, radii : sequences (masses > 0, radii > 0)
+    positions, velocities : sequences of pairs, one per ball
+
+    Examples
+    --------
+    >>> sc = balls_in_plane([1, 1, 1], [1, 1, 1], [(0, 0), (2, 0), (5, 5)], [(1, 0), (0, 0), (0, 0)])
+    >>> sc.H, sc.coordinates, sc.meta["uninvolved"]
+    (Matrix([[-1, 0, 1, 0]]), ['x1', 'y1', 'x2', 'y2'], [3])
+    """
+    from .errors import ImpactInputError
+
+    flat_p = [c for p in positions for c in (p if hasattr(p, "__len__") and not isinstance(p, str) else [p])]
+    flat_v = [c for p in velocities for c in (p if hasattr(p, "__len__") and not isinstance(p, str) else [p])]
+    exact = not _is_float_input(masses, radii, flat_p, flat_v)
+    nb = len(masses) if hasattr(masses, "__len__") else None
+    if not nb:
+        raise ImpactInputError("masses", "at least one ball is needed")
+    m = _numbers(masses, "masses", exact, length=nb)
+    r = _numbers(radii, "radii", exact, length=nb)
+    _positive(m, "masses", exact)
+    _positive(r, "radii", exact)
+    P, V = [], []
+    for name, src, dst in (("positions", positions, P), ("velocities", velocities, V)):
+        if len(src) != nb:
+            raise ImpactInputError(name, f"has {len(src)} entries, expected {nb} (one per ball)")
+        for b, p in enumerate(src):
+            if isinstance(p, str) or not hasattr(p, "__len__") or len(p) != 2:
+                raise ImpactInputError(name, f"entry {b + 1} must be a pair (x, y), got {p!r}")
+            dst.append(_numbers(p, name, exact))
+    scale = max([1.0] + [abs(float(t)) for t in r] + [abs(float(t)) for p in P for t in p])
+    contacts = []
+    for i in range(nb):
+        for j in range(i + 1, nb):
+            d = [P[j][0] - P[i][0], P[j][1] - P[i][1]]
+            rr = r[i] + r[j]
+            if exact:  # certified_sign decides sqrt(d·d) − r exactly (algebraic)
+                gap = sp.sqrt(d[0] ** 2 + d[1] ** 2) - rr
+            else:
+                gap = (d[0] ** 2 + d[1] ** 2) ** 0.5 - rr
+            if _classify_gap(gap, scale, exact, gap_tolerance, f"balls {i + 1} and {j + 1}") == 0:
+                n = [d[0] / rr, d[1] / rr]
+                if exact:
+                    n = [sp.radsimp(c) for c in n]
+                contacts.append((f"{i + 1}-{j + 1}", [(i, (-n[0], -n[1])), (j, (n[0], n[1]))]))
+    return _assemble(m, V, 2, contacts, exact, lambda inv: [f"{c}{b + 1}" for b in inv for c in ("x", "y")],
+                     {"builder": "balls_in_plane"})
+
+
+def full_velocity(scene: Scene, reduced_velocity):
+    """Every ball's velocity after the impact: the involved balls from ``reduced_velocity``
+    (the scene's coordinates), the uninvolved ones unchanged.
+
+    >>> sc = balls_on_line([1, 1, 1], [1, 1, 1], [0, 2, 7], [1, 0, 5])
+    >>> full_velocity(sc, sp.Matrix([0, 1]))
+    [0, 1, 5]
+    """
+    dim = scene.meta["dim"]
+    out = list(scene.meta["all_velocities"])
+    vals = list(reduced_velocity) if not hasattr(reduced_velocity, "tolist") or isinstance(
+        reduced_velocity, sp.MatrixBase) else list(reduced_velocity.tolist())
+    for slot, b in enumerate(scene.meta["bodies"]):
+        if dim == 1:
+            out[b - 1] = vals[slot]
+        else:
+            out[b - 1] = [vals[dim * slot + d] for d in range(dim)]
+    return out

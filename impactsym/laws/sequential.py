@@ -1,0 +1,1358 @@
+"""Simultaneous impacts resolved by sequences of single impacts (Seghete & Murphey, sec. III).
+
+The corner impact ``M``, ``H`` (rows of the closed contacts), ``v0`` is replaced by every sequence
+of single elastic impacts ``v ↦ G_{H_i} v`` that nearby trajectories with infinitesimal gaps can
+undergo (sec. III-B): every surface the current velocity violates (``H_i v < 0``) opens a branch,
+the surface just applied cannot be violated (``H_i G_{H_i} v = −H_i v``), and a branch stops when
+its velocity is valid on every closed contact (``H v ≥ 0``). The outcomes, with their orderings
+and reflection counts, then feed the selection of sec. III-A, steps 4–5: the feasible set is the
+conic hull of the outcomes together with the requirement that the momentum jump ``M(v⁺ − v0)``
+lie in ``cone(Hᵀ)``; the trivial solution ``v0`` is projected onto it in the kinetic metric.
+
+How the search is organized
+---------------------------
+* **A DAG, not a tree.** The legal next surfaces are a function of the velocity alone, so states
+  are memoized on ``(velocity, legal surfaces)``; the number of orderings can be exponential while
+  the number of states (``states_visited``) stays small (an n-ball cradle with equal masses sorts
+  its velocities by adjacent swaps, so its states are the distinct permutations it reaches).
+* **Exact by default.** ``G_u`` is rational in ``M``, ``u`` and ``v``: rational data are handled
+  with python-flint ``fmpq`` (sparse rows, no matrices formed), algebraic data with SymPy and every
+  sign certified by :func:`impactsym.exact.certified_sign`. Outcomes are merged exactly.
+* **Float mode** (any float input, or ``exact=False``): velocities are float64. Each sign test
+  ``H_i v`` carries an error bound; when the bound straddles zero the sign is re-decided exactly
+  from the floats' exact binary values (:func:`impactsym.numbers.float_to_rational`) by replaying
+  the ordering in rational arithmetic. ``exact_fallbacks`` counts those decisions. The bound
+  (stated, not proven): reflections are isometries of the kinetic metric, so float errors are not
+  amplified, and each reflection adds at most ``γ‖v0‖_M`` with ``γ = FLOAT_ERROR_FACTOR · n ·
+  κ₂(M) · eps`` (the float path's documented bound, :mod:`impactsym.laws.reflection`); with at
+  most ``max_reflections`` reflections on any path, ``|fl(H_i v) − H_i v| ≤ SAFETY · (√(H_i M⁻¹
+  H_iᵀ) · max_reflections · γ ‖v0‖_M + 2 n eps Σ_j |H_ij v_j|)``. Two float outcomes closer than
+  twice that bound are compared exactly (replayed) and merged only when exactly equal.
+* **Refusals.** Before iterating, :func:`valid_velocity_witness` decides exactly whether a
+  non-zero ``v`` with ``H v ≥ 0`` exists; if not, no elastic outcome exists and
+  :class:`~impactsym.errors.DomainError` is raised. A path longer than ``max_reflections``, or a
+  velocity that recurs on its own path (an exact proof of an endless sequence), raises
+  :class:`~impactsym.errors.NonTermination` naming the cap.
+
+Selection: two readings of the feasible set
+-------------------------------------------
+``reading="energy"`` (default): ``cone(outcomes) ∩ {M(v − v0) ∈ cone(Hᵀ)} ∩ {‖v‖_M = ‖v0‖_M}``.
+``reading="cone"``: the same without the energy sphere; it admits ``v = 0`` whenever
+``−M v0 ∈ cone(Hᵀ)``, and when ``v0`` has a negative kinetic inner product with every outcome
+(as in the paper's sec. III-B.3, where the outcomes are near ``−v0``) the projection of ``v0`` onto
+the cone is ``0``: all kinetic energy lost. Only the energy reading reproduces sec. III-B.3's
+"invariably … either v4a or v4b" (tested in ``tests/test_sequential_paper.py``): on the
+energy sphere the feasible set is the arc between the two outcomes, and the point of an arc
+nearest ``v0`` is an end point unless the arc contains ``v0``'s direction.
+
+The projection is computed exactly by enumerating the faces of the feasible polyhedron: for every
+linearly independent set ``T`` of outcomes and ``S`` of contacts, the affine subspace
+``span(O_T) ∩ (v0 + span(M⁻¹H_Sᵀ))`` yields its candidate (the kinetic projection of ``v0``; on the
+energy sphere, the critical points of ``⟨v, v0⟩_M``, exact in ``Q(√q)``), kept when its
+coefficients on ``O_T`` and ``M⁻¹H_Sᵀ`` are ``≥ 0`` (exact signs). The optimum lies in the relative
+interior of a face and is found among these candidates. All minimizers are returned (ties).
+
+References
+----------
+Seghete & Murphey, sec. II-A (``G_u``), sec. III-A (feasible set, algorithm steps 1–5),
+sec. III-B (branching, the count ``n(n−1)^{N−1}``, the examples), sec. III-C (termination, two
+surfaces only).
+
+Examples
+--------
+Two balls and a wall, equal masses (sec. III-B.1): both orderings give ``−v0``.
+
+>>> r = resolve_sequential("1,0;0,1", "1,0;-1,1", "-1,-2")
+>>> [(o.order, o.reflections, list(o.velocity)) for o in r.outcomes]
+[((0, 1, 0, 1), 4, [1, 2])]
+>>> r.orderings, list(r.selected[0])
+(2, [1, 2])
+
+Three-ball cradle, ``[1, 1, 0] → [0, 1, 1]`` (eq. 4):
+
+>>> list(resolve_sequential("1,0,0;0,1,0;0,0,1", "-1,1,0;0,-1,1", "1,1,0").outcomes[0].velocity)
+[0, 1, 1]
+
+A ball pinched between two walls has no elastic outcome:
+
+>>> resolve_sequential("1", "1;-1", "1")
+Traceback (most recent call last):
+...
+impactsym.errors.DomainError: gradients: no non-zero velocity v satisfies H v >= 0 (the closed contacts admit no elastic exit velocity)
+"""
+
+from __future__ import annotations
+
+import itertools
+import math
+from dataclasses import dataclass, field
+from typing import Any, Iterator
+
+import numpy as np
+import sympy as sp
+from flint import fmpq, fmpq_mat
+
+from ..errors import DomainError, ImpactInputError, NonTermination
+from ..exact import certified_sign
+from ..mechanics import check_gradients, check_mass_matrix, check_velocity
+from ..numbers import float_to_rational, is_exact
+from .reflection import FLOAT_ERROR_FACTOR
+
+__all__ = [
+    "resolve_sequential",
+    "SequentialResolution",
+    "Outcome",
+    "valid_velocity_witness",
+    "termination_bound",
+    "READINGS",
+    "DEFAULT_MAX_REFLECTIONS",
+    "FLOAT_SAFETY",
+    "SELECTION_FACE_LIMIT",
+    "TWO_SURFACE_PATHS",
+]
+
+#: the two readings of the feasible set (see the module docstring)
+READINGS = ("energy", "cone")
+#: how two independent surfaces are resolved (see ``resolve_sequential(two_surface=...)``)
+TWO_SURFACE_PATHS = ("closed-form", "iterate")
+#: default cap on the reflections of any one ordering
+DEFAULT_MAX_REFLECTIONS = 10_000
+#: safety factor on the float sign-test bound
+FLOAT_SAFETY = 4.0
+_EPS = float(np.finfo(float).eps)
+
+
+# ---------------------------------------------------------------------------------------------
+# Arithmetic backends: rational (python-flint), algebraic (SymPy, certified signs)
+# ---------------------------------------------------------------------------------------------
+class _Rational:
+    """Exact rationals with python-flint ``fmpq``."""
+
+    name = "rational"
+
+    @staticmethod
+    def num(x) -> fmpq:
+        x = sp.Rational(x)
+        return fmpq(int(x.p), int(x.q))
+
+    @staticmethod
+    def sign(x) -> int:
+        return (x > 0) - (x < 0)
+
+    @staticmethod
+    def norm(x):
+        return x
+
+    @staticmethod
+    def to_sympy(x) -> sp.Rational:
+        return sp.Rational(int(x.p), int(x.q))
+
+    zero = fmpq(0)
+    one = fmpq(1)
+
+    @staticmethod
+    def surd_sign(alpha, beta, q) -> int:
+        """Sign of ``alpha + beta·√q`` (``q ≥ 0``), exactly."""
+        sa, sb = _Rational.sign(alpha), _Rational.sign(beta) if q != 0 else 0
+        if sb == 0:
+            return sa
+        if sa == 0 or sa == sb:
+            return sb
+        # opposite signs: compare alpha² with beta² q
+        d = alpha * alpha - beta * beta * q
+        return sa * _Rational.sign(d)
+
+
+class _Algebraic:
+    """Exact SymPy numbers; every sign certified."""
+
+    name = "algebraic"
+
+    @staticmethod
+    def num(x):
+        return sp.sympify(x)
+
+    @staticmethod
+    def sign(x) -> int:
+        return certified_sign(x)
+
+    @staticmethod
+    def norm(x):
+        return sp.radsimp(sp.expand(x))
+
+    @staticmethod
+    def to_sympy(x):
+        return x
+
+    zero = sp.Integer(0)
+    one = sp.Integer(1)
+
+    @staticmethod
+    def surd_sign(alpha, beta, q) -> int:
+        return certified_sign(alpha + beta * sp.sqrt(q))
+
+
+def _all_rational(*mats) -> bool:
+    return all(x.is_Rational for m in mats for x in m)
+
+
+# ---------------------------------------------------------------------------------------------
+# Exact linear algebra on lists (works for fmpq and SymPy numbers)
+# ---------------------------------------------------------------------------------------------
+def _rref(rows: list[list], ncols: int, F) -> tuple[list[list], list[int]]:
+    A = [list(r) for r in rows]
+    pivots: list[int] = []
+    r = 0
+    for c in range(ncols):
+        piv = next((i for i in range(r, len(A)) if F.sign(A[i][c]) != 0), None)
+        if piv is None:
+            continue
+        A[r], A[piv] = A[piv], A[r]
+        inv = F.one / A[r][c]
+        A[r] = [F.norm(x * inv) for x in A[r]]
+        for i in range(len(A)):
+            if i != r and F.sign(A[i][c]) != 0:
+                f = A[i][c]
+                A[i] = [F.norm(a - f * b) for a, b in zip(A[i], A[r])]
+        pivots.append(c)
+        r += 1
+        if r == len(A):
+            break
+    return A[:r], pivots
+
+
+def _nullspace(rows: list[list], ncols: int, F) -> list[list]:
+    R, piv = _rref(rows, ncols, F)
+    free = [c for c in range(ncols) if c not in piv]
+    basis = []
+    for f in free:
+        x = [F.zero] * ncols
+        x[f] = F.one
+        for i, p in enumerate(piv):
+            x[p] = F.norm(-R[i][f])
+        basis.append(x)
+    return basis
+
+
+def _solve_columns(cols: list[list], b: list, F):
+    """Solve ``[cols] z = b``: ``(z0, nullspace basis)`` or ``None`` when inconsistent."""
+    m = len(cols)
+    n = len(b)
+    aug = [[cols[j][i] for j in range(m)] + [b[i]] for i in range(n)]
+    R, piv = _rref(aug, m + 1, F)
+    if m in piv:
+        return None
+    z0 = [F.zero] * m
+    for i, p in enumerate(piv):
+        z0[p] = R[i][m]
+    free = [c for c in range(m) if c not in piv]
+    basis = []
+    for f in free:
+        x = [F.zero] * m
+        x[f] = F.one
+        for i, p in enumerate(piv):
+            x[p] = F.norm(-R[i][f])
+        basis.append(x)
+    return z0, basis
+
+
+def _rank(vectors: list[list], F) -> int:
+    if not vectors:
+        return 0
+    return len(_rref(vectors, len(vectors[0]), F)[1])
+
+
+def _independent(vectors: list[list], F) -> list[int]:
+    """Indices of a maximal independent subset (greedy, in order)."""
+    keep: list[int] = []
+    for i, v in enumerate(vectors):
+        if _rank([vectors[j] for j in keep] + [v], F) > len(keep):
+            keep.append(i)
+    return keep
+
+
+def _dot(a, b, F):
+    return F.norm(sum((x * y for x, y in zip(a, b)), F.zero))
+
+
+def _matvec(M, v, F):
+    return [_dot(row, v, F) for row in M]
+
+
+def _minner(M, a, b, F):
+    return _dot(a, _matvec(M, b, F), F)
+
+
+# ---------------------------------------------------------------------------------------------
+# Refusal: is any non-zero velocity valid?
+# ---------------------------------------------------------------------------------------------
+def valid_velocity_witness(gradients, *, exact: bool | None = None):
+    """A non-zero ``v`` with ``H v ≥ 0`` (exact), or ``None`` when none exists.
+
+    Decided exactly: if ``rank H < n`` a null vector of ``H`` is a witness; otherwise the cone
+    ``{v : H v ≥ 0}`` is pointed and is non-zero exactly when it has an extreme ray, which spans
+    the null space of ``n − 1`` linearly independent rows of ``H``; every such subset is tried.
+    Float input is decided on the floats' exact binary values.
+
+    Parameters
+    ----------
+    gradients : matrix-like (k×n), the gradient rows ``H``
+
+    Returns
+    -------
+    sympy.Matrix (n×1) or None
+
+    Examples
+    --------
+    >>> valid_velocity_witness("1,0;-1,1").T
+    Matrix([[0, 1]])
+    >>> valid_velocity_witness("1;-1") is None
+    True
+    >>> valid_velocity_witness("1,0;0,1;-1,-1") is None
+    True
+    """
+    H = gradients
+    if not isinstance(H, sp.MatrixBase) or not is_exact(H):
+        from ..numbers import to_exact_matrix
+
+        H = to_exact_matrix(H, "gradients")
+    k, n = H.shape
+    F = _Rational if _all_rational(H) else _Algebraic
+    rows = [[F.num(H[i, j]) for j in range(n)] for i in range(k)]
+    null = _nullspace(rows, n, F)
+    if null:
+        return sp.Matrix([F.to_sympy(x) for x in null[0]])
+    for subset in itertools.combinations(range(k), n - 1):
+        sub = [rows[i] for i in subset]
+        ns = _nullspace(sub, n, F) if sub else [[F.one if j == 0 else F.zero for j in range(n)]] if n == 1 else None
+        if ns is None or len(ns) != 1:
+            continue
+        r = ns[0]
+        signs = {F.sign(_dot(row, r, F)) for row in rows}
+        if signs <= {0, 1}:
+            return sp.Matrix([F.to_sympy(x) for x in r])
+        if signs <= {0, -1}:
+            return sp.Matrix([F.to_sympy(-x) for x in r])
+    return None
+
+
+# ---------------------------------------------------------------------------------------------
+# Results
+# ---------------------------------------------------------------------------------------------
+@dataclass(frozen=True)
+class Outcome:
+    """One distinct exit velocity of the sequential resolution.
+
+    Attributes
+    ----------
+    order : tuple of int
+        A representative ordering (surface indices, rows of ``H``): the shortest, then the
+        lexicographically first, of the orderings that give this velocity.
+    reflections : int
+        ``len(order)``.
+    velocity : sympy.Matrix (exact) or numpy.ndarray (float mode)
+    impulse : sympy.Matrix or numpy.ndarray (k,)
+        ``p`` of ``M(v⁺ − v0) = Hᵀp`` accumulated along ``order`` (every entry ``≥ 0``).
+    orderings : int
+        How many orderings give this velocity.
+    reflections_min, reflections_max : int
+        Shortest and longest of those orderings.
+    """
+
+    order: tuple
+    reflections: int
+    velocity: Any
+    impulse: Any
+    orderings: int
+    reflections_min: int
+    reflections_max: int
+
+    @property
+    def velocity_float(self) -> list[float]:
+        return _floats(self.velocity)
+
+
+def _floats(v) -> list[float]:
+    import mpmath
+
+    if isinstance(v, mpmath.matrix):
+        return [float(v[i]) for i in range(v.rows)]
+    if isinstance(v, sp.MatrixBase):
+        return [float(sp.N(x, 17)) for x in v]
+    return [float(x) for x in np.asarray(v, dtype=float).reshape(-1)]
+
+
+@dataclass
+class SequentialResolution:
+    """Everything the sequential resolver found.
+
+    Attributes
+    ----------
+    outcomes : tuple of Outcome
+        The distinct exit velocities (merged exactly), sorted by representative ordering.
+    selected : tuple
+        The minimizers of ``‖v − v0‖_M`` over the feasible set of ``reading`` (usually one;
+        ties are all listed). Exact (SymPy) in exact mode and in float mode (computed from the
+        exact replays of the float outcomes; see ``selected_float``). Empty when
+        ``select=False``.
+    reading : str
+        ``"energy"`` or ``"cone"``.
+    orderings : int
+        Number of orderings (root-to-exit paths), counted on the DAG.
+    max_reflections_used : int
+        Length of the longest ordering.
+    states_visited : int
+        Distinct states (velocity, legal surfaces) of the DAG.
+    sign_tests : int
+        Sign decisions ``H_i v`` made.
+    exact_fallbacks : int
+        Float mode: decisions re-made exactly because the float bound straddled zero, plus
+        exact comparisons of nearby float outcomes. 0 in exact mode.
+    exact : bool
+        Whether the outcome velocities are exact.
+    backend : str
+        ``"rational"``, ``"algebraic"`` or ``"float"``.
+    approaching : tuple of bool
+        ``H_i v0 < 0`` for each contact (decided exactly or certified).
+    witness : sympy.Matrix
+        A non-zero valid velocity (``H v ≥ 0``), the certificate that the refusal check passed.
+    method : str
+        ``"iteration"`` (the DAG search) or ``"two-surface closed form"``
+        (:func:`impactsym.laws.two_surface.resolve_two_surfaces`, used for two independent rows).
+    bound : int or None
+        Two surfaces: the paper's ``N = ⌈S_total/(2S₀)⌉`` (sec. III-C), certified.
+    """
+
+    outcomes: tuple
+    selected: tuple
+    reading: str
+    orderings: int
+    max_reflections_used: int
+    states_visited: int
+    sign_tests: int
+    exact_fallbacks: int
+    exact: bool
+    backend: str
+    approaching: tuple
+    witness: Any
+    method: str = "iteration"
+    bound: int | None = None
+    _graph: Any = field(default=None, repr=False, compare=False)
+    _orders: Any = field(default=None, repr=False, compare=False)
+
+    @property
+    def selected_float(self) -> list[list[float]]:
+        return [_floats(v) for v in self.selected]
+
+    def iter_orderings(self, limit: int | None = None) -> Iterator[tuple[tuple, int]]:
+        """Every ordering with the index of its outcome in :attr:`outcomes`, depth first.
+
+        >>> r = resolve_sequential("1,0;0,1", "1,0;-1,1", "-1,-2")
+        >>> list(r.iter_orderings())
+        [((0, 1, 0, 1), 0), ((1, 0, 1, 0), 0)]
+        """
+        if self._graph is None:  # two-surface closed form: one ordering per first surface
+            for count, (order, idx) in enumerate(self._orders, 1):
+                yield tuple(order), idx
+                if limit is not None and count >= limit:
+                    return
+            return
+        g = self._graph
+        count = 0
+        stack = [(g.root, ())]
+        while stack:
+            node, path = stack.pop()
+            kids = g.children[node]
+            if not kids:
+                yield path, g.outcome_index[g.terminal_key[node]]
+                count += 1
+                if limit is not None and count >= limit:
+                    return
+                continue
+            for i, child in reversed(kids):
+                stack.append((child, path + (i,)))
+
+
+# ---------------------------------------------------------------------------------------------
+# The search
+# ---------------------------------------------------------------------------------------------
+class _Graph:
+    def __init__(self):
+        self.vel: list = []
+        self.legal: list = []
+        self.children: list = []
+        self.parent: list = []
+        self.fallback: list = []
+        self.index: dict = {}
+        self.root = 0
+        self.terminal_key: dict = {}
+        self.outcome_index: dict = {}
+
+
+class _ExactSystem:
+    """Exact data of ``M``, ``H``, ``v0`` in one backend, in sparse form."""
+
+    def __init__(self, M: sp.Matrix, H: sp.Matrix, v0: sp.Matrix):
+        self.F = F = _Rational if _all_rational(M, H, v0) else _Algebraic
+        self.n, self.k = M.shape[0], H.shape[0]
+        n, k = self.n, self.k
+        self.M = [[F.num(M[i, j]) for j in range(n)] for i in range(n)]
+        self.H = [[F.num(H[i, j]) for j in range(n)] for i in range(k)]
+        self.v0 = tuple(F.num(x) for x in v0)
+        if F is _Rational:
+            Wm = fmpq_mat(self.M).solve(fmpq_mat([list(col) for col in zip(*self.H)]) if k else fmpq_mat(n, 0))
+            self.W = [[Wm[j, i] for j in range(n)] for i in range(k)]
+        else:
+            Ws = M.LUsolve(H.T)
+            self.W = [[F.norm(Ws[j, i]) for j in range(n)] for i in range(k)]
+        self.s = [_dot(self.H[i], self.W[i], F) for i in range(k)]
+        self.coef = [F.norm(2 / s) if F is _Algebraic else fmpq(2) / s for s in self.s]
+        self.rows = [[(j, h) for j, h in enumerate(r) if F.sign(h) != 0] for r in self.H]
+        self.wcols = [[(j, w) for j, w in enumerate(c) if F.sign(w) != 0] for c in self.W]
+
+    def w(self, v, i):
+        F = self.F
+        return F.norm(sum((h * v[j] for j, h in self.rows[i]), F.zero))
+
+    def reflect(self, v, i, wi=None):
+        F = self.F
+        if wi is None:
+            wi = self.w(v, i)
+        c = self.coef[i] * wi
+        out = list(v)
+        for j, wj in self.wcols[i]:
+            out[j] = F.norm(v[j] - c * wj)
+        return tuple(out), F.norm(-c)
+
+    def replay(self, order):
+        v = self.v0
+        p = [self.F.zero] * self.k
+        for i in order:
+            v, pi = self.reflect(v, i)
+            p[i] = self.F.norm(p[i] + pi)
+        return v, p
+
+
+def _cycle_error(cap):
+    return NonTermination(
+        f"max_reflections: a velocity recurred on its own ordering, so that ordering never ends "
+        f"(the sequence of single impacts cycles; cap {cap})")
+
+
+def _cap_error(cap):
+    return NonTermination(
+        f"max_reflections: an ordering needs more than {cap} reflections (the configured cap "
+        f"max_reflections={cap}); raise the cap or use the two-surface closed form")
+
+
+def _postorder(g):
+    order = []
+    seen = set()
+    stack = [(g.root, False)]
+    while stack:
+        node, done = stack.pop()
+        if done:
+            order.append(node)
+            continue
+        if node in seen:
+            continue
+        seen.add(node)
+        stack.append((node, True))
+        for _, child in g.children[node]:
+            if child not in seen:
+                stack.append((child, False))
+    return order
+
+
+def _aggregate(g, key_of):
+    """Per node: {outcome key: [count, min_len, max_len, rep_order]}; returns the root's."""
+    table: dict[int, dict] = {}
+    for node in _postorder(g):
+        kids = g.children[node]
+        if not kids:
+            key = key_of(g.vel[node])
+            g.terminal_key[node] = key
+            table[node] = {key: [1, 0, 0, ()]}
+            continue
+        acc: dict = {}
+        for i, child in kids:
+            for key, (cnt, lo, hi, rep) in table[child].items():
+                cand = (i,) + rep
+                if key not in acc:
+                    acc[key] = [cnt, lo + 1, hi + 1, cand]
+                else:
+                    a = acc[key]
+                    a[0] += cnt
+                    a[2] = max(a[2], hi + 1)
+                    if (len(cand), cand) < (len(a[3]), a[3]):
+                        a[3] = cand
+                    a[1] = min(a[1], lo + 1)
+        table[node] = acc
+    return table[g.root]
+
+
+def _check_inputs(mass_matrix, gradients, velocity, exact):
+    if exact is None:
+        exact = is_exact(mass_matrix, gradients, velocity)
+    M = check_mass_matrix(mass_matrix, exact=exact)
+    n = M.shape[0]
+    H = check_gradients(gradients, n, exact=exact)
+    v = check_velocity(velocity, n, exact=exact)
+    return exact, M, H, v
+
+
+def resolve_sequential(mass_matrix, gradients, velocity, *, reading: str = "energy",
+                       max_reflections: int = DEFAULT_MAX_REFLECTIONS, exact: bool | None = None,
+                       select: bool = True, two_surface: str = "closed-form") -> SequentialResolution:
+    """Every impact ordering of a corner impact, its outcomes, and the selected solution.
+
+    Parameters
+    ----------
+    mass_matrix : matrix-like (n×n), symmetric positive definite
+    gradients : matrix-like (k×n), gradient rows ``H_i`` of the closed contacts, any k ≥ 1
+    velocity : vector-like (n,), pre-impact velocity ``v0``
+    reading : ``"energy"`` (default) or ``"cone"``
+        The feasible set of the selection: conic hull of the outcomes with the momentum-cone
+        requirement, intersected with the energy sphere (``"energy"``) or not (``"cone"``).
+    max_reflections : int
+        Cap on the reflections of any one ordering; exceeding it raises ``NonTermination``.
+    exact : bool, optional
+        Force the exact (``True``) or float (``False``) path; default: exact iff every input is.
+    select : bool
+        Compute the selection (steps 4–5). ``False`` skips it (``selected`` is empty).
+    two_surface : ``"closed-form"`` (default) or ``"iterate"``
+        With exactly two linearly independent rows, ``"closed-form"`` takes every branch from
+        :func:`impactsym.laws.two_surface.resolve_two_surfaces` in O(1), whatever the count (the
+        reflection cap does not apply: nothing is iterated); ``"iterate"`` forces the search.
+        When a closed-form exit velocity is certified digits rather than exact, the selection
+        is skipped (``selected`` is empty).
+
+    Returns
+    -------
+    SequentialResolution
+
+    Raises
+    ------
+    ImpactInputError
+        Bad shapes, a mass matrix that is not SPD, a zero gradient row, a bad ``reading`` or cap.
+    DomainError
+        No non-zero velocity is valid for all closed contacts (no elastic outcome exists).
+    NonTermination
+        An ordering exceeds ``max_reflections`` or provably never ends.
+
+    Examples
+    --------
+    ``M = diag(11/10, 1)``, both contacts approaching: two outcomes (sec. III-B.3). The two
+    orderings of length 4 apply a kinetic rotation and its inverse, so both outcomes are equally
+    near ``v0``: the energy reading selects both (a tie); the plain cone selects ``0``.
+
+    >>> r = resolve_sequential("11/10,0;0,1", "1,0;-1,1", "-1,-2")
+    >>> [(o.order, list(o.velocity)) for o in r.outcomes]
+    [((0, 1, 0, 1), [173/147, 278/147]), ((1, 0, 1, 0), [359/441, 922/441])]
+    >>> r.selected == tuple(o.velocity for o in r.outcomes)
+    True
+    >>> list(resolve_sequential("11/10,0;0,1", "1,0;-1,1", "-1,-2", reading="cone").selected[0])
+    [0, 0]
+
+    Float mode counts its exact fallbacks (here the grazing contact 2–3 of the cradle):
+
+    >>> r = resolve_sequential(np.eye(3), [[-1.0, 1, 0], [0, -1, 1]], [1.0, 0, 0], two_surface="iterate")
+    >>> r.outcomes[0].velocity, r.exact, r.exact_fallbacks > 0
+    (array([0., 0., 1.]), False, True)
+
+    References
+    ----------
+    Seghete & Murphey, sec. III-A (algorithm steps 1–5), sec. III-B (branching), eq. 4.
+    """
+    if reading not in READINGS:
+        raise ImpactInputError("reading", f"must be one of {', '.join(READINGS)}, got {reading!r}")
+    if isinstance(max_reflections, bool) or not isinstance(max_reflections, (int, np.integer)) or max_reflections < 1:
+        raise ImpactInputError("max_reflections", f"must be a positive integer, got {max_reflections!r}")
+    cap = int(max_reflections)
+    if two_surface not in TWO_SURFACE_PATHS:
+        raise ImpactInputError("two_surface", f"must be one of {', '.join(TWO_SURFACE_PATHS)}, got {two_surface!r}")
+    exact, M, H, v0 = _check_inputs(mass_matrix, gradients, velocity, exact)
+    if exact:
+        Mx, Hx, vx = M, H, v0
+    else:
+        Mx = sp.Matrix([[float_to_rational(x) for x in row] for row in M])
+        Hx = sp.Matrix([[float_to_rational(x) for x in row] for row in H])
+        vx = sp.Matrix([float_to_rational(x) for x in v0])
+    witness = valid_velocity_witness(Hx)
+    if witness is None:
+        raise DomainError("gradients: no non-zero velocity v satisfies H v >= 0 "
+                          "(the closed contacts admit no elastic exit velocity)")
+    system = _ExactSystem(Mx, Hx, vx)
+    F = system.F
+    if two_surface == "closed-form" and system.k == 2 and _rank(system.H, F) == 2:
+        return _two_surface_path(M, H, v0, system, exact, reading, select, witness)
+    if exact:
+        def sign_of(v, i, node):
+            wi = system.w(v, i)
+            return F.sign(wi), wi
+
+        g, tests = _explore(sign_of, _Reflector(system), system.v0, cap, {})
+        root_table = _aggregate(g, lambda v: v)
+        fallbacks = 0
+        keys = list(root_table)
+        merged = _merge_exact_keys(keys, F)
+    else:
+        g, tests, fallbacks, root_table, merged, float_sys = _float_search(M, H, v0, system, cap)
+    approaching = tuple(F.sign(system.w(system.v0, i)) < 0 for i in range(system.k))
+    # Merge outcome keys that are the same velocity (exact comparison), aggregate stats.
+    groups: dict = {}
+    for key in root_table:
+        canon = merged[key]
+        cnt, lo, hi, rep = root_table[key]
+        if canon not in groups:
+            groups[canon] = [cnt, lo, hi, rep]
+        else:
+            a = groups[canon]
+            a[0] += cnt
+            a[1] = min(a[1], lo)
+            a[2] = max(a[2], hi)
+            if (len(rep), rep) < (len(a[3]), a[3]):
+                a[3] = rep
+    items = sorted(groups.items(), key=lambda kv: (len(kv[1][3]), kv[1][3]))
+    g.outcome_index = {}
+    for idx, (canon, _) in enumerate(items):
+        for key, c in merged.items():
+            if c == canon:
+                g.outcome_index[key] = idx
+    outcomes = []
+    exact_outcomes = []
+    for canon, (cnt, lo, hi, rep) in items:
+        v_ex, p_ex = system.replay(rep)
+        exact_outcomes.append((v_ex, p_ex))
+        if exact:
+            vel = sp.Matrix([F.to_sympy(x) for x in v_ex])
+            imp = sp.Matrix([F.to_sympy(x) for x in p_ex])
+        else:
+            vel = np.array(canon, dtype=float)
+            imp = float_sys.impulse(rep)
+        outcomes.append(Outcome(rep, len(rep), vel, imp, cnt, lo, hi))
+    total = sum(o.orderings for o in outcomes)
+    longest = max(o.reflections_max for o in outcomes)
+    if longest > cap:
+        raise _cap_error(cap)
+    selected: tuple = ()
+    if select:
+        selected = _select(system, [v for v, _ in exact_outcomes], [p for _, p in exact_outcomes], reading)
+    return SequentialResolution(tuple(outcomes), selected, reading, total, longest, len(g.vel), tests,
+                                fallbacks, exact, F.name if exact else "float", approaching, witness, _graph=g)
+
+
+def _two_surface_path(M, H, v0, system, exact, reading, select, witness):
+    """Outcomes of two independent surfaces from the O(1) closed form, merged exactly."""
+    from .two_surface import resolve_two_surfaces
+
+    F = system.F
+    ts = resolve_two_surfaces(M, H, v0)
+    groups: list = []  # [velocity, [orders], impulse, exact]
+    for o in ts.outcomes:
+        order = tuple(o.order) if o.reflections <= 10_000 else o.order
+        for grp in groups:
+            if o.exact and grp[3] and all(certified_sign(a - b) == 0 for a, b in zip(o.velocity, grp[0])):
+                grp[1].append(order)
+                break
+            if not exact and not o.exact and grp[3] is False and np.array_equal(o.velocity, grp[0]):
+                grp[1].append(order)
+                break
+        else:
+            groups.append([o.velocity, [order], o.impulse, o.exact])
+    outcomes = []
+    orders = []
+    key = lambda t: (len(t), tuple(t[:2]))  # noqa: E731 (the iteration's order: shortest, then first surface)
+    for grp in groups:
+        grp[1] = sorted(grp[1], key=key)
+    groups.sort(key=lambda grp: key(grp[1][0]))
+    for idx, (vel, ords, imp, _) in enumerate(groups):
+        lens = [len(t) for t in ords]
+        outcomes.append(Outcome(ords[0], lens[0], vel, imp, len(ords), min(lens), max(lens)))
+        orders.extend((t, idx) for t in ords)
+    selected: tuple = ()
+    all_exact = all(g[3] for g in groups)
+    if select and (all_exact or not exact):
+        if exact:
+            exact_outs = [tuple(F.num(x) for x in o.velocity) for o in outcomes]
+        else:  # float input: replay the (short or long) orderings exactly only when they are short
+            if max(o.reflections for o in outcomes) > 10_000:
+                exact_outs = None
+            else:
+                exact_outs = [system.replay(o.order)[0] for o in outcomes]
+        if exact_outs is not None:
+            selected = _select(system, exact_outs, None, reading)
+    approaching = tuple(F.sign(system.w(system.v0, i)) < 0 for i in range(system.k))
+    return SequentialResolution(tuple(outcomes), selected, reading, len(orders),
+                                max(o.reflections_max for o in outcomes), 0, 2, 0, exact and all_exact,
+                                (F.name if exact else "float"), approaching, witness,
+                                method="two-surface closed form", bound=ts.bound, _orders=orders)
+
+
+class _Reflector:
+    def __init__(self, system):
+        self.system = system
+        self.k = system.k
+
+    def __call__(self, v, i, wi):
+        return self.system.reflect(v, i, wi)
+
+
+def _merge_exact_keys(keys, F):
+    """Map each outcome key to a canonical key; rational keys are canonical, algebraic ones are
+    compared pairwise with certified signs."""
+    if F is _Rational:
+        return {k: k for k in keys}
+    canon: dict = {}
+    reps: list = []
+    for key in keys:
+        for r in reps:
+            if all(certified_sign(a - b) == 0 for a, b in zip(key, r)):
+                canon[key] = r
+                break
+        else:
+            reps.append(key)
+            canon[key] = key
+    return canon
+
+
+# ---------------------------------------------------------------------------------------------
+# Float mode
+# ---------------------------------------------------------------------------------------------
+class _FloatSystem:
+    def __init__(self, M, H, v0, cap):
+        self.M = np.asarray(M, dtype=float)
+        self.H = np.asarray(H, dtype=float)
+        self.v0 = np.asarray(v0, dtype=float)
+        self.n, self.k = self.M.shape[0], self.H.shape[0]
+        W = np.linalg.solve(self.M, self.H.T)
+        self.W = W.T.copy()
+        self.s = np.einsum("ij,ij->i", self.H, self.W)
+        self.coef = 2.0 / self.s
+        kappa = float(np.linalg.cond(self.M))
+        gamma = FLOAT_ERROR_FACTOR * self.n * kappa * _EPS
+        vnorm = math.sqrt(max(float(self.v0 @ self.M @ self.v0), 0.0))
+        #: bound on ‖v_float − v_exact‖_M after any ordering of at most `cap` reflections
+        self.energy_error = cap * gamma * vnorm
+        self.rows = [[(j, float(h)) for j, h in enumerate(r) if h != 0.0] for r in self.H]
+        self.wcols = [[(j, float(w)) for j, w in enumerate(c) if w != 0.0] for c in self.W]
+        self.sqrt_s = np.sqrt(self.s)
+        self.k_ = self.k
+
+    def w_and_bound(self, v, i):
+        acc = 0.0
+        mag = 0.0
+        for j, h in self.rows[i]:
+            t = h * v[j]
+            acc += t
+            mag += abs(t)
+        bound = FLOAT_SAFETY * (self.sqrt_s[i] * self.energy_error + 2 * self.n * _EPS * mag)
+        return acc, bound
+
+    def reflect(self, v, i, wi):
+        c = self.coef[i] * wi
+        out = list(v)
+        for j, wj in self.wcols[i]:
+            out[j] = v[j] - c * wj
+        return tuple(out), -c
+
+    def impulse(self, order):
+        v = tuple(float(x) for x in self.v0)
+        p = np.zeros(self.k)
+        for i in order:
+            wi, _ = self.w_and_bound(v, i)
+            v, pi = self.reflect(v, i, wi)
+            p[i] += pi
+        return p
+
+
+def _float_search(M, H, v0, system, cap):
+    fs = _FloatSystem(M, H, v0, cap)
+    F = system.F
+    exact_cache: dict[int, tuple] = {}
+    stats = {"fallbacks": 0}
+    holder: dict = {}
+
+    def exact_state(node):
+        g = holder["g"]
+        chain = []
+        cur = node
+        while cur not in exact_cache and g.parent[cur] is not None:
+            chain.append(cur)
+            cur = g.parent[cur][0]
+        if cur not in exact_cache:
+            exact_cache[cur] = system.v0
+        v = exact_cache[cur]
+        for nd in reversed(chain):
+            v, _ = system.reflect(v, g.parent[nd][1])
+            exact_cache[nd] = v
+        return v
+
+    def sign_of(v, i, node):
+        wi, bound = fs.w_and_bound(v, i)
+        if abs(wi) > bound:
+            return (1 if wi > 0 else -1), wi
+        stats["fallbacks"] += 1
+        holder["g"].fallback[node] = True
+        s = F.sign(system.w(exact_state(node), i))
+        return s, wi
+
+    class _R:
+        k = fs.k
+
+        def __call__(self, v, i, wi):
+            return fs.reflect(v, i, wi)
+
+    g, tests = _explore(sign_of, _R(), tuple(float(x) for x in fs.v0), cap, holder)
+    root_table = _aggregate(g, lambda v: v)
+    keys = list(root_table)
+    # merge nearby float outcomes by exact comparison of their replays
+    canon: dict = {}
+    reps: list = []
+    tol = 2 * FLOAT_SAFETY * fs.energy_error + 8 * _EPS * max(1.0, math.sqrt(float(fs.v0 @ fs.M @ fs.v0)))
+    exact_of: dict = {}
+    for key in keys:
+        for r in reps:
+            d = np.asarray(key) - np.asarray(r)
+            if key == r or math.sqrt(max(float(d @ fs.M @ d), 0.0)) <= tol:
+                if key != r:
+                    stats["fallbacks"] += 1
+                    for kk in (key, r):
+                        if kk not in exact_of:
+                            exact_of[kk] = system.replay(root_table[kk][3])[0]
+                    if exact_of[key] != exact_of[r] and not (
+                            F is _Algebraic and all(certified_sign(a - b) == 0
+                                                    for a, b in zip(exact_of[key], exact_of[r]))):
+                        continue
+                canon[key] = r
+                break
+        else:
+            reps.append(key)
+            canon[key] = key
+    return g, tests, stats["fallbacks"], root_table, canon, fs
+
+
+def _explore(sign_of, reflect, v0, cap, holder):
+    """Depth-first construction of the DAG of states, memoized on the velocity.
+
+    ``sign_of(v, i, node) -> (sign, w_i)``; the graph is published in ``holder["g"]`` so that
+    ``sign_of`` can replay a node's ordering exactly (float mode)."""
+    g = _Graph()
+    holder["g"] = g
+    counters = {"tests": 0}
+
+    def new_node(v, parent):
+        idx = len(g.vel)
+        g.vel.append(v)
+        g.parent.append(parent)
+        g.fallback.append(False)
+        g.children.append([])
+        legal = []
+        ws = {}
+        for i in range(reflect.k):
+            counters["tests"] += 1
+            s, wi = sign_of(v, i, idx)
+            if s < 0:
+                legal.append(i)
+                ws[i] = wi
+        g.legal.append((tuple(legal), ws))
+        return idx
+
+    root = new_node(v0, None)
+    g.index[v0] = [root]
+    state = {root: 1}
+    stack = [(root, iter(g.legal[root][0]))]
+    while stack:
+        node, it = stack[-1]
+        i = next(it, None)
+        if i is None:
+            stack.pop()
+            state[node] = 2
+            continue
+        child_v, _ = reflect(g.vel[node], i, g.legal[node][1][i])
+        child = None
+        for cand in g.index.get(child_v, ()):
+            if not g.fallback[cand]:
+                child = cand
+                break
+        if child is None:
+            if len(stack) > cap:
+                raise _cap_error(cap)
+            child = new_node(child_v, (node, i))
+            g.index.setdefault(child_v, []).append(child)
+            g.children[node].append((i, child))
+            state[child] = 1
+            stack.append((child, iter(g.legal[child][0])))
+        else:
+            if state.get(child) == 1:
+                raise _cycle_error(cap)
+            g.children[node].append((i, child))
+    g.root = root
+    return g, counters["tests"]
+
+
+# ---------------------------------------------------------------------------------------------
+# Selection (steps 4-5)
+# ---------------------------------------------------------------------------------------------
+#: largest number of (outcome subset, contact subset) faces the selection enumerates
+SELECTION_FACE_LIMIT = 200_000
+
+
+def _select(system, outcomes, impulses, reading):
+    """Minimizers of ‖v − v0‖_M over the feasible set (see the module docstring).
+
+    Values are kept as ``(a, b, q)`` meaning ``a + b√q`` and compared exactly; a face's candidate
+    is tested for feasibility only when its value can beat (or tie) the best found so far, and the
+    outcomes themselves (feasible by construction) seed the search.
+    """
+    F = system.F
+    n = system.n
+    v0 = list(system.v0)
+    M = system.M
+    O = [list(o) for o in outcomes]
+    if reading == "energy" and len(O) == 1:
+        # cone(o) ∩ sphere = {o}; o satisfies the momentum requirement by construction
+        return (sp.Matrix([F.to_sympy(x) for x in O[0]]),)
+    Wc = system.W
+    r2 = _minner(M, v0, v0, F)
+    zero = [F.zero] * n
+    best_val = None
+    best: list = []  # velocities (alpha, beta, q)
+
+    def value_of(o):
+        if reading == "cone":
+            d = [F.norm(a - b) for a, b in zip(o, v0)]
+            return (_minner(M, d, d, F), F.zero, F.zero)
+        return (_minner(M, o, v0, F), F.zero, F.zero)
+
+    def offer(vel, val):
+        nonlocal best_val, best
+        if best_val is None:
+            best_val, best = val, [vel]
+            return
+        c = _cmp_values(val, best_val, F)
+        if reading == "cone":
+            c = -c
+        if c > 0:
+            best_val, best = val, [vel]
+        elif c == 0 and not any(_same_surd(vel, b, F) for b in best):
+            best.append(vel)
+
+    for o in O:
+        offer((o, zero, F.zero), value_of(o))
+    all_O = _independent_subsets(O, n, F)
+    all_S = _independent_subsets(Wc, n, F)
+    cand_O = _distinct_spans(all_O, O, n, F)
+    cand_S = _distinct_spans(all_S, Wc, n, F)
+    if len(cand_O) * len(cand_S) > SELECTION_FACE_LIMIT:
+        raise DomainError(
+            f"selection: {len(cand_O) * len(cand_S)} faces of the feasible set exceed SELECTION_FACE_LIMIT="
+            f"{SELECTION_FACE_LIMIT} ({len(O)} outcomes, {len(Wc)} contacts); call with select=False")
+    face_cache: set = set()
+    full_row_rank = _rank(system.H, F) == system.k
+    if full_row_rank:
+        gram = [[_dot(hi, wj, F) for wj in Wc] for hi in system.H]  # H M^-1 H^T
+
+        def gram_solve(rhs):
+            return _solve_columns([[gram[i][j] for i in range(system.k)] for j in range(system.k)], rhs, F)[0]
+    for T in cand_O:
+        OT = [O[j] for j in T]
+        for S in cand_S:
+            cols = OT + [[F.norm(-x) for x in Wc[i]] for i in S]
+            if not cols:
+                continue
+            sol = _solve_columns(cols, v0, F)
+            if sol is None:
+                continue
+            z0, N = sol
+            t = len(T)
+            c0 = _combo(OT, z0[:t], n, F)
+            U = [_combo(OT, y[:t], n, F) for y in N]
+            U = [U[j] for j in _independent(U, F)]
+            key = _affine_key(c0, U, F)
+            if key in face_cache:
+                continue
+            face_cache.add(key)
+            for vel, val in _face_candidates(M, v0, r2, c0, U, reading, F):
+                c = _cmp_values(val, best_val, F)
+                if reading == "cone":
+                    c = -c
+                if c < 0 or (c == 0 and any(_same_surd(vel, b, F) for b in best)):
+                    continue
+                vel = _fold_surd(vel, F)
+                alpha, beta, q = vel
+                # necessary and cheap: every point of cone(O) is valid (H v >= 0)
+                if any(F.surd_sign(_dot(h, alpha, F), _dot(h, beta, F), q) < 0 for h in system.H):
+                    continue
+                da = [F.norm(a - b) for a, b in zip(alpha, v0)]
+                if full_row_rank:  # the impulse is unique: p = (H M^-1 H^T)^-1 H (v - v0) >= 0
+                    pa = gram_solve([_dot(h, da, F) for h in system.H])
+                    pb = gram_solve([_dot(h, beta, F) for h in system.H])
+                    if any(F.surd_sign(x, y, q) < 0 for x, y in zip(pa, pb)):
+                        continue
+                elif not _in_cone(Wc, all_S, da, beta, q, F):
+                    continue
+                if not _in_cone(O, all_O, alpha, beta, q, F):
+                    continue
+                offer(vel, val)
+    return tuple(_vel_sympy(v, F) for v in best)
+
+
+def _affine_key(c0, U, F):
+    """A canonical key of the affine subspace c0 + span(U)."""
+    n = len(c0)
+    if U:
+        R, piv = _rref(U, n, F)
+        c = list(c0)
+        for row, p in zip(R, piv):
+            f = c[p]
+            if F.sign(f) != 0:
+                c = [F.norm(x - f * y) for x, y in zip(c, row)]
+        return tuple(tuple(r) for r in R), tuple(c)
+    return (), tuple(c0)
+
+
+def _cmp_values(x, y, F) -> int:
+    """Exact sign of ``(a1 + b1√q1) − (a2 + b2√q2)``."""
+    a1, b1, q1 = x
+    a2, b2, q2 = y
+    if F is _Algebraic:
+        return certified_sign(a1 + b1 * sp.sqrt(q1) - a2 - b2 * sp.sqrt(q2))
+    if F.sign(b2) == 0 or F.sign(q2) == 0:
+        return F.surd_sign(a1 - a2, b1, q1)
+    if F.sign(b1) == 0 or F.sign(q1) == 0:
+        return -F.surd_sign(a2 - a1, b2, q2)
+    if q1 == q2:
+        return F.surd_sign(a1 - a2, b1 - b2, q1)
+    # A = (a1 - a2) + b1√q1 against C = b2√q2
+    sA = F.surd_sign(a1 - a2, b1, q1)
+    sC = F.sign(b2)
+    if sA != sC:
+        return (sA > sC) - (sA < sC)
+    A2 = ((a1 - a2) * (a1 - a2) + b1 * b1 * q1, 2 * (a1 - a2) * b1, q1)
+    d = F.surd_sign(A2[0] - b2 * b2 * q2, A2[1], A2[2])
+    return sA * d
+
+
+def _same_surd(u, w, F) -> bool:
+    (a1, b1, q1), (a2, b2, q2) = u, w
+    return all(_cmp_values((x1, y1, q1), (x2, y2, q2), F) == 0 for x1, y1, x2, y2 in zip(a1, b1, a2, b2))
+
+
+def _combo(vectors, coeffs, n, F):
+    out = [F.zero] * n
+    for vec, c in zip(vectors, coeffs):
+        if F.sign(c) == 0:
+            continue
+        out = [F.norm(o + c * x) for o, x in zip(out, vec)]
+    return out
+
+
+def _independent_subsets(vectors, n, F):
+    """All subsets (as sorted tuples) of linearly independent vectors of size ≤ n, empty included."""
+    out = [()]
+    frontier = [()]
+    for size in range(1, min(n, len(vectors)) + 1):
+        nxt = []
+        for base in frontier:
+            start = base[-1] + 1 if base else 0
+            for j in range(start, len(vectors)):
+                T = base + (j,)
+                if _rank([vectors[i] for i in T], F) == len(T):
+                    nxt.append(T)
+        out.extend(nxt)
+        frontier = nxt
+    return out
+
+
+def _project(M, U, x, F):
+    """Kinetic (M-orthogonal) projection of x onto span(U), and the coefficients."""
+    if not U:
+        return [F.zero] * len(x)
+    MU = [_matvec(M, u, F) for u in U]
+    G = [[_dot(u, mv, F) for mv in MU] for u in U]
+    rhs = [_dot(mv, x, F) for mv in MU]
+    sol = _solve_columns([[G[i][j] for i in range(len(U))] for j in range(len(U))], rhs, F)
+    coeff = sol[0]
+    return _combo(U, coeff, len(x), F)
+
+
+def _face_candidates(M, v0, r2, c0, U, reading, F):
+    """Candidates on the affine subspace c0 + span(U): (velocity as (alpha, beta, q), value)."""
+    n = len(v0)
+    zero = [F.zero] * n
+    if reading == "cone":
+        d = [F.norm(a - b) for a, b in zip(v0, c0)]
+        v = [F.norm(a + b) for a, b in zip(c0, _project(M, U, d, F))]
+        diff = [F.norm(a - b) for a, b in zip(v, v0)]
+        yield (v, zero, F.zero), (_minner(M, diff, diff, F), F.zero, F.zero)
+        return
+    c = [F.norm(a - b) for a, b in zip(c0, _project(M, U, c0, F))]
+    R = F.norm(r2 - _minner(M, c, c, F))
+    sR = F.sign(R)
+    if sR < 0:
+        return
+    fc = _minner(M, c, v0, F)
+    if not U or sR == 0:
+        if sR == 0:
+            yield (c, zero, F.zero), (fc, F.zero, F.zero)
+        return
+    gvec = _project(M, U, v0, F)
+    gg = _minner(M, gvec, gvec, F)
+    dirs = []
+    if F.sign(gg) != 0:
+        dirs = [(gvec, gg, 1)] + ([(gvec, gg, -1)] if len(U) == 1 else [])
+    else:
+        e = U[0]
+        ee = _minner(M, e, e, F)
+        dirs = [(e, ee, 1), (e, ee, -1)]
+    for d, dd, sgn in dirs:
+        q = F.norm(R / dd)
+        beta = [F.norm(sgn * x) for x in d]
+        fb = _minner(M, beta, v0, F)
+        yield (c, beta, q), (fc, fb, q)
+
+
+def _distinct_spans(subsets, vectors, n, F):
+    """One representative subset per distinct linear span (subsets are independent)."""
+    seen = set()
+    out = []
+    for T in subsets:
+        key = _rref([vectors[j] for j in T], n, F)[0] if T else []
+        key = tuple(tuple(r) for r in key)
+        if key not in seen:
+            seen.add(key)
+            out.append(T)
+    return out
+
+
+def _fold_surd(vel, F):
+    """Fold ``β√q`` into ``α`` when ``√q`` lies in the field (rational square, or any algebraic
+    backend, where SymPy carries the root)."""
+    alpha, beta, q = vel
+    if F.sign(q) == 0 or all(F.sign(b) == 0 for b in beta):
+        return alpha, [F.zero] * len(alpha), F.zero
+    if F is _Algebraic:
+        root = sp.sqrt(q)
+        return [F.norm(a + b * root) for a, b in zip(alpha, beta)], [F.zero] * len(alpha), F.zero
+    p, d = int(q.p), int(q.q)
+    rp, rd = math.isqrt(p), math.isqrt(d)
+    if rp * rp == p and rd * rd == d:
+        root = fmpq(rp, rd)
+        return [a + b * root for a, b in zip(alpha, beta)], [F.zero] * len(alpha), F.zero
+    return vel
+
+
+def _in_cone(gens, subsets, alpha, beta, q, F) -> bool:
+    """Exactly: is ``α + β√q`` (``√q`` irrational or ``β = 0``) a non-negative combination of
+    ``gens``? A float NNLS proposes a support that is then verified exactly; otherwise every
+    independent subset is tried (Carathéodory)."""
+    n = len(alpha)
+    if all(F.surd_sign(a, b, q) == 0 for a, b in zip(alpha, beta)):
+        return True
+    if not gens:
+        return False
+
+    def check(T):
+        vecs = [gens[j] for j in T]
+        sa = _solve_columns(vecs, alpha, F)
+        sb = _solve_columns(vecs, beta, F)
+        if sa is None or sb is None or sa[1]:
+            return False
+        return all(F.surd_sign(a, b, q) >= 0 for a, b in zip(sa[0], sb[0]))
+
+    try:
+        from scipy.optimize import nnls
+
+        G = np.array([[float(F.to_sympy(g[i])) for g in gens] for i in range(n)], dtype=float)
+        tf = math.sqrt(float(F.to_sympy(q))) if F.sign(q) > 0 else 0.0
+        target = np.array([float(F.to_sympy(a)) + float(F.to_sympy(b)) * tf for a, b in zip(alpha, beta)])
+        coef, _ = nnls(G, target)
+        support = [j for j in np.argsort(-coef) if coef[j] > 1e-12 * max(1.0, coef.max())]
+        T = [support[i] for i in _independent([gens[j] for j in support], F)]
+        if T and check(sorted(T)):
+            return True
+    except Exception:  # the float proposal is only a shortcut; the exact LP decides
+        pass
+    return _in_cone_lp(gens, alpha, beta, q, F)
+
+
+def _in_cone_lp(gens, alpha, beta, q, F) -> bool:
+    """Exact LP (SymPy's rational simplex). ``β = 0``: is ``{a ≥ 0 : G a = α}`` non-empty?
+    Otherwise the feasible ``t`` of ``{a ≥ 0 : G a − β t = α}`` form an interval
+    ``[t_lo, t_hi]`` (a projection of a polyhedron), found by two rational LPs; then
+    ``t_lo ≤ √q ≤ t_hi`` is decided exactly."""
+    from sympy.solvers.simplex import InfeasibleLPError, UnboundedLPError, linprog
+
+    n, m = len(alpha), len(gens)
+    G = sp.Matrix([[F.to_sympy(g[i]) for g in gens] for i in range(n)])
+    a = sp.Matrix([F.to_sympy(x) for x in alpha])
+    if all(F.sign(b) == 0 for b in beta) or F.sign(q) == 0:
+        try:
+            linprog(sp.zeros(1, m), sp.zeros(1, m), sp.Matrix([1]), A_eq=G, b_eq=a)
+            return True
+        except InfeasibleLPError:
+            return False
+    b = sp.Matrix([F.to_sympy(x) for x in beta])
+    A_eq = G.row_join(-b)
+    root = sp.sqrt(F.to_sympy(q))
+    c = sp.zeros(1, m + 1)
+    c[m] = 1
+    try:
+        lo = linprog(c, sp.zeros(1, m + 1), sp.Matrix([1]), A_eq=A_eq, b_eq=a, bounds={m: (None, None)})[0]
+    except InfeasibleLPError:
+        return False
+    except UnboundedLPError:
+        lo = None
+    try:
+        hi = -linprog(-c, sp.zeros(1, m + 1), sp.Matrix([1]), A_eq=A_eq, b_eq=a, bounds={m: (None, None)})[0]
+    except UnboundedLPError:
+        hi = None
+    if lo is not None and certified_sign(root - lo) < 0:
+        return False
+    if hi is not None and certified_sign(hi - root) < 0:
+        return False
+    return True
+
+
+def _vel_sympy(vel, F):
+    alpha, beta, q = vel
+    root = sp.sqrt(F.to_sympy(q))
+    return sp.Matrix([sp.radsimp(F.to_sympy(a) + F.to_sympy(b) * root) for a, b in zip(alpha, beta)])
+
+
+# ---------------------------------------------------------------------------------------------
+# Sec. III-C's bound for two surfaces
+# ---------------------------------------------------------------------------------------------
+def termination_bound(mass_matrix, gradients):
+    """The paper's bound ``N = ⌈S_total / (2 S_0)⌉`` for two surfaces (sec. III-C), exactly.
+
+    ``S_0`` is the valid lune of the kinetic sphere, whose dihedral angle is ``π − θ`` (``θ`` the
+    kinetic angle between the contacts), so ``S_total / (2 S_0) = π / (π − θ)`` in any dimension.
+    The ceiling is certified (:func:`impactsym.exact.certified_sign`).
+
+    Returns
+    -------
+    int
+
+    Examples
+    --------
+    >>> termination_bound("1,0;0,1", "1,0;-1,1"), termination_bound("1,0,0;0,1,0;0,0,1", "-1,1,0;0,-1,1")
+    (4, 3)
+    """
+    from ..mechanics import kinetic_angle
+
+    M = check_mass_matrix(mass_matrix, exact=True)
+    H = check_gradients(gradients, M.shape[0], exact=True)
+    if H.rows != 2:
+        raise ImpactInputError("gradients", f"the bound of sec. III-C is for exactly two surfaces, got {H.rows}")
+    theta = kinetic_angle(M, H[0, :], H[1, :])
+    if certified_sign(sp.pi - theta) == 0:
+        raise DomainError("gradients: the two surfaces are opposite (kinetic angle pi): no valid lune, no bound")
+    x = sp.pi / (sp.pi - theta)
+    m = int(sp.floor(sp.N(x, 30)))
+    while certified_sign(x - m) < 0:
+        m -= 1
+    while certified_sign(x - (m + 1)) > 0:
+        m += 1
+    return m if certified_sign(x - m) == 0 else m + 1
