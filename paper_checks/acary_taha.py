@@ -287,32 +287,32 @@ def _eq18_claim(key: str, quantity: str):
                    evidence={"printed residuals": res_p, "derived residuals": res_d})
 
 
-@_cl("at-eq18-p1", "sec. 3.3, eq. 18", "p1", "exact-match")
+@_cl("at-eq18-p1", "eq. 18", "p1", "exact-match")
 def eq18_p1():
     return _eq18_claim("p1", "p1")
 
 
-@_cl("at-eq18-p2", "sec. 3.3, eq. 18", "p2", "exact-match")
+@_cl("at-eq18-p2", "eq. 18", "p2", "exact-match")
 def eq18_p2():
     return _eq18_claim("p2", "p2")
 
 
-@_cl("at-eq18-q1", "sec. 3.3, eq. 18", "q1+", "exact-match")
+@_cl("at-eq18-q1", "eq. 18", "q1+", "exact-match")
 def eq18_q1():
     return _eq18_claim("q1+", "q̇₁⁺")
 
 
-@_cl("at-eq18-q2", "sec. 3.3, eq. 18", "q2+", "exact-match")
+@_cl("at-eq18-q2", "eq. 18", "q2+", "exact-match")
 def eq18_q2():
     return _eq18_claim("q2+", "q̇₂⁺")
 
 
-@_cl("at-eq18-q3", "sec. 3.3, eq. 18", "q3+", "erratum")
+@_cl("at-eq18-q3", "eq. 18", "q3+", "erratum")
 def eq18_q3():
     return _eq18_claim("q3+", "q̇₃⁺")
 
 
-@_cl("at-eq18-Delta", "sec. 3.3, eq. 18", "Delta", "exact-match")
+@_cl("at-eq18-Delta", "eq. 18", "Delta", "exact-match")
 def eq18_Delta():
     return _eq18_claim("Delta", "Δ")
 
@@ -503,7 +503,7 @@ def _eq27_claim(key: str):
 
 for _k in ("p1", "p2", "x1+", "y1+", "x2+", "y2+", "x3+", "y3+", "Delta"):
     def _mk(k=_k):
-        @_cl(f"at-eq27-{k.replace('+', 'p')}", "sec. 4.1.1, eq. 27", k, "exact-match")
+        @_cl(f"at-eq27-{k.replace('+', 'p')}", "eq. 27", k, "exact-match")
         def _f():
             return _eq27_claim(k)
         return _f
@@ -676,7 +676,7 @@ def theta0():
 
 
 # --------------------------------------------------------------------------- eq. 33
-@_cl("at-eq33-label", "sec. 4.1.1, eq. 33", "θ of eq. 33 (labelled π/2)", "erratum")
+@_cl("at-eq33-label", "eq. 33", "θ of eq. 33 (labelled π/2)", "erratum")
 def eq33_label():
     r = _eq33_theta()
     at_pi2 = r["at_pi_over_2"]
@@ -703,7 +703,7 @@ def _eq33_claim(key: str):
 for _k, _exp in (("x1+", "exact-match"), ("y1+", "erratum"), ("x2+", "erratum"), ("y2+", "exact-match"),
                  ("x3+", "exact-match"), ("y3+", "exact-match")):
     def _mk33(k=_k, ex=_exp):
-        @_cl(f"at-eq33-{k.replace('+', 'p')}", "sec. 4.1.1, eq. 33", k, ex)
+        @_cl(f"at-eq33-{k.replace('+', 'p')}", "eq. 33", k, ex)
         def _f():
             return _eq33_claim(k)
         return _f
@@ -718,12 +718,12 @@ def _eq34_claim(key: str):
                    note="derivations.pool.pool_at_theta(π/2) (τ = 0, any e): eq. 34 belongs to θ = π/2, unlike eq. 33.")
 
 
-@_cl("at-eq34-p1", "sec. 4.1.1, eq. 34", "p1 (θ = π/2)", "exact-match")
+@_cl("at-eq34-p1", "eq. 34", "p1 (θ = π/2)", "exact-match")
 def eq34_p1():
     return _eq34_claim("p1")
 
 
-@_cl("at-eq34-p2", "sec. 4.1.1, eq. 34", "p2 (θ = π/2)", "exact-match")
+@_cl("at-eq34-p2", "eq. 34", "p2 (θ = π/2)", "exact-match")
 def eq34_p2():
     return _eq34_claim("p2")
 
@@ -810,7 +810,7 @@ def _eq3536_claim(name: str, key: str, theta_label: str):
 for _k, _exp in (("x1+", "exact-match"), ("y1+", "exact-match"), ("x2+", "erratum"), ("y2+", "exact-match"),
                  ("x3+", "exact-match"), ("y3+", "exact-match")):
     def _mk35(k=_k, ex=_exp):
-        @_cl(f"at-eq35-{k.replace('+', 'p')}", "sec. 4.2, eq. 35", k, ex)
+        @_cl(f"at-eq35-{k.replace('+', 'p')}", "eq. 35", k, ex)
         def _f():
             return _eq3536_claim("eq35", k, "0")
         return _f
@@ -818,7 +818,7 @@ for _k, _exp in (("x1+", "exact-match"), ("y1+", "exact-match"), ("x2+", "erratu
 
 for _k in ("x1+", "y1+", "x2+", "y2+", "x3+", "y3+"):
     def _mk36(k=_k):
-        @_cl(f"at-eq36-{k.replace('+', 'p')}", "sec. 4.2, eq. 36", k, "exact-match")
+        @_cl(f"at-eq36-{k.replace('+', 'p')}", "eq. 36", k, "exact-match")
         def _f():
             return _eq3536_claim("eq36", k, "π/2")
         return _f
@@ -835,7 +835,7 @@ def case_labels():
 
 
 # --------------------------------------------------------------------------- eq. 37
-@_cl("at-eq37-labels", "sec. 4.2, eq. 37", "component labels (ẏ3⁺ twice)", "erratum")
+@_cl("at-eq37-labels", "eq. 37", "component labels (ẏ3⁺ twice)", "erratum")
 def eq37_labels():
     r = _eq37()
     return Finding("erratum", published="... ẏ3+ = 5α12√3/(4α12²+α12+4), ẏ3+ = 3α12/(2(4α12²+α12+4))",
@@ -862,14 +862,14 @@ def _eq37_claim(key: str):
 for _k, _exp in (("x1+", "refuted"), ("y1+", "refuted"), ("x2+", "refuted"), ("y2+", "refuted"),
                  ("x3+", "refuted"), ("y3+", "refuted")):
     def _mk37(k=_k, ex=_exp):
-        @_cl(f"at-eq37-{k.replace('+', 'p')}", "sec. 4.2, eq. 37", k, ex)
+        @_cl(f"at-eq37-{k.replace('+', 'p')}", "eq. 37", k, ex)
         def _f():
             return _eq37_claim(k)
         return _f
     _mk37()
 
 
-@_cl("at-eq37-conservation", "sec. 4.2, eq. 37", "printed state: momentum and energy", "refuted")
+@_cl("at-eq37-conservation", "eq. 37", "printed state: momentum and energy", "refuted")
 def eq37_cons():
     r = _eq37()
     return Finding("refuted", published="eq. 37 (as printed, first ẏ3⁺ read as ẋ3⁺)",

@@ -127,7 +127,7 @@ class Claim:
 
     @property
     def section(self) -> str:
-        return section_of(self.ref)
+        return section_of(self.ref, self.paper)
 
     def as_dict(self) -> dict:
         return {
@@ -173,16 +173,43 @@ def latex(obj) -> str | None:
         return str(obj)
 
 
-def section_of(ref: str) -> str:
-    """The section a reference lives in, for grouping (``eq. N`` refs group under ``equations``
-    unless they carry a section: ``sec. III-B.3, eq. 4``).
+#: the section of every numbered equation, in each paper's own numbering (for grouping)
+EQUATION_SECTIONS = {
+    "seghete-murphey": {"1a": "sec. II-A", "1b": "sec. II-A", "2a": "sec. II-B", "2b": "sec. II-B", "3": "sec. III-A",
+                        "4": "sec. III-B.2", "5": "sec. III-C", "6a": "sec. III-C", "6b": "sec. III-C"},
+    "acary-taha": {**{str(k): "sec. 2.1" for k in range(1, 9)}, **{str(k): "sec. 2.2" for k in range(9, 13)},
+                   **{str(k): "sec. 3.2" for k in range(13, 17)}, **{str(k): "sec. 3.3" for k in range(17, 20)},
+                   **{str(k): "sec. 3.4" for k in range(20, 24)}, **{str(k): "sec. 4.1" for k in range(24, 27)},
+                   **{str(k): "sec. 4.1.1" for k in range(27, 35)}, **{str(k): "sec. 4.2" for k in range(35, 38)},
+                   **{str(k): "sec. 5" for k in range(38, 42)}, **{str(k): "sec. 5.1" for k in range(42, 44)},
+                   **{str(k): "sec. 5.2" for k in range(44, 46)}},
+}
 
-    >>> section_of("sec. III-B.3"), section_of("eq. 18"), section_of("sec. 3.3, eq. 18")
-    ('sec. III-B.3', 'equations', 'sec. 3.3')
+#: the sections of each paper in reading order
+SECTION_ORDER = {
+    "seghete-murphey": ["sec. II-A", "sec. II-B", "sec. II-C.1", "sec. II-C.2", "sec. III-A", "sec. III-B",
+                        "sec. III-B.1", "sec. III-B.2", "sec. III-B.3", "sec. III-C"],
+    "acary-taha": ["sec. 2.1", "sec. 2.2", "sec. 3.2", "sec. 3.3", "sec. 3.4", "sec. 4.1", "sec. 4.1.1", "sec. 4.2",
+                   "sec. 5", "sec. 5.1", "sec. 5.2"],
+}
+
+
+def section_of(ref: str, paper: str | None = None) -> str:
+    """The section a reference lives in, for grouping: ``sec. X`` refs name it; ``eq. N`` refs are
+    looked up in :data:`EQUATION_SECTIONS`.
+
+    >>> section_of("sec. III-B.3"), section_of("eq. 18", "acary-taha"), section_of("eq. 1a", "seghete-murphey")
+    ('sec. III-B.3', 'sec. 3.3', 'sec. II-A')
     """
     if ref.startswith("sec."):
         return ref.split(",")[0]
-    return "equations"
+    m = ref.split("eq. ")[-1].strip()
+    return EQUATION_SECTIONS.get(paper or "", {}).get(m, "equations")
+
+
+def section_rank(paper: str, section: str) -> int:
+    order = SECTION_ORDER.get(paper, [])
+    return order.index(section) if section in order else len(order)
 
 
 # --------------------------------------------------------------------------- registry

@@ -117,11 +117,14 @@ def _short(s, width):
 
 
 def _grouped(claims):
+    """Claims grouped by paper, then by section in the paper's reading order (registration order inside)."""
+    from paper_checks.framework import section_rank
+
     groups = OrderedDict()
     for paper in PAPER_ORDER:
-        for c in claims:
-            if c["paper"] == paper:
-                groups.setdefault(paper, OrderedDict()).setdefault(c["section"], []).append(c)
+        cs = [c for c in claims if c["paper"] == paper]
+        for c in sorted(cs, key=lambda c: section_rank(paper, c["section"])):
+            groups.setdefault(paper, OrderedDict()).setdefault(c["section"], []).append(c)
     return groups
 
 
