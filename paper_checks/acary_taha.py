@@ -626,7 +626,8 @@ def eq31():
     r = _pc("eq31_h")
     return Finding("erratum" if r["verdict"] == "corrected" else "exact-match",
                    published=r"h(\alpha_{12}) = \frac{2\alpha_{12}^2 - 2\cos\theta + 1}{2(\alpha_{12}^2 - \cos\theta\,\alpha_{12} + 1)}",
-                   published_expr=printed_eq31_h(), derived=pool_h(), corrected=pool_h(),
+                   published_expr=printed_eq31_h(), derived=pool_h(),
+                   corrected=pool_h(sp.cos(sp.Symbol("theta", real=True))),
                    note="Δ ≥ 0 ⇔ e ≥ h(α) = 1 − 1/(2A), A = α² − α cos θ + 1 (derivations.domains.pool_h); the numerator "
                         f"lacks the α of −2α cos θ (printed − derived = {r['proof']['printed_minus_derived']}).")
 
@@ -637,13 +638,15 @@ def eq32():
     c = sp.cos(sp.pi / 4)
     a = sp.Symbol("alpha", nonnegative=True)
     al = sp.Rational(1, 10)  # below cos θ/2 = 0.35, in [0, ∞[ as D2 allows
-    gv, hv = pool_g(c).subs(a, al), pool_h(c).subs(a, al)
-    e_mid = (gv + hv) / 2
+    gv, hv = sp.radsimp(pool_g(c).subs(a, al)), sp.radsimp(pool_h(c).subs(a, al))
+    e_mid = sp.Rational(1, 2)  # h(1/10) < 1/2 < g(1/10) at θ = π/4, checked exactly below
+    assert certified_sign(e_mid - hv) > 0 and certified_sign(gv - e_mid) > 0
     return Finding("erratum", published=r"\mathcal D_2 = \{(\alpha_{12},e)\in[0,+\infty[\times[g(\alpha),1]\}",
                    derived={"alpha": al, "g": gv, "h": hv, "e between": sp.nsimplify(e_mid)},
                    corrected=r"\mathcal D_2 = \{(\alpha_{12},e)\in[0,+\infty[\times[h(\alpha_{12}),1]\}",
                    note="D₂ is where Δ ≥ 0, i.e. e ≥ h(α₁₂) (eq. 31 corrected). The printed set uses g: at θ = π/4, "
-                        f"α₁₂ = 1/10 the pair e = {sp.nsimplify(e_mid)} (h < e < g) has Δ ≥ 0 but is excluded by the print.")
+                        f"α₁₂ = 1/10 the pair e = 1/2 (h = {sp.N(hv, 6)} < e < g = {sp.N(gv, 6)}, exact signs) has Δ ≥ 0 but is "
+                        "excluded by the print.")
 
 
 @_cl("at-sec4.1.1-h-geq-g", "sec. 4.1.1", "h(α12) ≥ g(α12) on [cos θ/2, ∞[", "erratum")

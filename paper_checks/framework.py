@@ -288,7 +288,8 @@ def evaluate(claim_id: str) -> Claim:
 
 def load_all() -> None:
     """Import the per-paper modules (registration happens at import)."""
-    from . import acary_taha, seghete_murphey  # noqa: F401
+    from . import seghete_murphey  # noqa: F401  (registration order: Seghete & Murphey first)
+    from . import acary_taha  # noqa: F401
 
 
 def evaluate_all(paper: str | None = None) -> list[Claim]:
