@@ -637,15 +637,15 @@ def eq32():
     from derivations.domains import pool_g, pool_h
     c = sp.cos(sp.pi / 4)
     a = sp.Symbol("alpha", nonnegative=True)
-    al = sp.Rational(1, 10)  # below cos θ/2 = 0.35, in [0, ∞[ as D2 allows
+    al = sp.Integer(1)
     gv, hv = sp.radsimp(pool_g(c).subs(a, al)), sp.radsimp(pool_h(c).subs(a, al))
-    e_mid = sp.Rational(1, 2)  # h(1/10) < 1/2 < g(1/10) at θ = π/4, checked exactly below
+    e_mid = sp.Rational(4, 5)  # h(1) < 4/5 < g(1) = 1 at θ = π/4, checked exactly below
     assert certified_sign(e_mid - hv) > 0 and certified_sign(gv - e_mid) > 0
     return Finding("erratum", published=r"\mathcal D_2 = \{(\alpha_{12},e)\in[0,+\infty[\times[g(\alpha),1]\}",
                    derived={"alpha": al, "g": gv, "h": hv, "e between": sp.nsimplify(e_mid)},
                    corrected=r"\mathcal D_2 = \{(\alpha_{12},e)\in[0,+\infty[\times[h(\alpha_{12}),1]\}",
                    note="D₂ is where Δ ≥ 0, i.e. e ≥ h(α₁₂) (eq. 31 corrected). The printed set uses g: at θ = π/4, "
-                        f"α₁₂ = 1/10 the pair e = 1/2 (h = {sp.N(hv, 6)} < e < g = {sp.N(gv, 6)}, exact signs) has Δ ≥ 0 but is "
+                        f"α₁₂ = 1 the pair e = 4/5 (h = {sp.N(hv, 6)} < e < g = {sp.N(gv, 6)}, exact signs) has Δ ≥ 0 but is "
                         "excluded by the print.")
 
 
