@@ -132,6 +132,33 @@ def _newton_example():
             "ok": all(x <= b for x, b in zip(errs, bounds))}
 
 
+def _sequential_example():
+    """SM sec. III-B.3 outcomes for v0 = (−1, −2): the sequential resolver exact vs float, and the
+    generated two-surface kernel."""
+    from impactsym import kernels
+    from impactsym.laws.reflection import FLOAT_ERROR_FACTOR
+    from impactsym.laws.sequential import resolve_sequential
+
+    M = sp.diag(sp.Rational(11, 10), 1)
+    H = sp.Matrix([[1, 0], [-1, 1]])
+    v0 = sp.Matrix([-1, -2])
+    ex = resolve_sequential(M, H, v0, select=False)
+    Mf, Hf, vf = np.array([[1.1, 0.0], [0.0, 1.0]]), np.array([[1.0, 0.0], [-1.0, 1.0]]), np.array([-1.0, -2.0])
+    fl = resolve_sequential(Mf, Hf, vf, select=False)
+    _counts, exits = kernels.two_surface_exit_velocity(Mf, Hf, vf)
+    exact = {o.order[0]: o.velocity for o in ex.outcomes}
+    flt = {o.order[0]: np.asarray(o.velocity, dtype=float) for o in fl.outcomes}
+    e_f = max(_err(flt[b][i], exact[b][i]) for b in exact for i in range(2))
+    e_k = max(_err(exits[b][i], exact[b][i]) for b in exact for i in range(2))
+    k = max(o.reflections for o in ex.outcomes)
+    vnorm = float(max(abs(x) for x in v0))
+    bound = k * FLOAT_ERROR_FACTOR * 2 * _kappa(M) * EPS * vnorm * 2.0 ** k  # ‖G‖_max ≤ 2 here
+    return {"example": "SM III-B.3 sequential outcomes, v0 = (-1, -2)", "exact": [str(list(v)) for v in exact.values()],
+            "float_path_error": e_f, "kernel_error": e_k, "mpmath_error": None, "bound": bound,
+            "bound_formula": "k * FLOAT_ERROR_FACTOR * n * kappa(M) * eps * ||v0|| * 2^k (k reflections, ||G|| <= 2)",
+            "ok": bool(e_f <= bound and e_k <= bound and len(flt) == len(exact))}
+
+
 def _domain_example():
     from impactsym import kernels
 
@@ -161,6 +188,7 @@ def _run() -> tuple:
         _chain_example("AT sec. 3.3 alpha = 0.95, e = 1", sp.Rational(19, 20), None),
         _chain_example("AT sec. 3.3 alpha = 1, e = 1", sp.Integer(1), None),
         _newton_example(),
+        _sequential_example(),
         _domain_example(),
     ]
     return tuple(ex)
