@@ -525,6 +525,22 @@ def _plus_tau_eq35():
     return {k: sp.factor(sp.simplify(v.subs(sp.Abs(sp.cos(tau)), eps * sp.cos(tau)))) for k, v in cf.items()}
 
 
+@_cl("at-sec4.1-two-contacts", "sec. 4.1", "θ ∈ [0, 2π/3[: only two closed contacts; three at 2π/3", "exact-match")
+def two_contacts():
+    from impactsym.models.acary_taha import pool_positions
+    th = sp.Symbol("theta", real=True)
+    G1, _G2, G3 = pool_positions(th)
+    d2 = sp.simplify(sp.expand((G3 - G1).dot(G3 - G1)))
+    gap = sp.factor(sp.simplify(d2 - 4))  # squared distance minus (2a)^2
+    ok = identical(gap, 8 * sp.cos(th) + 4).equal
+    checks = {str(t): certified_sign(gap.subs(th, t)) for t in (0, sp.pi / 2, 3 * sp.pi / 5, 2 * sp.pi / 3)}
+    ok &= checks[str(2 * sp.pi / 3)] == 0 and all(v > 0 for k, v in checks.items() if k != str(2 * sp.pi / 3))
+    return Finding("exact-match" if ok else "refuted",
+                   published="for θ ∈ [0, 2π/3[, we have only two closed contacts ... When θ = 2π/3, there are three closed contacts",
+                   derived={"|G3 - G1|^2 - 4": gap, "sign at sample theta": checks},
+                   note="impactsym.models.acary_taha.pool_positions: |G₃ − G₁|² − 4 = 8cos θ + 4 > 0 for θ < 2π/3, = 0 at 2π/3.")
+
+
 _definition("at-sec4.1-alpha13-zero", "sec. 4.1", "α13 = 0 unless θ = 2π/3", r"\alpha_{13} = 0\ \text{for}\ \theta\ne\frac{2\pi}{3}",
             "Contact 1–3 is open for θ < 2π/3 (impactsym.models.acary_taha.pool closes it exactly at θ = 2π/3).")
 

@@ -188,7 +188,7 @@ EQUATION_SECTIONS = {
 #: the sections of each paper in reading order
 SECTION_ORDER = {
     "seghete-murphey": ["sec. II-A", "sec. II-B", "sec. II-C.1", "sec. II-C.2", "sec. III-A", "sec. III-B",
-                        "sec. III-B.1", "sec. III-B.2", "sec. III-B.3", "sec. III-C"],
+                        "sec. III-B.1", "sec. III-B.2", "sec. III-B.3", "sec. III-C", "sec. IV-B"],
     "acary-taha": ["sec. 2.1", "sec. 2.2", "sec. 3.2", "sec. 3.3", "sec. 3.4", "sec. 4.1", "sec. 4.1.1", "sec. 4.2",
                    "sec. 5", "sec. 5.1", "sec. 5.2"],
 }

@@ -1042,3 +1042,20 @@ def b3_four():
                    note="derivations.two_surface.paper_example_counts: with v0 = v1(1, t), v1 < 0, t > 1 (approaching both), "
                         "the u-first branch takes 4 reflections only for t > 23/19 and the v-first only for t < 439/40; "
                         f"e.g. v0 = (−1, −11/10) is resolved u-first after {n_u_first} impacts (G_uG_vG_u v0), not by v_4a.")
+
+
+# =========================================================================== sec. IV-B
+@_cl("sm-IV-B-plastic", "sec. IV-B", "plastic impact: all three balls move together", "exact-match")
+def plastic():
+    from impactsym.laws.classical import newton_moreau
+    H = _mat([[-1, 1, 0], [0, -1, 1]])
+    r = newton_moreau(sp.eye(3), H, _mat([1, 0, 0]), 0)
+    v = r.velocity
+    tangent = all(x == 0 for x in H * v)
+    ok = tangent and v[0] == v[1] == v[2] == sp.Rational(1, 3)
+    return Finding("exact-match" if ok else "refuted",
+                   published="in the case of Newton's cradle, the consequence of a plastic impact will be all three balls in "
+                             "contact with each other, moving in the same direction with the same velocity",
+                   derived={"v+": v, "H v+": H * v, "impulses": r.impulses},
+                   note="impactsym.laws.classical.newton_moreau with e = 0 (perfectly plastic): H v⁺ = 0 (tangent to both "
+                        "contact manifolds) and v⁺ = (1/3, 1/3, 1/3), momentum conserved.")
