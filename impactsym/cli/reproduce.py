@@ -148,9 +148,12 @@ def render(result: dict) -> str:
     for d in s["G_u_derivation"]["derivations"]:
         out.append(f"  {d['law']:<30} n={d['dimension']}: lambda matches print {d['lambda_matches_printed']}, "
                    f"G matches print {d['G_matches_printed']}")
-    props = s["G_u_derivation"]["properties"]
-    out.append("  " + ", ".join(f"{p['name']} (n={p['dimension']}): {'proven' if p['proven'] else 'NOT PROVEN'}"
-                                 for p in props))
+    by_name = OrderedDict()
+    for p in s["G_u_derivation"]["properties"]:
+        by_name.setdefault(p["name"], []).append(p)
+    for name, ps in by_name.items():
+        dims = ", ".join(f"n={p['dimension']} {'proven' if p['proven'] else 'NOT PROVEN'}" for p in ps)
+        out.append(f"  {name:<40} {dims}")
     out.append("")
     out.append(f"Cross-check of the numeric solvers (exact vs float path vs generated kernels, {s['crosscheck']['digits']} digits):")
     for e in s["crosscheck"]["examples"]:
