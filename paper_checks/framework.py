@@ -231,6 +231,19 @@ REGISTRY: dict[str, Registered] = {}
 def claim(id: str, *, paper: str, ref: str, quantity: str, expect: str):
     """Register a claim function and pin the verdict it must reach.
 
+    Parameters
+    ----------
+    id : stable unique identifier (``sm-…`` / ``at-…``)
+    paper : ``"seghete-murphey"`` or ``"acary-taha"``
+    ref : ``eq. N`` for a numbered equation, else the section in the paper's numbering
+    quantity : what is checked
+    expect : the pinned verdict (one of :data:`VERDICTS`)
+
+    Returns
+    -------
+    The decorator; the function (no arguments, returns a :class:`Finding`) is stored in
+    :data:`REGISTRY`.
+
     >>> @claim("doc-example", paper="acary-taha", ref="eq. 0", quantity="x", expect="definition")
     ... def _example():
     ...     return Finding("definition", "x := 1")
@@ -259,7 +272,17 @@ _MEMO: dict = {}
 
 
 def evaluate(claim_id: str) -> Claim:
-    """Run one claim function; never raises (a raising check is recorded with status ``raised``)."""
+    """Run one claim function; never raises (a raising check is recorded with status ``raised``).
+
+    Parameters
+    ----------
+    claim_id : a key of :data:`REGISTRY`
+
+    Returns
+    -------
+    Claim
+        ``status`` is ``"ok"`` (verdict equals the pin), ``"verdict-differs"`` or ``"raised"``.
+    """
     reg = REGISTRY[claim_id]
     c = Claim(reg.id, reg.paper, reg.ref, reg.quantity, reg.expected)
     t0 = time.perf_counter()
@@ -324,6 +347,18 @@ def _random_point(symbols, domain, rng):
 def identical(a, b, *, domain: dict | None = None, points: int = 8, seed: int = 20240611) -> Identity:
     """Decide ``a == b`` for expressions or matrices.
 
+    Parameters
+    ----------
+    a, b : SymPy expressions or matrices (same shape)
+    domain : ``{symbol: (lo, hi)}`` for the random rational points (default ``(1/7, 13/7)``)
+    points : number of random points of the numerical fallback
+    seed : seed of the point generator (reproducible)
+
+    Returns
+    -------
+    Identity
+        ``equal`` and the ``method`` that decided it (and a counterexample point when unequal).
+
     First ``simplify(a − b) == 0`` (a proof), then ``(a − b).equals(0)``, then evaluation at
     ``points`` random rational points of ``domain`` (default ``(1/7, 13/7)`` per symbol) at
     ``DIGITS + 10`` digits: all values below ``10^-DIGITS`` count as equal (stated as numerical
@@ -380,6 +415,17 @@ def _printed_places(printed: str) -> int:
 def compare_decimal(value, printed: str, digits: int = DIGITS) -> dict:
     """Compare an exact (or high-precision) value with a published decimal.
 
+    Parameters
+    ----------
+    value : exact SymPy number (or anything ``sympify`` accepts)
+    printed : the published decimal, as printed
+    digits : significant digits of the evaluation (≥ 50)
+
+    Returns
+    -------
+    dict
+        ``value`` (at ``digits``), ``places``, ``rounded``, ``truncated``, ``agreement``, ``error``.
+
     The value is evaluated at ``digits`` significant digits, then rounded half-even and truncated
     toward zero to the printed number of decimal places. ``agreement`` is ``"exact"`` when the
     value equals the printed decimal, ``"rounding"``, ``"truncation"``, ``"rounding and
@@ -426,6 +472,18 @@ def compare_decimals(values, printed) -> dict:
 def conservation(M, H, vminus, vplus, e=1) -> dict:
     """Check a post-impact state against the impact equations, exactly.
 
+    Parameters
+    ----------
+    M, H : mass matrix (n×n) and gradient rows (k×n)
+    vminus, vplus : pre- and post-impact velocities (n)
+    e : energetic coefficient in force (``T⁺ = e T⁻``)
+
+    Returns
+    -------
+    dict
+        ``momentum`` (bool), ``p``, ``energy_residual`` (``T⁺ − eT⁻``), ``T_minus``, ``T_plus``,
+        ``Hv_plus``.
+
     * momentum: ``M(v⁺ − v⁻) = Hᵀp`` has an exact solution ``p`` (least squares residual 0);
     * impulses non-negative: ``p ≥ 0``;
     * energy: ``T⁺ − e T⁻ = 0`` (``e`` the energetic coefficient in force);
@@ -454,6 +512,16 @@ def conservation(M, H, vminus, vplus, e=1) -> dict:
 # --------------------------------------------------------------------------- extrema
 def extremum(f, x, x0, *, kind: str = "min") -> dict:
     """First- and second-order test of a claimed extremum of ``f(x)`` at ``x0``.
+
+    Parameters
+    ----------
+    f : expression in ``x``;  x : the variable;  x0 : the claimed extremum (exact)
+    kind : ``"min"`` or ``"max"``
+
+    Returns
+    -------
+    dict
+        ``f'(x0)``, ``f''(x0)``, ``stationary``, ``second_order_sign``, ``holds``.
 
     >>> x = sp.Symbol("x")
     >>> extremum((x - 1)**2, x, 1)["holds"]
