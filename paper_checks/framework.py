@@ -138,6 +138,7 @@ class Claim:
             "corrected": text(self.corrected),
             "corrected_latex": latex(self.corrected),
             "note": self.note, "digits": self.digits,
+            "precision": "exact" if self.digits is None else f"{self.digits} digits",
             "evidence": {k: text(v) for k, v in self.evidence.items()},
             "status": self.status, "error": self.error, "seconds": round(self.seconds, 4),
         }
