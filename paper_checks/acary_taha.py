@@ -904,14 +904,16 @@ def eq37_labels():
 def _eq37_claim(key: str):
     d, pr, _ = _pool("eq37")
     r = _eq37()
-    ok = bool(identical(d[key], pr[key], domain={sp.Symbol("alpha", positive=True): (sp.Rational(1, 5), 3)}))
+    idn = identical(d[key], pr[key], domain={sp.Symbol("alpha", positive=True): (sp.Rational(1, 5), 3)})
+    ok = idn.equal
     verdict = "exact-match" if ok else "refuted"
     return Finding(verdict, published=str(pr[key]), published_expr=pr[key], derived=d[key],
+                   digits=None if idn.method.startswith("simplify(") else 60,
                    note="derivations.pool.bernoulli_closed_form (θ = 2π/3, τ = −π/6, e = 1, α₁₃ = α₁₂; denominator "
                         "2(5α² + 2α + 2)). No reading reproduces the print (derivations.pool.eq37_analysis: 3 incidences × 2 "
                         f"constraint scalings × 2 ratio assignments, matches = {r['matches']}). The printed state violates "
                         f"x-momentum (Σẋ⁺ = {r['px_printed']} ≠ −√3/2 for α > 0); its momentum repair (ẋ₃⁺ halved) has "
-                        f"α₁₃ = α₁₂/2 and gains energy, T⁺/T⁻ − 1 = {sp.factor(r['energy_ratio'] - 1)}.",
+                        f"α₁₃ = α₁₂/2 and gains energy, T⁺/T⁻ − 1 = {sp.factor(r['energy_ratio'] - 1)}. Difference: {idn.method}.",
                    evidence={"readings": r["readings"]})
 
 
