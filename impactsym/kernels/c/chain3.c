@@ -19,6 +19,11 @@
 /* p1 is the physical root (-B + sqrt(D))/(2A) of A p1^2 + B p1 + C = 0, evaluated without */
 /* cancellation: (|B| + sqrt(D))/(2A) for B <= 0, -2C/(|B| + sqrt(D)) for B > 0. D < 0 (no solution) gives nan. No admissibility check: see */
 /* impactsym.domains.validity_domain and the impulse-ratio law for those. */
+/* */
+/* Precondition: masses and velocities whose squares are normal floats (each |x| zero or in */
+/* [1e-150, 1e150]). Squares that underflow make D = B^2 - 4AC round to 0 when it is exactly */
+/* negative (found by Hypothesis with v3 = 6.8e-272, alpha = 0). The law is homogeneous of degree 1 */
+/* in the velocities, so rescale them first when they are that extreme. */
 void chain3_impulse_ratio(double m1, double m2, double m3, double v1, double v2, double v3, double e, double alpha, double *p1, double *p2, double *w1, double *w2, double *w3)
 {
     const double x0 = m1*m3;
