@@ -100,7 +100,12 @@ def compile_c() -> ctypes.CDLL | None:
     return ctypes.CDLL(str(out))
 
 
-def _c_batch(lib, name, inputs: dict) -> list[np.ndarray]:
+def c_batch(lib, name, inputs: dict) -> list[np.ndarray]:
+    """Call the generated C loop ``<name>_batch`` of a compiled kernel library through ctypes.
+
+    ``inputs`` maps each argument name to an array (broadcast to the first argument's shape);
+    returns one float array per output. Shared by the bench and the C kernel tests.
+    """
     k = _catalog()[name]
     arrs = [np.ascontiguousarray(np.broadcast_to(np.asarray(inputs[a], dtype=float), np.shape(inputs[k["args"][0]])))
             for a in k["args"]]
@@ -187,8 +192,8 @@ def _measure(name, backend, inp: _Inputs, min_time: float, slow_n: int):
         lib = compile_c()
         if lib is None:
             return None
-        dt = _timeit(lambda: _c_batch(lib, name, inp.arrays), min_time)
-        res = _c_batch(lib, name, {a: np.array([p[a] for p in pts]) for a in names})
+        dt = _timeit(lambda: c_batch(lib, name, inp.arrays), min_time)
+        res = c_batch(lib, name, {a: np.array([p[a] for p in pts]) for a in names})
         return batch / dt, [[float(r[i]) for r in res] for i in range(len(pts))]
     if backend == "lambdify-naive":
         nargs, nouts = naive_outputs(name)

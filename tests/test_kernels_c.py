@@ -17,6 +17,8 @@ from fractions import Fraction
 from pathlib import Path
 
 import numpy as np
+
+from impactsym.benchmark import c_batch
 import pytest
 
 from derivations.codegen import KERNEL_DIR
@@ -73,18 +75,6 @@ def call_scalar(lib, name: str, inputs: dict) -> list[float]:
     return [o.value for o in outs]
 
 
-def call_batch(lib, name: str, inputs: dict) -> list[np.ndarray]:
-    k = SCALAR[name]
-    arrs = [np.ascontiguousarray(inputs[a], dtype=float) for a in k["args"]]
-    n = arrs[0].size
-    outs = [np.empty(n) for _ in k["outputs"]]
-    f = getattr(lib, name + "_batch")
-    f.restype = None
-    ptr = ctypes.POINTER(ctypes.c_double)
-    f(ctypes.c_size_t(n), *[a.ctypes.data_as(ptr) for a in arrs], *[o.ctypes.data_as(ptr) for o in outs])
-    return outs
-
-
 HARD = [c for c in HARD_CASES if c.kernel in SCALAR]
 
 
@@ -112,7 +102,7 @@ def test_c_kernel_hard_cases(clib, case):
                                   "pool_impulse_ratio"])
 def test_c_kernel_domain_sample(clib, name):
     sample = domain_sample(name, 25, seed=11)
-    outs = call_batch(clib, name, sample)
+    outs = c_batch(clib, name, sample)
     ref = kernel_reference(name)
     worst = 0.0
     for i in range(25):
@@ -132,7 +122,7 @@ def test_c_batch_equals_numpy(clib, name):
         k = SCALAR[name]
         rng = np.random.default_rng(3)
         sample = {a: rng.uniform(0.34, 0.9, 200) for a in k["args"]}
-    c_out = call_batch(clib, name, sample)
+    c_out = c_batch(clib, name, sample)
     np_out = getattr(K, name)(**sample)
     np_out = np_out if isinstance(np_out, tuple) else (np_out,)
     # C's libm and NumPy's sin/atan2 may differ by an ulp; the two-surface angles amplify that by
