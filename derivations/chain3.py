@@ -17,6 +17,9 @@ Quantity names (stable; the paper-audit helper keys on them)
 ``"p1"``, ``"p2"``         impulses at contacts 1–2 and 2–3
 ``"q1+"``, ``"q2+"``, ``"q3+"``  post-impact velocities of balls 1, 2, 3
 
+Results are cached (``functools.lru_cache``): the returned dicts are shared, copy before
+modifying.
+
 Findings against the print (proved in :func:`compare_eq18` and the tests)
 --------------------------------------------------------------------------
 * eq. 18, ``q̇₃⁺``: printed ``−(1+√Δ)α / (2(1−α+α²))``, derived ``+(1+√Δ)α / (2(1−α+α²))``
@@ -40,6 +43,7 @@ m*(sqrt(2*alpha**2*e - 2*alpha**2 - 2*alpha*e + 2*alpha + 2*e - 1) + 1)/(2*(alph
 
 from __future__ import annotations
 
+from functools import lru_cache
 from pathlib import Path
 
 import sympy as sp
@@ -142,6 +146,7 @@ def closed_form(scene, law: QuadraticLaw, velocity_names, impulse_names=None) ->
     return out
 
 
+@lru_cache(maxsize=None)
 def chain3_equal_masses() -> dict:
     """Eq. 18 derived: equal masses ``m``, ``q̇⁻ = (1, 0, 0)``, ratio α, coefficient e.
 
@@ -165,6 +170,7 @@ def chain3_equal_masses() -> dict:
     return closed_form(sc, law, VELOCITY_NAMES)
 
 
+@lru_cache(maxsize=None)
 def chain3_general() -> dict:
     """The chain with unequal masses ``m1, m2, m3`` and any pre-impact velocities ``v1, v2, v3``.
 

@@ -14,6 +14,9 @@ Quantity names (stable; the paper-audit helper keys on them)
 ``"p1"``, ``"p2"``, ``"p3"``             impulses at contacts 1–2, 2–3, 1–3 (``p3``: Bernoulli only)
 ``"x1+"``, ``"y1+"``, … ``"y3+"``        post-impact velocity components of balls 1, 2, 3
 
+Results are cached (``functools.lru_cache``): the returned dicts are shared, copy before
+modifying.
+
 Findings against the print (each proved by a function below and in the tests)
 -----------------------------------------------------------------------------
 * eq. 27 (τ = 0, any θ): every entry equals the derived form.
@@ -42,6 +45,7 @@ Examples
 
 from __future__ import annotations
 
+from functools import lru_cache
 from pathlib import Path
 
 import sympy as sp
@@ -116,6 +120,7 @@ def _clean(d: dict) -> dict:
     return {k: sp.simplify(v) if k not in ("A", "Delta") else v for k, v in d.items()}
 
 
+@lru_cache(maxsize=None)
 def pool_tau0() -> dict:
     """Eq. 27: τ = 0, any θ, ratio α = α₁₂, coefficient e (two closed contacts).
 
@@ -136,6 +141,7 @@ def pool_tau0() -> dict:
     return closed_form(sc, law, VELOCITY_NAMES)
 
 
+@lru_cache(maxsize=None)
 def pool_at_theta(theta_value, restitution=e) -> dict:
     """The τ = 0 pool at one angle (eqs. 33–34): e.g. θ = π/2 (eq. 34) or θ = π/3 (what eq. 33 is).
 
@@ -155,6 +161,7 @@ def pool_at_theta(theta_value, restitution=e) -> dict:
     return {k: (v if k in ("A", "Delta") else sp.factor(sp.simplify(v))) for k, v in cf.items()}
 
 
+@lru_cache(maxsize=None)
 def pool_any_tau(theta_value=theta, restitution=1) -> dict:
     """Eqs. 35–36: any τ, written with ``ε = sign(cos τ)`` (default e = 1; θ a number or symbol).
 
@@ -185,6 +192,7 @@ def pool_any_tau(theta_value=theta, restitution=1) -> dict:
     return out
 
 
+@lru_cache(maxsize=None)
 def epsilon_device(theta_value=theta) -> dict:
     """Derive the ``ε = sign(cos τ)`` device of eqs. 35–36 from the law at e = 1.
 
@@ -227,6 +235,7 @@ def epsilon_device(theta_value=theta) -> dict:
             "selects_no_impact": at["no_impact"], "proven": bool(ok)}
 
 
+@lru_cache(maxsize=None)
 def bernoulli_closed_form(tau_value=-sp.pi / 6, restitution=1, *, independent=False) -> dict:
     """Bernoulli's problem (θ = 2π/3, three closed contacts; eq. 37), derived.
 
@@ -380,6 +389,7 @@ def momentum_energy_residuals(velocities: dict, vminus=None, restitution=1) -> d
     return {"px": px, "py": py, "energy": energy}
 
 
+@lru_cache(maxsize=None)
 def eq33_theta() -> dict:
     """Which θ does eq. 33 belong to? Solve the identities in α that its correctly printed entries
     (``ẏ₂⁺``, ``ẋ₃⁺``, ``ẋ₁⁺``) impose on the derived e = 1 solution ``(c, s) = (cos θ, sin θ)``.
@@ -431,6 +441,7 @@ def _identical_states(a: dict, b: dict) -> bool:
     return all(sp.simplify(a[k] - b[k]) == 0 for k in VELOCITY_NAMES)
 
 
+@lru_cache(maxsize=None)
 def eq37_analysis() -> dict:
     """Audit eq. 37 against every reading, and prove what is wrong with it.
 

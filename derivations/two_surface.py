@@ -315,6 +315,14 @@ def exit_angle(m=m_, psi_=psi, beta_=beta):
     ``2kβ`` (``θ₀ + 2kβ = mβ − ψ``), for ``m = 2k + 1`` it is ``G_A`` after it
     (``−(θ₀ + 2kβ) = ψ − (m − 1)β``).
 
+    Parameters
+    ----------
+    m : int or Symbol, the number of reflections; psi_, beta_ : the angles ψ and β
+
+    References
+    ----------
+    Seghete & Murphey, sec. III-B (the alternating sequence), sec. III-C (``G_u`` as a reflection).
+
     >>> exit_angle(3), exit_angle(4)
     (-2*beta + psi, 4*beta - psi)
     """
@@ -347,6 +355,19 @@ def exact_exit_relative_velocity(sA, sB, gg, cA, cB, m: int):
 
     This is the derivation's reference; ``impactsym.laws.two_surface`` evaluates the same closed
     form (the tests check them against each other and against explicit iteration).
+
+    Parameters
+    ----------
+    sA, sB, gg, cA, cB : rationals ``s_A, s_B, g, c_A, c_B`` (int, Fraction)
+    m : int, the number of reflections (the branch starts with A)
+
+    Returns
+    -------
+    (Fraction, Fraction): ``(H_A v_m, H_B v_m)``, the relative velocities after m reflections.
+
+    References
+    ----------
+    Seghete & Murphey, sec. II-A (``G_u``), sec. III-B (the alternating products ``G_v G_u ...``).
 
     >>> exact_exit_relative_velocity(1, 2, -1, -1, -1, 4)   # equal masses, v0 = (-1, -2)
     (Fraction(1, 1), Fraction(1, 1))
@@ -384,6 +405,14 @@ def lune_fraction(n) -> sp.Expr:
       the uniform measure on the sphere; the lune's condition involves only the angle of the first
       two coordinates, whose joint density ``e^{−r²/2} r/(2π)`` integrates over ``[0, β] × (0, ∞)`` to
       the fraction (the other coordinates integrate to 1).
+
+    Parameters
+    ----------
+    n : 2, 3 or ``"n"`` (every dimension)
+
+    References
+    ----------
+    Seghete & Murphey, sec. III-C (``S₀``, ``S_total``).
 
     >>> [lune_fraction(k) for k in (2, 3, "n")]
     [beta/(2*pi), beta/(2*pi), beta/(2*pi)]
@@ -427,6 +456,14 @@ def bound_versus_count(beta_over_pi) -> dict:
     * ``both_approaching``: the counts possible when the velocity approaches both surfaces
       (``ψ ∈ (π − β, π)``), each first-surface choice.
 
+    Parameters
+    ----------
+    beta_over_pi : rational in (0, 1)
+
+    References
+    ----------
+    Seghete & Murphey, sec. III-C (``N = ⌈S_total/(2S₀)⌉``).
+
     >>> bound_versus_count(sp.Rational(1, 4))
     {'N': 4, 'max_count': 4, 'attained_on': (3*pi/4, pi), 'both_approaching': [4]}
     >>> bound_versus_count(sp.Rational(2, 7))
@@ -450,8 +487,18 @@ def reachable_arc_lengths(beta_over_pi, iterations: int) -> list:
     """The paper's reachable set, exactly, on the circle (n = 2; every n is a cylinder over it):
     start with the wedge ``[0, β]`` and alternately join its images under ``G_A``, ``G_B``. Each
     set is an arc ``[lo, hi]`` (checked: the union of an arc and its mirror image is an arc when
-    they overlap); returns the lengths, capped at ``2π``. The paper's claim is ``2kβ`` after k
-    iterations, and ``S_u = 2 max(S_u⁺, S_u⁻)`` at each step — both checked here.
+    they overlap); returns the lengths, capped at ``2π``. The paper's claims are ``2kβ`` after k
+    iterations, ``S_u = 2 max(S_u⁺, S_u⁻)`` and ``S_u^± = S_v ± S₀`` at each step (before the arc
+    wraps around) — all checked here.
+
+    Parameters
+    ----------
+    beta_over_pi : rational in (0, 1), the wedge opening in units of π
+    iterations : number of reflections joined
+
+    References
+    ----------
+    Seghete & Murphey, sec. III-C (the reachable-area argument, fig. 6).
 
     >>> reachable_arc_lengths(sp.Rational(1, 5), 4)
     [pi/5, 2*pi/5, 4*pi/5, 6*pi/5, 8*pi/5]
@@ -471,6 +518,10 @@ def reachable_arc_lengths(beta_over_pi, iterations: int) -> list:
         nlo, nhi = sp.Min(lo, 2 * a - hi), sp.Max(hi, 2 * a - lo)
         plus, minus = hi - a, a - lo  # the two sides of the mirror inside the arc
         assert sp.simplify((nhi - nlo) - 2 * sp.Max(plus, minus)) == 0  # S_u = 2 max(S+, S-)
+        if k >= 1:  # the paper's S_u^+ = S_v + S_0, S_u^- = S_v - S_0 (S_v = S/2, S_0 = beta)
+            half = (hi - lo) / 2
+            big, small = sp.Max(plus, minus), sp.Min(plus, minus)
+            assert sp.simplify(big - (half + b)) == 0 and sp.simplify(small - (half - b)) == 0
         lo, hi = nlo, nhi
         out.append(sp.Min(hi - lo, 2 * sp.pi))
     return out

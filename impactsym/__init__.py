@@ -11,6 +11,7 @@ Matrix([
 [1, 0]])
 """
 
+from .domains import plot_domain, validity_domain
 from .errors import DomainError, ImpactError, ImpactInputError, NonTermination, UndecidableSign
 from .laws.reflection import impulse_multiplier, reflect, reflection_map
 from .laws.impulse_ratio import impulse_ratio_law
@@ -32,6 +33,7 @@ from .mechanics import (
 __version__ = "0.1.0"
 
 __all__ = [
+    "validity_domain", "plot_domain",
     "ImpactError", "ImpactInputError", "DomainError", "NonTermination", "UndecidableSign",
     "reflection_map", "reflect", "impulse_multiplier",
     "impulse_ratio_law", "newton_moreau", "poisson", "energetic", "han_gilmore",

@@ -107,6 +107,15 @@ def chain_impact(masses, velocities, stiffness, damping=None, *, model: str = "h
     ImpactInputError
         Wrong lengths, NaN, non-positive mass or stiffness, negative damping, unknown model,
         or a pre-impact state in which no contact approaches (nothing to integrate).
+
+    Examples
+    --------
+    Two balls, linear spring: the elastic exchange of velocities, ``P = m v``, contact time
+    ``π/ω = π/√(K/μ) = π/√10`` (reduced mass ``μ = 1/2``):
+
+    >>> r = chain_impact([1, 1], [2, 0], [5], model="linear")
+    >>> r.velocity.round(9).tolist(), round(float(r.impulses[0]), 9), round(r.duration, 6)
+    ([0.0, 2.0], 2.0, 0.993459)
     """
     if model not in MODELS:
         raise ImpactInputError("model", f"must be one of {MODELS}, got {model!r}")
@@ -197,4 +206,4 @@ def chain_impact(masses, velocities, stiffness, damping=None, *, model: str = "h
     T0 = 0.5 * float(m @ v0**2)
     T1 = 0.5 * float(m @ vplus**2)
     ratios = P / P[0] if P[0] != 0 else np.full(n - 1, np.nan)
-    return CompliantResult(P, ratios, vplus, t_last_open, T1 / T0, count)
+    return CompliantResult(P, ratios, vplus, float(t_last_open), T1 / T0, count)

@@ -30,6 +30,7 @@ Examples
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from functools import lru_cache
 from typing import Any
 
 import sympy as sp
@@ -149,7 +150,9 @@ def _chain_or_pool(cs, scene: str, theta) -> ValidityDomain:
                  "so alpha <= 1"),
         Boundary("h", "e", sp.simplify(h),
                  f"e >= h(alpha): Delta >= 0 ({'eq. 31, corrected' if pool_ else 'eq. 18'}); implied by e >= g since g - h = "
-                 f"alpha^2 (2 alpha - {cos_})^2 / (2 A (2 - alpha {cos_})^2) >= 0; touches g at alpha = 0 and "
+                 + ("alpha^2 (2 alpha - cos(theta))^2 / (2 A (2 - alpha cos(theta))^2)" if pool_ else
+                    "alpha^2 (2 alpha - 1)^2 / (2 A (2 - alpha)^2)")
+                 + " >= 0; touches g at alpha = 0 and "
                  f"alpha = {cos_}/2"),
         Boundary("e_max", "e", sp.Integer(1), "e <= 1: dissipative energetic coefficient (eq. 12)"),
     ]
@@ -248,11 +251,16 @@ def validity_domain(scene: str, theta=None) -> ValidityDomain:
     """
     if scene not in SCENES:
         raise ImpactInputError("scene", f"unknown scene {scene!r}; known: {', '.join(SCENES)}")
+    return _validity_domain(scene, _parse_theta(theta) if scene == "pool" else theta)
+
+
+@lru_cache(maxsize=None)
+def _validity_domain(scene: str, theta) -> ValidityDomain:
     if scene == "chain3":
         if theta is not None:
             raise ImpactInputError("theta", "only the pool scene takes theta")
         return _chain_or_pool(sp.Integer(1), "chain3", None)
-    t = _parse_theta(theta)
+    t = theta
     if t is None:
         return _pool_symbolic()
     if certified_sign(t - 2 * sp.pi / 3) == 0:

@@ -35,7 +35,7 @@ def test_codegen_names_match():
     assert kernels.CODEGEN_NAMES["chain3-impulse-ratio"] == ("chain3", "chain3_impulse_ratio")
 
 
-@settings(max_examples=30, deadline=None)
+@settings(max_examples=20, deadline=None)
 @given(m=st.lists(st.floats(0.2, 5.0), min_size=3, max_size=3),
        v=st.lists(st.floats(-2.0, 2.0), min_size=3, max_size=3),
        ee=st.floats(0.5, 1.0), a=st.floats(0.0, 1.5))

@@ -119,7 +119,7 @@ def test_boundary_points_are_in_the_domain():
     assert not dom.contains(a, on_g - sp.Rational(1, 10**6)) and not law_is_valid(None, a, on_g - sp.Rational(1, 10**6))
 
 
-@settings(max_examples=25, deadline=None)
+@settings(max_examples=15, deadline=None)
 @given(a=st.fractions(0, 2, max_denominator=40), ee=st.fractions(0, 1, max_denominator=40),
        k=st.sampled_from([0, 1, 2]))
 @example(a=__import__("fractions").Fraction(1, 2), ee=__import__("fractions").Fraction(1, 3), k=0)

@@ -361,3 +361,12 @@ def test_eq12_as_printed_contradicts_sec33():
     # and the printed form makes the elastic law create energy: T+ = 2 T-
     T = lambda x: (x.T * sc.M * x)[0, 0] / 2  # noqa: E731
     assert sp.simplify(T(printed.vplus) - 2 * T(sc.v)) == 0
+
+
+def test_no_impact_root_is_papers_sign_device():
+    # eq. 35 with epsilon = sign(cos tau) = -1 gives v+ = v-; the law's + root at e = 1, B > 0 is p = 0
+    tau = 2 * sp.pi / 3
+    sc = pool(0, tau)
+    r = impulse_ratio_law(sc.M, sc.H, sc.v, 1, ["1/2"], allow_invalid=True)
+    assert list(r.impulses) == [0, 0] and r.velocity == sc.v
+    assert [v.condition for v in r.violations] == ["no-approach"]

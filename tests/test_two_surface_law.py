@@ -216,8 +216,9 @@ def test_certified_digits_against_80_digit_iteration():
         with mpmath.workdps(80):
             scale = max(abs(vm[i]) for i in range(2))
             for i in range(2):
-                assert abs(o.velocity[i] - vm[i]) <= mpmath.mpf(10) ** -40 * scale
-                assert abs(o.velocity[i] - vm[i]) <= o.error_bound + mpmath.mpf(10) ** -70
+                err = abs(o.velocity[i] - vm[i])
+                assert err <= mpmath.mpf(10) ** -40 * max(abs(vm[i]), mpmath.mpf(10) ** -40 * scale)
+                assert err <= o.error_bound + mpmath.mpf(10) ** -70
 
 
 def test_exact_and_certified_paths_agree():
@@ -428,3 +429,77 @@ def test_outcomes_differ_when_pi_over_beta_is_not_an_integer():
         v = sp.Matrix([-rng.randint(1, 50), -rng.randint(51, 200)])
         r = resolve_two_surfaces("11/10,0;0,1", "1,0;-1,1", v)
         assert len(r.outcomes) == 2 and r.outcomes[0].velocity != r.outcomes[1].velocity
+
+
+@pytest.mark.parametrize("q", [318, pytest.param(3183, marks=pytest.mark.slow)])
+def test_large_count_by_exact_signs_of_exact_iterates(q):
+    """Independent of the angle formula: the law's count m is right iff the exact m-th iterate is
+    valid and the exact (m−1)-th is not. Exact iterates from the derivation's Fraction closed form
+    α ρ^k (equal to the products of G's: tests/test_two_surface_derivation.py)."""
+    from derivations.two_surface import exact_exit_relative_velocity as iterate_closed_form
+
+    res = resolve_two_surfaces(sp.eye(2), sp.Matrix([[1, 0], [-q, 1]]), sp.Matrix([-1, -(q + 1)]))
+    sA, sB, g = 1, q * q + 1, -q
+    cA, cB = -1, -1  # H v for v = (-1, -(q+1))
+    for o in res.outcomes:
+        args = (sA, sB, g, cA, cB) if o.first == 0 else (sB, sA, g, cB, cA)
+        last = iterate_closed_form(*args, o.reflections)
+        before = iterate_closed_form(*args, o.reflections - 1)
+        assert min(last) >= 0 and min(before) < 0
+        assert o.reflections > 3 * q - 1
+
+
+@settings(max_examples=40, deadline=None)
+@given(st.integers(0, 10**6), st.fractions(min_value=Fraction(1, 50), max_value=50),
+       st.fractions(min_value=Fraction(1, 50), max_value=50))
+@example(0, Fraction(1), Fraction(1))
+def test_row_scaling_and_swapping_invariance(seed, a, b):
+    """G_{αu} = G_u and validity is unchanged for α > 0: scaling rows changes nothing; swapping
+    the rows swaps the branches (their first-surface labels)."""
+    rng = random.Random(seed)
+    M, H, v = _random_case(rng, rng.choice([2, 3]), size=6)
+    r = resolve_two_surfaces(sp.Matrix(M), sp.Matrix(H), sp.Matrix(v))
+    Hs = [[x * a for x in H[0]], [x * b for x in H[1]]]
+    rs = resolve_two_surfaces(sp.Matrix(M), sp.Matrix(Hs), sp.Matrix(v))
+    rw = resolve_two_surfaces(sp.Matrix(M), sp.Matrix([H[1], H[0]]), sp.Matrix(v))
+    assert r.bound == rs.bound == rw.bound
+    for f in (0, 1):
+        o, os_, ow = r.by_first[f], rs.by_first[f], rw.by_first[1 - f]
+        assert (o is None) == (os_ is None) == (ow is None)
+        if o is not None:
+            assert o.reflections == os_.reflections == ow.reflections
+            assert o.velocity == os_.velocity == ow.velocity
+
+
+def test_precision_ladder():
+    """The same certified exit at 30 and 60 digits agrees to 30 digits (mpmath's self-check)."""
+    args = ("2,1;1,3", "1,0;-50000,1", "-1,-1/3")
+    lo = resolve_two_surfaces(*args, digits=30, max_exact_digits=0)
+    hi = resolve_two_surfaces(*args, digits=60, max_exact_digits=0)
+    with mpmath.workdps(70):
+        for a, b in zip(lo.outcomes, hi.outcomes):
+            assert a.reflections == b.reflections > 10**5
+            for i in range(2):
+                assert abs(a.velocity[i] - b.velocity[i]) <= mpmath.mpf(10) ** -30 * abs(b.velocity[i])
+
+
+def test_irrational_input_certified_path():
+    """M = diag(√2, 1) and 264/265 reflections: beyond exact SymPy iteration, certified digits;
+    reference: the iteration at 60 digits with √2 at 60 digits."""
+    r = resolve_two_surfaces("sqrt(2),0;0,1", "1,0;-100,1", "-1,-101")
+    with mpmath.workdps(60):
+        Mm = mpmath.matrix([[mpmath.sqrt(2), 0], [0, 1]])
+        Hm = [mpmath.matrix([1, 0]), mpmath.matrix([-100, 1])]
+        for o in r.outcomes:
+            assert not o.exact and o.digits == 30
+            v, i, k = mpmath.matrix([-1, -101]), o.first, 0
+            while True:
+                w = mpmath.lu_solve(Mm, Hm[i])
+                v = v - (2 * (Hm[i].T * v)[0] / (Hm[i].T * w)[0]) * w
+                k += 1
+                if all((h.T * v)[0] >= 0 for h in Hm):
+                    break
+                i = 1 - i
+            assert k == o.reflections
+            for j in range(2):
+                assert abs(o.velocity[j] - v[j]) <= mpmath.mpf(10) ** -29 * abs(v[j])

@@ -19,6 +19,7 @@ LAWS: dict[str, str] = {
     "poisson": "cli.resolve_classical:run_poisson",
     "energetic": "cli.resolve_classical:run_energetic",
     "han-gilmore": "cli.resolve_classical:run_han_gilmore",
+    "two-surface": "cli.resolve_two_surface:run",
 }
 
 

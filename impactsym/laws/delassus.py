@@ -24,6 +24,7 @@ True
 
 from __future__ import annotations
 
+from fractions import Fraction
 from typing import Any
 
 import flint
@@ -52,7 +53,12 @@ def _fmpq(x) -> flint.fmpq | None:
 
 def rational_matrix(A: Any) -> flint.fmpq_mat | None:
     """``A`` (SymPy matrix, nested list or float array) as an exact ``fmpq_mat``; ``None`` if an
-    entry is irrational. A 1-D input becomes a column. Floats are taken at their binary value."""
+    entry is irrational. A 1-D input becomes a column. Floats are taken at their binary value.
+
+    >>> rational_matrix([0.5, 0.1])
+    [                              1/2]
+    [3602879701896397/36028797018963968]
+    """
     if isinstance(A, sp.MatrixBase):
         rows, cols = A.shape
         entries = list(A)
@@ -72,17 +78,29 @@ def rational_matrix(A: Any) -> flint.fmpq_mat | None:
 
 
 def to_sympy_rational(x: flint.fmpq) -> sp.Rational:
-    """An ``fmpq`` as a SymPy ``Rational``."""
+    """An ``fmpq`` as a SymPy ``Rational``.
+
+    >>> to_sympy_rational(flint.fmpq(-2, 6))
+    -1/3
+    """
     return sp.Rational(int(x.p), int(x.q))
 
 
 def to_sympy_matrix(A: flint.fmpq_mat) -> sp.Matrix:
-    """An ``fmpq_mat`` as a SymPy matrix of ``Rational``."""
+    """An ``fmpq_mat`` as a SymPy matrix of ``Rational``.
+
+    >>> to_sympy_matrix(flint.fmpq_mat(1, 2, [1, flint.fmpq(1, 2)]))
+    Matrix([[1, 1/2]])
+    """
     return sp.Matrix(A.nrows(), A.ncols(), [to_sympy_rational(A[i, j]) for i in range(A.nrows()) for j in range(A.ncols())])
 
 
 def sign_of(x) -> int:
-    """Exact sign of an ``fmpq``, a SymPy number or an int (certified for irrational SymPy numbers)."""
+    """Exact sign of an ``fmpq``, a SymPy number or an int (certified for irrational SymPy numbers).
+
+    >>> sign_of(flint.fmpq(-1, 3)), sign_of(sp.sqrt(2) - sp.Rational(3, 2)), sign_of(0)
+    (-1, -1, 0)
+    """
     if isinstance(x, flint.fmpq):
         return (x > 0) - (x < 0)
     return certified_sign(x)
@@ -233,11 +251,14 @@ def tidy(x):
     y = sp.radsimp(sp.simplify(y))
     if y.is_Rational:
         return y
+    # a rational in disguise? guess it from 40 digits, then confirm exactly (certified sign 0)
     try:
-        z = sp.Dummy("z")
-        poly = sp.Poly(sp.minimal_polynomial(y, z), z)
-        if poly.degree() == 1:
-            return sp.Rational(-poly.nth(0), poly.nth(1))
-    except Exception:  # noqa: BLE001 - not algebraic or too hard: keep the simplified form
+        val = y.evalf(40)
+        if val.is_real:
+            guess = Fraction(str(sp.Float(val, 40))).limit_denominator(10**12)
+            r = sp.Rational(guess.numerator, guess.denominator)
+            if abs(val - r) < sp.Float("1e-30") * (1 + abs(r)) and certified_sign(y - r) == 0:
+                return r
+    except Exception:  # noqa: BLE001 - a number SymPy cannot evaluate: keep the simplified form
         pass
     return y

@@ -29,6 +29,12 @@ arithmetic, also for float input at its binary value; certified signs for irrati
 A result outside the domain raises :class:`~impactsym.errors.DomainError` naming every violated
 condition, unless ``allow_invalid=True``; then it is returned with ``valid=False`` and the list.
 
+**No impact.** When ``B > 0`` (leaving along ``a``) and ``e = 1``, the ``+`` root is ``p₁ = 0`` and
+``v⁺ = v⁻``: this is what the paper's ``ε = sign(cos τ)`` device in eqs. 35–36 encodes (at
+``ε = −1`` they reduce to ``v⁺ = v⁻``). It is still reported as ``no-approach`` (there is no
+impact to resolve); for ``e < 1`` and ``B > 0`` the root is negative and ``negative-impulse`` is
+reported too.
+
 Examples
 --------
 The 3-ball chain of sec. 3.3 with ``e = 1`` and ``α = 1`` (the solution ``[0, 0, 1]`` the paper

@@ -23,9 +23,10 @@ How each answer is obtained
   raised (never a guess).
 * **Exit velocity**: exact (SymPy ``Rational``) for rational input when its numbers have at most
   about ``max_exact_digits`` digits (they grow linearly with the count; the closed form above is
-  evaluated in exact integer arithmetic with O(log m) multiplications); otherwise an ``mpmath.matrix`` certified to ``digits`` significant digits
-  (normwise: every component's enclosure radius is below ``10^-digits · max_i |v⁺_i|``), plus
-  floats. Float input gives a float answer (rounded from a certified enclosure).
+  evaluated in exact integer arithmetic with O(log m) multiplications); otherwise an
+  ``mpmath.matrix`` plus floats, each component certified to ``digits`` significant digits
+  (a component smaller than ``10^-digits`` times the largest: to ``10^-2digits`` times the
+  largest, absolutely). Float input gives a float answer (rounded from a certified enclosure).
 
 References
 ----------
@@ -145,7 +146,7 @@ class TwoSurfaceOutcome:
     """One branch: the ordering (surface indices, alternating), the count and the exit velocity.
 
     ``velocity`` is a SymPy column (``exact``), a float64 array (float input), or an
-    ``mpmath.matrix`` certified to ``digits`` significant digits (normwise), with ``error_bound``
+    ``mpmath.matrix`` certified to ``digits`` significant digits per component, with ``error_bound``
     an upper bound of every component's error. ``impulse`` is ``p`` in ``M(v⁺ − v) = Hᵀp``, in the
     same form.
     """
@@ -250,8 +251,12 @@ def _arb(x, prec: int) -> arb:
     digits = int(prec * 0.30103) + 10
     if certified_sign(x) == 0:
         return arb(0)
+    # SymPy's evalf with strict=True either reaches `digits` correct significant digits or raises;
+    # the binary value it returns is taken exactly, and widened by a relative 10^-(digits-3).
     val = x.evalf(digits, strict=True)
-    mid = arb(mpmath.nstr(mpmath.mpf(val._mpf_), digits + 5, min_fixed=1, max_fixed=0))
+    sign, man, exp, _ = val._mpf_
+    man = -int(man) if sign else int(man)
+    mid = arb(fmpq(man * 2**exp)) if exp >= 0 else arb(fmpq(man, 2 ** (-exp)))
     return mid + arb(0, abs(mid) * arb(10) ** (-(digits - 3)))
 
 
@@ -432,7 +437,9 @@ def _iterate_exact(M, HA, HB, v, m):
 
 
 def _certified_exit(d: _Data, m: int, digits: int, W, gram, vec, swap: bool):
-    """Certified ``H v⁺`` and ``v⁺`` (Arb), relative radius below ``10^-digits``.
+    """Certified ``v⁺`` (Arb): every component to ``digits`` significant digits (radius below
+    ``10^-digits·|v⁺_i|``), except components below ``10^-digits·max|v⁺|``, which are certified to
+    the absolute ``10^-2digits·max|v⁺|``.
 
     ``W`` (n×2), ``gram`` (2×2) and ``vec`` (n) hold exact numbers (fmpq or SymPy); they are
     enclosed at each working precision."""
@@ -459,7 +466,9 @@ def _certified_exit(d: _Data, m: int, digits: int, W, gram, vec, swap: bool):
             vel = [v_arb[i] + Wb[i][0] * pA + Wb[i][1] * pB for i in range(len(v_arb))]
             scale = max((abs(x.mid()) for x in vel), default=arb(0))
             rad = max((x.rad() for x in vel), default=arb(0))
-        if rad <= scale * arb(10) ** (-digits) or (scale == 0 and rad == 0):
+            tol, floor = arb(10) ** (-digits), arb(10) ** (-2 * digits) * scale
+            ok = all(x.rad() <= tol * abs(x.mid()) or x.rad() <= floor for x in vel)
+        if ok:
             return vel, (pA, pB), rad
         prec *= 2
     raise UndecidableSign(f"the exit velocity could not be certified to {digits} digits within {MAX_PRECISION_BITS} bits")
@@ -485,7 +494,7 @@ def resolve_two_surfaces(mass_matrix, gradients, velocity, *, digits: int = DEFA
         linearly independent
     velocity : vector-like (n,), the pre-impact velocity ``v``
     digits : int
-        Significant digits of an exit velocity that is not exact (certified, normwise).
+        Significant digits of an exit velocity that is not exact (certified per component).
     max_exact_digits : int
         Rational input gets an exact exit velocity when its numbers have at most about this many
         digits (``0``: always certified digits; small counts of small data are exact by default).
