@@ -406,8 +406,9 @@ class SequentialResolution:
     sign_tests : int
         Sign decisions ``H_i v`` made.
     exact_fallbacks : int
-        Float mode: decisions re-made exactly because the float bound straddled zero, plus
-        exact comparisons of nearby float outcomes. 0 in exact mode.
+        Float mode: decisions re-made exactly because the float bound straddled zero, plus the
+        exact comparisons that let such a state be shared in the DAG and that merge nearby float
+        outcomes. 0 in exact mode.
     exact : bool
         Whether the outcome velocities are exact.
     backend : str
@@ -989,6 +990,14 @@ def _float_search(M, H, v0, system, cap):
         s = F.sign(system.w(exact_state(node), i))
         return s, wi
 
+    def same_exact(node, i, cand):
+        stats["fallbacks"] += 1
+        v, _ = system.reflect(exact_state(node), i)
+        return v == exact_state(cand) if F is _Rational else all(
+            certified_sign(a - b) == 0 for a, b in zip(v, exact_state(cand)))
+
+    holder["same_exact"] = same_exact
+
     class _R:
         k = fs.k
 
@@ -1066,6 +1075,11 @@ def _explore(sign_of, reflect, v0, cap, holder, key_of=lambda v: v):
         ckey = key_of(child_v)
         for cand in g.index.get(ckey, ()):
             if not g.fallback[cand]:
+                child = cand
+                break
+            # a node whose signs were decided exactly is shared only with the same exact state
+            same_exact = holder.get("same_exact")
+            if same_exact is not None and same_exact(node, i, cand):
                 child = cand
                 break
         if child is None:
