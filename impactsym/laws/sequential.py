@@ -43,7 +43,15 @@ Selection: two readings of the feasible set
 the cone is ``0``: all kinetic energy lost. Only the energy reading reproduces sec. III-B.3's
 "invariably … either v4a or v4b" (tested in ``tests/test_sequential_paper.py``): on the
 energy sphere the feasible set is the arc between the two outcomes, and the point of an arc
-nearest ``v0`` is an end point unless the arc contains ``v0``'s direction.
+nearest ``v0`` is an end point unless the arc contains ``v0``'s direction. When both orderings
+take four reflections the two end points are *equally* near ``v0`` (``G_b = G_a⁻¹`` and ``G_a`` is
+a kinetic isometry, so ``⟨G_a v0, v0⟩_M = ⟨v0, G_b v0⟩_M``): the projection is not unique and
+both are returned; when the lengths differ (3 and 4) one of them is selected.
+
+Two more findings are pinned in the tests: the printed ``G_u = −I`` of sec. III-B.3 is a misprint
+for ``diag(−1, 1)`` (the printed ``v4a``, ``v4b`` were computed with the latter), and for three or
+more surfaces the branching rule also produces orderings that no small gaps realize
+(``tests/test_simulate.py``; their outcomes were reached by realizable orderings as well).
 
 The projection is computed exactly by enumerating the faces of the feasible polyhedron: for every
 linearly independent set ``T`` of outcomes and ``S`` of contacts, the affine subspace
@@ -454,7 +462,7 @@ class SequentialResolution:
         """
         if self._graph is None:  # two-surface closed form: one ordering per first surface
             for count, (order, idx) in enumerate(self._orders, 1):
-                yield tuple(order), idx
+                yield (tuple(order) if isinstance(order, tuple) else order), idx
                 if limit is not None and count >= limit:
                     return
             return
@@ -820,7 +828,8 @@ def _two_surface_path(M, H, v0, system, exact, reading, select, witness):
     ts = resolve_two_surfaces(M, H, v0)
     groups: list = []  # [velocity, [orders], impulse, exact]
     for o in ts.outcomes:
-        order = tuple(o.order) if o.reflections <= 10_000 else o.order
+        # (reflections, first surface, order): a closed-form order may be too long for len()
+        order = (o.reflections, o.first, tuple(o.order) if o.reflections <= 10_000 else o.order)
         for grp in groups:
             if o.exact and grp[3] and all(certified_sign(a - b) == 0 for a, b in zip(o.velocity, grp[0])):
                 grp[1].append(order)
@@ -832,14 +841,13 @@ def _two_surface_path(M, H, v0, system, exact, reading, select, witness):
             groups.append([o.velocity, [order], o.impulse, o.exact])
     outcomes = []
     orders = []
-    key = lambda t: (len(t), tuple(t[:2]))  # noqa: E731 (the iteration's order: shortest, then first surface)
     for grp in groups:
-        grp[1] = sorted(grp[1], key=key)
-    groups.sort(key=lambda grp: key(grp[1][0]))
+        grp[1] = sorted(grp[1], key=lambda t: t[:2])  # the iteration's order: shortest, then first surface
+    groups.sort(key=lambda grp: grp[1][0][:2])
     for idx, (vel, ords, imp, _) in enumerate(groups):
-        lens = [len(t) for t in ords]
-        outcomes.append(Outcome(ords[0], lens[0], vel, imp, len(ords), min(lens), max(lens)))
-        orders.extend((t, idx) for t in ords)
+        lens = [t[0] for t in ords]
+        outcomes.append(Outcome(ords[0][2], lens[0], vel, imp, len(ords), min(lens), max(lens)))
+        orders.extend((t[2], idx) for t in ords)
     selected: tuple = ()
     all_exact = all(g[3] for g in groups)
     if select and (all_exact or not exact):
