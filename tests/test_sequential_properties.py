@@ -70,9 +70,11 @@ def test_row_scaling_and_relabelling_do_not_change_outcomes(prob, scales, rnd):
     H2 = sp.Matrix([[scales[i] * x for x in H[perm[i], :]] for i in range(k)])
     r2 = _resolve(M, H2, v, select=False)
     assert {tuple(o.velocity) for o in r.outcomes} == {tuple(o.velocity) for o in r2.outcomes}
-    orders = sorted(o for o, _ in r.iter_orderings(limit=200))
-    orders2 = sorted(tuple(perm[i] for i in o) for o, _ in r2.iter_orderings(limit=200))
-    assert orders == orders2
+    assert r.orderings == r2.orderings and r.states_visited == r2.states_visited
+    if r.orderings <= 200:  # compare the full lists only when they are short (a prefix depends on labels)
+        orders = sorted(o for o, _ in r.iter_orderings())
+        orders2 = sorted(tuple(perm[i] for i in o) for o, _ in r2.iter_orderings())
+        assert orders == orders2
 
 
 @settings(max_examples=25, deadline=None, suppress_health_check=[HealthCheck.too_slow])
