@@ -66,6 +66,22 @@ def test_simulator_realizes_every_ordering(case):
     assert _check_scene(build(), unrealizable=unrealizable[0] if unrealizable else ()) >= 1
 
 
+def test_branching_rule_can_produce_outcomes_no_small_gaps_give():
+    """Finding: for three surfaces the rule of sec. III-B ("every violated surface opens a branch")
+    over-generates. Masses 1, 3, 4 against a wall, v0 = (-1, -3, 0): 15 orderings, 5 distinct
+    outcomes, but the exact LP realizes only orderings ending at (1/7, 5/7, 18/7), and so do gap
+    draws over several scales (a random sweep of 524 line scenes found 37 such scenes)."""
+    sc = balls_on_line([1, 3, 4], [1, 1, 1], [1, 3, 5], [-1, -3, 0], walls=[0])
+    r = resolve_sequential(sc.M, sc.H, sc.v, two_surface="iterate", select=False)
+    assert r.orderings == 15 and len(r.outcomes) == 5
+    realized = {idx for order, idx in r.iter_orderings() if realize_ordering(sc.M, sc.H, sc.v, order) is not None}
+    assert [list(r.outcomes[i].velocity) for i in realized] == [[R(1, 7), R(5, 7), R(18, 7)]]
+    for gaps in ([1, 2, 3], [3, 2, 1], [1, 1000, 7], [500, 1, 3], [2, 5, 1000]):
+        pos = perturbed_scene_positions(sc, [R(g, 10**9) for g in gaps])
+        sim = simulate_line(sc.meta["masses"], sc.meta["radii"], pos, list(sc.meta["all_velocities"]), [0])
+        assert sim.velocities == [R(1, 7), R(5, 7), R(18, 7)]
+
+
 def test_uninvolved_ball_keeps_its_velocity_in_simulation():
     sc = balls_on_line([1, 1, 1, 1], [1, 1, 1, 1], [0, 2, 4, 100], [1, 0, 0, 5])
     assert _check_scene(sc) == 1

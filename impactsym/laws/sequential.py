@@ -51,7 +51,10 @@ both are returned; when the lengths differ (3 and 4) one of them is selected.
 Two more findings are pinned in the tests: the printed ``G_u = −I`` of sec. III-B.3 is a misprint
 for ``diag(−1, 1)`` (the printed ``v4a``, ``v4b`` were computed with the latter), and for three or
 more surfaces the branching rule also produces orderings that no small gaps realize
-(``tests/test_simulate.py``; their outcomes were reached by realizable orderings as well).
+(``tests/test_simulate.py``), sometimes with outcomes that no realizable ordering gives: for balls
+of masses 1, 3, 4 against a wall with ``v0 = (−1, −3, 0)`` the rule gives 5 distinct outcomes from
+15 orderings, but only 1 ordering is realizable and every small-gap simulation ends at
+``(1/7, 5/7, 18/7)``. This resolver implements the paper's rule as stated (all orderings).
 
 The projection is computed exactly by enumerating the faces of the feasible polyhedron: for every
 linearly independent set ``T`` of outcomes and ``S`` of contacts, the affine subspace
