@@ -13,8 +13,9 @@ chain3      closed forms of the 3-ball chain (Acary & Taha eqs. 13-19)
 domains     validity domains of the impulse-ratio law (Acary & Taha eqs. 19, 28-32)
 pool        closed forms of the pool and Bernoulli's problem (Acary & Taha eqs. 25-37)
 reflection  the single-impact map G_u and the Newton-restitution map G_u(e) (Seghete & Murphey eq. 1)
+impulse_ratio_root  the physical root of the impulse-ratio quadratic, stable and naive forms
 two_surface the two-surface problem: plane reduction, exact reflection count, the paper's bound (sec. III-C)
 """
 
 #: derivation modules that write generated code, in generation order
-FAMILIES = ["reflection", "two_surface", "chain3", "pool", "domains"]
+FAMILIES = ["reflection", "impulse_ratio_root", "two_surface", "chain3", "pool", "domains"]

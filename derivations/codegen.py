@@ -12,6 +12,7 @@ Rewrite all generated files with ``python -m derivations``.
 from __future__ import annotations
 
 import importlib
+import re
 import textwrap
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -20,7 +21,8 @@ from typing import Sequence
 import sympy as sp
 from sympy.printing.numpy import NumPyPrinter
 
-__all__ = ["ScalarKernel", "ArrayKernel", "render_family", "generate_all", "KERNEL_DIR", "header", "numpy_code"]
+__all__ = ["ScalarKernel", "ArrayKernel", "render_family", "generate_all", "KERNEL_DIR", "header", "numpy_code",
+           "LANGUAGES", "kernel_code", "render_c"]
 
 KERNEL_DIR = Path(__file__).resolve().parent.parent / "impactsym" / "kernels"
 
@@ -44,11 +46,16 @@ class ScalarKernel:
 @dataclass
 class ArrayKernel:
     """A general-dimension kernel: ``source`` is complete Python code for one function, built by
-    the derivation from SymPy-printed formula pieces (see :func:`numpy_code`)."""
+    the derivation from SymPy-printed formula pieces (see :func:`numpy_code`).
+
+    ``sources`` optionally maps another language (``"c"``, ``"julia"``, ...) to complete code for
+    the same kernel in that language, also built from SymPy-printed pieces; a language without an
+    entry has no form of this kernel (``impactsym codegen`` says so)."""
 
     name: str
     source: str
     doc: str = ""
+    sources: dict = field(default_factory=dict)
 
     @property
     def codegen_name(self) -> str:
@@ -79,10 +86,22 @@ def header(derivation: str, family: str) -> str:
     )
 
 
+_CSE_CACHE: dict = {}
+
+
+def _cse(k: ScalarKernel):
+    """Common subexpressions of a kernel's outputs, shared by every language (deterministic;
+    computed once per kernel object and reused by every language)."""
+    hit = _CSE_CACHE.get(id(k))
+    if hit is not None and hit[0] is k:
+        return hit[1]
+    result = sp.cse(list(k.outputs), symbols=sp.numbered_symbols("x"), optimizations="basic", order="canonical")
+    _CSE_CACHE[id(k)] = (k, result)
+    return result
+
+
 def _render_scalar(k: ScalarKernel) -> str:
-    replacements, reduced = sp.cse(
-        list(k.outputs), symbols=sp.numbered_symbols("x"), optimizations="basic", order="canonical"
-    )
+    replacements, reduced = _cse(k)
     arglist = ", ".join(
         f"{a}={k.defaults[str(a)]!r}" if str(a) in k.defaults else str(a) for a in k.args
     )
@@ -104,7 +123,12 @@ def _render_scalar(k: ScalarKernel) -> str:
 
 
 def render_family(derivation: str, family: str, module_doc: str, kernels: Sequence) -> str:
-    """The text of one generated NumPy module."""
+    """The text of one generated NumPy module.
+
+    Also records the family, so that :func:`generate_all` writes its other languages
+    (:mod:`derivations.languages`) without deriving it a second time.
+    """
+    _RENDERED[family] = (derivation, module_doc, list(kernels))
     parts = [header(derivation, family), '"""' + module_doc.strip() + '\n"""\n', "import numpy\n"]
     names = [k.name for k in kernels]
     parts.append("__all__ = [" + ", ".join(repr(n) for n in names) + "]\n")
@@ -138,17 +162,521 @@ def _render_init(families: Sequence[str]) -> str:
     return "\n".join(lines) + "\n"
 
 
+#: family -> (derivation, module docstring, kernels), filled by :func:`render_family`
+_RENDERED: dict = {}
+
+
 def generate_all(outdir: Path | str = KERNEL_DIR) -> list[Path]:
-    """Run every derivation's ``generate(outdir)`` and write the kernels' ``__init__.py``."""
+    """Run every derivation's ``generate(outdir)``, write the kernels' ``__init__.py``, every
+    other language (C, Julia, Octave, Fortran, Rust: :mod:`derivations.languages`) of every family
+    rendered on the way, and the catalog ``catalog.json`` that ``impactsym codegen`` reads."""
     from . import FAMILIES
 
     outdir = Path(outdir)
     outdir.mkdir(parents=True, exist_ok=True)
     written: list[Path] = []
+    _RENDERED.clear()
     for fam in FAMILIES:
         module = importlib.import_module(f"derivations.{fam}")
         written.extend(module.generate(outdir))
     init = outdir / "__init__.py"
     init.write_text(_render_init(FAMILIES))
     written.append(init)
+    written.extend(write_languages(outdir, dict(_RENDERED)))
+    return written
+
+
+# =========================================================================== other languages
+# One CSE (``_cse``) feeds every language, so the same intermediate ``x0, x1, ...`` appear in the
+# NumPy, C, Julia, Octave, Fortran and Rust forms of a kernel. Each language has one SymPy printer,
+# subclassed only where the stock printer emits code that does not compile or loses digits.
+
+from sympy.printing.c import C99CodePrinter  # noqa: E402
+from sympy.printing.codeprinter import CodePrinter, PrintMethodNotImplementedError  # noqa: E402
+from sympy.printing.fortran import FCodePrinter  # noqa: E402
+from sympy.printing.julia import JuliaCodePrinter  # noqa: E402
+from sympy.printing.octave import OctaveCodePrinter  # noqa: E402
+from sympy.printing.pycode import PythonCodePrinter  # noqa: E402
+from sympy.printing.rust import RustCodePrinter  # noqa: E402
+
+#: every language ``impactsym codegen --lang`` knows; the committed files cover all but
+#: ``python`` (pure-Python ``math`` form, printed on request from the catalog)
+LANGUAGES = ("c", "python", "numpy", "julia", "octave", "fortran", "rust")
+
+#: language -> sub-folder of ``impactsym/kernels`` holding its committed files
+LANGUAGE_DIRS = {"c": "c", "julia": "julia", "octave": "octave", "fortran": "fortran", "rust": "rust"}
+
+
+class _CPrinter(C99CodePrinter):
+    """C99 without the non-standard ``M_SQRT2``-style macros (absent under ``-std=c99``)."""
+
+    def __init__(self):
+        super().__init__({"math_macros": {}})
+
+    def _print_Pi(self, expr):
+        return "3.14159265358979323846"
+
+
+class _RustPrinter(RustCodePrinter):
+    """Rust printer whose numbers are ``f64`` literals (the stock one prints ``2*x``, which does
+    not compile for ``x: f64``, and evaluates ``sqrt(2)`` to 13 digits).
+
+    The stock printer also wraps the factors of a product of ``real=True`` symbols in an implicit
+    ``TypeCast`` and so drops the parentheses of a sum inside a product (SymPy 1.14:
+    ``-v_0*(x4*x6 - 1)`` printed as ``-v_0*x4*x6 - 1``); every number here is already an ``f64``
+    literal, so products and sums are printed without casts.
+    """
+
+    def _print_Mul(self, expr):
+        return CodePrinter._print_Mul(self, expr)
+
+    def _print_Add(self, expr, order=None):
+        return CodePrinter._print_Add(self, expr, order)
+
+    def _print_Piecewise(self, expr):
+        return "(" + super()._print_Piecewise(expr) + ")"
+
+    def _print_Pi(self, expr):
+        return "std::f64::consts::PI"
+
+    def _print_NaN(self, expr):
+        return "f64::NAN"
+
+    def _print_Infinity(self, expr):
+        return "f64::INFINITY"
+
+    def _print_Mod(self, expr):  # SymPy's Mod is floored: the sign of the (positive) divisor
+        a, b = expr.args
+        return f"({self._print(a)}).rem_euclid({self._print(b)})"
+
+    def _print_ceiling(self, expr):
+        return f"({self._print(expr.args[0])}).ceil()"
+
+    def _print_floor(self, expr):
+        return f"({self._print(expr.args[0])}).floor()"
+
+    def _print_Integer(self, expr, _type=False):
+        return f"{int(expr.p)}_f64"
+
+    def _print_Rational(self, expr):
+        return f"({int(expr.p)}_f64/{int(expr.q)}_f64)"
+
+    def _print_Float(self, expr, _type=False):
+        return f"{float(expr)!r}_f64"
+
+    def _print_Pow(self, expr):
+        base, exp = expr.base, expr.exp
+        b = f"({self._print(base)})"
+        if exp == sp.S.Half:
+            return f"{b}.sqrt()"
+        if exp == -sp.S.Half:
+            return f"{b}.sqrt().recip()"
+        if exp == -1:
+            return f"{b}.recip()"
+        if exp.is_Integer:
+            return f"{b}.powi({int(exp)})"
+        return f"{b}.powf({self._print(exp)})"
+
+
+class _PythonPrinter(PythonCodePrinter):
+    """Python (``math``) printer that parenthesizes ``%``: SymPy 1.14 prints ``2*Mod(ceiling(x), 2)*y``
+    inside a longer product as ``2*math.ceil(x) % 2*y``, which Python reads as ``((2*ceil(x)) % 2)*y``."""
+
+    def __init__(self):
+        super().__init__({"fully_qualified_modules": True})
+
+    def _print_Mod(self, expr):
+        return "(" + super()._print_Mod(expr) + ")"
+
+
+class _FortranPrinter(FCodePrinter):
+    """Free-form Fortran 2008; π as a double-precision literal (the stock printer emits a
+    ``parameter`` declaration inside the expression)."""
+
+    def __init__(self):
+        super().__init__({"source_format": "free", "standard": 2008})
+
+    def _print_Pi(self, expr):
+        return "3.14159265358979323846264338327950d0"
+
+    def _print_ceiling(self, expr):
+        """``ceiling`` in reals (the intrinsic returns a default integer, which overflows past 2^31)."""
+        a = self._print(expr.args[0])
+        return f"merge(aint({a}) + 1d0, aint({a}), aint({a}) < {a})"
+
+    def _print_Mod(self, expr):
+        a, b = (self._print(x) for x in expr.args)
+        return f"modulo(real({a}, c_double), real({b}, c_double))"
+
+    def _print_NaN(self, expr):
+        return "ieee_value(0.0_c_double, ieee_quiet_nan)"
+
+    def _print_Piecewise(self, expr):
+        """``merge`` needs both values of one type and kind: every branch as ``real(·, c_double)``."""
+        if expr.args[-1].cond != True:  # noqa: E712 - SymPy's true
+            return super()._print_Piecewise(expr)
+        code = f"real({self._print(expr.args[-1].expr)}, c_double)"
+        for e, c in reversed(expr.args[:-1]):
+            code = f"merge(real({self._print(e)}, c_double), {code}, {self._print(c)})"
+        return code
+
+
+def _printers():
+    return {
+        "c": _CPrinter(),
+        "julia": JuliaCodePrinter({"inline": True}),
+        "octave": OctaveCodePrinter({"inline": True}),
+        "fortran": _FortranPrinter(),
+        "rust": _RustPrinter(),
+        "python": _PythonPrinter(),
+    }
+
+
+def _doc_lines(k) -> list[str]:
+    return [ln.rstrip() for ln in textwrap.dedent(k.doc).strip("\n").splitlines()] or [k.name]
+
+
+def _used_args(k: ScalarKernel) -> set:
+    used = set()
+    for e in k.outputs:
+        used |= {str(s) for s in sp.sympify(e).free_symbols}
+    return used
+
+
+def _c_signature(k: ScalarKernel) -> str:
+    ins = ", ".join(f"double {a}" for a in k.args)
+    outs = ", ".join(f"double *{o}" for o in k.output_names)
+    return f"void {k.name}({ins}, {outs})"
+
+
+def _c_batch_signature(k: ScalarKernel) -> str:
+    ins = ", ".join(f"const double *{a}" for a in k.args)
+    outs = ", ".join(f"double *{o}" for o in k.output_names)
+    return f"void {k.name}_batch(size_t n, {ins}, {outs})"
+
+
+def c_scalar(k: ScalarKernel) -> str:
+    """C99 source of one closed form: outputs through pointers, plus a ``_batch`` loop over arrays.
+
+    >>> x, y = sp.symbols("x y")
+    >>> print(c_scalar(ScalarKernel("hyp", [x, y], [sp.sqrt(x**2 + y**2)], ["r"], "Hypotenuse.")))
+    /* Hypotenuse. */
+    void hyp(double x, double y, double *r)
+    {
+        *r = sqrt(pow(x, 2) + pow(y, 2));
+    }
+    <BLANKLINE>
+    void hyp_batch(size_t n, const double *x, const double *y, double *r)
+    {
+        for (size_t i = 0; i < n; ++i) {
+            hyp(x[i], y[i], &r[i]);
+        }
+    }
+    """
+    P = _CPrinter()
+    replacements, reduced = _cse(k)
+    lines = ["/* " + ln + " */" if ln else "/* */" for ln in _doc_lines(k)]
+    lines += [_c_signature(k), "{"]
+    used = _used_args(k)
+    for a in k.args:
+        if str(a) not in used:
+            lines.append(f"    (void){a};")
+    for sym, expr in replacements:
+        ctype = "int" if _is_boolean(expr) else "double"
+        lines.append(f"    const {ctype} {sym} = {_flat(P.doprint(expr))};")
+    for name, expr in zip(k.output_names, reduced):
+        lines.append(f"    *{name} = {_flat(P.doprint(expr))};")
+    lines.append("}")
+    call = ", ".join([f"{a}[i]" for a in k.args] + [f"&{o}[i]" for o in k.output_names])
+    lines += ["", _c_batch_signature(k), "{", "    for (size_t i = 0; i < n; ++i) {",
+              f"        {k.name}({call});", "    }", "}"]
+    return "\n".join(lines)
+
+
+def _is_boolean(expr) -> bool:
+    """A common subexpression that is a condition (``B < 0``), not a number."""
+    return isinstance(expr, sp.logic.boolalg.Boolean)
+
+
+def _flat(code: str) -> str:
+    """Join a printer's multi-line output (C ternaries, Rust ``if`` blocks) into one line."""
+    return " ".join(part.strip() for part in code.splitlines())
+
+
+def julia_scalar(k: ScalarKernel) -> str:
+    P = _printers()["julia"]
+    replacements, reduced = _cse(k)
+    args = ", ".join(f"{a}={k.defaults[str(a)]!r}" if str(a) in k.defaults else str(a) for a in k.args)
+    lines = ['"""', *_doc_lines(k), '"""', f"function {k.name}({args})"]
+    for sym, expr in replacements:
+        lines.append(f"    {sym} = {_flat(P.doprint(expr))}")
+    for name, expr in zip(k.output_names, reduced):
+        lines.append(f"    {name} = {_flat(P.doprint(expr))}")
+    outs = ", ".join(k.output_names)
+    lines.append(f"    return ({outs},)" if len(k.output_names) == 1 else f"    return ({outs})")
+    lines.append("end")
+    return "\n".join(lines)
+
+
+def octave_scalar(k: ScalarKernel) -> str:
+    """One Octave/MATLAB function file (element-wise operators: broadcasts over arrays)."""
+    P = _printers()["octave"]
+    replacements, reduced = _cse(k)
+    outs = ", ".join(k.output_names)
+    lines = [f"function [{outs}] = {k.name}({', '.join(str(a) for a in k.args)})"]
+    lines += ["  % " + ln if ln else "  %" for ln in _doc_lines(k)]
+    for i, a in enumerate(k.args):
+        if str(a) in k.defaults:
+            lines.append(f"  if nargin < {i + 1}, {a} = {k.defaults[str(a)]!r}; end")
+    for sym, expr in replacements:
+        lines.append(f"  {sym} = {_flat(P.doprint(expr))};")
+    for name, expr in zip(k.output_names, reduced):
+        lines.append(f"  {name} = {_flat(P.doprint(expr))};")
+    lines.append("end")
+    return "\n".join(lines)
+
+
+def fortran_scalar(k: ScalarKernel) -> str:
+    """A Fortran 2008 ``pure subroutine`` with ``bind(C)`` (C name ``f_<name>``)."""
+    P = _FortranPrinter()
+    replacements, reduced = _cse(k)
+    names = [str(a) for a in k.args] + list(k.output_names) + [str(s) for s, _ in replacements]
+    lowered = [n.lower() for n in names]
+    if len(set(lowered)) != len(lowered):
+        raise ValueError(f"{k.name}: names collide in case-insensitive Fortran: {names}")
+    allargs = [str(a) for a in k.args] + list(k.output_names)
+    head = f"pure subroutine {k.name}({', '.join(allargs)}) bind(C, name=\"f_{k.name}\")"
+    lines = ["! " + ln if ln else "!" for ln in _doc_lines(k)]
+    lines += [_fortran_wrap(head, "")]
+    lines.append(_fortran_wrap("real(c_double), value, intent(in) :: " + ", ".join(str(a) for a in k.args), "    "))
+    lines.append(_fortran_wrap("real(c_double), intent(out) :: " + ", ".join(k.output_names), "    "))
+    reals = [str(s) for s, e in replacements if not _is_boolean(e)]
+    logicals = [str(s) for s, e in replacements if _is_boolean(e)]
+    if reals:
+        lines.append(_fortran_wrap("real(c_double) :: " + ", ".join(reals), "    "))
+    if logicals:
+        lines.append(_fortran_wrap("logical :: " + ", ".join(logicals), "    "))
+    for sym, expr in replacements:
+        lines.append(_fortran_wrap(f"{sym} = {_fortran_expr(P, expr)}", "    "))
+    for name, expr in zip(k.output_names, reduced):
+        lines.append(_fortran_wrap(f"{name} = {_fortran_expr(P, expr)}", "    "))
+    lines.append(f"end subroutine {k.name}")
+    return "\n".join(lines)
+
+
+def _fortran_expr(P, expr) -> str:
+    code = P.doprint(expr)
+    return " ".join(part.strip().rstrip("&").strip() for part in code.splitlines())
+
+
+def _fortran_wrap(line: str, indent: str, width: int = 100) -> str:
+    """Free-form continuation lines (``&``) at spaces, so every line is under 132 characters."""
+    out, cur = [], indent
+    for tok in line.split(" "):
+        if len(cur) + len(tok) + 1 > width and cur.strip():
+            out.append(cur.rstrip() + " &")
+            cur = indent + "    "
+        cur += tok + " "
+    out.append(cur.rstrip())
+    return "\n".join(out)
+
+
+def rust_scalar(k: ScalarKernel) -> str:
+    P = _RustPrinter()
+    replacements, reduced = _cse(k)
+    used = _used_args(k)
+    args = ", ".join(f"{'' if str(a) in used else '_'}{a}: f64" for a in k.args)
+    ret = "f64" if len(k.output_names) == 1 else "(" + ", ".join("f64" for _ in k.output_names) + ")"
+    lines = ["/// " + ln if ln else "///" for ln in _doc_lines(k)]
+    lines += ["#[allow(non_snake_case, unused_parens, clippy::all)]", f"pub fn {k.name}({args}) -> {ret} {{"]
+    for sym, expr in replacements:
+        lines.append(f"    let {sym} = {_flat(P.doprint(expr))};")
+    for name, expr in zip(k.output_names, reduced):
+        lines.append(f"    let {name} = {_flat(P.doprint(expr))};")
+    outs = ", ".join(k.output_names)
+    lines.append(f"    {outs}" if len(k.output_names) == 1 else f"    ({outs})")
+    lines.append("}")
+    return "\n".join(lines)
+
+
+def python_scalar(k: ScalarKernel) -> str:
+    """Pure Python (``math`` module) form of a closed form: fastest for one scalar evaluation."""
+    P = _printers()["python"]
+    replacements, reduced = _cse(k)
+    args = ", ".join(f"{a}={k.defaults[str(a)]!r}" if str(a) in k.defaults else str(a) for a in k.args)
+    lines = ["import math", "", "", f"def {k.name}({args}):", '    """' + "\n    ".join(_doc_lines(k)) + '\n    """']
+    for sym, expr in replacements:
+        lines.append(f"    {sym} = {P.doprint(expr)}")
+    for name, expr in zip(k.output_names, reduced):
+        lines.append(f"    {name} = {P.doprint(expr)}")
+    outs = ", ".join(k.output_names)
+    lines.append(f"    return {outs}" if len(k.output_names) == 1 else f"    return ({outs})")
+    return "\n".join(lines)
+
+
+_SCALAR_RENDERERS = {"c": c_scalar, "julia": julia_scalar, "octave": octave_scalar,
+                     "fortran": fortran_scalar, "rust": rust_scalar, "python": python_scalar}
+
+
+def kernel_code(kernel, lang: str) -> str | None:
+    """The code of one kernel in one language (``None`` when the kernel has no form there).
+
+    >>> x = sp.Symbol("x")
+    >>> print(kernel_code(ScalarKernel("half", [x], [x / 2], ["y"], "Half."), "rust"))
+    /// Half.
+    #[allow(non_snake_case, unused_parens, clippy::all)]
+    pub fn half(x: f64) -> f64 {
+        let y = ((1_f64/2_f64))*x;
+        y
+    }
+    """
+    if lang not in LANGUAGES:
+        raise ValueError(f"unknown language {lang!r}; known: {', '.join(LANGUAGES)}")
+    hit = _CODE_CACHE.get((id(kernel), lang))
+    if hit is not None and hit[0] is kernel:
+        return hit[1]
+    code = _kernel_code(kernel, lang)
+    _CODE_CACHE[(id(kernel), lang)] = (kernel, code)
+    return code
+
+
+_CODE_CACHE: dict = {}
+
+
+def _kernel_code(kernel, lang: str) -> str | None:
+    if isinstance(kernel, ScalarKernel):
+        if lang == "numpy":
+            return _render_scalar(kernel).rstrip("\n")
+        try:
+            return _SCALAR_RENDERERS[lang](kernel)
+        except PrintMethodNotImplementedError:  # a function the language's printer cannot print
+            return None
+    if lang in ("numpy", "python"):
+        return textwrap.dedent(kernel.source).strip("\n")
+    code = kernel.sources.get(lang)
+    return None if code is None else textwrap.dedent(code).strip("\n")
+
+
+def _comment_header(derivation: str, family: str, mark: str) -> str:
+    return "\n".join(mark + " " + ln for ln in header(derivation, family).replace("# ", "", 1).replace("\n# ", "\n").strip("\n").splitlines())
+
+
+_C_PROTOTYPE = re.compile(r"^((?:void|int|double)\s+\w+\s*\([^)]*\))\s*\n?\{", re.M)
+
+
+def render_c(derivation: str, family: str, module_doc: str, kernels: Sequence) -> tuple[str, str]:
+    """``(header, source)`` of one family's self-contained C99 pair."""
+    head = header(derivation, family).replace("# ", "").strip("\n").splitlines()
+    hdr_lines = ["/* " + head[0], *(" * " + ln for ln in head[1:]),
+                 " *", *(" * " + ln if ln else " *" for ln in module_doc.strip("\n").splitlines()),
+                 " *", " * C99; compile with e.g. gcc -std=c99 -O2 -c " + f"{family}.c (link with -lm).", " */"]
+    guard = f"IMPACTSYM_KERNELS_{family.upper()}_H"
+    protos = []
+    bodies = []
+    for k in kernels:
+        code = kernel_code(k, "c")
+        if code is None:
+            continue
+        bodies.append(code)
+        if isinstance(k, ScalarKernel):
+            protos += [_c_signature(k) + ";", _c_batch_signature(k) + ";"]
+        else:
+            protos += [m.group(1) + ";" for m in _C_PROTOTYPE.finditer(code)]
+    h = "\n".join(hdr_lines) + f"\n#ifndef {guard}\n#define {guard}\n\n#include <stddef.h>\n\n" + \
+        "\n".join(protos) + f"\n\n#endif /* {guard} */\n"
+    c = "\n".join(hdr_lines) + f'\n#include <math.h>\n#include <stddef.h>\n\n#include "{family}.h"\n\n' + \
+        "\n\n".join(bodies) + "\n"
+    return h, c
+
+
+def render_julia(derivation, family, module_doc, kernels) -> str:
+    parts = [_hash_header(derivation, family), '# ' + module_doc.strip().replace("\n", "\n# ").replace("# \n", "#\n")]
+    parts += [kernel_code(k, "julia") for k in kernels if kernel_code(k, "julia") is not None]
+    return "\n\n".join(parts) + "\n"
+
+
+def _hash_header(derivation, family, mark="#") -> str:
+    return "\n".join(f"{mark} {ln[2:]}" for ln in header(derivation, family).strip("\n").splitlines())
+
+
+def render_rust(derivation, family, module_doc, kernels) -> str:
+    parts = [_hash_header(derivation, family, "//"),
+             "//! " + module_doc.strip().replace("\n", "\n//! ").replace("//! \n", "//!\n")]
+    parts += [kernel_code(k, "rust") for k in kernels if kernel_code(k, "rust") is not None]
+    return "\n\n".join(parts) + "\n"
+
+
+def render_fortran(derivation, family, module_doc, kernels) -> str:
+    body = [kernel_code(k, "fortran") for k in kernels if kernel_code(k, "fortran") is not None]
+    names = [k.name for k in kernels if kernel_code(k, "fortran") is not None]
+    lines = [_hash_header(derivation, family, "!"),
+             "! " + module_doc.strip().replace("\n", "\n! ").replace("! \n", "!\n"),
+             f"module impactsym_{family}",
+             "    use, intrinsic :: iso_c_binding, only: c_double",
+             "    use, intrinsic :: ieee_arithmetic, only: ieee_value, ieee_quiet_nan",
+             "    implicit none",
+             "    private",
+             _fortran_wrap("public :: " + ", ".join(names), "    ") if names else "",
+             "contains",
+             "\n\n".join(body),
+             f"end module impactsym_{family}"]
+    return "\n".join(ln for ln in lines if ln != "") + "\n"
+
+
+def render_octave(derivation, family, kernel) -> str:
+    code = kernel_code(kernel, "octave")
+    return _hash_header(derivation, family, "%") + "\n" + code + "\n"
+
+
+def catalog_entry(family: str, derivation: str, k) -> dict:
+    scalar = isinstance(k, ScalarKernel)
+    doc = textwrap.dedent(k.doc).strip() if k.doc else ""
+    if not doc and not scalar:
+        m = re.search(r'"""(.*?)(?:\n|""")', k.source, re.S)
+        doc = m.group(1).strip() if m else ""
+    entry = {
+        "name": k.name, "codegen_name": k.codegen_name, "family": family, "derivation": f"derivations/{derivation}.py",
+        "kind": "closed form" if scalar else "general n",
+        "args": [str(a) for a in k.args] if scalar else None,
+        "outputs": list(k.output_names) if scalar else None,
+        "summary": doc.splitlines()[0] if doc else "",
+        "code": {lang: kernel_code(k, lang) for lang in LANGUAGES},
+        # the exact formulas (srepr keeps assumptions): references evaluate these, not the code
+        "sympy": {"args": [sp.srepr(a) for a in k.args], "outputs": [sp.srepr(sp.sympify(o)) for o in k.outputs]}
+        if scalar else None,
+    }
+    return entry
+
+
+def write_languages(outdir: Path, rendered: dict) -> list[Path]:
+    """Write every non-NumPy language of every rendered family, and ``catalog.json``."""
+    import json
+
+    outdir = Path(outdir)
+    written: list[Path] = []
+    for d in LANGUAGE_DIRS.values():
+        (outdir / d).mkdir(parents=True, exist_ok=True)
+    catalog = []
+    for family, (derivation, module_doc, kernels) in rendered.items():
+        h, c = render_c(derivation, family, module_doc, kernels)
+        files = {
+            outdir / "c" / f"{family}.h": h,
+            outdir / "c" / f"{family}.c": c,
+            outdir / "julia" / f"{family}.jl": render_julia(derivation, family, module_doc, kernels),
+            outdir / "rust" / f"{family}.rs": render_rust(derivation, family, module_doc, kernels),
+            outdir / "fortran" / f"{family}.f90": render_fortran(derivation, family, module_doc, kernels),
+        }
+        for k in kernels:
+            if kernel_code(k, "octave") is not None:
+                files[outdir / "octave" / f"{k.name}.m"] = render_octave(derivation, family, k)
+            catalog.append(catalog_entry(family, derivation, k))
+        for path, text in files.items():
+            path.write_text(text)
+            written.append(path)
+    cat = outdir / "catalog.json"
+    cat.write_text(json.dumps({"generated_by": "Generated by derivations/codegen.py. DO NOT EDIT BY HAND: "
+                               "run `python -m derivations`.", "sympy": sp.__version__,
+                               "languages": list(LANGUAGES), "kernels": catalog}, indent=None, sort_keys=False)
+                   .replace('], "kernels": [', '],\n "kernels": [\n').replace('}, {"name"', '},\n{"name"') + "\n")
+    written.append(cat)
     return written

@@ -692,11 +692,44 @@ def kernels() -> list:
     cvec = H * v
     sub = {sa: gram[0, 0], sb: gram[1, 1], gg: gram[0, 1], ca: cvec[0], cb: cvec[1]}
     outs2, names2 = [], []
-    ginv = gram.inv()
+    # Stable form (factored discriminant): Delta = det(Gamma) = s_a s_b - g^2 computed from the Gram
+    # entries loses ~eps/beta^2 for a wedge of angle beta; for n = 2, Gamma = H M^-1 H^T gives
+    # det(Gamma) = det(H)^2 / det(M) (product of determinants), whose only cancellation is det(H)'s,
+    # ~eps/beta, the conditioning of the wedge angle w.r.t. H itself. Gamma^-1 = adj(Gamma)/Delta.
+    delta_f = H.det() ** 2 / det
+    assert sp.simplify(gram[0, 0] * gram[1, 1] - gram[0, 1] ** 2 - delta_f) == 0
+    dsym = sp.Symbol("Delta_f", positive=True)
+    ginv = sp.Matrix([[gram[1, 1], -gram[0, 1]], [-gram[0, 1], gram[0, 0]]]) / delta_f
+    assert (W * ginv - H.adjugate() / H.det()).applyfunc(sp.simplify) == sp.zeros(2, 2)
+
+    # and c^T adj(Gamma) c = c_a^2 s_b - 2 c_a c_b g + c_b^2 s_a (the squared wedge-plane speed times
+    # Delta) equals Delta * v^T M v for n = 2 (c = H v, H square): a sum of squares instead of a
+    # cancelling quadratic form
+    quad = ca**2 * sb - 2 * ca * cb * gg + cb**2 * sa
+    qsym = sp.Symbol("Q_f", positive=True)
+    quad_f = delta_f * (v.T * M * v)[0, 0]
+    assert sp.simplify(quad.subs(sub) - quad_f) == 0
+
+    # and adj(Gamma) c = Delta Gamma^-1 c = det(H)/det(M) adj(H)^T M v (the second argument of psi's
+    # atan2, which otherwise cancels as c_b s_a - g c_a with both terms O(1) and the result O(beta^2))
+    adjc = H.det() / det * (H.adjugate().T * M * v)
+    lin = [sb * ca - gg * cb, sa * cb - gg * ca]
+    lsym = sp.symbols("L0_f L1_f", real=True)
+    for i in range(2):
+        assert sp.simplify(lin[i].subs(sub) - adjc[i]) == 0
+
+    def _factored(expr):
+        expr = expr.subs(quad, qsym).subs({lin[0]: lsym[0], lin[1]: lsym[1]}).subs(sa * sb - gg**2, dsym)
+        assert not expr.has(sa * sb - gg**2) and not expr.has(quad)
+        return expr.subs(sub).subs({dsym: delta_f, qsym: quad_f, lsym[0]: adjc[0], lsym[1]: adjc[1]})
+
     for k, tag in ((0, "a"), (3, "b")):
-        cnt = outs_res[k].subs(sub)
-        cprime = sp.Matrix([outs_res[k + 1], outs_res[k + 2]]).subs(sub)
-        vexit = v + W * ginv * (cprime - cvec)
+        cnt = _factored(outs_res[k])
+        cprime = sp.Matrix([_factored(outs_res[k + 1]), _factored(outs_res[k + 2])])
+        # Stable form of v+ = v + W Gamma^-1 (c' - c): for n = 2, H is square and W Gamma^-1 = H^-1
+        # (checked below), so v+ = H^-1 c' = adj(H) c' / det(H); the general form adds and cancels
+        # terms of size |Gamma^-1| ~ 1/Delta ~ 1/beta^2 around an O(1) result.
+        vexit = H.adjugate() * cprime / H.det()
         outs2 += [cnt, vexit[0], vexit[1]]
         names2 += [f"count_{tag}", f"v0_{tag}", f"v1_{tag}"]
     out.append(ScalarKernel(

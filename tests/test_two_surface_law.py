@@ -453,9 +453,13 @@ def test_large_count_by_exact_signs_of_exact_iterates(q):
 @given(st.integers(0, 10**6), st.fractions(min_value=Fraction(1, 50), max_value=50),
        st.fractions(min_value=Fraction(1, 50), max_value=50))
 @example(0, Fraction(1), Fraction(1))
+# found by Hypothesis: 56 reflections, where the scaled rows make the exact exit exceed
+# max_exact_digits, so that branch is certified to 30 digits instead of exact
+@example(40180, Fraction(65561, 1350), Fraction(35583967, 711700))
 def test_row_scaling_and_swapping_invariance(seed, a, b):
     """G_{αu} = G_u and validity is unchanged for α > 0: scaling rows changes nothing; swapping
-    the rows swaps the branches (their first-surface labels)."""
+    the rows swaps the branches (their first-surface labels). Exits are compared exactly when
+    both are exact, and to the certified digits when one of them is certified instead."""
     rng = random.Random(seed)
     M, H, v = _random_case(rng, rng.choice([2, 3]), size=6)
     r = resolve_two_surfaces(sp.Matrix(M), sp.Matrix(H), sp.Matrix(v))
@@ -468,7 +472,20 @@ def test_row_scaling_and_swapping_invariance(seed, a, b):
         assert (o is None) == (os_ is None) == (ow is None)
         if o is not None:
             assert o.reflections == os_.reflections == ow.reflections
-            assert o.velocity == os_.velocity == ow.velocity
+            _assert_same_exit(o, os_)
+            _assert_same_exit(o, ow)
+
+
+def _assert_same_exit(x, y):
+    if x.exact and y.exact:
+        assert x.velocity == y.velocity
+        return
+    digits = min(d for d in (x.digits, y.digits) if d is not None)
+    with mpmath.workdps(digits + 20):
+        for a, b in zip(x.velocity, y.velocity):
+            a = mpmath.mpf(sp.N(a, digits + 20)._mpf_) if isinstance(a, sp.Basic) else mpmath.mpf(a)
+            b = mpmath.mpf(sp.N(b, digits + 20)._mpf_) if isinstance(b, sp.Basic) else mpmath.mpf(b)
+            assert abs(a - b) <= mpmath.mpf(10) ** (1 - digits) * max(abs(a), abs(b))
 
 
 def test_precision_ladder():

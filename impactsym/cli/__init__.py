@@ -26,7 +26,7 @@ from typing import Sequence
 from ..errors import ImpactError
 
 #: subcommand modules, in the order ``impactsym --help`` lists them
-SUBCOMMANDS = ["reproduce", "reflect", "prove", "resolve", "domain"]
+SUBCOMMANDS = ["reproduce", "reflect", "prove", "resolve", "domain", "codegen", "bench"]
 
 
 def build_parser() -> argparse.ArgumentParser:

@@ -1,52 +1,248 @@
-"""``impactsym reproduce``: the main job, an audit of both papers.
+"""``impactsym reproduce``: the audit of both papers, end to end.
 
-For now it reports what the foundation derives and checks: the single-impact derivation of
-Seghete & Murphey sec. II-A compared with the printed ``λ`` and ``G_u``, and the machine-checked
-properties of ``G_u`` for n = 2, 3 and general n.
+Every claim of ``paper_checks/`` (every numbered equation, unnumbered display, numeric example and
+stated property of Seghete & Murphey and of Acary & Taha) is evaluated, together with the
+single-impact derivation of ``G_u`` and its machine-checked properties, and the high-precision
+cross-check of the numeric solvers (exact vs float path vs generated kernels).
+
+Output: a table grouped by paper and section with counts per verdict; ``--json`` prints one object
+``{"claims": [...], "summary": {...}}``; ``--report DIR`` also writes ``DIR/report.md`` (the same
+content, every erratum's corrected form typeset, and the regenerated Fig. 3).
+
+Exit status: 0 when every claim was evaluated and reached its pinned verdict and every cross-check
+is within its bound (errata are findings, not failures); 1 when a check raised, a verdict differs
+from the one pinned in ``paper_checks/``, or a cross-check fails.
 """
 
 from __future__ import annotations
 
+import time
+from collections import Counter, OrderedDict
+from pathlib import Path
+
 from .common import add_json_flag
+
+PAPER_ORDER = ("seghete-murphey", "acary-taha")
 
 
 def register(sub) -> None:
-    p = sub.add_parser("reproduce", help="audit the papers' equations and examples (the main job)")
+    p = sub.add_parser(
+        "reproduce",
+        help="audit both papers: every equation, display, example and claim, with verdicts",
+        description="Evaluate every claim of paper_checks/ (both papers), the G_u derivation and proofs, and "
+                    "the high-precision cross-check of the numeric solvers.",
+    )
+    p.add_argument("--paper", choices=PAPER_ORDER, help="audit one paper only")
+    p.add_argument("--report", metavar="DIR", help="also write DIR/report.md (and the figures) ")
     add_json_flag(p)
     p.set_defaults(func=run)
 
 
-def run(args):
-    from derivations.reflection import derive_restitution, derive_single_impact, prove_all
+def _derivation_summary() -> dict:
+    """The foundation's single-impact derivation (eqs. 1a–1b) and the properties of ``G_u``."""
+    from derivations.reflection import PROPERTIES, derive_restitution, derive_single_impact
+
+    from paper_checks.seghete_murphey import _proof
 
     derivations = []
     for n in (2, 3):
         d = derive_single_impact(n)
         derivations.append({"law": "G_u (elastic, eqs. 1a-1b)", "dimension": n,
-                            "lambda_matches_printed": d.matches_printed_lambda,
-                            "G_matches_printed": d.matches_printed_G,
-                            "discarded_roots": [str(r) for r, _ in d.discarded_roots],
-                            "seconds": round(d.seconds, 3)})
+                            "lambda_matches_printed": bool(d.matches_printed_lambda),
+                            "G_matches_printed": bool(d.matches_printed_G),
+                            "discarded_roots": [str(r) for r, _ in d.discarded_roots]})
         r = derive_restitution(n)
         derivations.append({"law": "G_u(e) (Newton restitution)", "dimension": n,
-                            "lambda_matches_printed": r.matches_printed_lambda,
-                            "G_matches_printed": r.matches_printed_G,
-                            "energy_loss_matches": r.matches_printed_energy_loss,
-                            "seconds": round(r.seconds, 3)})
-    proofs = [p.as_dict() for p in prove_all()]
-    ok = all(p["proven"] for p in proofs) and all(
-        d["lambda_matches_printed"] and d["G_matches_printed"] for d in derivations)
-    return {"derivations": derivations, "properties": proofs, "all_checks_pass": ok}, (0 if ok else 1)
+                            "lambda_matches_printed": bool(r.matches_printed_lambda),
+                            "G_matches_printed": bool(r.matches_printed_G),
+                            "energy_loss_matches": bool(r.matches_printed_energy_loss)})
+    proofs = []
+    for name in PROPERTIES:
+        for dim in (2, 3, "n"):
+            p = _proof(name, dim)
+            proofs.append({"name": p.name, "dimension": p.dimension, "proven": bool(p.proven),
+                           "seconds": round(p.seconds, 4)})
+    ok = all(p["proven"] for p in proofs) and all(d["lambda_matches_printed"] and d["G_matches_printed"]
+                                                 for d in derivations)
+    return {"derivations": derivations, "properties": proofs, "all_proven": ok}
+
+
+def _section_key(section: str):
+    return section
+
+
+def run(args):
+    from paper_checks.crosscheck import run_crosschecks
+    from paper_checks.framework import VERDICTS, evaluate_all
+
+    t0 = time.perf_counter()
+    claims = evaluate_all(args.paper)
+    derivation = _derivation_summary()
+    cross = run_crosschecks()
+    seconds = time.perf_counter() - t0
+
+    per_paper = OrderedDict()
+    for paper in PAPER_ORDER:
+        cs = [c for c in claims if c.paper == paper]
+        if not cs:
+            continue
+        counts = Counter(c.verdict for c in cs if c.verdict)
+        per_paper[paper] = {"claims": len(cs), **{v: counts.get(v, 0) for v in VERDICTS}}
+    totals = Counter(c.verdict for c in claims if c.verdict)
+    raised = [c.id for c in claims if c.status == "raised"]
+    differs = [c.id for c in claims if c.status == "verdict-differs"]
+    ok = not raised and not differs and cross["ok"] and derivation["all_proven"]
+    summary = {
+        "claims": len(claims),
+        "per_paper": per_paper,
+        "per_verdict": {v: totals.get(v, 0) for v in VERDICTS},
+        "raised": raised,
+        "verdict_differs": differs,
+        "crosscheck": cross,
+        "G_u_derivation": derivation,
+        "all_evaluated": not raised,
+        "ok": ok,
+        "seconds": round(seconds, 2),
+    }
+    result = {"claims": [c.as_dict() for c in claims], "summary": summary}
+    if getattr(args, "report", None):
+        summary["report"] = str(write_report(result, Path(args.report)))
+    return result, (0 if ok else 1)
+
+
+# --------------------------------------------------------------------------- text
+def _short(s, width):
+    s = "" if s is None else str(s).replace("\n", " ")
+    return s if len(s) <= width else s[: width - 1] + "…"
+
+
+def _grouped(claims):
+    """Claims grouped by paper, then by section in the paper's reading order (registration order inside)."""
+    from paper_checks.framework import section_rank
+
+    groups = OrderedDict()
+    for paper in PAPER_ORDER:
+        cs = [c for c in claims if c["paper"] == paper]
+        for c in sorted(cs, key=lambda c: section_rank(paper, c["section"])):
+            groups.setdefault(paper, OrderedDict()).setdefault(c["section"], []).append(c)
+    return groups
 
 
 def render(result: dict) -> str:
-    out = ["Seghete & Murphey sec. II-A: single impact derived by SymPy"]
-    for d in result["derivations"]:
-        extra = f", energy loss matches: {d['energy_loss_matches']}" if "energy_loss_matches" in d else ""
-        out.append(f"  {d['law']:<28} n={d['dimension']}: lambda matches print: {d['lambda_matches_printed']}, "
-                   f"G matches print: {d['G_matches_printed']}{extra}  ({d['seconds']} s)")
-    out.append("Properties of G_u (machine-checked):")
-    for p in result["properties"]:
-        out.append(f"  {p['name']:<42} n={str(p['dimension']):<2} proven={p['proven']}  ({p['seconds']:.3f} s)")
-    out.append(f"all checks pass: {result['all_checks_pass']}")
+    from paper_checks.framework import PAPERS, VERDICTS
+
+    s = result["summary"]
+    out = []
+    for paper, sections in _grouped(result["claims"]).items():
+        out.append(f"{PAPERS[paper]}")
+        out.append("=" * min(100, len(PAPERS[paper])))
+        for section, cs in sections.items():
+            out.append(f"  {section}")
+            for c in cs:
+                flag = "" if c["status"] == "ok" else f"  [{c['status'].upper()}: pinned {c['expected']}]"
+                out.append(f"    {c['verdict'] or 'ERROR':<29} {_short(c['ref'], 22):<22} {_short(c['quantity'], 52)}{flag}")
+        pp = s["per_paper"][paper]
+        out.append("  counts: " + ", ".join(f"{v} {pp[v]}" for v in VERDICTS if pp[v]) + f"  (total {pp['claims']})")
+        out.append("")
+    out.append("G_u derivation (Seghete & Murphey eqs. 1a-1b) and properties, machine-checked:")
+    for d in s["G_u_derivation"]["derivations"]:
+        out.append(f"  {d['law']:<30} n={d['dimension']}: lambda matches print {d['lambda_matches_printed']}, "
+                   f"G matches print {d['G_matches_printed']}")
+    by_name = OrderedDict()
+    for p in s["G_u_derivation"]["properties"]:
+        by_name.setdefault(p["name"], []).append(p)
+    for name, ps in by_name.items():
+        dims = ", ".join(f"n={p['dimension']} {'proven' if p['proven'] else 'NOT PROVEN'}" for p in ps)
+        out.append(f"  {name:<40} {dims}")
+    out.append("")
+    out.append(f"Cross-check of the numeric solvers (exact vs float path vs generated kernels, {s['crosscheck']['digits']} digits):")
+    for e in s["crosscheck"]["examples"]:
+        errs = ", ".join(f"{k.replace('_error', '')} {e[k]:.1e}" for k in ("float_path_error", "kernel_error", "mpmath_error")
+                         if e[k] is not None)
+        out.append(f"  {'ok ' if e['ok'] else 'FAIL'} {e['example']:<42} {errs}  (bound {e['bound']:.1e})")
+    out.append("")
+    out.append("Totals: " + ", ".join(f"{v} {n}" for v, n in s["per_verdict"].items() if n) + f"  ({s['claims']} claims, "
+               f"{s['seconds']} s)")
+    if s["raised"]:
+        out.append(f"RAISED: {s['raised']}")
+    if s["verdict_differs"]:
+        out.append(f"VERDICT DIFFERS FROM PIN: {s['verdict_differs']}")
+    out.append("audit ok" if s["ok"] else "audit FAILED")
+    if s.get("report"):
+        out.append(f"report written to {s['report']}")
     return "\n".join(out)
+
+
+# --------------------------------------------------------------------------- Markdown report
+def _md_escape(s) -> str:
+    return ("" if s is None else str(s)).replace("|", "\\|").replace("\n", " ")
+
+
+def write_report(result: dict, outdir: Path) -> Path:
+    """Write ``outdir/report.md`` (and ``outdir/fig3.png``); return the report's path."""
+    from paper_checks.framework import PAPERS, VERDICTS
+
+    outdir.mkdir(parents=True, exist_ok=True)
+    figs = []
+    try:
+        from impactsym.domains import plot_domain
+
+        plot_domain("pi/4", outdir / "fig3.png")
+        figs.append(("Acary & Taha, Figure 3: valid domain of (α₁₂, e) for θ = π/4, regenerated by "
+                     "`impactsym.domains.plot_domain`", "fig3.png"))
+    except Exception as exc:  # a figure is optional; its absence is stated
+        figs.append((f"Figure 3 could not be drawn: {exc}", None))
+    s = result["summary"]
+    L = ["# impactsym reproduce: audit of both papers", ""]
+    L.append(f"{s['claims']} claims; " + ", ".join(f"{v}: {n}" for v, n in s["per_verdict"].items() if n) +
+             f". Audit {'ok' if s['ok'] else 'FAILED'} ({s['seconds']} s).")
+    L += ["", "| paper | claims | " + " | ".join(VERDICTS) + " |", "|---|---|" + "---|" * len(VERDICTS)]
+    for paper, pp in s["per_paper"].items():
+        L.append(f"| {paper} | {pp['claims']} | " + " | ".join(str(pp[v]) for v in VERDICTS) + " |")
+    for paper, sections in _grouped(result["claims"]).items():
+        L += ["", f"## {PAPERS[paper]}", ""]
+        for section, cs in sections.items():
+            L += [f"### {section}", "", "| id | ref | quantity | verdict | note |", "|---|---|---|---|---|"]
+            for c in cs:
+                L.append(f"| `{c['id']}` | {_md_escape(c['ref'])} | {_md_escape(c['quantity'])} | **{c['verdict']}** | "
+                         f"{_md_escape(c['note'])} |")
+            L.append("")
+    L += ["## Errata and their corrections", ""]
+    for c in result["claims"]:
+        if c["verdict"] != "erratum":
+            continue
+        L.append(f"### `{c['id']}` ({c['paper']}, {c['ref']}): {c['quantity']}")
+        L.append("")
+        L.append(f"Published: `{_md_escape(c['published'])}`")
+        L.append("")
+        corr = c["corrected_latex"] or c["corrected"]
+        if isinstance(corr, str) and any(ch in corr for ch in "\\^_{}"):
+            L.append(f"Corrected: $${corr}$$")
+        else:
+            L.append(f"Corrected: {corr}")
+        L.append("")
+        L.append(f"Proof: {c['note']}")
+        L.append("")
+    L += ["## Refuted statements", ""]
+    for c in result["claims"]:
+        if c["verdict"] == "refuted":
+            L.append(f"- `{c['id']}` ({c['paper']}, {c['ref']}): {c['quantity']}. {c['note']}")
+    L += ["", "## Cross-check of the numeric solvers", "",
+          "| example | float path error | kernel error | mpmath error | bound | ok |", "|---|---|---|---|---|---|"]
+    for e in s["crosscheck"]["examples"]:
+        f = lambda x: "—" if x is None else f"{x:.2e}"  # noqa: E731
+        L.append(f"| {e['example']} | {f(e['float_path_error'])} | {f(e['kernel_error'])} | {f(e['mpmath_error'])} | "
+                 f"{f(e['bound'])} | {e['ok']} |")
+    L += ["", "## Figures", ""]
+    for caption, path in figs:
+        L.append(f"![{caption}]({path})" if path else caption)
+        L.append("")
+    L += ["## G_u derivation and proofs", ""]
+    for d in s["G_u_derivation"]["derivations"]:
+        L.append(f"- {d['law']}, n = {d['dimension']}: λ matches the print {d['lambda_matches_printed']}, "
+                 f"G matches the print {d['G_matches_printed']}")
+    for p in s["G_u_derivation"]["properties"]:
+        L.append(f"- {p['name']} (n = {p['dimension']}): {'proven' if p['proven'] else 'NOT proven'}")
+    path = outdir / "report.md"
+    path.write_text("\n".join(L) + "\n")
+    return path

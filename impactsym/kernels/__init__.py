@@ -5,6 +5,8 @@ every kernel is importable as ``impactsym.kernels.<name>``.
 
 from .reflection import *  # noqa: F401,F403
 from .reflection import CODEGEN_NAMES as _reflection_names
+from .impulse_ratio_root import *  # noqa: F401,F403
+from .impulse_ratio_root import CODEGEN_NAMES as _impulse_ratio_root_names
 from .two_surface import *  # noqa: F401,F403
 from .two_surface import CODEGEN_NAMES as _two_surface_names
 from .chain3 import *  # noqa: F401,F403
@@ -17,6 +19,7 @@ from .domains import CODEGEN_NAMES as _domains_names
 #: every kernel's kebab-case codegen name -> (family, kernel name)
 CODEGEN_NAMES = {
     **{k: ('reflection', v) for k, v in _reflection_names.items()},
+    **{k: ('impulse_ratio_root', v) for k, v in _impulse_ratio_root_names.items()},
     **{k: ('two_surface', v) for k, v in _two_surface_names.items()},
     **{k: ('chain3', v) for k, v in _chain3_names.items()},
     **{k: ('pool', v) for k, v in _pool_names.items()},

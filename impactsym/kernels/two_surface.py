@@ -120,63 +120,45 @@ def two_surface_resolution_2(m_00, m_01, m_11, h_00, h_01, h_10, h_11, v_0, v_1)
     x0 = h_00*v_0 + h_01*v_1
     x1 = h_10*v_0 + h_11*v_1
     x2 = numpy.logical_and.reduce((numpy.greater_equal(x0, 0),numpy.greater_equal(x1, 0)))
-    x3 = m_00*m_11 - m_01**2
-    x4 = h_10*m_11
-    x5 = h_11*m_01
-    x6 = x4 - x5
-    x7 = h_10*m_01
-    x8 = h_11*m_00
-    x9 = x7 - x8
-    x10 = h_00*x6 - h_01*x9
-    x11 = h_01*m_01
-    x12 = h_00*m_11 - x11
-    x13 = h_00*m_01 - h_01*m_00
-    x14 = h_00*x12 - h_01*x13
-    x15 = h_10*x6 - h_11*x9
-    x16 = numpy.sqrt((-x10**2 + x14*x15)/x3**2)
+    x3 = h_00*h_11 - h_01*h_10
+    x4 = (m_00*m_11 - m_01**2)**(-1.0)
+    x5 = numpy.sqrt(x4)
+    x6 = x5*abs(x3)
+    x7 = h_10*m_11 - h_11*m_01
+    x8 = h_10*m_01 - h_11*m_00
+    x9 = numpy.arctan2(x6, -x4*(h_00*x7 - h_01*x8))
+    x10 = x9**(-1.0)
+    x11 = h_00*m_01 - h_01*m_00
+    x12 = h_00*m_11 - h_01*m_01
+    x13 = x3*x4
+    x14 = numpy.arctan2(-x0*x6, x13*(v_0*x11 + v_1*x12))
+    x15 = numpy.ceil(x10*x14)
+    x16 = numpy.less(x0, 0)
     x17 = x3**(-1.0)
-    x18 = numpy.arctan2(x16, -x10*x17)
-    x19 = x18**(-1.0)
-    x20 = x0*x10
-    x21 = numpy.arctan2(-x0*x16, x17*(x1*x14 - x20))
-    x22 = numpy.ceil(x19*x21)
-    x23 = numpy.less(x0, 0)
-    x24 = -v_0
-    x25 = h_10**2
-    x26 = h_11**2
-    x27 = 2*h_10
-    x28 = m_00*x26 + m_11*x25 - x27*x5
-    x29 = h_00*x4 - h_00*x5 - h_01*x7 + h_01*x8
-    x30 = x12*x28 - x29*x6
-    x31 = numpy.mod(x22, 2)
-    x32 = x18*x31
-    x33 = x18*x22 + 2*x21*x31 - x21 - 2*x22*x32 + x32
-    x34 = numpy.sqrt(x17*(x0**2*x15 + x1**2*x14 - 2*x1*x20))/x16
-    x35 = x34*numpy.sqrt(x14*x17)
-    x36 = h_00**2
-    x37 = h_01**2
-    x38 = x17/(-h_00*h_01*h_11*x27 + x25*x37 + x26*x36)
-    x39 = x38*(x0 - numpy.select([x2,x23,True], [x0,x35*numpy.sin(x33),numpy.nan], default=numpy.nan))
-    x40 = -2*h_00*x11 + m_00*x37 + m_11*x36
-    x41 = -x12*x29 + x40*x6
-    x42 = -x18
-    x43 = x34*numpy.sqrt(x15*x17)
-    x44 = x38*(x1 - numpy.select([x2,x23,True], [x1,-x43*numpy.sin(x33 + x42),numpy.nan], default=numpy.nan))
-    x45 = -v_1
-    x46 = -x13*x28 + x29*x9
-    x47 = x13*x29 - x40*x9
-    x48 = numpy.arctan2(-x1*x16, x17*(x0*x15 - x1*x10))
-    x49 = numpy.ceil(x19*x48)
-    x50 = numpy.less(x1, 0)
-    x51 = numpy.mod(x49, 2)
-    x52 = x18*x51
-    x53 = x18*x49 + 2*x48*x51 - x48 - 2*x49*x52 + x52
-    x54 = x38*(x1 - numpy.select([x2,x50,True], [x1,x43*numpy.sin(x53),numpy.nan], default=numpy.nan))
-    x55 = x38*(x0 - numpy.select([x2,x50,True], [x0,-x35*numpy.sin(x42 + x53),numpy.nan], default=numpy.nan))
-    count_a = numpy.select([x2,x23,True], [0,x22,-1], default=numpy.nan)
-    v0_a = -x24 - x30*x39 - x41*x44
-    v1_a = -x39*x46 - x44*x47 - x45
-    count_b = numpy.select([x2,x50,True], [0,x49,-1], default=numpy.nan)
-    v0_b = -x24 - x30*x55 - x41*x54
-    v1_b = -x45 - x46*x55 - x47*x54
+    x18 = x15*x9
+    x19 = numpy.mod(x15, 2)
+    x20 = x19*x9
+    x21 = 2*x14*x19
+    x22 = 2*x15*x20
+    x23 = numpy.sqrt(x4*(v_0*(m_00*v_0 + m_01*v_1) + v_1*(m_01*v_0 + m_11*v_1)))/x5
+    x24 = x23*numpy.sqrt(x4*(h_00*x12 - h_01*x11))
+    x25 = numpy.select([x2,x16,True], [x0,x24*numpy.sin(-x14 + x18 + x20 + x21 - x22),numpy.nan], default=numpy.nan)
+    x26 = x23*numpy.sqrt(x4*(h_10*x7 - h_11*x8))
+    x27 = numpy.select([x2,x16,True], [x1,x26*numpy.sin(x14 - x18 - x20 - x21 + x22 + x9),numpy.nan], default=numpy.nan)
+    x28 = numpy.arctan2(-x1*x6, -x13*(v_0*x8 + v_1*x7))
+    x29 = numpy.ceil(x10*x28)
+    x30 = numpy.less(x1, 0)
+    x31 = x29*x9
+    x32 = numpy.mod(x29, 2)
+    x33 = x32*x9
+    x34 = 2*x28*x32
+    x35 = 2*x29*x33
+    x36 = numpy.select([x2,x30,True], [x1,x26*numpy.sin(-x28 + x31 + x33 + x34 - x35),numpy.nan], default=numpy.nan)
+    x37 = numpy.select([x2,x30,True], [x0,x24*numpy.sin(x28 - x31 - x33 - x34 + x35 + x9),numpy.nan], default=numpy.nan)
+    count_a = numpy.select([x2,x16,True], [0,x15,-1], default=numpy.nan)
+    v0_a = -x17*(h_01*x27 - h_11*x25)
+    v1_a = x17*(h_00*x27 - h_10*x25)
+    count_b = numpy.select([x2,x30,True], [0,x29,-1], default=numpy.nan)
+    v0_b = -x17*(h_01*x36 - h_11*x37)
+    v1_b = x17*(h_00*x36 - h_10*x37)
     return (count_a, v0_a, v1_a, count_b, v0_b, v1_b)

@@ -1,0 +1,244 @@
+"""High-precision references for the generated float kernels, and their condition numbers.
+
+A float kernel is judged against a reference computed from the *same SymPy expressions the
+derivation emitted* (not from the generated code), in mpmath at ``dps ≥ 50`` digits:
+
+* inputs enter as the exact binary values of the float inputs (``mpmath.mpf(float)`` is exact;
+  no decimal text is ever re-read);
+* a precision ladder checks every reference: it is recomputed at twice the digits and must agree
+  with itself to ``dps − GUARD_DIGITS`` digits; if not, the ladder climbs (``dps → 2·dps``) until
+  two rungs agree, up to ``MAX_DPS`` (then :class:`ReferenceUnstable` is raised, never a guess);
+* the componentwise relative condition number of output ``f_i`` with respect to the inputs,
+  ``κ_i = Σ_j |x_j ∂f_i/∂x_j| / |f_i|``, comes from central differences of the exact formula in
+  relative steps ``10^(−dps/2)`` at the working precision (about ``dps/2`` correct digits, ample
+  for a condition number; symbolic derivatives of the larger kernels cost tens of seconds).
+
+The accuracy target of the generated kernels (issue 5) is stated with these numbers: for every
+output component, ``|f̂_i − f_i| ≤ c · eps · (|f_i| + Σ_j |x_j ∂f_i/∂x_j|)``, i.e. a relative error
+of at most ``c · eps · (1 + κ_i)``. :func:`error_ratio` returns the left side divided by
+``eps · (|f_i| + Σ_j |x_j ∂_j f_i|)``, which is finite also where ``f_i = 0``.
+
+Examples
+--------
+>>> import sympy as sp
+>>> x, y = sp.symbols("x y")
+>>> ref = Reference([x, y], [x - y])
+>>> r = ref.evaluate({"x": 1.0, "y": 1.0 - 2.0**-30})
+>>> r.values[0] == mpmath.mpf(2)**-30, r.digits_agreed >= 40
+(True, True)
+>>> float(r.condition[0]) > 2e9     # x − y near x = y: ill-conditioned by nature
+True
+>>> error_ratio(r, [1.0 - (1.0 - 2.0**-30)])[0]
+0.0
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from functools import lru_cache
+from typing import Mapping, Sequence
+
+import mpmath
+import numpy as np
+import sympy as sp
+from sympy.printing.pycode import MpmathPrinter
+
+__all__ = ["Reference", "ReferenceValue", "ReferenceUnstable", "OutsideDomain", "error_ratio", "relative_error",
+           "EPS", "GUARD_DIGITS", "MAX_DPS", "kernel_reference"]
+
+EPS = float(np.finfo(float).eps)
+#: digits a reference may lose between two rungs of the ladder and still count as agreeing
+GUARD_DIGITS = 10
+#: the highest precision the ladder climbs to
+MAX_DPS = 800
+
+
+class _MpmathPrinter(MpmathPrinter):
+    """lambdify's mpmath printer with ``%`` parenthesized: SymPy 1.14 prints ``2*Mod(ceiling(x), 2)*y``
+    inside a longer product as ``2*ceil(x) % 2*y`` (read by Python as ``((2*ceil(x)) % 2)*y``)."""
+
+    def _print_Mod(self, expr):
+        return "(" + super()._print_Mod(expr) + ")"
+
+
+def _ok(ref, xs) -> bool:
+    try:
+        ref._values(xs)
+        return True
+    except OutsideDomain:
+        return False
+
+
+def _mpmath_printer() -> _MpmathPrinter:
+    return _MpmathPrinter({"fully_qualified_modules": False, "inline": True, "allow_unknown_functions": True,
+                           "user_functions": {}})
+
+
+class OutsideDomain(ArithmeticError):
+    """The exact value is not real (the inputs lie outside the formula's domain, e.g. D < 0):
+    a float kernel must answer NaN there, in the components listed in ``nonreal``."""
+
+    nonreal: list = []
+
+
+class ReferenceUnstable(ArithmeticError):
+    """Two rungs of the precision ladder never agreed up to :data:`MAX_DPS` digits."""
+
+
+@dataclass
+class ReferenceValue:
+    """A checked reference: values, the first-order sensitivity ``Σ_j |x_j ∂f_i/∂x_j|`` and
+    ``κ_i`` (``inf`` where ``f_i = 0``), the precision used and the digits the ladder agreed to."""
+
+    values: list
+    sensitivity: list
+    condition: list
+    dps: int
+    digits_agreed: float
+
+
+class Reference:
+    """mpmath reference (with precision ladder and condition numbers) of SymPy expressions.
+
+    Parameters
+    ----------
+    args : sequence of sympy.Symbol
+        The inputs, in order; :meth:`evaluate` takes a mapping from their names to floats.
+    outputs : sequence of sympy.Expr
+        The exact formulas (as the derivation emitted them).
+    """
+
+    def __init__(self, args: Sequence[sp.Symbol], outputs: Sequence[sp.Expr]):
+        self.args = list(args)
+        self.names = [str(a) for a in self.args]
+        self.outputs = [sp.sympify(o) for o in outputs]
+        self._f = sp.lambdify(self.args, self.outputs, modules="mpmath", printer=_mpmath_printer())
+
+    def _values(self, xs):
+        try:
+            raw = self._f(*xs)
+        except ZeroDivisionError:
+            raise OutsideDomain("the exact value divides by zero at these inputs (degenerate input)") from None
+        nonreal = [i for i, v in enumerate(raw) if isinstance(v, mpmath.mpc) and v.imag != 0]
+        if nonreal:
+            err = OutsideDomain(f"the exact value is not real at these inputs (e.g. D < 0): {raw}")
+            err.nonreal = nonreal
+            raise err
+        return [mpmath.mpf(v.real if isinstance(v, mpmath.mpc) else v) for v in raw]
+
+    def _at(self, xs, dps):
+        """Values, and ``Σ_j |x_j ∂f/∂x_j|`` by central differences in relative steps ``δ = 10^(−dps/2)``
+        (``x_j ∂f/∂x_j ≈ (f(x_j(1+δ)) − f(x_j(1−δ)))/(2δ)``, accurate to about ``dps/2`` digits; a
+        step function such as ``ceiling`` contributes 0 except within ``δ`` of its jumps)."""
+        with mpmath.workdps(dps):
+            vals = self._values(xs)
+            delta = mpmath.mpf(10) ** (-(dps // 2))
+            sens = [mpmath.mpf(0)] * len(vals)
+            for j, x in enumerate(xs):
+                if x == 0:
+                    continue
+                up, down = list(xs), list(xs)
+                up[j], down[j] = x * (1 + delta), x * (1 - delta)
+                if _ok(self, up) and _ok(self, down):
+                    fu, fd, width = self._values(up), self._values(down), 2 * delta
+                elif _ok(self, up):  # on the domain's boundary: one-sided
+                    fu, fd, width = self._values(up), vals, delta
+                elif _ok(self, down):
+                    fu, fd, width = vals, self._values(down), delta
+                else:
+                    continue
+                sens = [s + abs(a - b) / width for s, a, b in zip(sens, fu, fd)]
+            return vals, sens
+
+    def evaluate(self, inputs: Mapping[str, float], dps: int = 50) -> ReferenceValue:
+        """Evaluate at the exact binary values of ``inputs`` (floats), checked by the ladder."""
+        if dps < 50:
+            raise ValueError(f"dps: references are computed with at least 50 digits, got {dps}")
+        xs = [mpmath.mpf(float(inputs[n])) for n in self.names]  # exact: mpf(float) is the binary value
+        lo = dps
+        vals, sens = self._at(xs, lo)
+        while True:
+            hi = 2 * lo
+            vals2, sens2 = self._at(xs, hi)
+            agreed = _digits_agreed(vals, vals2, hi, sens2)
+            if agreed >= lo - GUARD_DIGITS:
+                break
+            if hi >= MAX_DPS:
+                raise ReferenceUnstable(
+                    f"reference at {lo} and {hi} digits agrees to only {agreed:.1f} digits (inputs {dict(inputs)})")
+            lo, vals, sens = hi, vals2, sens2
+        with mpmath.workdps(hi):
+            cond = [s / abs(v) if v != 0 and not mpmath.isnan(v) else mpmath.inf for v, s in zip(vals2, sens2)]
+        return ReferenceValue(vals2, sens2, cond, hi, agreed)
+
+
+@lru_cache(maxsize=None)
+def kernel_reference(name: str) -> Reference:
+    """The reference of a generated closed-form kernel (by kernel or codegen name), built from the
+    exact formulas the derivation emitted (recorded in ``impactsym/kernels/catalog.json``).
+
+    >>> ref = kernel_reference("impulse-ratio-root")
+    >>> [float(x) for x in ref.evaluate({"A": 1.0, "B": -3.0, "C": 2.0}).values]
+    [2.0, 1.0]
+    """
+    import json
+    from pathlib import Path
+
+    cat = json.loads((Path(__file__).resolve().parent / "kernels" / "catalog.json").read_text())
+    for k in cat["kernels"]:
+        if name in (k["name"], k["codegen_name"]) and k.get("sympy"):
+            from sympy.functions.elementary.piecewise import ExprCondPair
+
+            ns = {**vars(sp), "ExprCondPair": ExprCondPair}  # srepr text written by derivations/codegen.py
+            args = [eval(a, ns) for a in k["sympy"]["args"]]
+            outs = [eval(o, ns) for o in k["sympy"]["outputs"]]
+            return Reference(args, outs)
+    raise KeyError(f"no closed-form kernel {name!r} in the catalog")
+
+
+def _digits_agreed(a, b, dps, sens) -> float:
+    """Digits to which two rungs agree, relative to ``max(|f|, Σ|x ∂f|)`` (so an exact zero, whose
+    rungs differ by ~10^-dps, agrees as well as its sensitivity allows)."""
+    worst = float(dps)
+    with mpmath.workdps(dps):
+        for x, y, s in zip(a, b, sens):
+            if x == y or (mpmath.isnan(x) and mpmath.isnan(y)):
+                continue
+            scale = max(abs(x), abs(y), s)
+            worst = min(worst, float(-mpmath.log10(abs(x - y) / scale)))
+    return worst
+
+
+def relative_error(ref: ReferenceValue, computed: Sequence[float]) -> list[float]:
+    """``|f̂_i − f_i| / |f_i|`` per component (``inf`` where ``f_i = 0 ≠ f̂_i``, 0 where both are 0)."""
+    out = []
+    with mpmath.workdps(ref.dps):
+        for v, c in zip(ref.values, computed):
+            if mpmath.isnan(v) and np.isnan(float(c)):
+                out.append(0.0)
+                continue
+            d = abs(mpmath.mpf(float(c)) - v)
+            out.append(0.0 if d == 0 else (float(d / abs(v)) if v != 0 else float("inf")))
+    return out
+
+
+def error_ratio(ref: ReferenceValue, computed: Sequence[float]) -> list[float]:
+    """``|f̂_i − f_i| / (eps · (|f_i| + Σ_j |x_j ∂f_i/∂x_j|))`` per component: the error in units of
+    what a backward-stable evaluation may commit (≈ ``rel_err / (eps · (1 + κ_i))``).
+
+    A non-finite computed value gives ``inf``.
+    """
+    out = []
+    with mpmath.workdps(ref.dps):
+        for v, s, c in zip(ref.values, ref.sensitivity, computed):
+            c = float(c)
+            if mpmath.isnan(v) and np.isnan(c):  # "no such branch" (NaN) in both
+                out.append(0.0)
+                continue
+            if not np.isfinite(c):
+                out.append(float("inf"))
+                continue
+            d = abs(mpmath.mpf(c) - v)
+            scale = EPS * (abs(v) + s)
+            out.append(0.0 if d == 0 else (float(d / scale) if scale != 0 else float("inf")))
+    return out

@@ -1,0 +1,539 @@
+"""The claim framework of the paper audit: one record per published item, and the checks that
+decide its verdict.
+
+A *claim* is one item that a paper states: a numbered equation, an unnumbered display, a numeric
+example, or a statement that something holds. Each claim is a function in
+``paper_checks/<paper>.py``, registered with :func:`claim`, that *computes* its record: it
+transcribes the published form (misprints included), asks impactsym for the derived form, and
+decides the verdict with the checks below (symbolic identity, decimal comparison at ≥ 50 digits,
+conservation laws, extremum tests). The verdict each claim is expected to reach is pinned in the
+decorator, so that a regression in the package, or in the check, changes a verdict and fails
+both ``pytest`` and ``impactsym reproduce``.
+
+Verdicts
+--------
+``exact-match``
+    The published form equals the derived one (proved symbolically, or exactly for numbers).
+``match-at-published-precision``
+    Published decimals agree with the derived value at the printed precision (the note says
+    whether by rounding or by truncation).
+``convention-difference``
+    Equal after a stated mapping of conventions (the note explains it).
+``erratum``
+    The published form is wrong; ``corrected`` holds the right form and the check proves it.
+``refuted``
+    The statement is false: a counterexample or a violated law is given.
+``definition``
+    A definition: nothing to check, recorded so that nothing is silently passed over.
+``not-checkable``
+    Cannot be checked (the note says why).
+
+Examples
+--------
+>>> import sympy as sp
+>>> x = sp.Symbol("x", positive=True)
+>>> identical(sp.sin(x)**2 + sp.cos(x)**2, 1).equal
+True
+>>> compare_decimal(sp.Rational(2, 3), "0.67")["agreement"]
+'rounding'
+>>> compare_decimal(sp.Rational(2, 3), "0.66")["agreement"]
+'truncation'
+"""
+
+from __future__ import annotations
+
+import random
+import time
+import traceback
+from dataclasses import dataclass, field
+from decimal import ROUND_DOWN, ROUND_HALF_EVEN, Decimal, localcontext
+from typing import Any, Callable
+
+import mpmath
+import sympy as sp
+
+__all__ = [
+    "VERDICTS", "PAPERS", "DIGITS", "Finding", "Claim", "Registered", "REGISTRY", "claim",
+    "evaluate", "evaluate_all", "identical", "Identity", "compare_decimal", "compare_decimals",
+    "conservation", "extremum", "text",
+]
+
+VERDICTS = (
+    "exact-match",
+    "match-at-published-precision",
+    "convention-difference",
+    "erratum",
+    "refuted",
+    "definition",
+    "not-checkable",
+)
+
+PAPERS = {
+    "seghete-murphey": "Seghete & Murphey, Variational Solutions to Simultaneous Collisions Between "
+    "Multiple Rigid Bodies",
+    "acary-taha": "Acary & Taha, Concurrent Multiple Impacts in Rigid Bodies: Formulation and Simulation",
+}
+
+#: working precision of every decimal comparison and every numerical identity fallback
+DIGITS = 50
+
+
+# --------------------------------------------------------------------------- records
+@dataclass
+class Finding:
+    """What a claim function returns: the evidence and the verdict it reached.
+
+    ``published`` is the faithful transcription as text; ``published_expr`` the same as a SymPy
+    object where it is a formula. ``derived`` is what impactsym computed (a SymPy object or a
+    plain value), never retyped. ``corrected`` is required for an erratum.
+    """
+
+    verdict: str
+    published: str
+    derived: Any = None
+    published_expr: Any = None
+    corrected: Any = None
+    note: str = ""
+    digits: int | None = None
+    evidence: dict = field(default_factory=dict)
+
+    def __post_init__(self):
+        if self.verdict not in VERDICTS:
+            raise ValueError(f"verdict: must be one of {VERDICTS}, got {self.verdict!r}")
+        if self.verdict == "erratum" and self.corrected is None:
+            raise ValueError("corrected: an erratum needs the corrected form")
+
+
+@dataclass
+class Claim:
+    """The full record of one claim, as reported by ``impactsym reproduce``."""
+
+    id: str
+    paper: str
+    ref: str
+    quantity: str
+    expected: str
+    verdict: str | None = None
+    published: str = ""
+    published_expr: Any = None
+    derived: Any = None
+    corrected: Any = None
+    note: str = ""
+    digits: int | None = None
+    evidence: dict = field(default_factory=dict)
+    status: str = "ok"  # ok | verdict-differs | raised
+    error: str = ""
+    seconds: float = 0.0
+
+    @property
+    def section(self) -> str:
+        return section_of(self.ref, self.paper)
+
+    def as_dict(self) -> dict:
+        return {
+            "id": self.id, "paper": self.paper, "ref": self.ref, "section": self.section,
+            "quantity": self.quantity, "published": self.published,
+            "published_expr": text(self.published_expr), "derived": text(self.derived),
+            "verdict": self.verdict, "expected": self.expected,
+            "corrected": text(self.corrected),
+            "corrected_latex": latex(self.corrected),
+            "note": self.note, "digits": self.digits,
+            "precision": "exact" if self.digits is None else f"{self.digits} digits",
+            "evidence": {k: text(v) for k, v in self.evidence.items()},
+            "status": self.status, "error": self.error, "seconds": round(self.seconds, 4),
+        }
+
+
+def text(obj) -> Any:
+    """A JSON-friendly text form: SymPy objects in ``str`` form, containers recursively."""
+    if obj is None or isinstance(obj, (bool, int, str)):
+        return obj
+    if isinstance(obj, float):
+        return obj
+    if isinstance(obj, dict):
+        return {str(k): text(v) for k, v in obj.items()}
+    if isinstance(obj, (list, tuple)):
+        return [text(x) for x in obj]
+    if isinstance(obj, sp.MatrixBase):
+        return [[str(x) for x in obj.row(i)] for i in range(obj.rows)]
+    return str(obj)
+
+
+def latex(obj) -> str | None:
+    if obj is None:
+        return None
+    if isinstance(obj, str):
+        return obj
+    if isinstance(obj, dict):
+        return ", \\quad ".join(f"{k} = {latex(v)}" for k, v in obj.items())
+    if isinstance(obj, (list, tuple)):
+        return ", ".join(latex(x) for x in obj)
+    try:
+        return sp.latex(obj)
+    except Exception:  # pragma: no cover - a non-SymPy object
+        return str(obj)
+
+
+#: the section of every numbered equation, in each paper's own numbering (for grouping)
+EQUATION_SECTIONS = {
+    "seghete-murphey": {"1a": "sec. II-A", "1b": "sec. II-A", "2a": "sec. II-B", "2b": "sec. II-B", "3": "sec. III-A",
+                        "4": "sec. III-B.2", "5": "sec. III-C", "6a": "sec. III-C", "6b": "sec. III-C"},
+    "acary-taha": {**{str(k): "sec. 2.1" for k in range(1, 9)}, **{str(k): "sec. 2.2" for k in range(9, 13)},
+                   **{str(k): "sec. 3.2" for k in range(13, 17)}, **{str(k): "sec. 3.3" for k in range(17, 20)},
+                   **{str(k): "sec. 3.4" for k in range(20, 24)}, **{str(k): "sec. 4.1" for k in range(24, 27)},
+                   **{str(k): "sec. 4.1.1" for k in range(27, 35)}, **{str(k): "sec. 4.2" for k in range(35, 38)},
+                   **{str(k): "sec. 5" for k in range(38, 42)}, **{str(k): "sec. 5.1" for k in range(42, 44)},
+                   **{str(k): "sec. 5.2" for k in range(44, 46)}},
+}
+
+#: the sections of each paper in reading order
+SECTION_ORDER = {
+    "seghete-murphey": ["sec. II-A", "sec. II-B", "sec. II-C.1", "sec. II-C.2", "sec. III-A", "sec. III-B",
+                        "sec. III-B.1", "sec. III-B.2", "sec. III-B.3", "sec. III-C", "sec. IV-B"],
+    "acary-taha": ["sec. 2.1", "sec. 2.2", "sec. 3.2", "sec. 3.3", "sec. 3.4", "sec. 4.1", "sec. 4.1.1", "sec. 4.2",
+                   "sec. 5", "sec. 5.1", "sec. 5.2"],
+}
+
+
+def section_of(ref: str, paper: str | None = None) -> str:
+    """The section a reference lives in, for grouping: ``sec. X`` refs name it; ``eq. N`` refs are
+    looked up in :data:`EQUATION_SECTIONS`.
+
+    >>> section_of("sec. III-B.3"), section_of("eq. 18", "acary-taha"), section_of("eq. 1a", "seghete-murphey")
+    ('sec. III-B.3', 'sec. 3.3', 'sec. II-A')
+    """
+    if ref.startswith("sec."):
+        return ref.split(",")[0]
+    m = ref.split("eq. ")[-1].strip()
+    return EQUATION_SECTIONS.get(paper or "", {}).get(m, "equations")
+
+
+def section_rank(paper: str, section: str) -> int:
+    order = SECTION_ORDER.get(paper, [])
+    return order.index(section) if section in order else len(order)
+
+
+# --------------------------------------------------------------------------- registry
+@dataclass
+class Registered:
+    id: str
+    paper: str
+    ref: str
+    quantity: str
+    expected: str
+    func: Callable[[], Finding]
+    order: int
+
+
+#: every claim of both papers, in registration order (id -> Registered)
+REGISTRY: dict[str, Registered] = {}
+
+
+def claim(id: str, *, paper: str, ref: str, quantity: str, expect: str):
+    """Register a claim function and pin the verdict it must reach.
+
+    Parameters
+    ----------
+    id : stable unique identifier (``sm-…`` / ``at-…``)
+    paper : ``"seghete-murphey"`` or ``"acary-taha"``
+    ref : ``eq. N`` for a numbered equation, else the section in the paper's numbering
+    quantity : what is checked
+    expect : the pinned verdict (one of :data:`VERDICTS`)
+
+    Returns
+    -------
+    The decorator; the function (no arguments, returns a :class:`Finding`) is stored in
+    :data:`REGISTRY`.
+
+    >>> @claim("doc-example", paper="acary-taha", ref="eq. 0", quantity="x", expect="definition")
+    ... def _example():
+    ...     return Finding("definition", "x := 1")
+    >>> evaluate("doc-example").status
+    'ok'
+    >>> del REGISTRY["doc-example"]
+    """
+    if paper not in PAPERS:
+        raise ValueError(f"paper: must be one of {sorted(PAPERS)}, got {paper!r}")
+    if expect not in VERDICTS:
+        raise ValueError(f"expect: must be one of {VERDICTS}, got {expect!r}")
+
+    def register(func):
+        if id in REGISTRY:
+            raise ValueError(f"id: {id!r} registered twice")
+        REGISTRY[id] = Registered(id, paper, ref, quantity, expect, func, len(REGISTRY))
+        func.claim_id = id
+        return func
+
+    return register
+
+
+#: findings already computed in this process, keyed by (claim id, claim function): a claim is a
+#: pure computation, so ``impactsym reproduce`` and the tests share one evaluation per process
+_MEMO: dict = {}
+
+
+def evaluate(claim_id: str) -> Claim:
+    """Run one claim function; never raises (a raising check is recorded with status ``raised``).
+
+    Parameters
+    ----------
+    claim_id : a key of :data:`REGISTRY`
+
+    Returns
+    -------
+    Claim
+        ``status`` is ``"ok"`` (verdict equals the pin), ``"verdict-differs"`` or ``"raised"``.
+    """
+    reg = REGISTRY[claim_id]
+    c = Claim(reg.id, reg.paper, reg.ref, reg.quantity, reg.expected)
+    t0 = time.perf_counter()
+    saved = mpmath.mp.prec
+    try:
+        key = (reg.id, reg.func)
+        f = _MEMO.get(key)
+        if f is None:
+            f = reg.func()
+        if isinstance(f, Finding):
+            _MEMO[key] = f
+        if not isinstance(f, Finding):
+            raise TypeError(f"claim {claim_id} returned {type(f).__name__}, not Finding")
+        c.verdict, c.published, c.published_expr = f.verdict, f.published, f.published_expr
+        c.derived, c.corrected, c.note, c.digits, c.evidence = (
+            f.derived, f.corrected, f.note, f.digits, f.evidence)
+        c.status = "ok" if c.verdict == c.expected else "verdict-differs"
+    except Exception as exc:  # recorded, reported, and fails the run
+        c.status = "raised"
+        c.error = f"{type(exc).__name__}: {exc}\n{traceback.format_exc(limit=6)}"
+    finally:
+        mpmath.mp.prec = saved
+    c.seconds = time.perf_counter() - t0
+    return c
+
+
+def load_all() -> None:
+    """Import the per-paper modules (registration happens at import)."""
+    from . import seghete_murphey  # noqa: F401  (registration order: Seghete & Murphey first)
+    from . import acary_taha  # noqa: F401
+
+
+def evaluate_all(paper: str | None = None) -> list[Claim]:
+    load_all()
+    regs = sorted(REGISTRY.values(), key=lambda r: r.order)
+    return [evaluate(r.id) for r in regs if paper is None or r.paper == paper]
+
+
+# --------------------------------------------------------------------------- symbolic identity
+@dataclass
+class Identity:
+    """The outcome of :func:`identical`: whether two expressions are equal, and how it was decided."""
+
+    equal: bool
+    method: str
+    counterexample: dict | None = None
+
+    def __bool__(self) -> bool:
+        return self.equal
+
+
+def _random_point(symbols, domain, rng):
+    point = {}
+    for s in symbols:
+        lo, hi = domain.get(s, (sp.Rational(1, 7), sp.Rational(13, 7)))
+        lo, hi = sp.Rational(lo), sp.Rational(hi)
+        k = rng.randint(1, 997)
+        point[s] = lo + (hi - lo) * sp.Rational(k, 998)
+    return point
+
+
+def identical(a, b, *, domain: dict | None = None, points: int = 8, seed: int = 20240611) -> Identity:
+    """Decide ``a == b`` for expressions or matrices.
+
+    Parameters
+    ----------
+    a, b : SymPy expressions or matrices (same shape)
+    domain : ``{symbol: (lo, hi)}`` for the random rational points (default ``(1/7, 13/7)``)
+    points : number of random points of the numerical fallback
+    seed : seed of the point generator (reproducible)
+
+    Returns
+    -------
+    Identity
+        ``equal`` and the ``method`` that decided it (and a counterexample point when unequal).
+
+    First ``simplify(a − b) == 0`` (a proof), then ``(a − b).equals(0)``, then evaluation at
+    ``points`` random rational points of ``domain`` (default ``(1/7, 13/7)`` per symbol) at
+    ``DIGITS + 10`` digits: all values below ``10^-DIGITS`` count as equal (stated as numerical
+    evidence in ``method``), one value above ``10^-(DIGITS/2)`` is a counterexample.
+
+    >>> x = sp.Symbol("x")
+    >>> r = identical(x**2, x)
+    >>> r.equal, r.method.split(" ")[0]
+    (False, 'counterexample')
+    """
+    A, B = sp.sympify(a), sp.sympify(b)
+    if isinstance(A, sp.MatrixBase) or isinstance(B, sp.MatrixBase):
+        A, B = sp.Matrix(A), sp.Matrix(B)
+        if A.shape != B.shape:
+            return Identity(False, f"shapes differ: {A.shape} vs {B.shape}")
+        diffs = list(A - B)
+    else:
+        diffs = [A - B]
+    symbolic = True
+    for d in diffs:
+        try:
+            if sp.simplify(d) == 0:
+                continue
+        except Exception:
+            pass
+        symbolic = False
+        break
+    if symbolic:
+        return Identity(True, "simplify(a - b) == 0")
+    free = sorted(set().union(*[d.free_symbols for d in diffs]), key=str)
+    rng = random.Random(seed)
+    domain = domain or {}
+    for _ in range(points if free else 1):
+        pt = _random_point(free, domain, rng)
+        for d in diffs:
+            val = sp.N(d.subs(pt), DIGITS + 10)
+            mag = abs(complex(val)) if val.is_number else None
+            if mag is None:
+                return Identity(False, f"not a number at {pt}: {val}")
+            if mag > 10 ** (-DIGITS // 2):
+                return Identity(False, f"counterexample at {pt}: a - b = {sp.N(val, 20)}", pt)
+    if not free:
+        return Identity(True, f"equal to {DIGITS + 10} digits (numbers; simplify did not close it)")
+    return Identity(True, f"simplify inconclusive; a - b < 1e-{DIGITS} at {points} random rational "
+                          f"points, {DIGITS + 10} digits")
+
+
+# --------------------------------------------------------------------------- decimals
+def _printed_places(printed: str) -> int:
+    s = printed.strip().lstrip("+-")
+    return len(s.split(".")[1]) if "." in s else 0
+
+
+def compare_decimal(value, printed: str, digits: int = DIGITS) -> dict:
+    """Compare an exact (or high-precision) value with a published decimal.
+
+    Parameters
+    ----------
+    value : exact SymPy number (or anything ``sympify`` accepts)
+    printed : the published decimal, as printed
+    digits : significant digits of the evaluation (≥ 50)
+
+    Returns
+    -------
+    dict
+        ``value`` (at ``digits``), ``places``, ``rounded``, ``truncated``, ``agreement``, ``error``.
+
+    The value is evaluated at ``digits`` significant digits, then rounded half-even and truncated
+    toward zero to the printed number of decimal places. ``agreement`` is ``"exact"`` when the
+    value equals the printed decimal, ``"rounding"``, ``"truncation"``, ``"rounding and
+    truncation"`` (both give the print), or ``"neither"``.
+
+    >>> compare_decimal(sp.Rational(1, 3), "0.33")["agreement"]
+    'rounding and truncation'
+    >>> compare_decimal(sp.Rational(1, 2), "0.5")["agreement"]
+    'exact'
+    """
+    v = sp.N(sp.sympify(value), digits)
+    places = _printed_places(printed)
+    with localcontext() as ctx:
+        ctx.prec = digits + 10
+        d = Decimal(str(v))
+        p = Decimal(printed.strip())
+        q = Decimal(1).scaleb(-places)
+        rounded = d.quantize(q, rounding=ROUND_HALF_EVEN)
+        truncated = d.quantize(q, rounding=ROUND_DOWN)
+        if d == p:
+            agreement = "exact"
+        elif rounded == p and truncated == p:
+            agreement = "rounding and truncation"
+        elif rounded == p:
+            agreement = "rounding"
+        elif truncated == p:
+            agreement = "truncation"
+        else:
+            agreement = "neither"
+        error = d - p
+    return {"value": str(v), "printed": printed, "places": places, "rounded": str(rounded),
+            "truncated": str(truncated), "agreement": agreement,
+            "error": f"{error:.3e}"}
+
+
+def compare_decimals(values, printed) -> dict:
+    """Compare many values; summary ``agreement`` is the set of per-entry agreements."""
+    rows = [compare_decimal(v, p) for v, p in zip(values, printed)]
+    kinds = sorted({r["agreement"] for r in rows})
+    return {"rows": rows, "kinds": kinds, "all_agree": "neither" not in kinds}
+
+
+# --------------------------------------------------------------------------- conservation
+def conservation(M, H, vminus, vplus, e=1) -> dict:
+    """Check a post-impact state against the impact equations, exactly.
+
+    Parameters
+    ----------
+    M, H : mass matrix (n×n) and gradient rows (k×n)
+    vminus, vplus : pre- and post-impact velocities (n)
+    e : energetic coefficient in force (``T⁺ = e T⁻``)
+
+    Returns
+    -------
+    dict
+        ``momentum`` (bool), ``p``, ``energy_residual`` (``T⁺ − eT⁻``), ``T_minus``, ``T_plus``,
+        ``Hv_plus``.
+
+    * momentum: ``M(v⁺ − v⁻) = Hᵀp`` has an exact solution ``p`` (least squares residual 0);
+    * impulses non-negative: ``p ≥ 0``;
+    * energy: ``T⁺ − e T⁻ = 0`` (``e`` the energetic coefficient in force);
+    * constraints: ``H v⁺ ≥ 0``.
+
+    >>> c = conservation(sp.eye(3), sp.Matrix([[-1, 1, 0], [0, -1, 1]]), sp.Matrix([1, 0, 0]),
+    ...                  sp.Matrix([0, 0, 1]))
+    >>> c["momentum"], c["energy_residual"], c["p"]
+    (True, 0, [1, 1])
+    """
+    M, H = sp.Matrix(M), sp.Matrix(H)
+    vm, vp = sp.Matrix(vminus), sp.Matrix(vplus)
+    rhs = M * (vp - vm)
+    p_syms = sp.symbols(f"p0:{H.rows}")
+    sol = sp.solve(list(H.T * sp.Matrix(p_syms) - rhs), p_syms, dict=True)
+    momentum = bool(sol)
+    p = [sp.nsimplify(sp.simplify(sol[0].get(s, s))) for s in p_syms] if sol else None
+    Tm = (vm.T * M * vm)[0, 0] / 2
+    Tp = (vp.T * M * vp)[0, 0] / 2
+    res = sp.nsimplify(sp.simplify(Tp - e * Tm))
+    w = [sp.simplify(x) for x in H * vp]
+    return {"momentum": momentum, "p": p, "energy_residual": res, "T_minus": sp.simplify(Tm),
+            "T_plus": sp.simplify(Tp), "Hv_plus": w}
+
+
+# --------------------------------------------------------------------------- extrema
+def extremum(f, x, x0, *, kind: str = "min") -> dict:
+    """First- and second-order test of a claimed extremum of ``f(x)`` at ``x0``.
+
+    Parameters
+    ----------
+    f : expression in ``x``;  x : the variable;  x0 : the claimed extremum (exact)
+    kind : ``"min"`` or ``"max"``
+
+    Returns
+    -------
+    dict
+        ``f'(x0)``, ``f''(x0)``, ``stationary``, ``second_order_sign``, ``holds``.
+
+    >>> x = sp.Symbol("x")
+    >>> extremum((x - 1)**2, x, 1)["holds"]
+    True
+    """
+    d1 = sp.simplify(sp.diff(f, x).subs(x, x0))
+    d2 = sp.simplify(sp.diff(f, x, 2).subs(x, x0))
+    stationary = identical(d1, 0).equal
+    sign = None
+    if not d2.free_symbols:
+        sign = 1 if d2 > 0 else (-1 if d2 < 0 else 0)
+    holds = stationary and ((sign == 1) if kind == "min" else (sign == -1))
+    return {"f'(x0)": d1, "f''(x0)": d2, "stationary": stationary, "second_order_sign": sign,
+            "holds": holds}
