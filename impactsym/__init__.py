@@ -18,6 +18,7 @@ from .laws.impulse_ratio import impulse_ratio_law
 from .laws.classical import energetic, han_gilmore, newton_moreau, poisson
 from .laws.coupling import apply_coupling, coupling_decision, impact_degree
 from .laws.two_surface import resolve_two_surfaces
+from .laws.sequential import resolve_sequential
 from .mechanics import (
     check_gradient,
     check_gradients,
@@ -38,7 +39,7 @@ __all__ = [
     "reflection_map", "reflect", "impulse_multiplier",
     "impulse_ratio_law", "newton_moreau", "poisson", "energetic", "han_gilmore",
     "apply_coupling", "coupling_decision", "impact_degree",
-    "resolve_two_surfaces",
+    "resolve_two_surfaces", "resolve_sequential",
     "check_mass_matrix", "check_gradient", "check_gradients", "check_velocity",
     "kinetic_energy", "m_normal", "kinetic_angle_cos", "kinetic_angle", "relative_velocity",
 ]

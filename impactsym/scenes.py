@@ -252,7 +252,7 @@ def balls_on_line(masses, radii, positions, velocities, walls=(), *, gap_toleran
                 contacts.append((f"wall@{wall}-{b + 1}", [(b, (side,)), (None, None)]))
     contacts = _dedupe(contacts)
     return _assemble(m, v, 1, contacts, exact, lambda inv: [f"x{b + 1}" for b in inv],
-                     {"builder": "balls_on_line", "walls": w})
+                     {"builder": "balls_on_line", "walls": w, "masses": m, "radii": r, "positions": x})
 
 
 def _dedupe(contacts):

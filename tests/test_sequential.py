@@ -86,6 +86,14 @@ def test_refusal_when_no_nonzero_velocity_is_valid():
     assert w is not None and any(w) and all(x >= 0 for x in sp.Matrix([[1, 0], [0, 1], [-1, 1]]) * w)
 
 
+def test_refusal_is_decided_exactly_in_float_mode_too():
+    with pytest.raises(DomainError, match="no non-zero velocity"):
+        resolve_sequential(np.array([[1.0]]), np.array([[1.0], [-1.0]]), np.array([1.0]))
+    # 1e-300 keeps the cone open: decided on the exact binary value, not on rounding
+    r = resolve_sequential(np.eye(2), np.array([[1.0, 0.0], [-1.0, 1e-300]]), np.array([-1.0, 0.0]), select=False)
+    assert r.witness is not None
+
+
 def test_cycle_is_reported_as_nontermination():
     # a ball between two walls (x) on a floor (y): it bounces between the walls for ever
     with pytest.raises(NonTermination, match="max_reflections"):

@@ -20,6 +20,7 @@ LAWS: dict[str, str] = {
     "energetic": "cli.resolve_classical:run_energetic",
     "han-gilmore": "cli.resolve_classical:run_han_gilmore",
     "two-surface": "cli.resolve_two_surface:run",
+    "sequential": "cli.resolve_sequential:run",
 }
 
 
@@ -43,6 +44,12 @@ def register(sub) -> None:
     p.add_argument("--masses", metavar="m", help='chain3: the three masses "m1,m2,m3"')
     p.add_argument("--velocities", metavar="v", help='chain3: the three pre-impact velocities "v1,v2,v3"')
     p.add_argument("--variant", metavar="V", help="poisson: paper (default) or glocker-pfeiffer")
+    p.add_argument("--reading", metavar="R", help="sequential: feasible set of the selection, energy (default) or cone")
+    p.add_argument("--max-reflections", metavar="K", help="sequential: cap on the reflections of one ordering")
+    p.add_argument("--float", action="store_true", help="sequential: float64 with certified branch decisions")
+    p.add_argument("--two-surface-path", metavar="P", help="sequential: closed-form (default) or iterate")
+    p.add_argument("--n-balls", metavar="N", help="sequential scenes cradle, balls-against-wall: number of balls")
+    p.add_argument("--strikers", metavar="K", help="sequential scene cradle: number of striking balls")
     add_json_flag(p)
     p.set_defaults(func=run, _resolve_parser=p)
 

@@ -3,6 +3,7 @@ answers exactly for exact input, in floats for float input, and at a chosen mpma
 on request.
 
 reflection     the single-impact map G_u and the restitution map G_u(e) (Seghete & Murphey sec. II-A)
+sequential     every impact ordering of a corner impact, any k surfaces, and the selection (Seghete & Murphey sec. III)
 two_surface    two-surface impacts in O(1): exact counts ceil(psi/beta), exit velocities (sec. III-B, III-C)
 impulse_ratio  the impulse-ratio law for any M, H (Acary & Taha eq. 38)
 classical      Newton/Moreau, Poisson, global energetic, Han-Gilmore sequential (Acary & Taha secs. 2.2, 3.2)

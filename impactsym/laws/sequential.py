@@ -43,7 +43,18 @@ Selection: two readings of the feasible set
 the cone is ``0``: all kinetic energy lost. Only the energy reading reproduces sec. III-B.3's
 "invariably … either v4a or v4b" (tested in ``tests/test_sequential_paper.py``): on the
 energy sphere the feasible set is the arc between the two outcomes, and the point of an arc
-nearest ``v0`` is an end point unless the arc contains ``v0``'s direction.
+nearest ``v0`` is an end point unless the arc contains ``v0``'s direction. When both orderings
+take four reflections the two end points are *equally* near ``v0`` (``G_b = G_a⁻¹`` and ``G_a`` is
+a kinetic isometry, so ``⟨G_a v0, v0⟩_M = ⟨v0, G_b v0⟩_M``): the projection is not unique and
+both are returned; when the lengths differ (3 and 4) one of them is selected.
+
+Two more findings are pinned in the tests: the printed ``G_u = −I`` of sec. III-B.3 is a misprint
+for ``diag(−1, 1)`` (the printed ``v4a``, ``v4b`` were computed with the latter), and for three or
+more surfaces the branching rule also produces orderings that no small gaps realize
+(``tests/test_simulate.py``), sometimes with outcomes that no realizable ordering gives: for balls
+of masses 1, 3, 4 against a wall with ``v0 = (−1, −3, 0)`` the rule gives 5 distinct outcomes from
+15 orderings, but only 1 ordering is realizable and every small-gap simulation ends at
+``(1/7, 5/7, 18/7)``. This resolver implements the paper's rule as stated (all orderings).
 
 The projection is computed exactly by enumerating the faces of the feasible polyhedron: for every
 linearly independent set ``T`` of outcomes and ``S`` of contacts, the affine subspace
@@ -406,8 +417,9 @@ class SequentialResolution:
     sign_tests : int
         Sign decisions ``H_i v`` made.
     exact_fallbacks : int
-        Float mode: decisions re-made exactly because the float bound straddled zero, plus
-        exact comparisons of nearby float outcomes. 0 in exact mode.
+        Float mode: decisions re-made exactly because the float bound straddled zero, plus the
+        exact comparisons that let such a state be shared in the DAG and that merge nearby float
+        outcomes. 0 in exact mode.
     exact : bool
         Whether the outcome velocities are exact.
     backend : str
@@ -453,7 +465,7 @@ class SequentialResolution:
         """
         if self._graph is None:  # two-surface closed form: one ordering per first surface
             for count, (order, idx) in enumerate(self._orders, 1):
-                yield tuple(order), idx
+                yield (tuple(order) if isinstance(order, tuple) else order), idx
                 if limit is not None and count >= limit:
                     return
             return
@@ -509,6 +521,8 @@ class _ExactSystem:
         self.coef = [F.norm(2 / s) if F is _Algebraic else fmpq(2) / s for s in self.s]
         self.rows = [[(j, h) for j, h in enumerate(r) if F.sign(h) != 0] for r in self.H]
         self.wcols = [[(j, w) for j, w in enumerate(c) if F.sign(w) != 0] for c in self.W]
+        #: column i of the Gram matrix H M^-1 H^T, sparse: how w = H v changes when surface i acts
+        self.gcols = [[(j, a) for j in range(k) if F.sign(a := self.w(self.W[i], j)) != 0] for i in range(k)]
 
     def w(self, v, i):
         F = self.F
@@ -565,30 +579,80 @@ def _postorder(g):
 
 
 def _aggregate(g, key_of):
-    """Per node: {outcome key: [count, min_len, max_len, rep_order]}; returns the root's."""
+    """Per node and outcome: ordering count, shortest and longest length, and a pointer to the
+    representative ordering (shortest, then lexicographically first: among equally short ones
+    the smallest first surface, then the child's representative). Returns the root's table as
+    ``{outcome key: [count, min_len, max_len, rep_order]}``."""
+    post = _postorder(g)
+    terminals = {key_of(g.vel[nd]) for nd in post if not g.children[nd]}
+    if len(terminals) == 1:  # one outcome (the cradles): plain lists instead of per-node dicts
+        (key,) = terminals
+        cnt = [0] * len(g.vel)
+        lo = [0] * len(g.vel)
+        hi = [0] * len(g.vel)
+        nxt: list = [None] * len(g.vel)
+        for node in post:
+            kids = g.children[node]
+            if not kids:
+                g.terminal_key[node] = key
+                cnt[node] = 1
+                continue
+            c, l, h, p = 0, None, 0, None
+            for i, child in kids:
+                c += cnt[child]
+                if hi[child] + 1 > h:
+                    h = hi[child] + 1
+                if l is None or (lo[child] + 1, i) < (l, p[0]):
+                    l, p = lo[child] + 1, (i, child)
+            cnt[node], lo[node], hi[node], nxt[node] = c, l, h, p
+        rep = []
+        node = g.root
+        while nxt[node] is not None:
+            i, node = nxt[node]
+            rep.append(i)
+        return {key: [cnt[g.root], lo[g.root], hi[g.root], tuple(rep)]}
     table: dict[int, dict] = {}
-    for node in _postorder(g):
+    best: dict[int, dict] = {}
+    ids: dict = {}
+    keys: list = []
+    for node in post:
         kids = g.children[node]
         if not kids:
             key = key_of(g.vel[node])
             g.terminal_key[node] = key
-            table[node] = {key: [1, 0, 0, ()]}
+            oid = ids.setdefault(key, len(ids))
+            if oid == len(keys):
+                keys.append(key)
+            table[node] = {oid: [1, 0, 0]}
+            best[node] = {oid: None}
             continue
         acc: dict = {}
+        ptr: dict = {}
         for i, child in kids:
-            for key, (cnt, lo, hi, rep) in table[child].items():
-                cand = (i,) + rep
-                if key not in acc:
-                    acc[key] = [cnt, lo + 1, hi + 1, cand]
+            for oid, (cnt, lo, hi) in table[child].items():
+                a = acc.get(oid)
+                if a is None:
+                    acc[oid] = [cnt, lo + 1, hi + 1]
+                    ptr[oid] = (lo + 1, i, child)
                 else:
-                    a = acc[key]
                     a[0] += cnt
-                    a[2] = max(a[2], hi + 1)
-                    if (len(cand), cand) < (len(a[3]), a[3]):
-                        a[3] = cand
-                    a[1] = min(a[1], lo + 1)
+                    if hi + 1 > a[2]:
+                        a[2] = hi + 1
+                    if lo + 1 < a[1]:
+                        a[1] = lo + 1
+                    if (lo + 1, i) < ptr[oid][:2]:
+                        ptr[oid] = (lo + 1, i, child)
         table[node] = acc
-    return table[g.root]
+        best[node] = ptr
+    out = {}
+    for oid, (cnt, lo, hi) in table[g.root].items():
+        rep = []
+        node = g.root
+        while best[node][oid] is not None:
+            _, i, node = best[node][oid]
+            rep.append(i)
+        out[keys[oid]] = [cnt, lo, hi, tuple(rep)]
+    return out
 
 
 def _check_inputs(mass_matrix, gradients, velocity, exact):
@@ -687,11 +751,28 @@ def resolve_sequential(mass_matrix, gradients, velocity, *, reading: str = "ener
     if two_surface == "closed-form" and system.k == 2 and _rank(system.H, F) == 2:
         return _two_surface_path(M, H, v0, system, exact, reading, select, witness)
     if exact:
-        def sign_of(v, i, node):
-            wi = system.w(v, i)
-            return F.sign(wi), wi
+        # a state is (v, w = H v); w is updated with the Gram matrix H M^-1 H^T, not recomputed
+        if F is _Rational:
+            def sign_of(state, i, node):
+                wi = state[1][i]
+                return (wi > 0) - (wi < 0), wi
+        else:
+            def sign_of(state, i, node):
+                wi = state[1][i]
+                return F.sign(wi), wi
 
-        g, tests = _explore(sign_of, _Reflector(system), system.v0, cap, {})
+        if F is _Rational:
+            def key_of(state):
+                return tuple([(x.p, x.q) for x in state[0]])
+        else:
+            def key_of(state):
+                return state[0]
+        if F is _Rational:
+            g, tests = _explore_rational(system, cap)
+        else:
+            w0 = tuple(system.w(system.v0, i) for i in range(system.k))
+            g, tests = _explore(sign_of, _Reflector(system), (system.v0, w0), cap, {}, key_of)
+            g.vel = [state[0] for state in g.vel]
         root_table = _aggregate(g, lambda v: v)
         fallbacks = 0
         keys = list(root_table)
@@ -750,7 +831,8 @@ def _two_surface_path(M, H, v0, system, exact, reading, select, witness):
     ts = resolve_two_surfaces(M, H, v0)
     groups: list = []  # [velocity, [orders], impulse, exact]
     for o in ts.outcomes:
-        order = tuple(o.order) if o.reflections <= 10_000 else o.order
+        # (reflections, first surface, order): a closed-form order may be too long for len()
+        order = (o.reflections, o.first, tuple(o.order) if o.reflections <= 10_000 else o.order)
         for grp in groups:
             if o.exact and grp[3] and all(certified_sign(a - b) == 0 for a, b in zip(o.velocity, grp[0])):
                 grp[1].append(order)
@@ -762,14 +844,13 @@ def _two_surface_path(M, H, v0, system, exact, reading, select, witness):
             groups.append([o.velocity, [order], o.impulse, o.exact])
     outcomes = []
     orders = []
-    key = lambda t: (len(t), tuple(t[:2]))  # noqa: E731 (the iteration's order: shortest, then first surface)
     for grp in groups:
-        grp[1] = sorted(grp[1], key=key)
-    groups.sort(key=lambda grp: key(grp[1][0]))
+        grp[1] = sorted(grp[1], key=lambda t: t[:2])  # the iteration's order: shortest, then first surface
+    groups.sort(key=lambda grp: grp[1][0][:2])
     for idx, (vel, ords, imp, _) in enumerate(groups):
-        lens = [len(t) for t in ords]
-        outcomes.append(Outcome(ords[0], lens[0], vel, imp, len(ords), min(lens), max(lens)))
-        orders.extend((t, idx) for t in ords)
+        lens = [t[0] for t in ords]
+        outcomes.append(Outcome(ords[0][2], lens[0], vel, imp, len(ords), min(lens), max(lens)))
+        orders.extend((t[2], idx) for t in ords)
     selected: tuple = ()
     all_exact = all(g[3] for g in groups)
     if select and (all_exact or not exact):
@@ -789,13 +870,36 @@ def _two_surface_path(M, H, v0, system, exact, reading, select, witness):
                                 method="two-surface closed form", bound=ts.bound, _orders=orders)
 
 
+def _rational_key(v):
+    """A hashable key of an fmpq vector (hashing fmpq itself goes through ``Fraction``, slowly)."""
+    return tuple((x.p, x.q) for x in v)
+
+
 class _Reflector:
     def __init__(self, system):
         self.system = system
         self.k = system.k
 
-    def __call__(self, v, i, wi):
-        return self.system.reflect(v, i, wi)
+    def __call__(self, state, i, wi):
+        v, w = state
+        sysm = self.system
+        F = sysm.F
+        c = sysm.coef[i] * wi
+        if F is _Rational:  # no normalization needed: fmpq is canonical
+            out = list(v)
+            for j, wj in sysm.wcols[i]:
+                out[j] = v[j] - c * wj
+            wn = list(w)
+            for j, a in sysm.gcols[i]:
+                wn[j] = w[j] - c * a
+            return (tuple(out), tuple(wn)), -c
+        out = list(v)
+        for j, wj in sysm.wcols[i]:
+            out[j] = F.norm(v[j] - c * wj)
+        wn = list(w)
+        for j, a in sysm.gcols[i]:
+            wn[j] = F.norm(w[j] - c * a)
+        return (tuple(out), tuple(wn)), F.norm(-c)
 
 
 def _merge_exact_keys(keys, F):
@@ -897,6 +1001,14 @@ def _float_search(M, H, v0, system, cap):
         s = F.sign(system.w(exact_state(node), i))
         return s, wi
 
+    def same_exact(node, i, cand):
+        stats["fallbacks"] += 1
+        v, _ = system.reflect(exact_state(node), i)
+        return v == exact_state(cand) if F is _Rational else all(
+            certified_sign(a - b) == 0 for a, b in zip(v, exact_state(cand)))
+
+    holder["same_exact"] = same_exact
+
     class _R:
         k = fs.k
 
@@ -932,7 +1044,7 @@ def _float_search(M, H, v0, system, cap):
     return g, tests, stats["fallbacks"], root_table, canon, fs
 
 
-def _explore(sign_of, reflect, v0, cap, holder):
+def _explore(sign_of, reflect, v0, cap, holder, key_of=lambda v: v):
     """Depth-first construction of the DAG of states, memoized on the velocity.
 
     ``sign_of(v, i, node) -> (sign, w_i)``; the graph is published in ``holder["g"]`` so that
@@ -959,7 +1071,7 @@ def _explore(sign_of, reflect, v0, cap, holder):
         return idx
 
     root = new_node(v0, None)
-    g.index[v0] = [root]
+    g.index[key_of(v0)] = [root]
     state = {root: 1}
     stack = [(root, iter(g.legal[root][0]))]
     while stack:
@@ -971,15 +1083,21 @@ def _explore(sign_of, reflect, v0, cap, holder):
             continue
         child_v, _ = reflect(g.vel[node], i, g.legal[node][1][i])
         child = None
-        for cand in g.index.get(child_v, ()):
+        ckey = key_of(child_v)
+        for cand in g.index.get(ckey, ()):
             if not g.fallback[cand]:
+                child = cand
+                break
+            # a node whose signs were decided exactly is shared only with the same exact state
+            same_exact = holder.get("same_exact")
+            if same_exact is not None and same_exact(node, i, cand):
                 child = cand
                 break
         if child is None:
             if len(stack) > cap:
                 raise _cap_error(cap)
             child = new_node(child_v, (node, i))
-            g.index.setdefault(child_v, []).append(child)
+            g.index.setdefault(ckey, []).append(child)
             g.children[node].append((i, child))
             state[child] = 1
             stack.append((child, iter(g.legal[child][0])))
@@ -989,6 +1107,69 @@ def _explore(sign_of, reflect, v0, cap, holder):
             g.children[node].append((i, child))
     g.root = root
     return g, counters["tests"]
+
+
+def _explore_rational(system, cap):
+    """:func:`_explore` specialized to rational data (the hot path of the benchmarks): states are
+    ``(v, w = H v)`` tuples of ``fmpq``, ``w`` is updated through the Gram matrix, the memo key is
+    the tuple of numerators and denominators of ``v`` (hashing ``fmpq`` goes through ``Fraction``)."""
+    k = system.k
+    coef, wcols, gcols = system.coef, system.wcols, system.gcols
+    g = _Graph()
+    vel, legal_of, children, parent = g.vel, g.legal, g.children, g.parent
+    ws_of = []
+    index = {}
+    tests = 0
+    v0 = system.v0
+    w0 = tuple(system.w(v0, i) for i in range(k))
+
+    def new_node(v, w, par):
+        nonlocal tests
+        idx = len(vel)
+        vel.append(v)
+        ws_of.append(w)
+        parent.append(par)
+        children.append([])
+        tests += k
+        legal_of.append(tuple(i for i in range(k) if w[i] < 0))
+        return idx
+
+    root = new_node(v0, w0, None)
+    index[tuple([(x.p, x.q) for x in v0])] = root
+    state = {root: 1}
+    stack = [(root, iter(legal_of[root]))]
+    while stack:
+        node, it = stack[-1]
+        i = next(it, None)
+        if i is None:
+            stack.pop()
+            state[node] = 2
+            continue
+        v, w = vel[node], ws_of[node]
+        c = coef[i] * w[i]
+        out = list(v)
+        for j, wj in wcols[i]:
+            out[j] = v[j] - c * wj
+        key = tuple([(x.p, x.q) for x in out])
+        child = index.get(key)
+        if child is None:
+            if len(stack) > cap:
+                raise _cap_error(cap)
+            wn = list(w)
+            for j, a in gcols[i]:
+                wn[j] = w[j] - c * a
+            child = new_node(tuple(out), tuple(wn), (node, i))
+            index[key] = child
+            children[node].append((i, child))
+            state[child] = 1
+            stack.append((child, iter(legal_of[child])))
+        else:
+            if state[child] == 1:
+                raise _cycle_error(cap)
+            children[node].append((i, child))
+    g.fallback = [False] * len(vel)
+    g.root = root
+    return g, tests
 
 
 # ---------------------------------------------------------------------------------------------

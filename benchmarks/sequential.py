@@ -1,0 +1,126 @@
+"""Sequential resolution (Seghete & Murphey sec. III-B): time, states and outcomes versus size.
+
+Run from the repository root::
+
+    python benchmarks/sequential.py            # writes benchmarks/results/sequential.md
+
+Cases (all with ``impactsym.laws.sequential.resolve_sequential``, selection included unless said):
+
+* the exact 3-ball cradle, ``v0 = [1, 0, 0]`` and ``[1, 1, 0]``: the default path (two contacts:
+  the O(1) two-surface closed form) and forced iteration (``two_surface="iterate"``);
+* n-ball cradles, n = 3 … 10, exact iteration, with one striker, with ``⌊n/2⌋`` strikers, and with
+  the distinct velocities ``v0 = (n, n−1, …, 1)`` (every contact approaching: the memoized DAG
+  holds all n! permutations that adjacent swaps reach; the number of orderings is the number of
+  reduced words of the longest permutation, astronomically larger);
+* float mode with certified branches against exact mode on the same cradles.
+
+Each timing is the median of repeated calls in one run (``time.perf_counter``), on a shared
+2-core machine (other jobs were running: the load is printed with the results).
+"""
+
+from __future__ import annotations
+
+import os
+import platform
+import statistics
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+
+sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
+
+from impactsym.laws.sequential import resolve_sequential  # noqa: E402
+from impactsym.models.seghete_murphey import cradle, three_ball_cradle  # noqa: E402
+
+
+def median_time(fn, repeat=15, budget=3.0):
+    times = []
+    start = time.perf_counter()
+    out = None
+    for _ in range(repeat):
+        t0 = time.perf_counter()
+        out = fn()
+        times.append(time.perf_counter() - t0)
+        if time.perf_counter() - start > budget and len(times) >= 3:
+            break
+    return statistics.median(times), len(times), out
+
+
+def fmt_ms(t):
+    return f"{t * 1e3:.2f}"
+
+
+def main() -> str:
+    lines = ["# Sequential resolution benchmark", "",
+             f"Python {platform.python_version()} on {platform.machine()}, "
+             f"load average at start {os.getloadavg()[0]:.2f} (2 cores, shared). Medians of repeated calls in one run.",
+             "Command: `python benchmarks/sequential.py`.", ""]
+
+    lines += ["## Exact 3-ball cradle (target < 5 ms)", "",
+              "| v0 | path | median ms | runs | outcome | orderings |", "|---|---|---|---|---|---|"]
+    worst_3 = 0.0
+    for v0 in ((1, 0, 0), (1, 1, 0), (1, 0, -1)):
+        sc = three_ball_cradle(velocities=v0)
+        for path in ("closed-form", "iterate"):
+            t, runs, r = median_time(lambda: resolve_sequential(sc.M, sc.H, sc.v, two_surface=path), repeat=30)
+            worst_3 = max(worst_3, t)
+            lines.append(f"| {list(v0)} | {r.method} | {fmt_ms(t)} | {runs} | {list(r.outcomes[0].velocity)} | {r.orderings} |")
+    lines += ["", f"Slowest: {fmt_ms(worst_3)} ms — target {'met' if worst_3 < 5e-3 else 'MISSED'}.", ""]
+
+    lines += ["## n-ball cradles, exact iteration (target: 8 balls, all orderings, < 2 s)", "",
+              "| n | v0 | median ms | runs | states visited | sign tests | distinct outcomes | orderings | longest ordering |",
+              "|---|---|---|---|---|---|---|---|---|"]
+    generic8 = None
+    for n in range(3, 11):
+        cases = [("1 striker", cradle(n, 1).v), (f"{n // 2} strikers", cradle(n, max(1, n // 2)).v)]
+        if n <= 9:
+            cases.append(("(n, …, 1)", list(range(n, 0, -1))))
+        H, M = cradle(n, 1).H, cradle(n, 1).M
+        for label, v0 in cases:
+            budget = 3.0 if n < 9 else 1.0
+            t, runs, r = median_time(lambda: resolve_sequential(M, H, v0, two_surface="iterate", select=(n < 9)),
+                                     repeat=9, budget=budget)
+            if n == 8 and label == "(n, …, 1)":
+                generic8 = t
+            lines.append(f"| {n} | {label} | {fmt_ms(t)} | {runs} | {r.states_visited} | {r.sign_tests} | "
+                         f"{len(r.outcomes)} | {r.orderings:.3e} | {r.max_reflections_used} |"
+                         if r.orderings > 10**6 else
+                         f"| {n} | {label} | {fmt_ms(t)} | {runs} | {r.states_visited} | {r.sign_tests} | "
+                         f"{len(r.outcomes)} | {r.orderings} | {r.max_reflections_used} |")
+    lines += ["", "Selection is included for n ≤ 8 (one outcome: the energy reading returns it at once); "
+              "n = 9 with distinct velocities (362880 states) is timed without it.", "",
+              f"8 balls, every contact approaching (the hardest 8-ball case): {fmt_ms(generic8)} ms — target "
+              f"{'met' if generic8 < 2 else 'MISSED'}. With strikers, the 8-ball cradle takes milliseconds.", ""]
+
+    lines += ["## Float mode (certified branches) against exact mode", "",
+              "| case | exact ms | float ms | states exact / float | float exact decisions | same orderings and outcomes |",
+              "|---|---|---|---|---|---|"]
+    for n, label, v0 in [(3, "3 balls [1,0,0]", [1, 0, 0]), (5, "5 balls 2 strikers", cradle(5, 2).v),
+                         (7, "7 balls (7..1)", list(range(7, 0, -1))), (8, "8 balls 4 strikers", cradle(8, 4).v),
+                         (8, "8 balls (8..1)", list(range(8, 0, -1)))]:
+        sc = cradle(n, 1)
+        Mf, Hf = np.array(sc.M, dtype=float), np.array(sc.H, dtype=float)
+        vf = np.array([float(x) for x in v0])
+        te, _, re = median_time(lambda: resolve_sequential(sc.M, sc.H, v0, two_surface="iterate", select=False), repeat=7)
+        tf, _, rf = median_time(lambda: resolve_sequential(Mf, Hf, vf, two_surface="iterate", select=False), repeat=7)
+        same = re.orderings == rf.orderings and [list(map(float, o.velocity)) for o in re.outcomes] == [
+            list(o.velocity) for o in rf.outcomes]
+        lines.append(f"| {label} | {fmt_ms(te)} | {fmt_ms(tf)} | {re.states_visited} / {rf.states_visited} | "
+                     f"{rf.exact_fallbacks} | {same} |")
+    lines += ["", "Float mode gives the same orderings and outcomes. It is not a big speed-up here: the exact",
+              "path already runs on python-flint rationals with a specialized explorer, while the float path",
+              "uses the generic one (plus the error bound on every sign test). Grazing contacts (relative",
+              "velocity exactly 0, as in every cradle with strikers) make float sign tests straddle zero by",
+              "construction; each is re-decided exactly by replaying the ordering in rationals, and a state so",
+              "decided is shared in the DAG only after an exact comparison (column 'float exact decisions').",
+              "Float mode is for float input (measured data), where it never takes a branch on rounding noise.", ""]
+    return "\n".join(lines)
+
+
+if __name__ == "__main__":
+    text = main()
+    out = Path(__file__).resolve().parent / "results" / "sequential.md"
+    out.write_text(text + "\n")
+    print(text)
