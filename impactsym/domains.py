@@ -92,6 +92,7 @@ class ValidityDomain:
     region: dict
     _member: Any = field(repr=False, default=None)
     sweep: list = field(default_factory=list)
+    tau: Any = None
 
     def contains(self, alpha_value, e_value) -> bool:
         """Exact membership of ``(α, e)`` (numbers or numeric text; floats by their exact value).
@@ -124,6 +125,8 @@ class ValidityDomain:
                "inequalities": list(self.inequalities), "region": reg}
         if self.theta is not None:
             out["theta_float"] = float(sp.N(self.theta, 17))
+        if self.tau is not None:
+            out["tau"], out["tau_float"] = exact_str(self.tau), float(sp.N(self.tau, 17))
         if self.sweep:
             out["theta_sweep"] = self.sweep
         return out
@@ -216,7 +219,7 @@ def _parse_theta(theta):
     return t
 
 
-def validity_domain(scene: str, theta=None) -> ValidityDomain:
+def validity_domain(scene: str, theta=None, tau=None) -> ValidityDomain:
     """The validity domain of the impulse-ratio law on a scene, exactly.
 
     Parameters
@@ -225,6 +228,9 @@ def validity_domain(scene: str, theta=None) -> ValidityDomain:
     theta : the pool's angle θ ∈ [0, 2π/3] (exact number, numeric text such as ``"pi/4"``, or a
         float, taken at its exact binary value). ``None`` for the pool gives the domain as a
         function of θ with a table over :data:`THETA_SWEEP`. Not accepted for ``"chain3"``.
+    tau : the pool's incidence angle τ (needs θ; default 0). For ``cos τ > 0`` the domain is the
+        τ = 0 domain mapped by ``e ↦ sin²τ + cos²τ e`` (derived, see :func:`_pool_tau`); for
+        ``cos τ ≤ 0`` contact 1–2 does not approach and the domain is empty (no impact, eq. 41).
 
     Returns
     -------
@@ -251,7 +257,77 @@ def validity_domain(scene: str, theta=None) -> ValidityDomain:
     """
     if scene not in SCENES:
         raise ImpactInputError("scene", f"unknown scene {scene!r}; known: {', '.join(SCENES)}")
+    if tau is not None:
+        if scene != "pool":
+            raise ImpactInputError("tau", "only the pool scene takes tau")
+        if theta is None:
+            raise ImpactInputError("tau", "needs theta (the domain at one (theta, tau))")
+        t = to_exact(tau, "tau") if not isinstance(tau, str) else parse_number(tau, "tau")
+        if certified_sign(abs(t) - sp.pi) > 0:
+            raise ImpactInputError("tau", f"must lie in [-pi, pi], got {t}")
+        if certified_sign(t) != 0:
+            return _pool_tau(_parse_theta(theta), t)
     return _validity_domain(scene, _parse_theta(theta) if scene == "pool" else theta)
+
+
+@lru_cache(maxsize=None)
+def _pool_tau(theta, tau) -> ValidityDomain:
+    """The pool's domain at incidence τ ≠ 0, derived from the general admissibility conditions.
+
+    The conditions of eq. 28 for ``pool(θ, τ)`` (:func:`derivations.domains.admissibility_conditions`)
+    are checked, symbolically at this (θ, τ), to equal the τ = 0 curves mapped by
+    ``e ↦ sin²τ + cos²τ e``: the tangential energy ``½ sin²τ`` is untouched by impulses along the
+    normals, and the normal problem is the τ = 0 problem scaled by ``cos τ``.
+
+    >>> d = validity_domain("pool", "pi/4", "pi/6")
+    >>> d.region["e"]
+    (4/7, 1)
+    >>> d.contains("sqrt(2)/4", "4/7"), d.contains("1/2", "1/2")
+    (True, False)
+    """
+    from derivations.domains import admissibility_conditions, pool_g, pool_h
+
+    from .models.acary_taha import pool
+
+    if certified_sign(theta - 2 * sp.pi / 3) == 0:
+        raise ImpactInputError("tau", "tau != 0 at theta = 2*pi/3 (three closed contacts) has no derived domain; "
+                               "use impactsym.laws.impulse_ratio for single points")
+    ct, st = sp.cos(tau), sp.sin(tau)
+    if certified_sign(ct) <= 0:
+        desc = "cos(tau) <= 0: contact 1-2 does not approach (no impact, eq. 41); the law has no solution to admit"
+        return ValidityDomain("pool", theta, [], [desc], {"empty": True, "description": desc},
+                              lambda a, ee: False, tau=tau)
+    base = _validity_domain("pool", theta)
+    cs = sp.cos(theta)
+    s2, c2 = st**2, ct**2
+    g_tau, h_tau = s2 + c2 * pool_g(cs), s2 + c2 * pool_h(cs)
+    cond = admissibility_conditions(pool(theta, tau), [alpha])
+    c1, c2_ = cond["contacts"]
+    derived_ok = (sp.simplify(c1["g"] - g_tau) == 0 and sp.simplify(cond["h"] - h_tau) == 0
+                  and c2_["b"] == 0 and sp.simplify(c2_["c"] - (2 * alpha - cs)) == 0)
+    if not derived_ok:  # pragma: no cover - a failed identity is a bug in the derivation
+        raise RuntimeError(f"pool domain at tau = {tau}: the derived conditions differ from the mapped tau = 0 curves")
+    bnds = [
+        base.boundaries[0],
+        Boundary("g_tau", "e", sp.simplify(g_tau),
+                 "e >= sin^2(tau) + cos^2(tau) g(alpha): v1+ >= 0 at contact 1-2 (derived for this (theta, tau); "
+                 "equal to eq. 29's curve mapped by e -> sin^2(tau) + cos^2(tau) e)"),
+        Boundary("h_tau", "e", sp.simplify(h_tau),
+                 "e >= sin^2(tau) + cos^2(tau) h(alpha): Delta >= 0 (eq. 31 corrected, mapped); implied by e >= g_tau"),
+        Boundary("e_max", "e", sp.Integer(1), "e <= 1: dissipative energetic coefficient (eq. 12)"),
+    ]
+    lo = base.region["alpha"][0]
+    emin = sp.nsimplify(sp.simplify(s2 + c2 * base.region["e"][0]))
+    region = {"alpha": base.region["alpha"], "e": (emin, sp.Integer(1)), "e_min_at": lo, "empty": False,
+              "description": (f"the tau = 0 domain mapped by e -> sin^2(tau) + cos^2(tau) e: alpha in "
+                              f"[{exact_str(lo)}, 1], e in [{exact_str(emin)}, 1]; the tangential energy "
+                              "sin^2(tau)/2 is never dissipated, so e >= sin^2(tau)")}
+
+    def member(a, ee):
+        return _ge(ee, 0) and _ge(1, ee) and base._member(a, (ee - s2) / c2)
+
+    ineq = [f"alpha >= {exact_str(lo)}", f"{exact_str(sp.simplify(g_tau))} <= e <= 1"]
+    return ValidityDomain("pool", theta, bnds, ineq, region, member, tau=tau)
 
 
 @lru_cache(maxsize=None)

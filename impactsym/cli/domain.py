@@ -17,18 +17,22 @@ def register(sub) -> None:
     p.add_argument("--scene", required=True, metavar="SCENE", help="one of: " + ", ".join(SCENES))
     p.add_argument("--theta", metavar="T",
                    help="pool angle theta in [0, 2*pi/3] (exact text: 'pi/4', '1/2'); omitted: the domain as a function of theta")
+    p.add_argument("--tau", metavar="TAU",
+                   help="pool incidence angle tau (needs --theta; default 0): the domain at (theta, tau)")
     add_json_flag(p)
     p.set_defaults(func=run)
 
 
 def run(args) -> dict:
-    return validity_domain(args.scene, args.theta).as_json()
+    return validity_domain(args.scene, args.theta, args.tau).as_json()
 
 
 def render(result: dict) -> str:
     head = f"validity domain of the impulse-ratio law, scene {result['scene']}"
     if result.get("theta") is not None:
         head += f", theta = {result['theta']}"
+    if result.get("tau") is not None:
+        head += f", tau = {result['tau']}"
     out = [head, "", "inequalities:"]
     out += [f"  {x}" for x in result["inequalities"]]
     out += ["", "boundary curves:"]
