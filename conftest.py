@@ -10,3 +10,15 @@ def _reset_mpmath_precision():
     saved = mpmath.mp.prec
     yield
     mpmath.mp.prec = saved
+
+
+# Hypothesis: derandomized, so CI explores the same examples (and takes the same time) on every
+# run; a failure found here is reproducible and gets pinned with @example. Set
+# IMPACTSYM_HYPOTHESIS_RANDOM=1 to explore fresh examples locally.
+import os
+
+from hypothesis import settings
+
+settings.register_profile("impactsym-ci", derandomize=True, print_blob=True)
+settings.register_profile("impactsym-explore", derandomize=False, print_blob=True)
+settings.load_profile("impactsym-explore" if os.environ.get("IMPACTSYM_HYPOTHESIS_RANDOM") else "impactsym-ci")

@@ -30,9 +30,9 @@ def problems(draw, max_k=3):
     return M, sp.Matrix(rows), sp.Matrix(v)
 
 
-def _resolve(M, H, v, **kw):
+def _resolve(M, H, v, max_reflections=40, **kw):
     try:
-        return resolve_sequential(M, H, v, max_reflections=40, **kw)
+        return resolve_sequential(M, H, v, max_reflections=max_reflections, **kw)
     except (DomainError, NonTermination):
         assume(False)
 
@@ -63,12 +63,14 @@ def test_outcomes_conserve_energy_are_valid_and_jump_in_the_momentum_cone(prob):
 @given(problems(), st.lists(st.integers(1, 4), min_size=3, max_size=3), st.randoms(use_true_random=False))
 def test_row_scaling_and_relabelling_do_not_change_outcomes(prob, scales, rnd):
     M, H, v = prob
-    r = _resolve(M, H, v, select=False)
+    # a tighter cap than elsewhere: the invariance needs no long orderings, and a few derandomized
+    # examples with long three-surface orderings cost minutes to resolve twice (measured: 188 s)
+    r = _resolve(M, H, v, max_reflections=16, select=False)
     k = H.shape[0]
     perm = list(range(k))
     rnd.shuffle(perm)
     H2 = sp.Matrix([[scales[i] * x for x in H[perm[i], :]] for i in range(k)])
-    r2 = _resolve(M, H2, v, select=False)
+    r2 = _resolve(M, H2, v, max_reflections=16, select=False)
     assert {tuple(o.velocity) for o in r.outcomes} == {tuple(o.velocity) for o in r2.outcomes}
     assert r.orderings == r2.orderings and r.states_visited == r2.states_visited
     if r.orderings <= 200:  # compare the full lists only when they are short (a prefix depends on labels)
