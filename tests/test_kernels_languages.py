@@ -21,6 +21,28 @@ def _check(values):
     assert max(ratios) <= 16, ratios
 
 
+def _closed_form_samples(lang: str):
+    """The kernel catalog, and one in-domain input per closed-form kernel that has a ``lang`` form,
+    with the NumPy kernel's (finite) outputs there: ``(catalog, [(kernel, inputs, outputs)])``."""
+    import math
+
+    from impactsym import kernels as K
+    from impactsym.hard_cases import HARD_CASES
+
+    cat = json.loads((KERNEL_DIR / "catalog.json").read_text())["kernels"]
+    samples = []
+    for k in cat:
+        if k["kind"] != "closed form" or k["code"][lang] is None:
+            continue
+        cases = [c for c in HARD_CASES if c.kernel == k["name"]]
+        inputs = cases[0].inputs if cases else {a: 0.4 + 0.05 * i for i, a in enumerate(k["args"])}
+        want = getattr(K, k["name"])(**inputs)
+        want = [float(x) for x in (want if isinstance(want, tuple) else (want,))]
+        if all(math.isfinite(x) for x in want):
+            samples.append((k, inputs, want))
+    return cat, samples
+
+
 @pytest.mark.skipif(shutil.which("rustc") is None, reason="rustc not on PATH (Rust toolchain not installed)")
 def test_rust_compiles_and_matches_reference(tmp_path):
     for rs in sorted((KERNEL_DIR / "rust").glob("*.rs")):
@@ -130,24 +152,11 @@ def test_cli_bench_unknown_formula_exits_2(capsys):
 @pytest.mark.skipif(shutil.which("rustc") is None, reason="rustc not on PATH (Rust toolchain not installed)")
 def test_rust_every_closed_form_matches_numpy(tmp_path):
     """Every closed-form kernel's Rust form, on one in-domain input each, equals the NumPy kernel."""
-    import math
-
     import numpy as np
 
-    from impactsym import kernels as K
-    from impactsym.hard_cases import HARD_CASES
-
-    cat = json.loads((KERNEL_DIR / "catalog.json").read_text())["kernels"]
+    cat, samples = _closed_form_samples("rust")
     calls, expected = [], []
-    for k in cat:
-        if k["kind"] != "closed form" or k["code"]["rust"] is None:
-            continue
-        cases = [c for c in HARD_CASES if c.kernel == k["name"]]
-        inputs = cases[0].inputs if cases else {a: 0.4 + 0.05 * i for i, a in enumerate(k["args"])}
-        want = getattr(K, k["name"])(**inputs)
-        want = [float(x) for x in (want if isinstance(want, tuple) else (want,))]
-        if not all(math.isfinite(x) for x in want):
-            continue
+    for k, inputs, want in samples:
         args = ", ".join(f"{float(inputs[a])!r}_f64" for a in k["args"])
         outs = ", ".join(f"o{i}" for i in range(len(k["outputs"])))
         pat = " ".join("{:e}" for _ in k["outputs"])
@@ -178,24 +187,11 @@ def _fortran_literal(x: float) -> str:
                     reason="gfortran not on PATH (Debian package gfortran; not installed by .ci/run)")
 def test_fortran_every_closed_form_matches_numpy(tmp_path):
     """Every closed-form kernel's Fortran form, on one in-domain input each, equals the NumPy kernel."""
-    import math
-
     import numpy as np
 
-    from impactsym import kernels as K
-    from impactsym.hard_cases import HARD_CASES
-
-    cat = json.loads((KERNEL_DIR / "catalog.json").read_text())["kernels"]
+    _, samples = _closed_form_samples("fortran")
     calls, expected = [], []
-    for k in cat:
-        if k["kind"] != "closed form" or k["code"]["fortran"] is None:
-            continue
-        cases = [c for c in HARD_CASES if c.kernel == k["name"]]
-        inputs = cases[0].inputs if cases else {a: 0.4 + 0.05 * i for i, a in enumerate(k["args"])}
-        want = getattr(K, k["name"])(**inputs)
-        want = [float(x) for x in (want if isinstance(want, tuple) else (want,))]
-        if not all(math.isfinite(x) for x in want):
-            continue
+    for k, inputs, want in samples:
         n = len(k["outputs"])
         args = ", &\n        ".join(_fortran_literal(inputs[a]) for a in k["args"])
         outs = ", ".join(f"o({i + 1})" for i in range(n))

@@ -232,17 +232,22 @@ def _rref(rows: list[list], ncols: int, F) -> tuple[list[list], list[int]]:
     return A[:r], pivots
 
 
-def _nullspace(rows: list[list], ncols: int, F) -> list[list]:
-    R, piv = _rref(rows, ncols, F)
-    free = [c for c in range(ncols) if c not in piv]
+def _kernel_basis(R: list[list], piv: list, m: int, F) -> list[list]:
+    """A basis of the solutions of the homogeneous system whose reduced row echelon form is
+    ``R`` with pivot columns ``piv``, over the first ``m`` columns: one vector per free column."""
     basis = []
-    for f in free:
-        x = [F.zero] * ncols
+    for f in (c for c in range(m) if c not in piv):
+        x = [F.zero] * m
         x[f] = F.one
         for i, p in enumerate(piv):
             x[p] = F.norm(-R[i][f])
         basis.append(x)
     return basis
+
+
+def _nullspace(rows: list[list], ncols: int, F) -> list[list]:
+    R, piv = _rref(rows, ncols, F)
+    return _kernel_basis(R, piv, ncols, F)
 
 
 def _solve_columns(cols: list[list], b: list, F):
@@ -256,15 +261,7 @@ def _solve_columns(cols: list[list], b: list, F):
     z0 = [F.zero] * m
     for i, p in enumerate(piv):
         z0[p] = R[i][m]
-    free = [c for c in range(m) if c not in piv]
-    basis = []
-    for f in free:
-        x = [F.zero] * m
-        x[f] = F.one
-        for i, p in enumerate(piv):
-            x[p] = F.norm(-R[i][f])
-        basis.append(x)
-    return z0, basis
+    return z0, _kernel_basis(R, piv, m, F)
 
 
 def _rank(vectors: list[list], F) -> int:
