@@ -483,6 +483,17 @@ def _arb_to_mpf(x: arb):
     return mpmath.mpf((int(man), int(exp)))
 
 
+def _certified_outcome(first, order, m, vel_b, imp_b, rad, digits) -> "TwoSurfaceOutcome":
+    """An outcome certified to ``digits`` significant digits, from the Arb balls of
+    :func:`_certified_exit`: mpmath midpoints and an error bound covering the ball's radius and
+    the rounding of the midpoints."""
+    with mpmath.workdps(digits + 5):
+        vel = mpmath.matrix([_arb_to_mpf(x) for x in vel_b])
+        imp = mpmath.matrix([_arb_to_mpf(x) for x in imp_b])
+        err = _arb_to_mpf(rad) * 2 + _mid_scale(vel) * mpmath.mpf(10) ** -(digits + 4)
+    return TwoSurfaceOutcome(first, order, m, vel, _floats(vel), imp, False, digits=digits, error_bound=err)
+
+
 def resolve_two_surfaces(mass_matrix, gradients, velocity, *, digits: int = DEFAULT_DIGITS,
                          max_exact_digits: int = DEFAULT_MAX_EXACT_DIGITS) -> TwoSurfaceResolution:
     """Resolve an impact against exactly two surfaces, every first-surface choice, in O(1).
@@ -584,12 +595,7 @@ def resolve_two_surfaces(mass_matrix, gradients, velocity, *, digits: int = DEFA
             want = digits if exact else 20
             vel_b, imp_b, rad = _certified_exit(df, m, want, W_ex, gram_ex, v_ex, first == 1)
             if exact:
-                with mpmath.workdps(digits + 5):
-                    vel = mpmath.matrix([_arb_to_mpf(x) for x in vel_b])
-                    imp = mpmath.matrix([_arb_to_mpf(x) for x in imp_b])
-                    err = _arb_to_mpf(rad) * 2 + _mid_scale(vel) * mpmath.mpf(10) ** -(digits + 4)
-                outcomes.append(TwoSurfaceOutcome(first, order, m, vel, _floats(vel), imp, False,
-                                                  digits=digits, error_bound=err))
+                outcomes.append(_certified_outcome(first, order, m, vel_b, imp_b, rad, digits))
             else:
                 vel = np.array([float(_arb_to_mpf(x)) for x in vel_b])
                 imp = np.array([float(_arb_to_mpf(x)) for x in imp_b])
@@ -602,12 +608,7 @@ def resolve_two_surfaces(mass_matrix, gradients, velocity, *, digits: int = DEFA
                 outcomes.append(TwoSurfaceOutcome(first, order, m, vel, _floats(vel), imp, True))
             else:
                 vel_b, imp_b, rad = _certified_exit(df, m, digits, W_ex, gram_ex, v_ex, first == 1)
-                with mpmath.workdps(digits + 5):
-                    vel = mpmath.matrix([_arb_to_mpf(x) for x in vel_b])
-                    imp = mpmath.matrix([_arb_to_mpf(x) for x in imp_b])
-                    err = _arb_to_mpf(rad) * 2 + _mid_scale(vel) * mpmath.mpf(10) ** -(digits + 4)
-                outcomes.append(TwoSurfaceOutcome(first, order, m, vel, _floats(vel), imp, False,
-                                                  digits=digits, error_bound=err))
+                outcomes.append(_certified_outcome(first, order, m, vel_b, imp_b, rad, digits))
         by_first[first] = outcomes[-1]
     return TwoSurfaceResolution(outcomes, by_first, bound, wedge, exact, decisions, d)
 
