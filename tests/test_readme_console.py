@@ -19,8 +19,8 @@ with the lines under it:
   never across lines). The README uses it where output is elided or depends on time or load.
 * Trailing whitespace of each line is ignored; nothing else is.
 
-On failure the message shows the unified diff and then the full real output, ready to paste
-into the README.
+On failure the message shows a line diff that knows ``...``, and then the full real output, ready
+to paste into the README.
 
 ``impactsym reproduce`` (the whole audit) is run here like every other command. The claim
 framework keeps each finding per process (``paper_checks.framework._MEMO``), so after
@@ -31,7 +31,6 @@ costs well under a second (0.09 s measured); run alone, this file pays for one a
 from __future__ import annotations
 
 import contextlib
-import difflib
 import io
 import re
 import shlex
@@ -132,6 +131,70 @@ def output_pattern(expected: list[str]) -> re.Pattern:
     return re.compile("".join(parts))
 
 
+def _is_ellipsis(line: str) -> bool:
+    return line.strip() == "..."
+
+
+def _line_matches(shown: str, real: str) -> bool:
+    return bool(re.fullmatch("[^\\n]*?".join(re.escape(p) for p in shown.rstrip().split("...")), real))
+
+
+def ellipsis_diff(expected: list[str], real: list[str]) -> str:
+    """A line diff that knows ``...``: a least-edit alignment in which a ``...`` line absorbs any
+    run of real lines at no cost (shown as ``  ...  [N lines]``); ``-`` marks a README line with
+    no real counterpart, ``+`` a real line the README lacks.
+
+    >>> print(ellipsis_diff(["a", "...", "x = ... s", "z"], ["a", "b", "c", "x = 1 s", "y"]))
+      a
+      ...  [2 lines]
+      x = ... s
+    - z
+    + y
+    """
+    # an edit costs EDIT, a line absorbed by ``...`` costs 1: among least-edit alignments, the one
+    # that matches the most lines (absorbs the fewest)
+    EDIT = len(real) + 1
+    E, R = len(expected), len(real)
+    INF = (E + R + 1) * EDIT
+    cost = [[INF] * (R + 1) for _ in range(E + 1)]
+    cost[0][0] = 0
+    for i in range(E + 1):
+        for j in range(R + 1):
+            if i == j == 0:
+                continue
+            best = INF
+            if i and _is_ellipsis(expected[i - 1]):
+                best = cost[i - 1][j]  # the ellipsis ends after real line j - 1
+                if j:
+                    best = min(best, cost[i][j - 1] + 1)  # ... and absorbs it
+            else:
+                if i and j and _line_matches(expected[i - 1], real[j - 1]):
+                    best = min(best, cost[i - 1][j - 1])
+                if i:
+                    best = min(best, cost[i - 1][j] + EDIT)
+                if j:
+                    best = min(best, cost[i][j - 1] + EDIT)
+            cost[i][j] = best
+    ops, i, j = [], E, R
+    while i or j:
+        if i and _is_ellipsis(expected[i - 1]):
+            k = j
+            while k and cost[i][k] != cost[i - 1][k]:
+                k -= 1
+            ops.append(f"  {expected[i - 1].rstrip()}  [{j - k} lines]")
+            i, j = i - 1, k
+        elif i and j and _line_matches(expected[i - 1], real[j - 1]) and cost[i][j] == cost[i - 1][j - 1]:
+            ops.append(f"  {expected[i - 1].rstrip()}")
+            i, j = i - 1, j - 1
+        elif j and cost[i][j] == cost[i][j - 1] + EDIT:  # (walking backwards: '-' before '+')
+            ops.append(f"+ {real[j - 1]}")
+            j -= 1
+        else:
+            ops.append(f"- {expected[i - 1].rstrip()}")
+            i -= 1
+    return "\n".join(reversed(ops))
+
+
 def normalize(out: str) -> str:
     return "".join(line.rstrip() + "\n" for line in out.splitlines())
 
@@ -171,10 +234,9 @@ def test_console_block_is_the_real_output(cmd: Command):
     if other:
         problems.append(f"unexpected {other_name}:\n{other}")
     if not output_pattern(cmd.expected).fullmatch(real):
-        diff = "\n".join(difflib.unified_diff(
-            [line.rstrip() for line in cmd.expected], real.splitlines(),
-            "README.md (shown)", "real output", lineterm=""))
-        problems.append(f"output differs from the README ('...' lines match any lines):\n{diff}")
+        diff = ellipsis_diff(cmd.expected, real.splitlines())
+        problems.append("output differs from the README ('-' README only, '+' real only, "
+                        f"'...  [N lines]' elided):\n{diff}")
     if problems:
         pytest.fail(f"README.md line {cmd.line}: {cmd.text}\n" + "\n\n".join(problems)
                     + "\n\nfull real output (paste into README.md, '...' where elided or time-dependent):\n"
