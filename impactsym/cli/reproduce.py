@@ -92,10 +92,13 @@ def run(args):
     raised = [c.id for c in claims if c.status == "raised"]
     differs = [c.id for c in claims if c.status == "verdict-differs"]
     ok = not raised and not differs and cross["ok"] and derivation["all_proven"]
+    kinds = Counter(c.evidence_kind for c in claims if c.evidence_kind)
     summary = {
         "claims": len(claims),
         "per_paper": per_paper,
         "per_verdict": {v: totals.get(v, 0) for v in VERDICTS},
+        "per_evidence_kind": dict(sorted(kinds.items())),
+        "judgments": [c.id for c in claims if c.judgment is not None],
         "raised": raised,
         "verdict_differs": differs,
         "crosscheck": cross,
@@ -140,6 +143,8 @@ def render(result: dict) -> str:
             out.append(f"  {section}")
             for c in cs:
                 flag = "" if c["status"] == "ok" else f"  [{c['status'].upper()}: pinned {c['expected']}]"
+                if c.get("judgment"):
+                    flag = "  (judgment)" + flag
                 out.append(f"    {c['verdict'] or 'ERROR':<29} {_short(c['ref'], 22):<22} {_short(c['quantity'], 52)}{flag}")
         pp = s["per_paper"][paper]
         out.append("  counts: " + ", ".join(f"{v} {pp[v]}" for v in VERDICTS if pp[v]) + f"  (total {pp['claims']})")
@@ -163,6 +168,8 @@ def render(result: dict) -> str:
     out.append("")
     out.append("Totals: " + ", ".join(f"{v} {n}" for v, n in s["per_verdict"].items() if n) + f"  ({s['claims']} claims, "
                f"{s['seconds']} s)")
+    out.append("Evidence: " + ", ".join(f"{k} {n}" for k, n in s["per_evidence_kind"].items())
+               + f"; (judgment) marks a reading of typography, {len(s['judgments'])} claims (reasons in --json)")
     if s["raised"]:
         out.append(f"RAISED: {s['raised']}")
     if s["verdict_differs"]:
