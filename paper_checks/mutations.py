@@ -194,3 +194,8 @@ def applied(name: str):
         for mod, key in patched:
             setattr(mod, key, original)
         clear_caches()
+
+
+# The mutants that only one paper's claims use live beside that paper's checks (one file each),
+# registered on import.
+from . import mutants_acary_taha, mutants_seghete_murphey  # noqa: E402,F401
