@@ -282,10 +282,10 @@ def pool_claims() -> dict:
     # θ > π/2: w₂⁺ > 0 always (c₂ = 2α − c > 0); w₁⁺ needs e ≥ g. Counterexample c = −1/4, α = 2, e = 1.
     cx = {c: -sp.Rational(1, 4), alpha: 2}
     p1 = 1 / A.subs(cx)  # e = 1: p₁ = −B/A = 1/A
-    w1 = sp.nsimplify(-1 + k1["c"].subs(cx) * p1)
+    w1 = sp.simplify(-1 + k1["c"].subs(cx) * p1)  # exact: rationals in, a rational out
     out["theta_gt_pi2_always_positive"] = {"verdict": "refuted" if w1 < 0 else "confirmed",
                                            "proof": {"cos_theta": -sp.Rational(1, 4), "alpha": 2, "e": 1, "v1+": w1,
-                                                     "v2+": sp.nsimplify(k2["c"].subs(cx) * p1),
+                                                     "v2+": sp.simplify(k2["c"].subs(cx) * p1),
                                                      "true_part": "v2+ = (2 alpha - cos theta) p1 > 0 for cos theta < 0"}}
     g_at_1 = sp.simplify(g.subs(alpha, 1))
     out["domain_nonempty"] = {"verdict": "confirmed" if g_at_1 == 1 else "refuted",
@@ -312,7 +312,7 @@ def pool_domain_at(cos_theta) -> dict:
     lo = sp.Max(0, cs / 2)
     emin_at = lo
     emin = sp.simplify(pool_g(cs).subs(alpha, emin_at))
-    return {"cos_theta": cs, "alpha_range": (sp.simplify(lo), sp.Integer(1)), "e_min": sp.nsimplify(emin) if emin.is_Rational else emin,
+    return {"cos_theta": cs, "alpha_range": (sp.simplify(lo), sp.Integer(1)), "e_min": emin,
             "e_min_at": sp.simplify(emin_at), "g": pool_g(cs), "h": pool_h(cs)}
 
 
@@ -337,7 +337,7 @@ def bernoulli_tau0_domain() -> dict:
     cross = [r for r in sp.Poly(sp.numer(sp.together(g1 - g3)), alpha).real_roots() if 0 < r < sp.Rational(2, 5)]
     assert len(cross) == 1
     a_star = cross[0]
-    e_min = sp.nsimplify(g1.subs(alpha, a_star)) if a_star.is_Rational else g1.subs(alpha, a_star)
+    e_min = g1.subs(alpha, a_star)
     return {"g1": g1, "g3": g3, "R3": k3["R"], "h": cond["h"], "c2": k2["c"], "alpha_range": (sp.Integer(0), sp.Integer(1)),
             "e_min_at": a_star, "e_min": sp.simplify(e_min)}
 

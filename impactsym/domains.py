@@ -317,7 +317,7 @@ def _pool_tau(theta, tau) -> ValidityDomain:
         Boundary("e_max", "e", sp.Integer(1), "e <= 1: dissipative energetic coefficient (eq. 12)"),
     ]
     lo = base.region["alpha"][0]
-    emin = sp.nsimplify(sp.simplify(s2 + c2 * base.region["e"][0]))
+    emin = sp.radsimp(sp.simplify(s2 + c2 * base.region["e"][0]))  # exact rewriting only
     region = {"alpha": base.region["alpha"], "e": (emin, sp.Integer(1)), "e_min_at": lo, "empty": False,
               "description": (f"the tau = 0 domain mapped by e -> sin^2(tau) + cos^2(tau) e: alpha in "
                               f"[{exact_str(lo)}, 1], e in [{exact_str(emin)}, 1]; the tangential energy "

@@ -79,7 +79,7 @@ def _exact_zero(x: sp.Expr) -> bool | None:
     if x.is_zero is not None:
         return bool(x.is_zero)
     try:
-        simp = sp.nsimplify(sp.radsimp(sp.simplify(x)))
+        simp = sp.radsimp(sp.simplify(x))  # exact rewriting only: nsimplify would round
         if simp == 0:
             return True
     except Exception:  # pragma: no cover - simplify failures are not decisions

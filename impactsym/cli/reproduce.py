@@ -71,15 +71,10 @@ def _section_key(section: str):
     return section
 
 
-def run(args):
-    from paper_checks.crosscheck import run_crosschecks
-    from paper_checks.framework import VERDICTS, evaluate_all
-
-    t0 = time.perf_counter()
-    claims = evaluate_all(args.paper)
-    derivation = _derivation_summary()
-    cross = run_crosschecks()
-    seconds = time.perf_counter() - t0
+def count_verdicts(claims) -> dict:
+    """``claims``, ``per_paper`` and ``per_verdict`` counts of evaluated claims (papers in reading
+    order, verdicts in :data:`paper_checks.framework.VERDICTS` order)."""
+    from paper_checks.framework import VERDICTS
 
     per_paper = OrderedDict()
     for paper in PAPER_ORDER:
@@ -89,13 +84,31 @@ def run(args):
         counts = Counter(c.verdict for c in cs if c.verdict)
         per_paper[paper] = {"claims": len(cs), **{v: counts.get(v, 0) for v in VERDICTS}}
     totals = Counter(c.verdict for c in claims if c.verdict)
+    return {"claims": len(claims), "per_paper": per_paper, "per_verdict": {v: totals.get(v, 0) for v in VERDICTS}}
+
+
+def run(args):
+    from paper_checks.crosscheck import run_crosschecks
+    from paper_checks.framework import evaluate_all
+
+    t0 = time.perf_counter()
+    claims = evaluate_all(args.paper)
+    derivation = _derivation_summary()
+    cross = run_crosschecks()
+    seconds = time.perf_counter() - t0
+
+    counted = count_verdicts(claims)
+    per_paper, totals = counted["per_paper"], counted["per_verdict"]
     raised = [c.id for c in claims if c.status == "raised"]
     differs = [c.id for c in claims if c.status == "verdict-differs"]
     ok = not raised and not differs and cross["ok"] and derivation["all_proven"]
+    kinds = Counter(c.evidence_kind for c in claims if c.evidence_kind)
     summary = {
         "claims": len(claims),
         "per_paper": per_paper,
-        "per_verdict": {v: totals.get(v, 0) for v in VERDICTS},
+        "per_verdict": totals,
+        "per_evidence_kind": dict(sorted(kinds.items())),
+        "judgments": [c.id for c in claims if c.judgment is not None],
         "raised": raised,
         "verdict_differs": differs,
         "crosscheck": cross,
@@ -111,6 +124,20 @@ def run(args):
 
 
 # --------------------------------------------------------------------------- text
+def verdict_table(summary: dict) -> str:
+    """The README's verdict table (Markdown), from a run's ``summary``: one row per paper and a
+    total, one column per verdict. ``tests/test_readme_verdicts.py`` checks the README against it.
+    """
+    from paper_checks.framework import VERDICTS
+
+    rows = ["| paper | claims | " + " | ".join(VERDICTS) + " |", "|---|---|" + "---|" * len(VERDICTS)]
+    for paper, pp in summary["per_paper"].items():
+        rows.append(f"| {paper} | {pp['claims']} | " + " | ".join(str(pp[v]) for v in VERDICTS) + " |")
+    rows.append(f"| **total** | **{summary['claims']}** | "
+                + " | ".join(str(summary["per_verdict"][v]) for v in VERDICTS) + " |")
+    return "\n".join(rows)
+
+
 def _short(s, width):
     s = "" if s is None else str(s).replace("\n", " ")
     return s if len(s) <= width else s[: width - 1] + "…"
@@ -140,6 +167,8 @@ def render(result: dict) -> str:
             out.append(f"  {section}")
             for c in cs:
                 flag = "" if c["status"] == "ok" else f"  [{c['status'].upper()}: pinned {c['expected']}]"
+                if c.get("judgment"):
+                    flag = "  (judgment)" + flag
                 out.append(f"    {c['verdict'] or 'ERROR':<29} {_short(c['ref'], 22):<22} {_short(c['quantity'], 52)}{flag}")
         pp = s["per_paper"][paper]
         out.append("  counts: " + ", ".join(f"{v} {pp[v]}" for v in VERDICTS if pp[v]) + f"  (total {pp['claims']})")
@@ -163,6 +192,8 @@ def render(result: dict) -> str:
     out.append("")
     out.append("Totals: " + ", ".join(f"{v} {n}" for v, n in s["per_verdict"].items() if n) + f"  ({s['claims']} claims, "
                f"{s['seconds']} s)")
+    out.append("Evidence: " + ", ".join(f"{k} {n}" for k, n in s["per_evidence_kind"].items())
+               + f"; (judgment) marks a reading of typography, {len(s['judgments'])} claims (reasons in --json)")
     if s["raised"]:
         out.append(f"RAISED: {s['raised']}")
     if s["verdict_differs"]:

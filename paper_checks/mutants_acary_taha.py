@@ -1,0 +1,5 @@
+"""Mutations used by the claims of ``paper_checks/acary_taha.py`` (see :mod:`paper_checks.mutations`)."""
+
+from __future__ import annotations
+
+from .mutations import corrupting, mutation  # noqa: F401
