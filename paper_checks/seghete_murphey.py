@@ -28,8 +28,16 @@ P = "seghete-murphey"
 I2 = sp.eye(2)
 
 
-def _cl(id, ref, quantity, expect):
-    return claim(id, paper=P, ref=ref, quantity=quantity, expect=expect)
+def _cl(id, ref, quantity, expect, mutations=()):
+    return claim(id, paper=P, ref=ref, quantity=quantity, expect=expect, mutations=mutations)
+
+
+#: the mutations (paper_checks/mutants_seghete_murphey.py) that the claims below depend on
+SINGLE = ("sm.derive_single_impact",)
+GENERAL = ("sm.derive_general",)
+PROOF = ("sm.run_proof",)
+REFL = ("reflection_map",)
+SEQ = ("sm.resolve_sequential",)
 
 
 # --------------------------------------------------------------------------- shared derivations
@@ -50,30 +58,52 @@ def _sym2():
 
 
 def _alternate(M, surfaces, v0, first: int, cap: int = 64):
-    """Sequential single impacts on two surfaces (sec. III-B): reflect across the first surface,
-    then across whichever surface the velocity still violates (``u v < 0``, decided exactly),
-    until valid. Uses :func:`impactsym.laws.reflection.reflection_map` for every impact.
+    """Sequential single impacts on two surfaces (sec. III-B), with the intermediate velocities:
+    reflect across the first surface, then across whichever surface the velocity still violates
+    (``u v < 0``, decided exactly or from the symbols' assumptions), until valid. Every impact is
+    :func:`impactsym.laws.reflection.reflection_map` applied exactly (no rounding); used where a
+    claim needs the intermediate velocities or a symbolic ``v0``
+    (:func:`impactsym.laws.sequential.resolve_sequential` takes numbers and returns outcomes only).
 
     Returns the list of velocities ``[v0, v1, ...]`` and the surfaces hit.
+
+    >>> vs, hits = _alternate(I2, [_mat([[1, 0]]), _mat([[-1, 1]])], _mat([-1, -2]), 0)
+    >>> list(vs[-1]), hits
+    ([1, 2], [0, 1, 0, 1])
     """
-    try:  # the package's sequential resolver, once it has landed
-        from impactsym.laws import sequential  # noqa: F401
-    except ImportError:
-        pass
     Gs = [reflection_map(M, u) for u in surfaces]
     us = [sp.Matrix([u]) if not isinstance(u, sp.MatrixBase) else u for u in surfaces]
     vs, hits = [sp.Matrix(v0)], []
     nxt = first
     for _ in range(cap):
-        v = Gs[nxt] * vs[-1]
-        vs.append(v.applyfunc(sp.nsimplify))
+        v = (Gs[nxt] * vs[-1]).applyfunc(sp.cancel)
+        vs.append(v)
         hits.append(nxt)
         bad = [i for i, u in enumerate(us) if _sign((u * v)[0, 0]) < 0]
         if not bad:
             return vs, hits
-        assert nxt not in bad, "a reflection leaves its own surface valid (u (G_u v) = -u v)"
+        if nxt in bad:
+            raise ArithmeticError(f"surface {nxt} is violated right after its own reflection: "
+                                  "u (G_u v) = -u v fails, so G_u is not the reflection of sec. II-A")
         nxt = bad[0]
-    raise RuntimeError("no valid velocity within the cap")
+    raise RuntimeError(f"no valid velocity within {cap} reflections")
+
+
+def _outcomes(M, H, v0, **kwargs):
+    """:func:`impactsym.laws.sequential.resolve_sequential`, with every outcome checked against the
+    impact laws exactly (:func:`paper_checks.framework.conservation`: momentum with impulses
+    ``p ≥ 0``, energy, ``H v⁺ ≥ 0``); an outcome that fails raises (a claim never builds on a
+    wrong outcome)."""
+    from impactsym.laws.sequential import resolve_sequential
+
+    r = resolve_sequential(M, H, v0, **kwargs)
+    for o in r.outcomes:
+        c = conservation(M, H, v0, o.velocity)
+        if not c["holds"]:
+            raise ArithmeticError(f"sequential outcome {list(o.velocity)} of v0 = {list(v0)} violates the "
+                                  f"impact laws: momentum {c['momentum']}, p >= 0 {c['impulses_nonnegative']}, "
+                                  f"energy residual {c['energy_residual']}, H v+ = {c['Hv_plus']}")
+    return r
 
 
 def _sign(x) -> int:
@@ -94,8 +124,21 @@ def _mat(rows):
     return sp.Matrix(rows)
 
 
+def _misprint(literal, jump, what: str) -> str:
+    """The verdict of an equation printed as an evaluation at one instant where the jump across
+    the impact is meant: ``exact-match`` when the derived outcome satisfies the literal form,
+    ``erratum`` when it satisfies the jump form and provably not the literal one. A derived
+    outcome that satisfies neither is no evidence either way: it raises."""
+    if literal.equal:
+        return "exact-match"
+    if jump.equal and literal.different:
+        return "erratum"
+    raise ArithmeticError(f"{what}: the derived outcome satisfies neither the printed form "
+                          f"({literal.status}: {literal.method}) nor the jump form ({jump.status}: {jump.method})")
+
+
 # =========================================================================== sec. II-A
-@_cl("sm-eq1a", "eq. 1a", "momentum balance at the impact", "erratum")
+@_cl("sm-eq1a", "eq. 1a", "momentum balance at the impact", "erratum", SINGLE)
 def eq1a():
     M, u, qm, lam, qp = _sym2()
     L_sym = sp.Symbol("lambda_A")
@@ -103,9 +146,8 @@ def eq1a():
     jump = (qp.T * M - qm.T * M).T + lam * u.T  # [dL/dqdot]_{t-}^{t+} + lambda Dphi
     lit = identical(literal, sp.zeros(2, 1))
     jmp = identical(jump, sp.zeros(2, 1))
-    assert jmp.equal and not lit.equal
     return Finding(
-        "erratum",
+        _misprint(lit, jmp, "eq. 1a"),
         published=r"\frac{\partial L}{\partial \dot q}\Big|_{t_A^+} + \lambda_A D\phi_A(q_A) = 0",
         published_expr=sp.Eq(sp.Symbol("p(t_A^+)") + L_sym * sp.Symbol("Dphi_A"), 0),
         derived=sp.simplify(jump),
@@ -118,16 +160,15 @@ def eq1a():
     )
 
 
-@_cl("sm-eq1b", "eq. 1b", "energy balance at the impact", "erratum")
+@_cl("sm-eq1b", "eq. 1b", "energy balance at the impact", "erratum", SINGLE)
 def eq1b():
     M, u, qm, lam, qp = _sym2()
     V = sp.Symbol("V")
     E = lambda v: (v.T * M * v)[0, 0] / 2 + V  # dL/dqdot . qdot - L = T + V
     lit = identical(E(qp), 0)
     jmp = identical(E(qp) - E(qm), 0)
-    assert jmp.equal and not lit.equal
     return Finding(
-        "erratum",
+        _misprint(lit, jmp, "eq. 1b"),
         published=r"\left[\frac{\partial L}{\partial \dot q}\cdot\dot q - L\right]_{t_A^+} = 0",
         derived=sp.simplify(E(qp) - E(qm)),
         corrected=r"\left[\frac{\partial L}{\partial \dot q}\cdot\dot q - L\right]_{t_A^-}^{t_A^+} = 0",
@@ -142,18 +183,21 @@ def lagrangian():
                    note="Simple mechanical system; impactsym's kinetic energy T = ½ vᵀMv (CONVENTIONS.md).")
 
 
-@_cl("sm-II-A-mass-hessian", "sec. II-A", "M = ∂²L/∂q̇²", "exact-match")
+@_cl("sm-II-A-mass-hessian", "sec. II-A", "M = ∂²L/∂q̇²", "exact-match", ("sm.kinetic_energy",))
 def mass_hessian():
+    from impactsym.mechanics import kinetic_energy
+
     M = drefl.symbolic_mass_matrix(3)
     qd = drefl.symbolic_vector(3, "qd")
-    L = (qd.T * M * qd)[0, 0] / 2 - sp.Function("V")(sp.Symbol("q"))
+    L = kinetic_energy(M, qd) - sp.Function("V")(sp.Symbol("q"))  # impactsym's T = ½ q̇ᵀMq̇
     Hs = sp.hessian(L, list(qd))
     r = identical(Hs, M)
     return Finding("exact-match" if r else "refuted", published=r"M(q) = \partial_{\dot q\dot q} L(q,\dot q)",
-                   derived=Hs, note=f"Hessian of L in q̇ for a symbolic symmetric 3×3 M: {r.method}.")
+                   derived=Hs, note=f"Hessian in q̇ of L = T − V (T from impactsym.mechanics.kinetic_energy) for a "
+                   f"symbolic symmetric 3×3 M: {r.method}.")
 
 
-@_cl("sm-II-A-expanded-momentum", "sec. II-A", "q̇⁺ᵀM − q̇⁻ᵀM + λ Dφ = 0", "exact-match")
+@_cl("sm-II-A-expanded-momentum", "sec. II-A", "q̇⁺ᵀM − q̇⁻ᵀM + λ Dφ = 0", "exact-match", SINGLE)
 def expanded_momentum():
     M, u, qm, lam, qp = _sym2()
     r = identical(qp.T * M - qm.T * M + lam * u, sp.zeros(1, 2))
@@ -163,7 +207,7 @@ def expanded_momentum():
                    "form of eq. 1a (evidence for the erratum there).")
 
 
-@_cl("sm-II-A-expanded-energy", "sec. II-A", "q̇⁺ᵀMq̇⁺ − q̇⁻ᵀMq̇⁻ = 0", "exact-match")
+@_cl("sm-II-A-expanded-energy", "sec. II-A", "q̇⁺ᵀMq̇⁺ − q̇⁻ᵀMq̇⁻ = 0", "exact-match", SINGLE)
 def expanded_energy():
     M, u, qm, lam, qp = _sym2()
     r = identical((qp.T * M * qp)[0, 0] - (qm.T * M * qm)[0, 0], 0)
@@ -172,7 +216,7 @@ def expanded_energy():
                    derived=0, note=f"Twice the energy jump of eq. 1b (V cancels); holds for the derived q̇⁺: {r.method}.")
 
 
-@_cl("sm-II-A-qplus-of-lambda", "sec. II-A", "q̇⁺ = q̇⁻ − λM⁻¹Dφᵀ", "exact-match")
+@_cl("sm-II-A-qplus-of-lambda", "sec. II-A", "q̇⁺ = q̇⁻ − λM⁻¹Dφᵀ", "exact-match", SINGLE)
 def qplus_of_lambda():
     M, u, qm, lam, qp = _sym2()
     pub = qm - lam * M.inv() * u.T
@@ -181,7 +225,7 @@ def qplus_of_lambda():
                    published_expr=pub, derived=qp, note=f"{r.method} (at the derived λ).")
 
 
-@_cl("sm-II-A-quadratic", "sec. II-A", "λ[λ DφM⁻¹Dφᵀ − (Dφq̇⁻ + q̇⁻ᵀDφᵀ)] = 0", "exact-match")
+@_cl("sm-II-A-quadratic", "sec. II-A", "λ[λ DφM⁻¹Dφᵀ − (Dφq̇⁻ + q̇⁻ᵀDφᵀ)] = 0", "exact-match", SINGLE)
 def quadratic():
     M, u, qm, _lam, _qp = _sym2()
     lam = sp.Symbol("lambda", real=True)
@@ -189,18 +233,29 @@ def quadratic():
     derived = sp.expand((qp.T * M * qp)[0, 0] - (qm.T * M * qm)[0, 0])
     pub = lam * (lam * (u * M.inv() * u.T)[0, 0] - ((u * qm)[0, 0] + (qm.T * u.T)[0, 0]))
     r = identical(derived, pub)
-    roots = _single(2).roots
+    d = _single(2)
+    roots = d.roots
+    # the derived multiplier must be the non-trivial root of the published bracket
+    root = identical(pub.subs(lam, d.lam) / d.lam, 0)
+    if not root.equal:
+        raise ArithmeticError(f"the derived λ does not solve the energy equation: {root.method}")
     return Finding("exact-match" if r else "erratum",
                    published=r"\lambda_A[\lambda_A(D\phi_A M^{-1} D\phi_A^T) - (D\phi_A\dot q_{A-} + \dot q_{A-}^T D\phi_A^T)] = 0",
                    published_expr=pub, derived=sp.factor(derived),
-                   note=f"Energy jump after substituting q̇⁺(λ): {r.method}. Roots found by SymPy: {roots}.")
+                   note=f"Energy jump after substituting q̇⁺(λ): {r.method}. Roots found by SymPy: {roots}; the "
+                        f"derived λ solves the bracket ({root.method}).")
 
 
-@_cl("sm-II-A-trivial-root", "sec. II-A", "λ = 0 discarded", "exact-match")
+@_cl("sm-II-A-trivial-root", "sec. II-A", "λ = 0 discarded", "exact-match", SINGLE)
 def trivial_root():
     d = _single(2)
     disc = [r for r, _ in d.discarded_roots]
-    ok = disc == [0] and len(d.roots) == 2
+    lam = sp.Symbol("lambda", real=True)
+    qp = d.qminus - lam * d.M.inv() * d.u.T  # eq. 1a solved for q̇⁺(λ)
+    energy = (qp.T * d.M * qp)[0, 0] - (d.qminus.T * d.M * d.qminus)[0, 0]
+    solve = [identical(energy.subs(lam, r), 0).equal for r in d.roots]
+    stays = identical(qp.subs(lam, 0), d.qminus).equal  # λ = 0 keeps q̇⁻
+    ok = disc == [0] and len(d.roots) == 2 and all(solve) and stays
     return Finding("exact-match" if ok else "refuted",
                    published="The solution λ_A = 0 is trivial and gives q̇_{A+} = q̇_{A−} ... we will discard this solution.",
                    derived={"roots": d.roots, "discarded": disc},
@@ -208,7 +263,7 @@ def trivial_root():
                         "('always false' holds for an approaching velocity; for grazing, u q̇⁻ = 0, the roots coincide).")
 
 
-@_cl("sm-II-A-lambda", "sec. II-A", "λ_A", "exact-match")
+@_cl("sm-II-A-lambda", "sec. II-A", "λ_A", "exact-match", SINGLE + GENERAL)
 def lambda_A():
     d = _single(2)
     d3 = _single(3)
@@ -220,7 +275,7 @@ def lambda_A():
                         "impulse is p = −λ (p ≥ 0 for an approaching velocity).")
 
 
-@_cl("sm-II-A-qplus", "sec. II-A", "q̇_{A+} = [I − 2M⁻¹DφᵀDφ/(DφM⁻¹Dφᵀ)] q̇_{A−}", "exact-match")
+@_cl("sm-II-A-qplus", "sec. II-A", "q̇_{A+} = [I − 2M⁻¹DφᵀDφ/(DφM⁻¹Dφᵀ)] q̇_{A−}", "exact-match", SINGLE)
 def qplus():
     d = _single(2)
     ok = d.matches_printed_G and _single(3).matches_printed_G
@@ -238,7 +293,7 @@ def G_u_def():
                    f"in general n (non-commutative algebra): matches_printed_lambda = {g.matches_printed_lambda}.")
 
 
-@_cl("sm-II-A-qplus-G", "sec. II-A", "q̇_{A+} = G_{Dφ_A} q̇_{A−}", "exact-match")
+@_cl("sm-II-A-qplus-G", "sec. II-A", "q̇_{A+} = G_{Dφ_A} q̇_{A−}", "exact-match", GENERAL)
 def qplus_G():
     g = drefl.derive_general()
     ok = drefl.rewrite(g.G * drefl.Q - g.qplus, drefl.RULES) == 0
@@ -247,32 +302,57 @@ def qplus_G():
 
 
 # =========================================================================== sec. II-B
-@_cl("sm-eq2a", "eq. 2a", "momentum balance, two surfaces", "erratum")
-def eq2a():
-    # the derived sequential outcome of sec. III-B.1 (M = I, u = [1,0], v = [-1,1]) from v0 = (-1, -2)
-    M = I2
-    u, v = _mat([[1, 0]]), _mat([[-1, 1]])
+def _two_surface_system():
+    """Sec. II-B on the billiard of sec. III-B.1: M = I, u = [1, 0], v = [−1, 1], v0 = (−1, −2),
+    and the sequential outcome of impactsym (checked against the impact laws)."""
+    M, H = I2, _mat([[1, 0], [-1, 1]])
     v0 = _mat([-1, -2])
-    vs, _ = _alternate(M, [u, v], v0, 0)
-    vf = vs[-1]
+    r = _outcomes(M, H, v0, select=False)
+    return M, H[0, :], H[1, :], v0, r
+
+
+@_cl("sm-eq2a", "eq. 2a", "momentum balance, two surfaces", "erratum", SEQ)
+def eq2a():
+    M, u, v, v0, r = _two_surface_system()
+    if len(r.outcomes) != 1:
+        raise ArithmeticError(f"equal masses: expected one sequential outcome, got {len(r.outcomes)}")
+    vf = r.outcomes[0].velocity
     la, lb = sp.symbols("lambda_A lambda_B")
-    jump = (M * (vf - v0) + la * u.T + lb * v.T)
-    sol = sp.solve(list(jump), [la, lb], dict=True)
-    literal_coeff = sp.zeros(2, 1)  # literal form M q̇(t_A^-) + λ_A u + λ_B v: q̇⁺ does not appear
-    ok = bool(sol) and all(certified_sign(x) <= 0 for x in sol[0].values())
+    qp = drefl.symbolic_vector(2, "qp")  # q̇(t_A^+), unknown
+    # transcriptions: the printed form evaluates ∂L/∂q̇ = M q̇ at t_A^- only; the jump form is
+    # [M q̇]_{t_A^-}^{t_A^+}; both plus λ_A Dφ_Aᵀ + λ_B Dφ_Bᵀ
+    literal = M * v0 + la * u.T + lb * v.T
+    jump = M * (qp - v0) + la * u.T + lb * v.T
+    literal_coeff = literal.jacobian(qp)  # how the printed form constrains q̇⁺
+    jump_coeff = jump.jacobian(qp)
+    at_vf = jump.subs(dict(zip(qp, vf)))
+    sol = sp.solve(list(at_vf), [la, lb], dict=True)
+    signs_ok = len(sol) == 1 and all(certified_sign(x) <= 0 for x in sol[0].values())
+    lit_sol = sp.solve(list(literal), [la, lb], dict=True)
+    lit_ok = len(lit_sol) == 1 and all(certified_sign(x) <= 0 for x in lit_sol[0].values())
+    if literal_coeff.rank() == M.rows and lit_ok:
+        verdict = "exact-match"  # the printed form determines q̇⁺ (never, for this transcription)
+    elif literal_coeff.is_zero_matrix and jump_coeff.rank() == M.rows and signs_ok:
+        verdict = "erratum"
+    else:
+        raise ArithmeticError(f"eq. 2a: the jump form does not hold at the sequential outcome {list(vf)} with "
+                              f"λ_A, λ_B <= 0 (multipliers {sol}), and the printed form does not determine q̇⁺")
     return Finding(
-        "erratum",
+        verdict,
         published=r"\frac{\partial L}{\partial \dot q}\Big|_{t_A^-} + \lambda_A D\phi_A(q_A) + \lambda_B D\phi_B(q_A) = 0",
-        derived={"v0": v0, "v_f": vf, "multipliers": sol[0] if sol else None},
+        published_expr=sp.Eq(literal, sp.zeros(2, 1)),
+        derived={"v0": v0, "v_f": vf, "multipliers": sol[0] if sol else None,
+                 "coefficient of q̇(t_A^+) in the printed form": literal_coeff},
         corrected=r"\left[\frac{\partial L}{\partial \dot q}\right]_{t_A^-}^{t_A^+} + \lambda_A D\phi_A(q_A) + \lambda_B D\phi_B(q_A) = 0",
-        note="Evaluated at t_A^- only, the equation does not contain q̇(t_A^+) (coefficient "
-             f"{list(literal_coeff)}), so it cannot determine the outcome. The sequential outcome "
-             f"v_f = {list(vf)} of v0 = {list(v0)} satisfies the jump form with λ_A, λ_B ≤ 0 "
-             f"(impulses p = −λ ≥ 0): {ok}. Same misprint as eq. 1a.",
+        note="Evaluated at t_A^- only, the equation does not contain q̇(t_A^+) (its Jacobian in q̇⁺ is "
+             f"{literal_coeff.tolist()}), so it cannot determine the outcome; the jump form's Jacobian is M. The "
+             f"sequential outcome v_f = {list(vf)} of v0 = {list(v0)} (impactsym.laws.sequential, conserving energy "
+             f"and momentum exactly) satisfies the jump form with λ_A, λ_B ≤ 0 (impulses p = −λ ≥ 0): "
+             f"{sol[0] if sol else None}. Same misprint as eq. 1a.",
     )
 
 
-@_cl("sm-eq2b", "eq. 2b", "energy jump, two surfaces", "exact-match")
+@_cl("sm-eq2b", "eq. 2b", "energy jump, two surfaces", "exact-match", PROOF)
 def eq2b():
     r = _proof("G^TMG=M", "n")
     return Finding("exact-match" if r.proven else "refuted",
@@ -282,25 +362,40 @@ def eq2b():
                         "conserves energy because each G_u is an M-isometry (proved in general n).")
 
 
-@_cl("sm-II-B-continuum", "sec. II-B", "(2) has a continuum of solutions", "exact-match")
+@_cl("sm-II-B-continuum", "sec. II-B", "(2) has a continuum of solutions", "exact-match", SEQ)
 def continuum():
-    M = I2
-    u, v = _mat([[1, 0]]), _mat([[-1, 1]])
-    v0 = _mat([-1, -2])
+    M, u, v, v0, r = _two_surface_system()
     la, lb = sp.symbols("lambda_A lambda_B", real=True)
-    vp = v0 - M.inv() * (la * u.T + lb * v.T)
-    energy = sp.expand((vp.T * M * vp)[0, 0] - (v0.T * M * v0)[0, 0])
-    sols = sp.solve(energy, la)
-    # a one-parameter family: for each lambda_B in an interval there is a real lambda_A
-    fam = [sp.simplify(s) for s in sols]
-    samples = [s.subs(lb, -sp.Rational(k, 4)) for s in fam for k in (1, 2, 3)]
-    real = all(x.is_real for x in samples)
-    return Finding("exact-match" if real and len(fam) == 2 else "refuted",
+    vp = v0 - M.inv() * (la * u.T + lb * v.T)  # momentum (jump form) solved for q̇⁺
+    energy = sp.expand((vp.T * M * vp)[0, 0] - (v0.T * M * v0)[0, 0])  # energy jump, eq. 2b
+    # energy = a λ_A² + b(λ_B) λ_A + c(λ_B): real λ_A exists iff disc(λ_B) >= 0
+    poly = sp.Poly(energy, la)
+    if poly.degree() != 2:
+        raise ArithmeticError(f"the energy equation is not quadratic in λ_A: {energy}")
+    disc = sp.expand(sp.discriminant(energy, la))
+    # the package's outcome is one solution: its multipliers lie on the family
+    vf = r.outcomes[0].velocity
+    mult = sp.solve(list(vp - vf), [la, lb], dict=True)
+    if len(mult) != 1 or energy.subs(mult[0]) != 0:
+        raise ArithmeticError(f"the sequential outcome {list(vf)} is not a solution of system (2): {mult}")
+    lb_star = mult[0][lb]
+    # a polynomial discriminant positive at λ_B* is positive on an open interval around it, where each
+    # λ_B has two distinct real λ_A: a continuum (proof, no sampling)
+    d_star = disc.subs(lb, lb_star)
+    sgn = certified_sign(d_star)
+    zeros = sorted(sp.real_roots(sp.Poly(disc, lb)), key=lambda x: sp.N(x, 30))
+    fam = sp.solve(energy, la)
+    verdict = "exact-match" if sgn > 0 else "refuted"
+    return Finding(verdict,
                    published="the system described by (2) will have a continuum of solutions instead of the two we found before",
-                   derived={"lambda_A(lambda_B)": fam},
-                   note="Momentum (jump form) + energy with two multipliers, M = I, u = [1,0], v = [−1,1], "
-                        "v0 = (−1,−2): the energy equation leaves λ_A a function of the free λ_B "
-                        "(two real branches at λ_B = −1/4, −1/2, −3/4: a continuum, not two solutions).")
+                   derived={"lambda_A(lambda_B)": fam, "discriminant in lambda_A": disc,
+                            "sequential outcome (lambda_A, lambda_B)": mult[0], "discriminant there": d_star,
+                            "real zeros of the discriminant": zeros},
+                   note="Momentum (jump form) and energy with two multipliers, M = I, u = [1,0], v = [−1,1], v0 = (−1,−2): "
+                        "the energy equation is quadratic in λ_A with discriminant disc(λ_B), a polynomial. At the "
+                        f"multipliers of impactsym's sequential outcome, λ_B = {lb_star}, disc = {d_star} > 0 (exact), so "
+                        "disc > 0 on an open interval of λ_B around it (between its real zeros "
+                        f"{zeros}), and every λ_B there gives two real λ_A: a continuum of solutions, not two (proved).")
 
 
 # =========================================================================== sec. II-C
