@@ -1,10 +1,16 @@
 """Seghete & Murphey, *Variational Solutions to Simultaneous Collisions Between Multiple Rigid
 Bodies*: every equation, display, example and statement, one claim function each.
 
-Every ``derived`` value comes from impactsym (``derivations.reflection``,
-``impactsym.laws.reflection``, and the sequential and two-surface modules once they land);
-published forms are transcriptions, misprints included. Sections are the paper's own (II-A, ...,
-III-C).
+Every ``derived`` value comes from impactsym (``derivations.reflection``, ``derivations.two_surface``,
+``impactsym.laws.reflection``, ``impactsym.laws.sequential``, ``impactsym.scenes``); published forms
+are transcriptions, misprints included. Sections are the paper's own (II-A, ..., III-C).
+
+Every verdict other than ``definition`` is chosen by a computation: each claim declares the
+mutations (``paper_checks/mutants_seghete_murphey.py``) of the derivations and laws it rests on,
+and ``paper_checks/test_mutations.py`` checks that each of them moves the verdict or makes the
+claim raise. A derived value is checked before it is trusted (a reflection map must be a
+reflection, a sequential outcome must conserve momentum and energy with ``p ≥ 0``); when it is
+not, the claim raises rather than report an erratum against a wrong reference.
 
 >>> from paper_checks.framework import evaluate
 >>> evaluate("sm-II-A-lambda").verdict
@@ -71,7 +77,7 @@ def _alternate(M, surfaces, v0, first: int, cap: int = 64):
     >>> list(vs[-1]), hits
     ([1, 2], [0, 1, 0, 1])
     """
-    Gs = [reflection_map(M, u) for u in surfaces]
+    Gs = [_G(M, u) for u in surfaces]
     us = [sp.Matrix([u]) if not isinstance(u, sp.MatrixBase) else u for u in surfaces]
     vs, hits = [sp.Matrix(v0)], []
     nxt = first
@@ -222,7 +228,7 @@ def qplus_of_lambda():
     pub = qm - lam * M.inv() * u.T
     r = identical(qp, pub)
     return Finding("exact-match" if r else "erratum", published=r"\dot q_{A+} = \dot q_{A-} - \lambda_A M^{-1} D\phi_A^T",
-                   published_expr=pub, derived=qp, note=f"{r.method} (at the derived λ).")
+                   published_expr=pub, derived=qp, corrected=None if r else qp, note=f"{r.method} (at the derived λ).")
 
 
 @_cl("sm-II-A-quadratic", "sec. II-A", "λ[λ DφM⁻¹Dφᵀ − (Dφq̇⁻ + q̇⁻ᵀDφᵀ)] = 0", "exact-match", SINGLE)
@@ -239,7 +245,7 @@ def quadratic():
     root = identical(pub.subs(lam, d.lam) / d.lam, 0)
     if not root.equal:
         raise ArithmeticError(f"the derived λ does not solve the energy equation: {root.method}")
-    return Finding("exact-match" if r else "erratum",
+    return Finding("exact-match" if r else "erratum", corrected=None if r else sp.Eq(sp.factor(derived), 0),
                    published=r"\lambda_A[\lambda_A(D\phi_A M^{-1} D\phi_A^T) - (D\phi_A\dot q_{A-} + \dot q_{A-}^T D\phi_A^T)] = 0",
                    published_expr=pub, derived=sp.factor(derived),
                    note=f"Energy jump after substituting q̇⁺(λ): {r.method}. Roots found by SymPy: {roots}; the "
@@ -268,7 +274,7 @@ def lambda_A():
     d = _single(2)
     d3 = _single(3)
     ok = d.matches_printed_lambda and d3.matches_printed_lambda and drefl.derive_general().matches_printed_lambda
-    return Finding("exact-match" if ok else "erratum",
+    return Finding("exact-match" if ok else "erratum", corrected=None if ok else d.lam,
                    published=r"\lambda_A = \frac{2 D\phi_A \dot q_{A-}}{D\phi_A M^{-1} D\phi_A^T}",
                    published_expr=drefl.printed_lambda(d.M, d.u, d.qminus), derived=d.lam,
                    note="Derived for symbolic M, u, q̇⁻ (n = 2, 3) and in general n. Convention: impactsym's "
@@ -279,7 +285,7 @@ def lambda_A():
 def qplus():
     d = _single(2)
     ok = d.matches_printed_G and _single(3).matches_printed_G
-    return Finding("exact-match" if ok else "erratum",
+    return Finding("exact-match" if ok else "erratum", corrected=None if ok else d.G,
                    published=r"\dot q_{A+} = \left[I - 2\frac{M^{-1}D\phi_A^T D\phi_A}{D\phi_A M^{-1} D\phi_A^T}\right]\dot q_{A-}",
                    published_expr=drefl.printed_G(d.M, d.u), derived=d.G,
                    note="∂q̇⁺/∂q̇⁻ of the derived root equals the printed bracket exactly (n = 2, 3).")
@@ -433,6 +439,7 @@ def gradients_billiard():
     ok = gu == pub_u and gv == pub_v
     return Finding("exact-match" if ok else "erratum", published=r"\nabla\phi_u = [1,0]^T,\ \nabla\phi_v = [-1,1]^T",
                    derived={"grad_u": gu, "grad_v": gv, "impactsym scene rows": rows},
+                   corrected=None if ok else {"grad_u": gu, "grad_v": gv},
                    note="SymPy gradients of the proximity functions, equal to the rows impactsym.scenes.balls_on_line "
                         "builds for a wall and two touching balls.")
 
@@ -451,7 +458,7 @@ def gradients_cradle():
         raise ArithmeticError(f"the gradients of φ_u, φ_v ({gu}, {gv}) differ from impactsym's scene rows {rows}")
     ok = gu == _mat([[-1, 1, 0]]) and gv == _mat([[0, -1, 1]])
     return Finding("exact-match" if ok else "erratum", published=r"\nabla\phi_u = [-1,1,0]^T,\ \nabla\phi_v = [0,-1,1]^T",
-                   derived={"grad_u": gu, "grad_v": gv})
+                   derived={"grad_u": gu, "grad_v": gv}, corrected=None if ok else {"grad_u": gu, "grad_v": gv})
 
 
 @_cl("sm-II-C2-four-parts", "sec. II-C.2", "two planes split R³ in four parts", "exact-match", ("sm.balls_on_line",))
@@ -609,17 +616,18 @@ def branches_are_perturbations():
 
 @_cl("sm-III-B1-G", "sec. III-B.1", "G_u, G_v (equal masses)", "exact-match", REFL)
 def b1_G():
-    Gu, Gv = reflection_map(I2, "1,0"), reflection_map(I2, "-1,1")
+    Gu, Gv = _G(I2, "1,0"), _G(I2, "-1,1")
     ok = Gu == _mat([[-1, 0], [0, 1]]) and Gv == _mat([[0, 1], [1, 0]])
     return Finding("exact-match" if ok else "erratum", published=r"G_u = \begin{bmatrix}-1&0\\0&1\end{bmatrix},\ G_v = \begin{bmatrix}0&1\\1&0\end{bmatrix}",
-                   derived={"G_u": Gu, "G_v": Gv}, note="impactsym.reflection_map, exact.")
+                   derived={"G_u": Gu, "G_v": Gv}, corrected=None if ok else {"G_u": Gu, "G_v": Gv},
+                   note="impactsym.reflection_map, exact (each checked to be a reflection).")
 
 
 @_cl("sm-III-B1-v1", "sec. III-B.1", "after G_u: v v1 ≤ 0, u v1 ≥ 0", "exact-match", REFL)
 def b1_v1():
     x, y = sp.symbols("x y", nonnegative=True)
     v0 = _mat([-x, -x - y])  # u v0 = -x <= 0, v v0 = -y <= 0
-    v1 = reflection_map(I2, "1,0") * v0
+    v1 = _G(I2, "1,0") * v0
     uv, vv = (_mat([[1, 0]]) * v1)[0, 0], (_mat([[-1, 1]]) * v1)[0, 0]
     ok = sp.simplify(uv - x) == 0 and sp.simplify(vv + 2 * x + y) == 0
     return Finding("exact-match" if ok else "refuted", published=r"v v_1 \le 0,\ u v_1 \ge 0",
@@ -628,10 +636,10 @@ def b1_v1():
 
 @_cl("sm-III-B1-v4", "sec. III-B.1", "v_4 = G_vG_uG_vG_u v0 = −v0", "exact-match", REFL)
 def b1_v4():
-    Gu, Gv = reflection_map(I2, "1,0"), reflection_map(I2, "-1,1")
+    Gu, Gv = _G(I2, "1,0"), _G(I2, "-1,1")
     P4 = Gv * Gu * Gv * Gu
     return Finding("exact-match" if P4 == -I2 else "erratum", published=r"v_4 = G_vG_uG_vG_u v_0 = -v_0",
-                   derived=P4)
+                   derived=P4, corrected=None if P4 == -I2 else P4)
 
 
 @_cl("sm-III-B1-previous-invalid", "sec. III-B.1", "v1, v2, v3 are not valid", "exact-match", REFL)
@@ -648,10 +656,11 @@ def b1_previous():
 
 @_cl("sm-III-B1-commute", "sec. III-B.1", "G_vG_uG_vG_u = G_uG_vG_uG_v = −I", "exact-match", REFL)
 def b1_commute():
-    Gu, Gv = reflection_map(I2, "1,0"), reflection_map(I2, "-1,1")
+    Gu, Gv = _G(I2, "1,0"), _G(I2, "-1,1")
     a, b = Gv * Gu * Gv * Gu, Gu * Gv * Gu * Gv
     return Finding("exact-match" if a == b == -I2 else "erratum",
-                   published=r"G_vG_uG_vG_u = G_uG_vG_uG_v = -I", derived={"a": a, "b": b})
+                   published=r"G_vG_uG_vG_u = G_uG_vG_uG_v = -I", derived={"a": a, "b": b},
+                   corrected=None if a == b == -I2 else {"GvGuGvGu": a, "GuGvGuGv": b})
 
 
 @_cl("sm-III-B1-examples", "sec. III-B.1", "balls together bounce together; moving ball bounces", "exact-match", REFL)
@@ -669,19 +678,20 @@ def b1_examples():
 
 @_cl("sm-III-B2-G", "sec. III-B.2", "G_u, G_v (cradle)", "exact-match", REFL)
 def b2_G():
-    Gu, Gv = reflection_map(sp.eye(3), "-1,1,0"), reflection_map(sp.eye(3), "0,-1,1")
+    Gu, Gv = _G(sp.eye(3), "-1,1,0"), _G(sp.eye(3), "0,-1,1")
     ok = Gu == _mat([[0, 1, 0], [1, 0, 0], [0, 0, 1]]) and Gv == _mat([[1, 0, 0], [0, 0, 1], [0, 1, 0]])
     return Finding("exact-match" if ok else "erratum", published="G_u = [[0,1,0],[1,0,0],[0,0,1]], G_v = [[1,0,0],[0,0,1],[0,1,0]]",
-                   derived={"G_u": Gu, "G_v": Gv})
+                   derived={"G_u": Gu, "G_v": Gv}, corrected=None if ok else {"G_u": Gu, "G_v": Gv})
 
 
 @_cl("sm-eq4", "eq. 4", "v_f = G_uG_vG_u v0 = G_vG_uG_v v0", "exact-match", REFL)
 def eq4():
-    Gu, Gv = reflection_map(sp.eye(3), "-1,1,0"), reflection_map(sp.eye(3), "0,-1,1")
+    Gu, Gv = _G(sp.eye(3), "-1,1,0"), _G(sp.eye(3), "0,-1,1")
     a, b = Gu * Gv * Gu, Gv * Gu * Gv
     pub = _mat([[0, 0, 1], [0, 1, 0], [1, 0, 0]])
     return Finding("exact-match" if a == b == pub else "erratum", published=r"G_uG_vG_u = G_vG_uG_v = \mathrm{antidiag}(1,1,1)",
-                   published_expr=pub, derived={"GuGvGu": a, "GvGuGv": b})
+                   published_expr=pub, derived={"GuGvGu": a, "GvGuGv": b},
+                   corrected=None if a == b == pub else {"GuGvGu": a, "GvGuGv": b})
 
 
 @_cl("sm-III-B2-three-iterations", "sec. III-B.2", "three iterations", "exact-match", REFL)
@@ -699,22 +709,28 @@ def b2_three():
 
 @_cl("sm-III-B2-example-100", "sec. III-B.2", "v0 = [1,0,0] → v_f = [0,0,1]", "exact-match", REFL)
 def b2_ex1():
-    Gu, Gv = reflection_map(sp.eye(3), "-1,1,0"), reflection_map(sp.eye(3), "0,-1,1")
+    Gu, Gv = _G(sp.eye(3), "-1,1,0"), _G(sp.eye(3), "0,-1,1")
     vf = Gu * Gv * Gu * _mat([1, 0, 0])
     c = conservation(sp.eye(3), _mat([[-1, 1, 0], [0, -1, 1]]), _mat([1, 0, 0]), vf)
-    ok = vf == _mat([0, 0, 1]) and c["momentum"] and c["energy_residual"] == 0
+    if not c["holds"]:
+        raise ArithmeticError(f"G_uG_vG_u v0 = {list(vf)} violates the impact laws: {c}")
+    ok = vf == _mat([0, 0, 1])
     return Finding("exact-match" if ok else "erratum", published="v_f = [0, 0, 1]^T", derived=vf,
+                   corrected=None if ok else vf,
                    note=f"Conservation: impulses p = {c['p']}, energy residual {c['energy_residual']}, H v⁺ = {c['Hv_plus']}.",
                    evidence=c)
 
 
 @_cl("sm-III-B2-example-110", "sec. III-B.2", "v0 = [1,1,0] → v_f = [0,1,1]", "exact-match", REFL)
 def b2_ex2():
-    Gu, Gv = reflection_map(sp.eye(3), "-1,1,0"), reflection_map(sp.eye(3), "0,-1,1")
+    Gu, Gv = _G(sp.eye(3), "-1,1,0"), _G(sp.eye(3), "0,-1,1")
     vf = Gu * Gv * Gu * _mat([1, 1, 0])
     c = conservation(sp.eye(3), _mat([[-1, 1, 0], [0, -1, 1]]), _mat([1, 1, 0]), vf)
-    ok = vf == _mat([0, 1, 1]) and c["momentum"] and c["energy_residual"] == 0
+    if not c["holds"]:
+        raise ArithmeticError(f"G_uG_vG_u v0 = {list(vf)} violates the impact laws: {c}")
+    ok = vf == _mat([0, 1, 1])
     return Finding("exact-match" if ok else "erratum", published="v_f = [0, 1, 1]^T", derived=vf,
+                   corrected=None if ok else vf,
                    note=f"Conservation: impulses p = {c['p']}, energy residual {c['energy_residual']}.", evidence=c)
 
 
@@ -725,6 +741,17 @@ M11 = sp.diag(sp.Rational(11, 10), 1)
 def b3_M():
     return Finding("definition", published=r"M = \begin{bmatrix}1.1&0\\0&1\end{bmatrix}", derived=M11,
                    note="Read exactly: 1.1 = 11/10.")
+
+
+def _G(M, u):
+    """:func:`impactsym.laws.reflection.reflection_map`, checked exactly to be a reflection
+    (``G² = I``, ``GᵀMG = M``, ``det G = −1``) before any claim compares it with the paper."""
+    M = sp.Matrix(M)
+    G = reflection_map(M, u)
+    checks = _reflection_checks(G, M)
+    if not all(checks.values()):
+        raise ArithmeticError(f"reflection_map(M, {u}) = {G.tolist()} is not a reflection: {checks}")
+    return G
 
 
 def _reflection_checks(G, M) -> dict:
@@ -757,20 +784,20 @@ def b3_Gu():
 
 @_cl("sm-III-B3-G_v", "sec. III-B.3", "G_v (M = diag(1.1,1))", "match-at-published-precision", REFL)
 def b3_Gv():
-    Gv = reflection_map(M11, "-1,1")
+    Gv = _G(M11, "-1,1")
     printed = [["0.0476", "0.9524"], ["1.0476", "-0.0476"]]
     rows = [compare_decimal(Gv[i, j], printed[i][j]) for i in range(2) for j in range(2)]
     kinds = {r["agreement"] for r in rows}
     ok = "neither" not in kinds and "truncation" not in kinds
     return Finding("match-at-published-precision" if ok else "erratum", published="[[0.0476, 0.9524], [1.0476, -0.0476]]",
-                   derived=Gv, digits=50,
+                   derived=Gv, digits=50, corrected=None if ok else Gv,
                    note=f"Exact G_v = [[1/21, 20/21], [22/21, −1/21]]; 4 decimals, per entry: {[r['agreement'] for r in rows]} "
                         "(0.95238… truncates to 0.9523: the print rounds).",
                    evidence={"entries": rows})
 
 
 def _v4():
-    Gu, Gv = reflection_map(M11, "1,0"), reflection_map(M11, "-1,1")
+    Gu, Gv = _G(M11, "1,0"), _G(M11, "-1,1")
     return Gv * Gu * Gv * Gu, Gu * Gv * Gu * Gv
 
 
@@ -787,7 +814,7 @@ def b3_v4a():
     rows, alt = _v4_check(a, printed)
     ok = all(r["agreement"] in ("rounding", "rounding and truncation") for r in rows)
     return Finding("match-at-published-precision" if ok else "erratum", published="[[-0.9955, -0.0907], [0.0998, -0.9955]] v0",
-                   derived=a, digits=50,
+                   derived=a, digits=50, corrected=None if ok else a,
                    note=f"Exact = (1/441)[[−439, −40], [44, −439]], computed with the correct G_u = diag(−1,1); "
                         f"4 decimals by rounding: {[r['agreement'] for r in rows]} (truncation would print −0.9954, 0.0997). "
                         f"With the printed G_u = −I the product would be {list(alt)} (= I), so the print used the correct G_u.",
@@ -801,7 +828,7 @@ def b3_v4b():
     rows, _alt = _v4_check(b, printed)
     ok = all(r["agreement"] in ("rounding", "rounding and truncation") for r in rows)
     return Finding("match-at-published-precision" if ok else "erratum", published="[[-0.9955, 0.0907], [-0.0998, -0.9955]] v0",
-                   derived=b, digits=50,
+                   derived=b, digits=50, corrected=None if ok else b,
                    note=f"Exact = (1/441)[[−439, 40], [−44, −439]] (correct G_u); rounding: {[r['agreement'] for r in rows]}.",
                    evidence={"entries": rows})
 
