@@ -666,14 +666,17 @@ def b1_commute():
 @_cl("sm-III-B1-examples", "sec. III-B.1", "balls together bounce together; moving ball bounces", "exact-match", REFL)
 def b1_examples():
     u, v = _mat([[1, 0]]), _mat([[-1, 1]])
-    a, _ = _alternate(I2, [u, v], _mat([-1, -1]), 0)
-    b, _ = _alternate(I2, [u, v], _mat([0, -1]), 1)
-    ok = a[-1] == _mat([1, 1]) and b[-1] == _mat([0, 1])
+    c = sp.Symbol("c", positive=True)  # any speed: the statement is about every c > 0
+    a, _ = _alternate(I2, [u, v], _mat([-c, -c]), 0)  # v grazing: only u branches
+    b, _ = _alternate(I2, [u, v], _mat([0, -c]), 1)  # u grazing: only v branches
+    ok = a[-1] == _mat([c, c]) and b[-1] == _mat([0, c])
     return Finding("exact-match" if ok else "refuted",
                    published="if the two balls are moving together towards the wall, they will bounce together from the wall. "
                              "If one is sitting touching the wall and the other hits it, all the momentum will go into the moving ball.",
-                   derived={"(-1,-1) ->": a[-1], "(0,-1) ->": b[-1]},
-                   note="(0,−1) approaches only surface v; the only branch gives (0, 1): the moving ball bounces back, the other stays.")
+                   derived={"(-c,-c) ->": a[-1], "(0,-c) ->": b[-1]},
+                   note="For every speed c > 0 (symbolic; signs from the symbols' assumptions): (−c, −c) grazes surface v, its "
+                        "only branch gives (c, c); (0, −c) approaches only surface v, its only branch gives (0, c): the moving "
+                        "ball bounces back, the other stays.")
 
 
 @_cl("sm-III-B2-G", "sec. III-B.2", "G_u, G_v (cradle)", "exact-match", REFL)
