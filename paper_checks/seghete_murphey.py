@@ -269,7 +269,7 @@ def trivial_root():
                         "('always false' holds for an approaching velocity; for grazing, u q̇⁻ = 0, the roots coincide).")
 
 
-@_cl("sm-II-A-lambda", "sec. II-A", "λ_A", "exact-match", SINGLE + GENERAL)
+@_cl("sm-II-A-lambda", "sec. II-A", "λ_A", "exact-match", SINGLE)
 def lambda_A():
     d = _single(2)
     d3 = _single(3)
