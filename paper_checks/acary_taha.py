@@ -1059,7 +1059,7 @@ def eq41():
 
 @_cl("at-eq42", "eq. 42", "n1·n2 = −½ cos θ = cos θ12", "exact-match")
 def eq42():
-    from impactsym.laws.coupling import pool_kinetic_angle_check
+    from .acary_taha_support import pool_kinetic_angle_check
     r = pool_kinetic_angle_check()
     ok = r["distance"][1] and r["squared"][1]
     return Finding("exact-match" if ok else "erratum", published=r"n_1n_2 = -\frac12\cos\theta = \cos(\theta_{12})",

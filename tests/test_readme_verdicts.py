@@ -2,7 +2,8 @@
 
 from pathlib import Path
 
-from impactsym.cli.reproduce import count_verdicts, verdict_table
+from impactsym.cli.reproduce import verdict_table
+from paper_checks.audit import count_verdicts
 from paper_checks.framework import evaluate_all
 
 README = Path(__file__).resolve().parents[1] / "README.md"
