@@ -193,6 +193,12 @@ def applied(name: str):
     finally:
         for mod, key in patched:
             setattr(mod, key, original)
+        # a module first imported under the mutation bound the replacement (``from x import f``): undo that too
+        for mname, mod in list(sys.modules.items()):
+            if mod is not None and _in_scope(mname):
+                for key, value in list(vars(mod).items()):
+                    if value is replacement:
+                        setattr(mod, key, original)
         clear_caches()
 
 
