@@ -211,7 +211,8 @@ def eq13():
     lhs_over = sc.H.T * sp.Matrix([p1, p2])  # M Δq̇ = Hᵀp
     printed = sp.Matrix([-p1, -p2 + p1, p2])
     r = identical(lhs_over, printed)
-    return Finding("exact-match" if r else "erratum", published=r"m(\dot q_1^+ - \dot q_1) = -p_1,\ m(\dot q_2^+ - \dot q_2) = -p_2 + p_1,\ m(\dot q_3^+ - \dot q_3) = p_2",
+    return Finding(r.decide("exact-match", "erratum"), corrected=None if r.equal else lhs_over,
+                   published=r"m(\dot q_1^+ - \dot q_1) = -p_1,\ m(\dot q_2^+ - \dot q_2) = -p_2 + p_1,\ m(\dot q_3^+ - \dot q_3) = p_2",
                    derived=lhs_over, note="Hᵀp with the gradient rows of h₁ = q₂ − q₁ − 2r, h₂ = q₃ − q₂ − 2r (impactsym.models.acary_taha.chain3).")
 
 
@@ -221,7 +222,8 @@ def eq14():
     q = sp.Matrix(sp.symbols("qd1 qd2 qd3", real=True))
     w = sc.H * q
     ok = list(w) == [q[1] - q[0], q[2] - q[1]]
-    return Finding("exact-match" if ok else "erratum", published=r"\dot q_1^+\le\dot q_2^+\le\dot q_3^+,\ p_1\ge0,\ p_2\ge0",
+    return Finding("exact-match" if ok else "erratum", corrected=None if ok else w,
+                   published=r"\dot q_1^+\le\dot q_2^+\le\dot q_3^+,\ p_1\ge0,\ p_2\ge0",
                    derived=w, note="H q̇⁺ ≥ 0 with the chain's rows is q̇₂⁺ − q̇₁⁺ ≥ 0, q̇₃⁺ − q̇₂⁺ ≥ 0.")
 
 
@@ -231,7 +233,8 @@ def newton():
     r = _classical().newton_moreau(M, H, v, 1)
     ok = list(r.velocity) == [-sp.Rational(1, 3), sp.Rational(2, 3), sp.Rational(2, 3)] and \
         list(r.impulses) == [sp.Rational(4, 3), sp.Rational(2, 3)]
-    return Finding("exact-match" if ok else "erratum", published="[q̇1+, q̇2+, q̇3+] = [-1/3, 2/3, 2/3], [p1, p2] = [4/3, 2/3]",
+    return Finding("exact-match" if ok else "erratum", corrected=None if ok else {"velocity": r.velocity, "impulses": r.impulses},
+                   published="[q̇1+, q̇2+, q̇3+] = [-1/3, 2/3, 2/3], [p1, p2] = [4/3, 2/3]",
                    derived={"velocity": r.velocity, "impulses": r.impulses},
                    note="impactsym.laws.classical.newton_moreau on the chain, e1 = e2 = 1, exact.")
 
@@ -252,7 +255,8 @@ def poisson_():
     M, H, v = _chain_args()
     r = _classical().poisson(M, H, v, 1)
     ok = list(r.velocity) == [-sp.Rational(1, 3), sp.Rational(2, 3), sp.Rational(2, 3)]
-    return Finding("exact-match" if ok else "erratum", published="[q̇1+, q̇2+, q̇3+] = [-1/3, 2/3, 2/3] ...",
+    return Finding("exact-match" if ok else "erratum", corrected=None if ok else r.velocity,
+                   published="[q̇1+, q̇2+, q̇3+] = [-1/3, 2/3, 2/3] ...",
                    derived={"velocity": r.velocity, "impulses": r.impulses,
                             "compression impulses": r.details.get("compression_impulses")},
                    note="impactsym.laws.classical.poisson (paper variant, e_p = 1): compression to q̇₁ = q̇₂ = q̇₃, then p = 2 p_c.")
@@ -354,7 +358,7 @@ def eq18_Delta():
 def eq19():
     d = _chain_domain()
     ok = d["eq19_verified"] and d["e_min"] == sp.Rational(1, 3) and d["alpha_min"] == sp.Rational(1, 2)
-    return Finding("exact-match" if ok else "erratum",
+    return Finding("exact-match" if ok else "erratum", corrected=None if ok else d["alpha_max"],
                    published=r"\frac13\le e\le1,\quad \frac12\le\alpha\le\frac{2e - 2 - \sqrt{6e-2}}{e-3}",
                    published_expr=d["eq19_alpha_max"], derived={"alpha_max(e)": d["alpha_max"], "g": d["g"], "h": d["h"],
                                                                "g - h": d["g_minus_h"]},
@@ -527,7 +531,8 @@ def eq25():
     th, tau = sp.symbols("theta tau", real=True)
     sc = pool(th, tau)
     two_T = sp.simplify((sc.v.T * sc.M * sc.v)[0, 0])
-    return Finding("exact-match" if two_T == 1 else "erratum", published=r"\sum_{i=1}^6(\dot q_i^+)^2 = e((\dot q_1^-)^2 + (\dot q_2^-)^2) = e",
+    return Finding("exact-match" if two_T == 1 else "erratum", corrected=None if two_T == 1 else two_T,
+                   published=r"\sum_{i=1}^6(\dot q_i^+)^2 = e((\dot q_1^-)^2 + (\dot q_2^-)^2) = e",
                    derived={"q̇⁻ᵀMq̇⁻": two_T},
                    note="Eq. 12 with ½ on both sides, unit masses; ball 1's speed is 1, so the right side is e.")
 
@@ -634,7 +639,8 @@ def v2_alpha():
 def eq29():
     from derivations.domains import pool_g, printed_eq29_g
     r = _pc("eq29_g")
-    return Finding("exact-match" if r["verdict"] == "confirmed" else "erratum",
+    ok = r["verdict"] == "confirmed"
+    return Finding("exact-match" if ok else "erratum", corrected=None if ok else pool_g(),
                    published=r"\frac{(2+\cos^2\theta)\alpha_{12}^2 - 4\cos\theta\,\alpha_{12} + 2}{\cos^2\theta\,\alpha_{12}^2 - 4\cos\theta\,\alpha_{12} + 4}",
                    published_expr=printed_eq29_g(), derived=pool_g(),
                    note="derivations.domains.pool_g: the e at which w₁⁺ = 0 (c = cos θ); identical to the print.")
@@ -1046,10 +1052,8 @@ def _eq37_claim(key: str):
     sc = bernoulli()
     _derived_state_holds(d, (sc.v[0], sc.v[1]))
     idn = identical(d[key], pr[key], domain={sp.Symbol("alpha", positive=True): (sp.Rational(1, 5), 3)})
-    ok = idn.equal
-    verdict = "exact-match" if ok else "refuted"
+    verdict = idn.decide("exact-match", "refuted")
     return Finding(verdict, published=str(pr[key]), published_expr=pr[key], derived=d[key],
-                   digits=None if idn.method.startswith("simplify(") else 60,
                    note="derivations.pool.bernoulli_closed_form (θ = 2π/3, τ = −π/6, e = 1, α₁₃ = α₁₂; denominator "
                         "2(5α² + 2α + 2)). No reading reproduces the print (derivations.pool.eq37_analysis: 3 incidences × 2 "
                         f"constraint scalings × 2 ratio assignments, matches = {r['matches']}). The printed state violates "
@@ -1277,7 +1281,8 @@ def eq42():
     from impactsym.laws.coupling import pool_kinetic_angle_check
     r = pool_kinetic_angle_check()
     ok = r["distance"][1] and r["squared"][1]
-    return Finding("exact-match" if ok else "erratum", published=r"n_1n_2 = -\frac12\cos\theta = \cos(\theta_{12})",
+    return Finding("exact-match" if ok else "erratum", corrected=None if ok else {k: v[0] for k, v in r.items()},
+                   published=r"n_1n_2 = -\frac12\cos\theta = \cos(\theta_{12})",
                    derived={k: v[0] for k, v in r.items()},
                    note="impactsym.laws.coupling.pool_kinetic_angle_check: kinetic cosine of the pool's rows for symbolic θ, "
                         "both constraint forms of eq. 24.")
