@@ -1244,7 +1244,7 @@ def eq40():
                    note="'n_i n_j' must be the kinetic-metric product n_iᵀMn_j (impactsym.mechanics.kinetic_angle_cos; the "
                         "paper speaks of the angle 'in the kinetic metric'). For M = I (the pool) the two readings coincide; "
                         f"for M = diag(11/10, 1) they differ ({kinetic} vs {euclid}) — the M-normals of eq. 39 are not "
-                        f"Euclidean unit vectors. nᵢᵀMnⱼ equals the kinetic cosine: {eq_M}.")
+                        f"Euclidean unit vectors. nᵢᵀMnⱼ equals the kinetic cosine ({eq_M.method}); for M = I both readings agree (proved).")
 
 
 @_cl("at-eq41", "eq. 41", "tangent cone 𝒯_i and the impact criterion", "erratum", [IRL])

@@ -75,7 +75,7 @@ def corrupt(obj: Any) -> Any:
     ``obj`` can be corrupted (a mutation must never be a silent no-op).
 
     >>> corrupt(sp.Rational(1, 2))
-    101/194
+    99/194
     >>> corrupt(sp.Matrix([[1, 0]]))
     Matrix([[98/97, 0]])
     """
