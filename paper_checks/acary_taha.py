@@ -110,6 +110,27 @@ def _classical():
     return classical
 
 
+def _consistent(M, H, v, r, law: str):
+    """Raise unless a law's returned impulses and velocity satisfy ``M(v⁺ − v⁻) = Hᵀp`` exactly: a
+    law whose outputs disagree with each other is no baseline for any verdict."""
+    if r.velocity is None:
+        return r
+    if r.impulses is None:
+        raise ValueError(f"{law} returned a velocity without impulses")
+    M_, H_, v_ = sp.Matrix(M), sp.Matrix(H), sp.Matrix(v)
+    resid = (M_ * (sp.Matrix(r.velocity) - v_) - H_.T * sp.Matrix(r.impulses)).applyfunc(sp.radsimp)
+    if any(certified_sign(x) != 0 for x in resid):
+        raise ValueError(f"{law}'s impulses {list(r.impulses)} and velocity {list(r.velocity)} violate "
+                         f"M(v+ - v-) = H^T p: {list(resid)}")
+    return r
+
+
+def _law(M, H, v, e, ratios, **kw):
+    """``impactsym.laws.impulse_ratio.impulse_ratio_law``, its result checked by :func:`_consistent`."""
+    from impactsym.laws.impulse_ratio import impulse_ratio_law
+    return _consistent(M, H, v, impulse_ratio_law(M, H, v, e, ratios, **kw), "impulse_ratio_law")
+
+
 def _chain_args():
     sc = chain3()
     return sc.M, sc.H, sc.v
@@ -175,11 +196,10 @@ _definition("at-eq11", "eq. 11", "Poisson's coefficient", r"e_p = p_{r_\alpha}/p
 def eq12():
     # the chain at e = 1 (perfectly elastic, sec. 3.3) and at e = 1/2: which reading does the law's state satisfy?
     M, H, v = _chain_args()
-    from impactsym.laws.impulse_ratio import impulse_ratio_law
     Tm = (v.T * M * v)[0, 0] / 2
     readings = {}
     for e_ in (sp.Integer(1), sp.Rational(1, 2)):
-        res = impulse_ratio_law(M, H, v, e_, [1], allow_invalid=True)
+        res = _law(M, H, v, e_, [1], allow_invalid=True)
         if res.velocity is None:
             raise ValueError(f"impulse_ratio_law(chain, e = {e_}, alpha = 1) has no state to test eq. 12 on")
         c = conservation(M, H, v, res.velocity, e_)
@@ -230,7 +250,7 @@ def eq14():
 @_cl("at-sec3.2-newton", "sec. 3.2", "Newton: q̇⁺ = [−1/3, 2/3, 2/3], p = [4/3, 2/3]", "exact-match", [NEWTON])
 def newton():
     M, H, v = _chain_args()
-    r = _classical().newton_moreau(M, H, v, 1)
+    r = _consistent(M, H, v, _classical().newton_moreau(M, H, v, 1), "newton_moreau")
     ok = list(r.velocity) == [-sp.Rational(1, 3), sp.Rational(2, 3), sp.Rational(2, 3)] and \
         list(r.impulses) == [sp.Rational(4, 3), sp.Rational(2, 3)]
     return Finding("exact-match" if ok else "erratum", corrected=None if ok else {"velocity": r.velocity, "impulses": r.impulses},
@@ -253,7 +273,7 @@ def newton_energy():
 @_cl("at-sec3.2-poisson", "sec. 3.2", "Poisson: same solution as Newton", "exact-match", [POISSON])
 def poisson_():
     M, H, v = _chain_args()
-    r = _classical().poisson(M, H, v, 1)
+    r = _consistent(M, H, v, _classical().poisson(M, H, v, 1), "poisson")
     ok = list(r.velocity) == [-sp.Rational(1, 3), sp.Rational(2, 3), sp.Rational(2, 3)]
     return Finding("exact-match" if ok else "erratum", corrected=None if ok else r.velocity,
                    published="[q̇1+, q̇2+, q̇3+] = [-1/3, 2/3, 2/3] ...",
@@ -265,7 +285,10 @@ def poisson_():
 @lru_cache(maxsize=None)
 def _hg():
     M, H, v = _chain_args()
-    return _classical().han_gilmore(M, H, v, 1)
+    r = _classical().han_gilmore(M, H, v, 1)
+    for o in r.outcomes:
+        _consistent(M, H, v, o, "han_gilmore")
+    return r
 
 
 @_cl("at-eq15", "eq. 15", "Han & Gilmore outcome 1", "exact-match", [HG])
@@ -369,9 +392,8 @@ def eq19():
 
 @_cl("at-sec3.3-alpha1-e1", "sec. 3.3", "α = 1, e = 1 gives [0, 0, 1]", "exact-match", [IRL])
 def alpha1():
-    from impactsym.laws.impulse_ratio import impulse_ratio_law
     M, H, v = _chain_args()
-    r = impulse_ratio_law(M, H, v, 1, [1])
+    r = _law(M, H, v, 1, [1])
     ok = list(r.velocity) == [0, 0, 1]
     return Finding("exact-match" if ok else "refuted", published="[q̇1+, q̇2+, q̇3+] = [0, 0, 1] for α = 1, e = 1",
                    derived=r.velocity, note="impactsym.laws.impulse_ratio.impulse_ratio_law, exact.")
@@ -379,9 +401,8 @@ def alpha1():
 
 @lru_cache(maxsize=None)
 def _alpha095():
-    from impactsym.laws.impulse_ratio import impulse_ratio_law
     M, H, v = _chain_args()
-    return impulse_ratio_law(M, H, v, 1, ["19/20"])
+    return _law(M, H, v, 1, ["19/20"])
 
 
 def _alpha095_claim(i: int, printed: str):
@@ -720,7 +741,6 @@ def eq31():
 @_cl("at-eq32", "eq. 32", "D2 (uses g where h is meant)", "erratum", [GQ, IRL])
 def eq32():
     from derivations.domains import pool_g, pool_h
-    from impactsym.laws.impulse_ratio import impulse_ratio_law
     c = sp.cos(sp.pi / 4)
     a = sp.Symbol("alpha", nonnegative=True)
     al = sp.Integer(1)
@@ -731,7 +751,7 @@ def eq32():
     sc = pool(sp.pi / 4, 0)
     disc = {}
     for e_ in (e_low, e_mid):  # the law's own discriminant decides Δ ≥ 0
-        r = impulse_ratio_law(sc.M, sc.H, sc.v, e_, [al], allow_invalid=True)
+        r = _law(sc.M, sc.H, sc.v, e_, [al], allow_invalid=True)
         disc[e_] = "negative-discriminant" not in [x.condition for x in r.violations]
     if disc[e_low] or not disc[e_mid]:
         raise ValueError(f"impulse_ratio_law's Δ ≥ 0 disagrees with e ≥ h(α) (derivations.domains.pool_h): {disc}")
@@ -941,13 +961,12 @@ def pi2_alpha0():
 @_cl("at-sec4.1.1-well-posed", "sec. 4.1.1", "well posed on [0, 2π/3[ with α12 = 0 on [π/2, 2π/3[",
      "supported-by-samples", [IRL])
 def well_posed():
-    from impactsym.laws.impulse_ratio import impulse_ratio_law
     rows = []
     ok = True
     for t, al in ((0, 1), (sp.pi / 4, sp.Rational(1, 2)), (sp.pi / 3, sp.Rational(3, 4)), (sp.pi / 2, 0),
                   (3 * sp.pi / 5, 0), (5 * sp.pi / 8, 0)):
         sc = pool(t, 0)
-        r = impulse_ratio_law(sc.M, sc.H, sc.v, 1, [al], allow_invalid=True)
+        r = _law(sc.M, sc.H, sc.v, 1, [al], allow_invalid=True)
         # valid by the law's own account and by an independent exact check of the impact equations
         holds = r.velocity is not None and conservation(sc.M, sc.H, sc.v, r.velocity, 1)["holds"]
         rows.append({"theta": t, "alpha12": al, "valid": r.valid, "impact equations hold": holds})
@@ -1098,14 +1117,13 @@ def eq37_cons():
 
 @_cl("at-sec4.2-case3a-consistent", "sec. 4.2", "Case 3.a: consistent for all τ ∈ [−π/3, 0]", "refuted", [IRL])
 def case3a():
-    from impactsym.laws.impulse_ratio import impulse_ratio_law
     rows = []
     bad = []
     for t in (-sp.pi / 3, -sp.pi / 4, -sp.pi / 6, -sp.pi / 12, 0):
         for al in (0, sp.Rational(1, 4), sp.Rational(1, 2)):
             sc = bernoulli(t)
-            r = impulse_ratio_law(sc.M, sc.H, sc.v, 1, [al, al], allow_invalid=True)
-            rc = impulse_ratio_law(sc.M, sc.H, sc.v, 1, [al, al], allow_invalid=True, coupling=True)
+            r = _law(sc.M, sc.H, sc.v, 1, [al, al], allow_invalid=True)
+            rc = _law(sc.M, sc.H, sc.v, 1, [al, al], allow_invalid=True, coupling=True)
             row = {"tau": t, "alpha12=alpha13": al, "valid": r.valid,
                    "violations": [v.condition for v in r.violations], "valid with sec. 5 coupling": rc.valid,
                    "H v-": [sp.simplify(x) for x in sc.H * sc.v]}
@@ -1143,10 +1161,9 @@ def case3bc():
 # =========================================================================== sec. 5
 @_cl("at-eq38-dv", "eq. 38", "'Δv ≥ 0' in the general law", "erratum", [IRL])
 def eq38_dv():
-    from impactsym.laws.impulse_ratio import impulse_ratio_law
     M, H, v = _chain_args()
     e_ = sp.Rational(5, 8)
-    law = impulse_ratio_law(M, H, v, e_, [1], allow_invalid=True)
+    law = _law(M, H, v, e_, [1], allow_invalid=True)
     if law.velocity is None:
         raise ValueError("impulse_ratio_law(chain, e = 5/8, alpha = 1) has no real root: nothing to test eq. 38 on")
     A, B, C = law.coefficients
@@ -1254,8 +1271,7 @@ def eq41():
     qd = sc.v
     printed_member = certified_sign((-h1 * (-qd))[0, 0]) >= 0  # −v ∈ T_printed ⇔ −∇h·(−q̇) ≥ 0
     corrected_member = certified_sign((h1 * (-qd))[0, 0]) >= 0  # −v ∈ T ⇔ ∇h·(−q̇) ≥ 0
-    from impactsym.laws.impulse_ratio import impulse_ratio_law
-    r = impulse_ratio_law(sc.M, sc.H, sc.v, 1, [1])
+    r = _law(sc.M, sc.H, sc.v, 1, [1])
     # does contact 1 receive impulse? decided from the law's state by the impact equations, exactly
     c = conservation(sc.M, sc.H, sc.v, r.velocity, 1)
     if not c["holds"]:
