@@ -31,3 +31,14 @@ def test_symbols_are_refused():
 
     with pytest.raises(ValueError, match="A: exact_rank needs numbers"):
         exact_rank(sp.Matrix([[sp.Symbol("x"), 1]]))
+
+
+def test_newton_moreau_uniqueness_verdict_uses_the_exact_rank():
+    """Two nearly parallel contacts (det H ~ -1.8e-33), both active: the impulse is unique."""
+    from impactsym.laws.classical import newton_moreau
+
+    v = -NEAR_SINGULAR.T * sp.Matrix([1, 1]) / 2  # chosen so that p = (1, 1) solves the LCP at e = 1
+    r = newton_moreau(sp.eye(2), NEAR_SINGULAR, v, 1)
+    assert list(r.impulses) == [1, 1]
+    assert r.unique_impulse is True
+    assert any("independent" in n for n in r.notes)
