@@ -11,6 +11,15 @@ closed-form modules hold the long transcriptions, ``printed_eq18`` ... ``printed
 
 The unnumbered τ = 0 solution display of sec. 4.1.1 is eq. 27 (the numbering runs 26, display, 28).
 
+Every verdict other than ``definition`` and ``not-checkable`` is chosen by a computation, and each
+such claim declares the mutations (``paper_checks/mutants_acary_taha.py``) under which it must
+change verdict or raise. Law results a verdict rests on are first checked against the impact
+equations with their own impulses (:func:`_consistent`); derived closed forms must conserve
+momentum and energy before a print is called a misprint (:func:`_derived_state_holds`). Agreement
+shown at a few angles, points or integrations is ``supported-by-samples`` (the note gives the
+count). Four verdicts are readings of typography (``judgment``): the summation index of eq. 5, the
+case labels of sec. 4.2, the component labels of eq. 37 and the ``q⁺`` of eq. 38.
+
 >>> from paper_checks.framework import evaluate
 >>> evaluate("at-eq18-Delta").verdict
 'exact-match'
