@@ -997,9 +997,19 @@ def tau_ge():
             sc = pool(th, t)
             w = [sp.simplify(x) for x in sc.H * sc.v]
             rows.append({"theta": th, "tau": t, "H v-": w, "approaching": [certified_sign(x) < 0 for x in w]})
-    none = all(not any(r["approaching"]) for r in rows)
+    # for symbolic θ, τ: H q̇⁻ = (w₁(τ), 0); if w₁ is free of θ, solveset decides its sign on [π/2, π] (a proof)
+    th_, tau_ = sp.symbols("theta tau", real=True)
+    sc = pool(th_, tau_)
+    w_sym = [sp.simplify(x) for x in sc.H * sc.v]
+    if w_sym[1] == 0 and not w_sym[0].has(th_):
+        none = sp.solveset(w_sym[0] < 0, tau_, sp.Interval(sp.pi / 2, sp.pi)) == sp.S.EmptySet
+        how = f"proved for every θ and τ ∈ [π/2, π]: H q̇⁻ = {w_sym}"
+    else:  # the samples decide (a non-approaching sample is still an exact counterexample)
+        none = all(not any(r["approaching"]) for r in rows)
+        how = f"decided at {len(rows)} exact samples: H q̇⁻ = {w_sym}"
     return Finding("refuted" if none else "exact-match", published="We can state obviously that for τ ≥ π/2 only simple impact occurs.",
-                   derived=rows, note="For τ ≥ π/2, H₁q̇⁻ = −cos τ ≥ 0 and H₂q̇⁻ = 0: no contact approaches, so there is no "
+                   derived={"H v- (symbolic)": w_sym, "samples": rows},
+                   note=f"{how}. For τ ≥ π/2, H₁q̇⁻ = −cos τ ≥ 0 and H₂q̇⁻ = 0: no contact approaches, so there is no "
                    "impact at all (τ = π/2 grazing). The text itself says so two paragraphs later ('the case with no impact "
                    "(τ ≥ π/2)', the ε device); the mathematics supports 'no impact'.")
 
