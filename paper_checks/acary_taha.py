@@ -1319,7 +1319,7 @@ def eq42():
     return Finding("exact-match" if ok else "erratum", corrected=None if ok else {k: v[0] for k, v in r.items()},
                    published=r"n_1n_2 = -\frac12\cos\theta = \cos(\theta_{12})",
                    derived={k: v[0] for k, v in r.items()},
-                   note="impactsym.laws.coupling.pool_kinetic_angle_check: kinetic cosine of the pool's rows for symbolic θ, "
+                   note="paper_checks.acary_taha_support.pool_kinetic_angle_check: kinetic cosine of the pool's rows for symbolic θ, "
                         "both constraint forms of eq. 24.")
 
 
