@@ -380,26 +380,64 @@ def _invariants(exact, M, H, v, n):
     return (W, gram, c, True), vq
 
 
+def _arf_fmpq(x: arb) -> fmpq:
+    """The exact rational value of an exactly representable Arb number (a midpoint or radius):
+    read with ``man_exp``, so no rounding at any working precision."""
+    man, exp = x.man_exp()
+    man, exp = int(man), int(exp)
+    return fmpq(man * 2**exp) if exp >= 0 else fmpq(man, 2 ** (-exp))
+
+
+def _ball_ends(q: arb) -> tuple[fmpq, fmpq]:
+    """Exact rational ends ``[mid − rad, mid + rad]`` of a finite Arb ball (exact reads)."""
+    mid, rad = _arf_fmpq(q.mid()), _arf_fmpq(q.rad())
+    return mid - rad, mid + rad
+
+
+def _nearest_int(x: fmpq) -> int:
+    return int((x + fmpq(1, 2)).floor())
+
+
+def _certified_ceil(q: arb):
+    """``⌈q⌉`` when the ball ``q`` certainly holds no integer (decided on its exact ends), else
+    ``None``. Reads only exact quantities of ``q``, so it does not depend on the precision in
+    force when it is called (a ``q.lower()`` outside the block that made ``q`` is rounded to 53
+    bits: the bug of issue 9)."""
+    if not q.is_finite():
+        return None
+    lo, hi = _ball_ends(q)
+    f = lo.floor()
+    if lo > f and hi < f + 1:
+        return int(f) + 1
+    return None
+
+
 def _certified_ceil_ratio(d: _Data, tie_check, decisions: dict) -> int:
-    """``⌈ψ/β⌉`` of the A-first branch, certified (Arb at rising precision, exact tie test)."""
+    """``⌈ψ/β⌉`` of the A-first branch, certified (Arb at rising precision, exact tie test).
+
+    The working precision starts above the bit size of ``π/β`` (the count can be as large as
+    that) and doubles until the ball of ``ψ/β`` excludes every integer; every read of the ball
+    is exact (:func:`_certified_ceil`)."""
     prec, tried = 64, set()
     while prec <= MAX_PRECISION_BITS:
         *_, psi, beta = d.balls(prec)
         with ctx.workprec(prec):
             q = psi / beta
-        if q.is_finite() and not q.contains_integer():
+        m = _certified_ceil(q)
+        if m is not None:
             decisions["arb"] = decisions.get("arb", 0) + 1
             decisions["max_bits"] = max(decisions.get("max_bits", 0), prec)
-            return int(q.lower().floor().unique_fmpz()) + 1
-        if q.is_finite() and q.rad() < 0.25:
-            j = int(q.mid().floor().unique_fmpz()) if q.mid() - q.mid().floor() < 0.5 else \
-                int(q.mid().ceil().unique_fmpz())
-            if j >= 1 and j not in tried:
-                tried.add(j)
-                verdict = tie_check(d, j)
-                if verdict is True:
-                    decisions["exact_tie"] = decisions.get("exact_tie", 0) + 1
-                    return j
+            return m
+        if q.is_finite():
+            lo, hi = _ball_ends(q)
+            if hi - lo < fmpq(1, 2):
+                j = _nearest_int((lo + hi) / 2)
+                if j >= 1 and j not in tried:
+                    tried.add(j)
+                    verdict = tie_check(d, j)
+                    if verdict is True:
+                        decisions["exact_tie"] = decisions.get("exact_tie", 0) + 1
+                        return j
         prec *= 2
     raise UndecidableSign(
         f"the reflection count ceil(psi/beta) could not be certified: psi/beta is within 2^-{MAX_PRECISION_BITS} "
@@ -641,10 +679,12 @@ def _certified_bound(d: _Data, decisions: dict) -> int:
         *_, beta = d.balls(prec)
         with ctx.workprec(prec):
             q = arb.pi() / beta
-        if not q.contains_integer():
-            return int(q.lower().floor().unique_fmpz()) + 1
-        if q.rad() < 0.25:
-            K = int(q.mid().floor().unique_fmpz()) if q.mid() - q.mid().floor() < 0.5 else int(q.mid().ceil().unique_fmpz())
+        m = _certified_ceil(q)
+        if m is not None:
+            return m
+        lo, hi = _ball_ends(q) if q.is_finite() else (fmpq(0), fmpq(1))
+        if hi - lo < fmpq(1, 2):
+            K = _nearest_int((lo + hi) / 2)
             # beta = pi/K exactly  <=>  cos(beta) = cos(pi/K)  <=>  -g/sqrt(s_A s_B) = cos(pi/K)
             if K >= 2:
                 to_sp = (lambda x: sp.Rational(int(x.p), int(x.q))) if d.rational() else (lambda x: x)
