@@ -67,10 +67,11 @@ import numpy as np
 import sympy as sp
 from flint import arb, ctx, fmpq, fmpq_mat, fmpz
 
-from ..errors import ImpactInputError, UndecidableSign
+from ..errors import ImpactInputError, UndecidableSign, VerificationError
 from ..exact import certified_sign
 from ..mechanics import check_gradients, check_mass_matrix, check_velocity
 from ..numbers import is_exact
+from ..verify import verify_balls, verify_exact
 
 __all__ = [
     "resolve_two_surfaces",
@@ -145,13 +146,15 @@ class AlternatingOrder(Sequence):
 class TwoSurfaceOutcome:
     """One branch: the ordering (surface indices, alternating), the count and the exit velocity.
 
+    ``first`` is the index of the first surface, or ``None`` for the single outcome of a velocity
+    that approaches neither surface (no impact: no reflection, ``v⁺ = v``, ``no_impact`` in JSON).
     ``velocity`` is a SymPy column (``exact``), a float64 array (float input), or an
     ``mpmath.matrix`` certified to ``digits`` significant digits per component, with ``error_bound``
     an upper bound of every component's error. ``impulse`` is ``p`` in ``M(v⁺ − v) = Hᵀp``, in the
     same form.
     """
 
-    first: int
+    first: int | None
     order: AlternatingOrder
     reflections: int
     velocity: Any
@@ -171,7 +174,7 @@ class TwoSurfaceOutcome:
             return [float(x) for x in v]
         return {"order": self.order.to_json(), "first": self.first, "reflections": self.reflections,
                 "velocity": text(self.velocity), "velocity_float": [float(x) for x in self.velocity_float],
-                "exact": self.exact, "digits": self.digits}
+                "exact": self.exact, "digits": self.digits, "no_impact": self.first is None}
 
 
 @dataclass
@@ -377,7 +380,7 @@ def _invariants(exact, M, H, v, n):
     W = Mq.solve(Hq.transpose())
     gram = Hq * W
     c = Hq * vq
-    return (W, gram, c, True), vq
+    return (W, gram, c, True), vq, (Mq, Hq)
 
 
 def _arf_fmpq(x: arb) -> fmpq:
@@ -474,26 +477,34 @@ def _iterate_exact(M, HA, HB, v, m):
     return out
 
 
+def _w_after(balls, m: int):
+    """Balls of ``(H_A v_m, H_B v_m)`` after ``m ≥ 1`` reflections starting with A (the angle form
+    of the closed form); call inside the ``ctx.workprec`` block that made ``balls``."""
+    sa, sb, g, ca, cb, D, rD, psi, beta = balls
+    sigma = 1 if m % 2 == 0 else -1
+    th = sigma * (m * beta - psi) + (beta if sigma == -1 else 0)
+    pn = ((sb * ca * ca - 2 * g * ca * cb + sa * cb * cb) / D).sqrt()
+    return sa.sqrt() * pn * th.sin(), sb.sqrt() * pn * (beta - th).sin()
+
+
 def _certified_exit(d: _Data, m: int, digits: int, W, gram, vec, swap: bool):
     """Certified ``v⁺`` (Arb): every component to ``digits`` significant digits (radius below
     ``10^-digits·|v⁺_i|``), except components below ``10^-digits·max|v⁺|``, which are certified to
     the absolute ``10^-2digits·max|v⁺|``.
 
     ``W`` (n×2), ``gram`` (2×2) and ``vec`` (n) hold exact numbers (fmpq or SymPy); they are
-    enclosed at each working precision."""
+    enclosed at each working precision. Returns the velocity and impulse balls, the largest
+    radius and the working precision they were made at (read them only inside a block of it)."""
     extra = max(m, 1).bit_length()
     prec = int(digits * 3.33) + extra + 64
     while prec <= MAX_PRECISION_BITS:
-        sa, sb, g, ca, cb, D, rD, psi, beta = d.balls(prec)
+        balls = d.balls(prec)
         with ctx.workprec(prec):
+            sa, sb, g, ca, cb = balls[:5]
             Wb = [[_arb(W[i][0], prec), _arb(W[i][1], prec)] for i in range(len(W))]
             gram_b = [[_arb(gram[i][j], prec) for j in range(2)] for i in range(2)]
             v_arb = [_arb(x, prec) for x in vec]
-            sigma = 1 if m % 2 == 0 else -1
-            th = sigma * (m * beta - psi) + (beta if sigma == -1 else 0)
-            pn = ((sb * ca * ca - 2 * g * ca * cb + sa * cb * cb) / D).sqrt()
-            ca2 = sa.sqrt() * pn * th.sin()
-            cb2 = sb.sqrt() * pn * (beta - th).sin()
+            ca2, cb2 = _w_after(balls, m)
             if swap:
                 ca, cb, ca2, cb2 = cb, ca, cb2, ca2
             dA, dB = ca2 - ca, cb2 - cb
@@ -505,11 +516,44 @@ def _certified_exit(d: _Data, m: int, digits: int, W, gram, vec, swap: bool):
             scale = max((abs(x.mid()) for x in vel), default=arb(0))
             rad = max((x.rad() for x in vel), default=arb(0))
             tol, floor = arb(10) ** (-digits), arb(10) ** (-2 * digits) * scale
-            ok = all(x.rad() <= tol * abs(x.mid()) or x.rad() <= floor for x in vel)
+            ok = all(x.is_finite() and (x.rad() <= tol * abs(x.mid()) or x.rad() <= floor) for x in vel)
         if ok:
-            return vel, (pA, pB), rad
+            return vel, (pA, pB), rad, prec
         prec *= 2
     raise UndecidableSign(f"the exit velocity could not be certified to {digits} digits within {MAX_PRECISION_BITS} bits")
+
+
+def _verify_count_balls(d: _Data, m: int, prec: int) -> None:
+    """The count is consistent with the order: the first surface is approached, and after
+    ``m − 1`` reflections the surface of the ``m``-th one is approached (not certainly leaving)."""
+    if _sign(d.ca) >= 0:
+        raise VerificationError("two-surface", "the branch starts with a surface that is not approached")
+    if m < 2:
+        return
+    balls = d.balls(prec)
+    with ctx.workprec(prec):
+        wa, wb = _w_after(balls, m - 1)
+        nxt = wa if (m - 1) % 2 == 0 else wb
+        bad = nxt >= 0 and not nxt.contains(0)
+        shown = nxt.str(10, radius=True)
+    if bad:
+        raise VerificationError(
+            "two-surface", f"count {m}: after {m - 1} reflections the next surface has H v = {shown} >= 0 "
+            "(the branch would have ended earlier)")
+
+
+def _verify_count_rational(d: _Data, m: int) -> None:
+    """Exact form of :func:`_verify_count_balls` (rational data)."""
+    if d.ca >= 0:
+        raise VerificationError("two-surface", "the branch starts with a surface that is not approached")
+    if m < 2:
+        return
+    wa, wb = _field_power_exit(d, m - 1)
+    nxt = wa if (m - 1) % 2 == 0 else wb
+    if nxt >= 0:
+        raise VerificationError(
+            "two-surface", f"count {m}: after {m - 1} reflections the next surface has H v = {nxt} >= 0 "
+            "(the branch would have ended earlier)")
 
 
 def _mid_scale(vel) -> mpmath.mpf:
@@ -521,11 +565,11 @@ def _arb_to_mpf(x: arb):
     return mpmath.mpf((int(man), int(exp)))
 
 
-def _certified_outcome(first, order, m, vel_b, imp_b, rad, digits) -> "TwoSurfaceOutcome":
+def _certified_outcome(first, order, m, vel_b, imp_b, rad, digits, prec) -> "TwoSurfaceOutcome":
     """An outcome certified to ``digits`` significant digits, from the Arb balls of
-    :func:`_certified_exit`: mpmath midpoints and an error bound covering the ball's radius and
-    the rounding of the midpoints."""
-    with mpmath.workdps(digits + 5):
+    :func:`_certified_exit` (made at ``prec`` bits): mpmath midpoints and an error bound covering
+    the ball's radius and the rounding of the midpoints."""
+    with ctx.workprec(prec), mpmath.workdps(digits + 5):
         vel = mpmath.matrix([_arb_to_mpf(x) for x in vel_b])
         imp = mpmath.matrix([_arb_to_mpf(x) for x in imp_b])
         err = _arb_to_mpf(rad) * 2 + _mid_scale(vel) * mpmath.mpf(10) ** -(digits + 4)
@@ -576,7 +620,7 @@ def resolve_two_surfaces(mass_matrix, gradients, velocity, *, digits: int = DEFA
     decisions: dict = {}
     rational_path = not exact or (_is_rational_matrix(M) and _is_rational_matrix(H) and _is_rational_matrix(v))
     if rational_path:
-        (W, gram, c, _), vq = _invariants(exact, M, H, v, n)
+        (W, gram, c, _), vq, (Mq, Hq) = _invariants(exact, M, H, v, n)
         d = _Data(gram[0, 0], gram[1, 1], gram[0, 1], c[0, 0], c[1, 0])
         tie_check = _tie_check_rational
     else:
@@ -600,7 +644,8 @@ def resolve_two_surfaces(mass_matrix, gradients, velocity, *, digits: int = DEFA
     if signs[0] >= 0 and signs[1] >= 0:
         vel = _as_output(exact, v, vq if rational_path else None)
         zero = sp.zeros(2, 1) if exact else np.zeros(2)
-        o = TwoSurfaceOutcome(first=-1, order=AlternatingOrder(0, 0), reflections=0, velocity=vel,
+        # no surface is approached: no impact, no first surface (``first`` is None), v+ = v
+        o = TwoSurfaceOutcome(first=None, order=AlternatingOrder(0, 0), reflections=0, velocity=vel,
                               velocity_float=_floats(vel), impulse=zero, exact=exact)
         return TwoSurfaceResolution([o], by_first, bound, wedge, exact, decisions, d)
 
@@ -608,6 +653,8 @@ def resolve_two_surfaces(mass_matrix, gradients, velocity, *, digits: int = DEFA
     W_ex = [[W[i, 0], W[i, 1]] for i in range(n)]
     gram_ex = [[gram[0, 0], gram[0, 1]], [gram[1, 0], gram[1, 1]]]
     v_ex = [vq[i, 0] for i in range(n)] if rational_path else list(v)
+    # the exact data every outcome is verified against before it is returned
+    data_ex = (Mq, Hq, vq) if rational_path else (M, H, v)
     for first in (0, 1):
         if signs[first] >= 0:
             continue
@@ -622,31 +669,37 @@ def resolve_two_surfaces(mass_matrix, gradients, velocity, *, digits: int = DEFA
             ca2, cb2 = _field_power_exit(df, m)
             if first == 1:
                 ca2, cb2 = cb2, ca2
-            if ca2 < 0 or cb2 < 0:  # pragma: no cover - the derivation proves this cannot happen
-                raise AssertionError("exact exit velocity is not valid: a bug in the two-surface law")
             jump = gram.solve(fmpq_mat(2, 1, [ca2 - c[0, 0], cb2 - c[1, 0]]))
             vplus = vq + W * jump
+            verify_exact("two-surface", Mq, Hq, vq, vplus, jump)
+            _verify_count_rational(df, m)
             vel = sp.Matrix([_rational(vplus[i, 0]) for i in range(n)])
             imp = sp.Matrix([_rational(jump[i, 0]) for i in range(2)])
             outcomes.append(TwoSurfaceOutcome(first, order, m, vel, _floats(vel), imp, True))
         elif rational_path:
             want = digits if exact else 20
-            vel_b, imp_b, rad = _certified_exit(df, m, want, W_ex, gram_ex, v_ex, first == 1)
+            vel_b, imp_b, rad, prec = _certified_exit(df, m, want, W_ex, gram_ex, v_ex, first == 1)
+            verify_balls("two-surface", *data_ex, vel_b, imp_b, prec)
+            _verify_count_balls(df, m, prec)
             if exact:
-                outcomes.append(_certified_outcome(first, order, m, vel_b, imp_b, rad, digits))
+                outcomes.append(_certified_outcome(first, order, m, vel_b, imp_b, rad, digits, prec))
             else:
-                vel = np.array([float(_arb_to_mpf(x)) for x in vel_b])
-                imp = np.array([float(_arb_to_mpf(x)) for x in imp_b])
+                with ctx.workprec(prec):
+                    vel = np.array([float(_arb_to_mpf(x)) for x in vel_b])
+                    imp = np.array([float(_arb_to_mpf(x)) for x in imp_b])
                 outcomes.append(TwoSurfaceOutcome(first, order, m, vel, vel.copy(), imp, False))
         else:  # irrational exact input
             rows = (HA, HB) if first == 0 else (HB, HA)
             if m <= MAX_EXACT_ALGEBRAIC_REFLECTIONS:
                 vel = _iterate_exact(M, rows[0], rows[1], v, m)[-1]
                 imp = (gram.LUsolve(H * vel - c)).applyfunc(sp.radsimp)
+                verify_exact("two-surface", M, H, v, vel, imp)
                 outcomes.append(TwoSurfaceOutcome(first, order, m, vel, _floats(vel), imp, True))
             else:
-                vel_b, imp_b, rad = _certified_exit(df, m, digits, W_ex, gram_ex, v_ex, first == 1)
-                outcomes.append(_certified_outcome(first, order, m, vel_b, imp_b, rad, digits))
+                vel_b, imp_b, rad, prec = _certified_exit(df, m, digits, W_ex, gram_ex, v_ex, first == 1)
+                verify_balls("two-surface", *data_ex, vel_b, imp_b, prec)
+                _verify_count_balls(df, m, prec)
+                outcomes.append(_certified_outcome(first, order, m, vel_b, imp_b, rad, digits, prec))
         by_first[first] = outcomes[-1]
     return TwoSurfaceResolution(outcomes, by_first, bound, wedge, exact, decisions, d)
 
