@@ -446,6 +446,8 @@ class SequentialResolution:
     witness: Any
     method: str = "iteration"
     bound: int | None = None
+    #: why ``selected`` is empty although ``select=True`` (``None`` otherwise)
+    selection_note: str | None = None
     _graph: Any = field(default=None, repr=False, compare=False)
     _orders: Any = field(default=None, repr=False, compare=False)
 
@@ -821,15 +823,25 @@ def resolve_sequential(mass_matrix, gradients, velocity, *, reading: str = "ener
 
 
 def _two_surface_path(M, H, v0, system, exact, reading, select, witness):
-    """Outcomes of two independent surfaces from the O(1) closed form, merged exactly."""
+    """Outcomes of two independent surfaces from the O(1) closed form, merged exactly.
+
+    The selection (energy reading) needs no face enumeration: the feasible set lies on the arc
+    of the energy sphere between the two outcomes ``o_1``, ``o_2`` (it is the whole arc when
+    ``v0 ∈ span(M⁻¹Hᵀ)``, only its end points otherwise), ``v0``'s direction is not on the arc
+    (``v0`` is invalid, the arc is valid), and ``⟨v, v0⟩_M`` restricted to such an arc is largest
+    at an end point. So the selection is the outcome(s) with the largest ``⟨o_i, v0⟩_M``: an exact
+    comparison, or a certified one (Arb) for certified outcomes. When both branches have the same
+    even count the two values are equal exactly (``o_2 = R⁻¹v0`` for ``o_1 = Rv0``, ``R`` a
+    kinetic isometry), and both are selected."""
     from .two_surface import resolve_two_surfaces
 
     F = system.F
     ts = resolve_two_surfaces(M, H, v0)
-    groups: list = []  # [velocity, [orders], impulse, exact]
+    groups: list = []  # [velocity, [orders], impulse, exact, two-surface outcome]
     for o in ts.outcomes:
         # (reflections, first surface, order): a closed-form order may be too long for len()
-        order = (o.reflections, o.first, tuple(o.order) if o.reflections <= 10_000 else o.order)
+        first = -1 if o.first is None else o.first
+        order = (o.reflections, first, tuple(o.order) if o.reflections <= 10_000 else o.order)
         for grp in groups:
             if o.exact and grp[3] and all(certified_sign(a - b) == 0 for a, b in zip(o.velocity, grp[0])):
                 grp[1].append(order)
@@ -838,33 +850,88 @@ def _two_surface_path(M, H, v0, system, exact, reading, select, witness):
                 grp[1].append(order)
                 break
         else:
-            groups.append([o.velocity, [order], o.impulse, o.exact])
+            groups.append([o.velocity, [order], o.impulse, o.exact, o])
     outcomes = []
     orders = []
     for grp in groups:
         grp[1] = sorted(grp[1], key=lambda t: t[:2])  # the iteration's order: shortest, then first surface
     groups.sort(key=lambda grp: grp[1][0][:2])
-    for idx, (vel, ords, imp, _) in enumerate(groups):
+    for idx, (vel, ords, imp, _, _) in enumerate(groups):
         lens = [t[0] for t in ords]
         outcomes.append(Outcome(ords[0][2], lens[0], vel, imp, len(ords), min(lens), max(lens)))
         orders.extend((t[2], idx) for t in ords)
     selected: tuple = ()
+    note = None
     all_exact = all(g[3] for g in groups)
-    if select and (all_exact or not exact):
+    if select and reading == "energy":
+        selected = _select_two_surface(system, groups, exact)
+    elif select and (all_exact or not exact):
         if exact:
             exact_outs = [tuple(F.num(x) for x in o.velocity) for o in outcomes]
-        else:  # float input: replay the (short or long) orderings exactly only when they are short
-            if max(o.reflections for o in outcomes) > 10_000:
-                exact_outs = None
-            else:
-                exact_outs = [system.replay(o.order)[0] for o in outcomes]
-        if exact_outs is not None:
-            selected = _select(system, exact_outs, None, reading)
+        elif max(o.reflections for o in outcomes) <= 10_000:  # float input: replay short orderings
+            exact_outs = [system.replay(o.order)[0] for o in outcomes]
+        else:
+            raise DomainError(
+                f"select: the {reading} reading needs the exact outcomes, but the orderings take "
+                f"{max(o.reflections for o in outcomes)} reflections (more than 10000 are not replayed "
+                "exactly); use reading='energy' or select=False")
+        selected = _select(system, exact_outs, None, reading)
+    elif select:
+        note = (f"the {reading} reading needs exact outcomes; these are certified digits "
+                "(use reading='energy')")
     approaching = tuple(F.sign(system.w(system.v0, i)) < 0 for i in range(system.k))
-    return SequentialResolution(tuple(outcomes), selected, reading, len(orders),
-                                max(o.reflections_max for o in outcomes), 0, 2, 0, exact and all_exact,
-                                (F.name if exact else "float"), approaching, witness,
-                                method="two-surface closed form", bound=ts.bound, _orders=orders)
+    res = SequentialResolution(tuple(outcomes), selected, reading, len(orders),
+                               max(o.reflections_max for o in outcomes), 0, 2, 0, exact and all_exact,
+                               (F.name if exact else "float"), approaching, witness,
+                               method="two-surface closed form", bound=ts.bound, _orders=orders)
+    res.selection_note = note
+    return res
+
+
+def _select_two_surface(system, groups, exact):
+    """The energy-reading selection of the two-surface closed form (see :func:`_two_surface_path`):
+    the outcome(s) maximizing ``⟨o, v0⟩_M``, compared exactly or with certified Arb balls."""
+    F = system.F
+    if len(groups) == 1:
+        return (groups[0][0],)
+    (va, _, _, ea, oa), (vb, _, _, eb, ob) = groups
+    # equal even counts: o_b = R^-1 v0 and o_a = R v0 with R a kinetic isometry, an exact tie
+    if oa.reflections == ob.reflections and oa.reflections % 2 == 0:
+        return (va, vb)
+    if ea and eb and exact:
+        val = [_minner(system.M, [F.num(x) for x in vel], list(system.v0), F) for vel in (va, vb)]
+        c = F.sign(F.norm(val[0] - val[1]))
+    else:
+        c = _certified_compare_balls(system, oa, ob)
+    return (va,) if c > 0 else (vb,) if c < 0 else (va, vb)
+
+
+def _certified_compare_balls(system, oa, ob) -> int:
+    """Sign of ``⟨o_a − o_b, v0⟩_M`` from the outcomes' Arb balls (exact outcomes are enclosed);
+    raises :class:`~impactsym.errors.UndecidableSign` when the balls cannot separate it."""
+    from flint import ctx
+
+    from ..errors import UndecidableSign
+    from ..verify import enclose
+
+    precs = [o._prec for o in (oa, ob) if getattr(o, "_balls", None) is not None]
+    prec = max(precs) if precs else 128
+    with ctx.workprec(prec):
+        Mb = [[enclose(x, prec) for x in row] for row in system.M]
+        vb0 = [enclose(x, prec) for x in system.v0]
+        Mv0 = [sum((a * b for a, b in zip(row, vb0)), enclose(0, prec)) for row in Mb]
+
+        def balls(o):
+            if getattr(o, "_balls", None) is not None:
+                return list(o._balls)
+            return [enclose(x, prec) for x in o.velocity]
+
+        diff = sum(((a - b) * m for a, b, m in zip(balls(oa), balls(ob), Mv0)), enclose(0, prec))
+        s = 1 if diff > 0 else -1 if diff < 0 else None
+    if s is None:
+        raise UndecidableSign("selection: <o_1 - o_2, v0>_M could not be separated from 0 by the certified "
+                              f"outcomes at {prec} bits (a possible tie between the two outcomes)")
+    return s
 
 
 def _rational_key(v):

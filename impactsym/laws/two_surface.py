@@ -163,6 +163,9 @@ class TwoSurfaceOutcome:
     exact: bool
     digits: int | None = None
     error_bound: Any = None
+    #: the certified Arb balls of ``velocity`` and their working precision (certified outcomes)
+    _balls: Any = field(default=None, repr=False, compare=False)
+    _prec: int | None = field(default=None, repr=False, compare=False)
 
     def as_dict(self) -> dict:
         """JSON-ready form (exact numbers as SymPy strings, mpmath values as strings)."""
@@ -573,7 +576,8 @@ def _certified_outcome(first, order, m, vel_b, imp_b, rad, digits, prec) -> "Two
         vel = mpmath.matrix([_arb_to_mpf(x) for x in vel_b])
         imp = mpmath.matrix([_arb_to_mpf(x) for x in imp_b])
         err = _arb_to_mpf(rad) * 2 + _mid_scale(vel) * mpmath.mpf(10) ** -(digits + 4)
-    return TwoSurfaceOutcome(first, order, m, vel, _floats(vel), imp, False, digits=digits, error_bound=err)
+    return TwoSurfaceOutcome(first, order, m, vel, _floats(vel), imp, False, digits=digits, error_bound=err,
+                             _balls=tuple(vel_b), _prec=prec)
 
 
 def resolve_two_surfaces(mass_matrix, gradients, velocity, *, digits: int = DEFAULT_DIGITS,
@@ -687,7 +691,8 @@ def resolve_two_surfaces(mass_matrix, gradients, velocity, *, digits: int = DEFA
                 with ctx.workprec(prec):
                     vel = np.array([float(_arb_to_mpf(x)) for x in vel_b])
                     imp = np.array([float(_arb_to_mpf(x)) for x in imp_b])
-                outcomes.append(TwoSurfaceOutcome(first, order, m, vel, vel.copy(), imp, False))
+                outcomes.append(TwoSurfaceOutcome(first, order, m, vel, vel.copy(), imp, False,
+                                                  _balls=tuple(vel_b), _prec=prec))
         else:  # irrational exact input
             rows = (HA, HB) if first == 0 else (HB, HA)
             if m <= MAX_EXACT_ALGEBRAIC_REFLECTIONS:
