@@ -117,6 +117,8 @@ __all__ = [
     "termination_bound",
     "READINGS",
     "DEFAULT_MAX_REFLECTIONS",
+    "MAX_STATE_BITS",
+    "MAX_COORDINATES",
     "FLOAT_SAFETY",
     "SELECTION_FACE_LIMIT",
     "TWO_SURFACE_PATHS",
@@ -128,6 +130,13 @@ READINGS = ("energy", "cone")
 TWO_SURFACE_PATHS = ("closed-form", "iterate")
 #: default cap on the reflections of any one ordering
 DEFAULT_MAX_REFLECTIONS = 10_000
+#: largest total size (bits of numerators and denominators) of the exact velocities the rational
+#: search keeps; beyond it the search raises NonTermination naming this limit (32 MiB)
+MAX_STATE_BITS = 1 << 28
+#: largest number of coordinates (size of M) the resolver accepts: its exact input checks and
+#: linear algebra cost O(n^3) to O(n^4) exact operations (n = 200 takes about 10 s; a 1000-ball
+#: cradle would take many minutes), so larger systems are refused up front
+MAX_COORDINATES = 200
 #: safety factor on the float sign-test bound
 FLOAT_SAFETY = 4.0
 _EPS = float(np.finfo(float).eps)
@@ -546,6 +555,13 @@ class _ExactSystem:
         return v, p
 
 
+def _state_bits_error(states):
+    return NonTermination(
+        f"max_reflections: the exact states of the search exceed MAX_STATE_BITS={MAX_STATE_BITS} bits "
+        f"after {states} states (the rationals grow with every reflection); lower max_reflections, give "
+        "floats, or use the two-surface closed form")
+
+
 def _cycle_error(cap):
     return NonTermination(
         f"max_reflections: a velocity recurred on its own ordering, so that ordering never ends "
@@ -654,6 +670,18 @@ def _aggregate(g, key_of):
     return out
 
 
+def _coordinates(mass_matrix):
+    """The number of rows of ``mass_matrix`` read without converting it (``None`` if unknown)."""
+    if isinstance(mass_matrix, str):
+        return mass_matrix.count(";") + 1
+    shape = getattr(mass_matrix, "shape", None)
+    if shape is not None and len(shape) >= 1:
+        return int(shape[0])
+    if isinstance(mass_matrix, (list, tuple)):
+        return len(mass_matrix)
+    return None
+
+
 def _check_inputs(mass_matrix, gradients, velocity, exact):
     if exact is None:
         exact = is_exact(mass_matrix, gradients, velocity)
@@ -734,6 +762,11 @@ def resolve_sequential(mass_matrix, gradients, velocity, *, reading: str = "ener
     cap = int(max_reflections)
     if two_surface not in TWO_SURFACE_PATHS:
         raise ImpactInputError("two_surface", f"must be one of {', '.join(TWO_SURFACE_PATHS)}, got {two_surface!r}")
+    size = _coordinates(mass_matrix)
+    if size is not None and size > MAX_COORDINATES:
+        raise ImpactInputError(
+            "mass_matrix", f"has {size} coordinates, more than the sequential law's limit MAX_COORDINATES="
+            f"{MAX_COORDINATES} (its exact checks and linear algebra cost O(n^3) or more exact operations)")
     exact, M, H, v0 = _check_inputs(mass_matrix, gradients, velocity, exact)
     if exact:
         Mx, Hx, vx = M, H, v0
@@ -747,8 +780,19 @@ def resolve_sequential(mass_matrix, gradients, velocity, *, reading: str = "ener
                           "(the closed contacts admit no elastic exit velocity)")
     system = _ExactSystem(Mx, Hx, vx)
     F = system.F
-    if two_surface == "closed-form" and system.k == 2 and _rank(system.H, F) == 2:
-        return _two_surface_path(M, H, v0, system, exact, reading, select, witness)
+    if system.k == 2 and _rank(system.H, F) == 2:
+        if two_surface == "closed-form":
+            return _two_surface_path(M, H, v0, system, exact, reading, select, witness)
+        # iterating: refuse up front when a branch needs more than the cap (its exact states grow
+        # linearly, so reaching the cap would cost memory quadratic in it)
+        from .two_surface import branch_counts
+
+        counts = branch_counts(Mx, Hx, vx)
+        if counts and max(counts.values()) > cap:
+            raise NonTermination(
+                f"max_reflections: the ordering starting with surface {max(counts, key=counts.get)} needs "
+                f"{max(counts.values())} reflections (certified count of the two-surface closed form), more "
+                f"than the cap max_reflections={cap}; raise the cap or use the two-surface closed form")
     if exact:
         # a state is (v, w = H v); w is updated with the Gram matrix H M^-1 H^T, not recomputed
         if F is _Rational:
@@ -802,7 +846,7 @@ def resolve_sequential(mass_matrix, gradients, velocity, *, reading: str = "ener
     outcomes = []
     exact_outcomes = []
     for canon, (cnt, lo, hi, rep) in items:
-        v_ex, p_ex = system.replay(rep)
+        v_ex, p_ex = _verified_replay(system, rep)
         exact_outcomes.append((v_ex, p_ex))
         if exact:
             vel = sp.Matrix([F.to_sympy(x) for x in v_ex])
@@ -818,6 +862,7 @@ def resolve_sequential(mass_matrix, gradients, velocity, *, reading: str = "ener
     selected: tuple = ()
     if select:
         selected = _select(system, [v for v, _ in exact_outcomes], [p for _, p in exact_outcomes], reading)
+        _verify_selected(system, selected, reading)
     return SequentialResolution(tuple(outcomes), selected, reading, total, longest, len(g.vel), tests,
                                 fallbacks, exact, F.name if exact else "float", approaching, witness, _graph=g)
 
@@ -932,6 +977,40 @@ def _certified_compare_balls(system, oa, ob) -> int:
         raise UndecidableSign("selection: <o_1 - o_2, v0>_M could not be separated from 0 by the certified "
                               f"outcomes at {prec} bits (a possible tie between the two outcomes)")
     return s
+
+
+def _verified_replay(system, order):
+    """The exact outcome of ``order`` and its impulse, verified before it is used or returned:
+    every reflection acts on an approached surface (``H_i v < 0``: the count is consistent with
+    the order), and :func:`impactsym.verify.verify_exact` (``H v⁺ ≥ 0``, energy, momentum, ``p ≥ 0``)."""
+    from ..errors import VerificationError
+    from ..verify import verify_exact
+
+    F = system.F
+    v = system.v0
+    p = [F.zero] * system.k
+    for step, i in enumerate(order):
+        wi = system.w(v, i)
+        if F.sign(wi) >= 0:
+            raise VerificationError("sequential", f"ordering {tuple(order)[:20]}: reflection {step + 1} acts on "
+                                                  f"surface {i}, which is not approached (H_{i + 1} v = {wi})")
+        v, pi = system.reflect(v, i, wi)
+        p[i] = F.norm(p[i] + pi)
+    verify_exact("sequential", system.M, system.H, list(system.v0), list(v), p)
+    return v, p
+
+
+def _verify_selected(system, selected, reading):
+    """A rational selected velocity is checked exactly: valid, on the energy sphere (energy
+    reading) and with its momentum jump in the row space of ``Hᵀ``. (Its impulse sign is part
+    of the selection's own exact feasibility test.)"""
+    from ..verify import verify_exact
+
+    for vel in selected:
+        if all(x.is_Rational for x in vel):
+            verify_exact("sequential (selection)", system.M, system.H, list(system.v0),
+                         [system.F.num(x) if system.F is _Rational else x for x in vel], None,
+                         energy_ratio=1 if reading == "energy" else None)
 
 
 def _rational_key(v):
@@ -1200,6 +1279,7 @@ def _explore_rational(system, cap):
 
     root = new_node(v0, w0, None)
     index[tuple([(x.p, x.q) for x in v0])] = root
+    stored = 0  # bits of the exact velocities kept (the numbers of a long ordering grow linearly)
     state = {root: 1}
     stack = [(root, iter(legal_of[root]))]
     while stack:
@@ -1219,6 +1299,9 @@ def _explore_rational(system, cap):
         if child is None:
             if len(stack) > cap:
                 raise _cap_error(cap)
+            stored += sum(p.bit_length() + q.bit_length() for p, q in key)
+            if stored > MAX_STATE_BITS:
+                raise _state_bits_error(len(vel))
             wn = list(w)
             for j, a in gcols[i]:
                 wn[j] = w[j] - c * a
@@ -1585,19 +1668,22 @@ def termination_bound(mass_matrix, gradients):
     >>> termination_bound("1,0;0,1", "1,0;-1,1"), termination_bound("1,0,0;0,1,0;0,0,1", "-1,1,0;0,-1,1")
     (4, 3)
     """
-    from ..mechanics import kinetic_angle
+    from .two_surface import _Data, _certified_bound, _sign
 
     M = check_mass_matrix(mass_matrix, exact=True)
     H = check_gradients(gradients, M.shape[0], exact=True)
     if H.rows != 2:
         raise ImpactInputError("gradients", f"the bound of sec. III-C is for exactly two surfaces, got {H.rows}")
-    theta = kinetic_angle(M, H[0, :], H[1, :])
-    if certified_sign(sp.pi - theta) == 0:
-        raise DomainError("gradients: the two surfaces are opposite (kinetic angle pi): no valid lune, no bound")
-    x = sp.pi / (sp.pi - theta)
-    m = int(sp.floor(sp.N(x, 30)))
-    while certified_sign(x - m) < 0:
-        m -= 1
-    while certified_sign(x - (m + 1)) > 0:
-        m += 1
-    return m if certified_sign(x - m) == 0 else m + 1
+    # pi/(pi - theta) = pi/beta with beta = atan2(sqrt(Delta), -g): certified with Arb balls (the
+    # two-surface law's bound), exact ties (beta = pi/K) decided exactly
+    if _all_rational(M, H):
+        Mq = fmpq_mat([[_Rational.num(x) for x in M.row(i)] for i in range(M.rows)])
+        Hq = fmpq_mat([[_Rational.num(x) for x in H.row(i)] for i in range(2)])
+        gram = Hq * Mq.solve(Hq.transpose())
+    else:
+        gram = (H * M.LUsolve(H.T)).applyfunc(sp.radsimp)
+    d = _Data(gram[0, 0], gram[1, 1], gram[0, 1], gram[0, 0], gram[1, 1])
+    if _sign(d.D) == 0:
+        raise DomainError("gradients: the two surfaces are parallel (kinetic angle 0 or pi): the wedge is "
+                          "degenerate, no bound")
+    return _certified_bound(d, {})

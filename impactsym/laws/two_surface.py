@@ -75,6 +75,7 @@ from ..verify import verify_balls, verify_exact
 
 __all__ = [
     "resolve_two_surfaces",
+    "branch_counts",
     "TwoSurfaceResolution",
     "TwoSurfaceOutcome",
     "AlternatingOrder",
@@ -707,6 +708,49 @@ def resolve_two_surfaces(mass_matrix, gradients, velocity, *, digits: int = DEFA
                 outcomes.append(_certified_outcome(first, order, m, vel_b, imp_b, rad, digits, prec))
         by_first[first] = outcomes[-1]
     return TwoSurfaceResolution(outcomes, by_first, bound, wedge, exact, decisions, d)
+
+
+def branch_counts(mass_matrix, gradients, velocity) -> dict:
+    """The certified reflection count of every branch, without the exit velocities.
+
+    Cheap (no exact power, no exit enclosure): what a caller needs to refuse an iteration up
+    front (:func:`impactsym.laws.sequential.resolve_sequential` with ``two_surface="iterate"``).
+
+    Returns
+    -------
+    dict
+        ``{first surface: count}`` for each approached surface (empty when none is approached).
+
+    Examples
+    --------
+    >>> branch_counts("1,0;0,1", "1,0;-1000000,1", "-1,0")
+    {0: 1570797}
+    >>> branch_counts("11/10,0;0,1", "1,0;-1,1", "-1,-2")
+    {0: 4, 1: 4}
+    """
+    exact, M, H, v, n = _checked(mass_matrix, gradients, velocity)
+    rational_path = not exact or (_is_rational_matrix(M) and _is_rational_matrix(H) and _is_rational_matrix(v))
+    if rational_path:
+        (W, gram, c, _), vq, _ = _invariants(exact, M, H, v, n)
+        d = _Data(gram[0, 0], gram[1, 1], gram[0, 1], c[0, 0], c[1, 0])
+    else:
+        W, gram, c, _ = _invariants(exact, M, H, v, n)
+        d = _Data(gram[0, 0], gram[1, 1], gram[0, 1], c[0], c[1])
+    if _sign(d.D) == 0:
+        raise ImpactInputError(
+            "gradients", "the two rows are parallel (Δ = s_1 s_2 − g² = 0): the wedge is degenerate (opening 0 or π)")
+    out = {}
+    for first in (0, 1):
+        df = d if first == 0 else d.swapped()
+        if _sign(df.ca) >= 0:
+            continue
+        if rational_path:
+            check = _tie_check_rational
+        else:
+            rows = (H[0, :], H[1, :]) if first == 0 else (H[1, :], H[0, :])
+            check = _make_tie_check_algebraic(M, rows[0], rows[1], v)
+        out[first] = _certified_ceil_ratio(df, check, {})
+    return out
 
 
 def _as_output(exact, v, vq):
