@@ -63,7 +63,8 @@ def _vector(v):
     return list(v)
 
 
-def verify_exact(law: str, M, H, v, vplus, p, *, closed=None, energy_ratio=1, impulse_nonnegative=True) -> None:
+def verify_exact(law: str, M, H, v, vplus, p, *, closed=None, energy_ratio=1, impulse_nonnegative=True,
+                 energy_at_most=None) -> None:
     """Check an exact outcome exactly; raise :class:`~impactsym.errors.VerificationError` if any
     condition fails.
 
@@ -79,6 +80,8 @@ def verify_exact(law: str, M, H, v, vplus, p, *, closed=None, energy_ratio=1, im
         The contacts the law closes (default: every row of ``H``).
     energy_ratio : exact number or None
         ``T⁺ = energy_ratio · T⁻``; ``None`` skips the energy check.
+    energy_at_most : exact number or None
+        ``T⁺ ≤ energy_at_most · T⁻`` (dissipative laws).
     impulse_nonnegative : bool
         Require ``p ≥ 0``.
 
@@ -96,7 +99,7 @@ def verify_exact(law: str, M, H, v, vplus, p, *, closed=None, energy_ratio=1, im
     pr = _vector(p) if p is not None else None
     every = [x for row in Mr + Hr for x in row] + vr + vp + (pr or []) + ([energy_ratio] if energy_ratio is not None else [])
     if not all(_is_rational(x) for x in every):
-        _verify_algebraic(law, Mr, Hr, vr, vp, pr, closed, energy_ratio, impulse_nonnegative)
+        _verify_algebraic(law, Mr, Hr, vr, vp, pr, closed, energy_ratio, impulse_nonnegative, energy_at_most)
         return
     conv, sign, show = _q, (lambda x: (x > 0) - (x < 0)), str
     Mr = [[conv(x) for x in row] for row in Mr]
@@ -119,6 +122,12 @@ def verify_exact(law: str, M, H, v, vplus, p, *, closed=None, energy_ratio=1, im
         Tm = dot(vr, [dot(row, vr) for row in Mr])
         if sign(Tp - e * Tm) != 0:
             raise VerificationError(law, f"kinetic energy: v+^T M v+ = {show(Tp)}, expected {show(e)} * v^T M v = {show(Tm)}")
+    if energy_at_most is not None:
+        e = conv(energy_at_most)
+        Tp = dot(vp, [dot(row, vp) for row in Mr])
+        Tm = dot(vr, [dot(row, vr) for row in Mr])
+        if sign(Tp - e * Tm) > 0:
+            raise VerificationError(law, f"kinetic energy: v+^T M v+ = {show(Tp)} > {show(e)} * v^T M v = {show(Tm)}")
     jump = [dot(row, [a - b for a, b in zip(vp, vr)]) for row in Mr]
     if pr is not None:
         pr = [conv(x) for x in pr]
@@ -138,30 +147,20 @@ def verify_exact(law: str, M, H, v, vplus, p, *, closed=None, energy_ratio=1, im
 ALGEBRAIC_CHECK_BITS = 512
 
 
-def _verify_algebraic(law, Mr, Hr, vr, vp, pr, closed, energy_ratio, impulse_nonnegative):
-    """Algebraic (or transcendental) data: the sign conditions exactly (certified signs, fast
-    when the value is not zero), the equalities (energy, momentum) with Arb balls at
-    :data:`ALGEBRAIC_CHECK_BITS` bits whose difference must contain 0. A SymPy zero test of an
-    equality (``simplify``) costs seconds; a wrong outcome misses it by far more than 2^-512."""
-    k = len(Hr)
-    closed = range(k) if closed is None else closed
-    S = sp.sympify
-    for i in closed:
-        w = sum((S(h) * S(x) for h, x in zip(Hr[i], vp)), sp.Integer(0))
-        if certified_sign(w) < 0:
-            raise VerificationError(law, f"H_{i + 1} v+ = {w} < 0 on a closed contact")
-    if pr is not None and impulse_nonnegative:
-        for i in closed:
-            if certified_sign(pr[i]) < 0:
-                raise VerificationError(law, f"impulse p_{i + 1} = {pr[i]} < 0")
+def _verify_algebraic(law, Mr, Hr, vr, vp, pr, closed, energy_ratio, impulse_nonnegative, energy_at_most=None):
+    """Algebraic (or transcendental) data: every condition on Arb balls at
+    :data:`ALGEBRAIC_CHECK_BITS` bits (signs: not certainly negative; equalities: the difference
+    contains 0). An exact zero test of a grazing contact or of an equality (``simplify``,
+    minimal polynomials) costs seconds and may not decide at all; a wrong outcome misses these
+    conditions by far more than 2^-512."""
+    if pr is None:
+        raise VerificationError(law, "an algebraic outcome must come with its impulse to be verified")
     prec = ALGEBRAIC_CHECK_BITS
     with ctx.workprec(prec):
         vel = [enclose(x, prec) for x in vp]
-        imp = [enclose(x, prec) for x in pr] if pr is not None else None
+        imp = [enclose(x, prec) for x in pr]
     verify_balls(law, Mr, Hr, vr, vel, imp, prec, closed=closed, energy_ratio=energy_ratio,
-                 impulse_nonnegative=False, check_signs=False)
-    if pr is None:
-        raise VerificationError(law, "an algebraic outcome must come with its impulse to be verified")
+                 impulse_nonnegative=impulse_nonnegative, energy_at_most=energy_at_most)
 
 
 def _in_row_space(law, Hr, jump, sign, zero):
@@ -219,7 +218,7 @@ def enclose(x, prec: int) -> arb:
 
 
 def verify_balls(law: str, M, H, v, vel_balls, p_balls, prec: int, *, closed=None, energy_ratio=1,
-                 impulse_nonnegative=True, check_signs=True) -> None:
+                 impulse_nonnegative=True, check_signs=True, energy_at_most=None) -> None:
     """Check a certified outcome given as Arb balls against the exact data, at ``prec`` bits.
 
     A condition fails when the balls *certainly* violate it: ``H_i v⁺`` certainly negative, the
@@ -262,6 +261,11 @@ def verify_balls(law: str, M, H, v, vel_balls, p_balls, prec: int, *, closed=Non
             diff = dot(vp, [dot(row, vp) for row in Mr]) - e * dot(vr, [dot(row, vr) for row in Mr])
             if not diff.is_finite() or not diff.contains(0):
                 failure = f"kinetic energy: v+^T M v+ - e v^T M v = {diff.str(10, radius=True)} excludes 0"
+        if failure is None and energy_at_most is not None:
+            e = enclose(energy_at_most, prec)
+            diff = dot(vp, [dot(row, vp) for row in Mr]) - e * dot(vr, [dot(row, vr) for row in Mr])
+            if not diff.is_finite() or diff > 0:
+                failure = f"kinetic energy: v+^T M v+ - e v^T M v = {diff.str(10, radius=True)} is certainly positive"
         if failure is None and pr is not None:
             for j in range(n):
                 r = dot(Mr[j], [a - b for a, b in zip(vp, vr)]) - dot([Hr[i][j] for i in range(k)], pr)
@@ -275,3 +279,70 @@ def verify_balls(law: str, M, H, v, vel_balls, p_balls, prec: int, *, closed=Non
                         break
     if failure is not None:
         raise VerificationError(law, failure)
+
+
+def _surd_sign(x, y, d) -> int:
+    sx, sy = (x > 0) - (x < 0), (y > 0) - (y < 0)
+    if d == 0 or sy == 0:
+        return sx
+    if sx == 0 or sx == sy:
+        return sy if sx == 0 else sx
+    t = x * x - y * y * d
+    return sx * ((t > 0) - (t < 0))
+
+
+def verify_surd(law: str, M, H, v, alpha, beta, p_alpha, p_beta, d, *, energy_ratio=1, closed=None,
+                check_signs=True) -> None:
+    """Check exactly an outcome in ``Q(√d)`` over rational data: ``v⁺ = α + β√d``,
+    ``p = p_α + p_β√d`` (fmpq entries, ``d ≥ 0`` rational), with the conditions of
+    :func:`verify_exact` (``check_signs=False`` skips ``H v⁺ ≥ 0`` and ``p ≥ 0``, for an outcome
+    the law itself labels invalid). Equalities are split into their rational and ``√d`` parts
+    (when ``√d`` is irrational), signs are decided by comparing squares.
+
+    >>> from flint import fmpq
+    >>> one, zero = fmpq(1), fmpq(0)
+    >>> verify_surd("demo", [[one]], [[one]], [-one], [zero], [one], [one], [one], fmpq(1))
+    >>> verify_surd("demo", [[one]], [[one]], [-one], [zero], [one], [one], [one], fmpq(2))
+    Traceback (most recent call last):
+    ...
+    impactsym.errors.VerificationError: demo: verification of the outcome failed: kinetic energy: v+^T M v+ - e v^T M v = 1 + 0 sqrt(2) != 0 (a bug in impactsym; the outcome was not returned)
+    """
+    Mr = [[_q(x) for x in row] for row in _entries(M)]
+    Hr = [[_q(x) for x in row] for row in _entries(H)]
+    vr, al, be = [_q(x) for x in _vector(v)], [_q(x) for x in _vector(alpha)], [_q(x) for x in _vector(beta)]
+    pa, pb = [_q(x) for x in _vector(p_alpha)], [_q(x) for x in _vector(p_beta)]
+    d = _q(d)
+    zero = fmpq(0)
+    n, k = len(vr), len(Hr)
+    closed = range(k) if closed is None else closed
+    num, den = int(d.p), int(d.q)
+    import math
+
+    if math.isqrt(num) ** 2 == num and math.isqrt(den) ** 2 == den:  # √d rational: fold it in
+        root = fmpq(math.isqrt(num), math.isqrt(den))
+        al = [a + b * root for a, b in zip(al, be)]
+        pa = [a + b * root for a, b in zip(pa, pb)]
+        be, pb, d = [zero] * n, [zero] * k, zero
+
+    def dot(a, b):
+        return sum((x * y for x, y in zip(a, b) if x != 0 and y != 0), zero)
+
+    if check_signs:
+        for i in closed:
+            x, y = dot(Hr[i], al), dot(Hr[i], be)
+            if _surd_sign(x, y, d) < 0:
+                raise VerificationError(law, f"H_{i + 1} v+ = {x} + {y} sqrt({d}) < 0 on a closed contact")
+            if _surd_sign(pa[i], pb[i], d) < 0:
+                raise VerificationError(law, f"impulse p_{i + 1} = {pa[i]} + {pb[i]} sqrt({d}) < 0")
+    if energy_ratio is not None:
+        e = _q(energy_ratio)
+        Mal, Mbe = [dot(row, al) for row in Mr], [dot(row, be) for row in Mr]
+        rat = dot(al, Mal) + d * dot(be, Mbe) - e * dot(vr, [dot(row, vr) for row in Mr])
+        irr = 2 * dot(al, Mbe)
+        if rat != 0 or (d != 0 and irr != 0):
+            raise VerificationError(law, f"kinetic energy: v+^T M v+ - e v^T M v = {rat} + {irr} sqrt({d}) != 0")
+    for j in range(n):
+        ra = dot(Mr[j], [a - b for a, b in zip(al, vr)]) - sum((Hr[i][j] * pa[i] for i in range(k)), zero)
+        rb = dot(Mr[j], be) - sum((Hr[i][j] * pb[i] for i in range(k)), zero)
+        if ra != 0 or (d != 0 and rb != 0):
+            raise VerificationError(law, f"momentum: (M(v+ - v) - H^T p)_{j + 1} = {ra} + {rb} sqrt({d}) != 0")
