@@ -382,3 +382,64 @@ def test_no_impact_outcome_has_no_first_surface():
     (o,) = r.outcomes
     assert o.first is None and o.reflections == 0 and list(o.velocity) == [1, 2]
     assert o.as_dict()["no_impact"] is True and o.as_dict()["first"] is None
+
+
+# --------------------------------------------------------------------------- other laws' verification
+def test_impulse_ratio_verification_rejects_a_corrupted_outcome(monkeypatch):
+    """The impulse-ratio law checks its exact outcome in Q(sqrt D) before returning it; a
+    corrupted discriminant (a wrong p_1) breaks the energy balance and raises."""
+    from impactsym.laws import impulse_ratio as ir
+
+    args = ("1,0,0;0,1,0;0,0,1", "-1,1,0;0,-1,1", "1,0,0", 1, ["1"])
+    assert list(ir.impulse_ratio_law(*args).velocity) == [0, 0, 1]
+    monkeypatch.setattr(ir, "_verify", lambda law, kind, Mq, Hq, vq, aq, w, A, B, D, e_q, valid:
+                        _REAL_IR_VERIFY(law, kind, Mq, Hq, vq, aq, w, A, B, D * 2, e_q, valid))
+    with pytest.raises(VerificationError, match="impulse-ratio"):
+        ir.impulse_ratio_law(*args)
+
+
+def test_impulse_ratio_verification_algebraic_rejects(monkeypatch):
+    from impactsym.laws import impulse_ratio as ir
+
+    args = ("sqrt(2),0,0;0,1,0;0,0,1", "-1,1,0;0,-1,1", "1,0,0", 1, ["1"])
+    ir.impulse_ratio_law(*args, allow_invalid=True)
+    monkeypatch.setattr(ir, "_verify", lambda law, kind, Mq, Hq, vq, aq, w, A, B, D, e_q, valid:
+                        _REAL_IR_VERIFY(law, kind, Mq, Hq, vq, aq, w, A * 3, B, D, e_q, valid))
+    with pytest.raises(VerificationError, match="kinetic energy"):
+        ir.impulse_ratio_law(*args, allow_invalid=True)
+
+
+def test_classical_verification_rejects_a_corrupted_outcome(monkeypatch):
+    from impactsym.laws import classical as cl
+
+    r = cl.newton_moreau("1,0;0,1", "1,0;-1,1", "-1,-2")
+    assert r.valid
+    real = cl._Scene.velocity_after
+    monkeypatch.setattr(cl._Scene, "velocity_after", lambda self, p: real(self, p) * 2)
+    with pytest.raises(VerificationError, match="momentum"):
+        cl.newton_moreau("1,0;0,1", "1,0;-1,1", "-1,-2")
+
+
+def test_reflection_verification_rejects_a_corrupted_outcome(monkeypatch):
+    from impactsym.laws import reflection as rf
+
+    assert list(rf.reflect("2,0;0,1", "-1,1", "1,0")) == [sp.Rational(1, 3), sp.Rational(4, 3)]
+    real = rf._verify_reflection
+    monkeypatch.setattr(rf, "_verify_reflection",
+                        lambda Mx, ux, vx, ex, vplus, p: real(Mx, ux, vx, ex, vplus + sp.Matrix([1, 1]), p))
+    with pytest.raises(VerificationError, match="reflection"):
+        rf.reflect("2,0;0,1", "-1,1", "1,0")
+    with pytest.raises(VerificationError, match="reflection"):
+        rf.reflect("sqrt(2),0;0,1", "-1,1", "1,0")
+
+
+def test_simulation_verification_rejects_a_corrupted_final_state():
+    from impactsym.simulate import _verify_final
+
+    m = [sp.Integer(1), sp.Integer(2)]
+    _verify_final(m, [sp.Integer(1), sp.Integer(0)], [sp.Rational(-1, 3), sp.Rational(2, 3)], False)
+    with pytest.raises(VerificationError, match="energy"):
+        _verify_final(m, [sp.Integer(1), sp.Integer(0)], [sp.Rational(-1, 3), sp.Rational(1, 3)], False)
+
+
+from impactsym.laws.impulse_ratio import _verify as _REAL_IR_VERIFY  # noqa: E402
