@@ -410,8 +410,9 @@ class SequentialResolution:
     selected : tuple
         The minimizers of ``‖v − v0‖_M`` over the feasible set of ``reading`` (usually one;
         ties are all listed). Exact (SymPy) in exact mode and in float mode (computed from the
-        exact replays of the float outcomes; see ``selected_float``). Empty when
-        ``select=False``.
+        exact replays of the float outcomes; see ``selected_float``); with the two-surface
+        closed form it is the selected outcome itself (exact, certified ``mpmath.matrix`` or
+        float, like the outcome). Empty when ``select=False``, or as ``selection_note`` says.
     reading : str
         ``"energy"`` or ``"cone"``.
     orderings : int
@@ -714,9 +715,14 @@ def resolve_sequential(mass_matrix, gradients, velocity, *, reading: str = "ener
     two_surface : ``"closed-form"`` (default) or ``"iterate"``
         With exactly two linearly independent rows, ``"closed-form"`` takes every branch from
         :func:`impactsym.laws.two_surface.resolve_two_surfaces` in O(1), whatever the count (the
-        reflection cap does not apply: nothing is iterated); ``"iterate"`` forces the search.
-        When a closed-form exit velocity is certified digits rather than exact, the selection
-        is skipped (``selected`` is empty).
+        reflection cap does not apply: nothing is iterated); ``"iterate"`` forces the search,
+        and is refused up front (``NonTermination``) when the certified count of a branch
+        exceeds ``max_reflections``. With the closed form the energy reading selects the
+        outcome(s) with the largest ``⟨o, v0⟩_M`` (exact, or certified Arb comparison of
+        certified outcomes; see :func:`_two_surface_path`); the cone reading of certified
+        outcomes is skipped in exact mode (``selected`` empty, ``selection_note`` says why) and
+        refused in float mode (``DomainError``): a float run never succeeds with an empty
+        selection.
 
     Returns
     -------
@@ -725,11 +731,15 @@ def resolve_sequential(mass_matrix, gradients, velocity, *, reading: str = "ener
     Raises
     ------
     ImpactInputError
-        Bad shapes, a mass matrix that is not SPD, a zero gradient row, a bad ``reading`` or cap.
+        Bad shapes, a mass matrix that is not SPD, a zero gradient row, a bad ``reading`` or cap,
+        more than ``MAX_COORDINATES`` coordinates (refused before any exact work).
     DomainError
         No non-zero velocity is valid for all closed contacts (no elastic outcome exists).
     NonTermination
-        An ordering exceeds ``max_reflections`` or provably never ends.
+        An ordering exceeds ``max_reflections`` or provably never ends, or the exact states of
+        the search exceed ``MAX_STATE_BITS``.
+    VerificationError
+        An exact outcome failed its check before return (a bug; never returned).
 
     Examples
     --------
