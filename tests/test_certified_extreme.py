@@ -443,3 +443,30 @@ def test_simulation_verification_rejects_a_corrupted_final_state():
 
 
 from impactsym.laws.impulse_ratio import _verify as _REAL_IR_VERIFY  # noqa: E402
+
+
+# --------------------------------------------------------------------------- the closed-form selection
+SELECTION_CASES = [
+    ("11/10,0;0,1", "1,0;-1,1", "-1,-2"),
+    ("11/10,0;0,1", "1,0;-1,1", "-1,-11/10"),
+    ("3,1;1,2", "2,-1;-5,3", "-1,-1/3"),
+    ("1,0,0;0,2,0;0,0,3", "1,0,0;-1,1,0", "-1,-2,1"),
+    ("2,1,0;1,3,1;0,1,4", "1,-1,0;0,1,-2", "3,-1,2"),
+    ("5,0;0,1", "1,0;-3,1", "-2,-7"),
+]
+
+
+@pytest.mark.parametrize("M, H, v", SELECTION_CASES)
+def test_closed_form_selection_equals_the_face_enumeration(M, H, v):
+    """The two-surface energy selection (the outcome(s) maximizing <o, v0>_M) agrees with the
+    general exact face enumeration of the feasible set."""
+    r = resolve_sequential(M, H, v)
+    system = seq._ExactSystem(sp.Matrix(_parse(M)), sp.Matrix(_parse(H)),
+                              sp.Matrix([row[0] for row in _parse(v.replace(",", ";"))]))
+    outs = [tuple(system.F.num(x) for x in o.velocity) for o in r.outcomes]
+    general = seq._select(system, outs, None, "energy")
+    assert {tuple(s) for s in r.selected} == {tuple(s) for s in general}
+    # float input with short orderings still selects exactly (replays), the same velocities
+    rf = resolve_sequential(*(np.array(_parse(t), dtype=float) for t in (M, H)),
+                            np.array([float(row[0]) for row in _parse(v.replace(",", ";"))]))
+    assert rf.selected and all(isinstance(s, sp.MatrixBase) for s in rf.selected)

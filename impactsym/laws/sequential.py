@@ -918,12 +918,13 @@ def _two_surface_path(M, H, v0, system, exact, reading, select, witness):
     selected: tuple = ()
     note = None
     all_exact = all(g[3] for g in groups)
-    if select and reading == "energy":
+    short = max(o.reflections for o in outcomes) <= 10_000
+    if select and reading == "energy" and (exact or not short):
         selected = _select_two_surface(system, groups, exact)
     elif select and (all_exact or not exact):
         if exact:
             exact_outs = [tuple(F.num(x) for x in o.velocity) for o in outcomes]
-        elif max(o.reflections for o in outcomes) <= 10_000:  # float input: replay short orderings
+        elif short:  # float input: replay short orderings exactly (an exact selection)
             exact_outs = [system.replay(o.order)[0] for o in outcomes]
         else:
             raise DomainError(
