@@ -470,3 +470,30 @@ def test_closed_form_selection_equals_the_face_enumeration(M, H, v):
     rf = resolve_sequential(*(np.array(_parse(t), dtype=float) for t in (M, H)),
                             np.array([float(row[0]) for row in _parse(v.replace(",", ";"))]))
     assert rf.selected and all(isinstance(s, sp.MatrixBase) for s in rf.selected)
+
+
+def test_exact_search_refuses_beyond_the_state_bits_limit(monkeypatch):
+    """The rationals of a long ordering grow with every reflection; the exact search stops at
+    MAX_STATE_BITS (named) instead of growing without bound."""
+    from impactsym.errors import NonTermination
+
+    monkeypatch.setattr(seq, "MAX_STATE_BITS", 20_000)
+    with pytest.raises(NonTermination, match="MAX_STATE_BITS=20000"):
+        resolve_sequential("1,0;0,1", "1,0;-1000,1", "-1,0", two_surface="iterate")
+
+
+@pytest.mark.parametrize("M, H", [("10**-300,0;0,1", "10**10,0;-1,1"), ("1,0;0,1", "1,0;-10**40,1"),
+                                  ("3,1;1,2", "2,-1;-5,3")])
+def test_termination_bound_at_extreme_scales(M, H):
+    """sec. III-C's N = ceil(pi/beta) against the reference's valid-cone opening beta."""
+    dps = 3 * _digits_needed(M, H)
+    with mpmath.workdps(dps):
+        Mm = mpmath.matrix([[mpmath.mpf(x.numerator) / x.denominator for x in r] for r in _parse(M)])
+        Hm = mpmath.matrix([[mpmath.mpf(x.numerator) / x.denominator for x in r] for r in _parse(H)])
+        Linv = mpmath.cholesky(Mm) ** -1
+        a = [Linv * Hm[i, :].T for i in range(2)]
+        cos_phi = (a[0].T * a[1])[0] / (mpmath.norm(a[0]) * mpmath.norm(a[1]))
+        beta = mpmath.pi - mpmath.acos(cos_phi)
+        expected = int(mpmath.ceil(mpmath.pi / beta))
+    assert seq.termination_bound(M, H) == expected
+    assert resolve_two_surfaces(M, H, "-1,0").bound == expected
