@@ -20,7 +20,7 @@ import time
 from collections import Counter, OrderedDict
 from pathlib import Path
 
-from .common import add_json_flag
+from .common import add_json_flag, writable_dir
 
 PAPER_ORDER = ("seghete-murphey", "acary-taha")
 
@@ -75,6 +75,7 @@ def run(args):
     from paper_checks.crosscheck import run_crosschecks
     from paper_checks.framework import VERDICTS, evaluate_all
 
+    report_dir = writable_dir(args.report, "report")  # checked before the 1-2 minute audit
     t0 = time.perf_counter()
     claims = evaluate_all(args.paper)
     derivation = _derivation_summary()
@@ -105,8 +106,8 @@ def run(args):
         "seconds": round(seconds, 2),
     }
     result = {"claims": [c.as_dict() for c in claims], "summary": summary}
-    if getattr(args, "report", None):
-        summary["report"] = str(write_report(result, Path(args.report)))
+    if report_dir is not None:
+        summary["report"] = str(write_report(result, report_dir))
     return result, (0 if ok else 1)
 
 

@@ -25,7 +25,13 @@ def run(args) -> dict:
         raise ImpactInputError("restitution", "the two-surface law is elastic (sequential G_u): e must be 1")
     M, H, v, desc = read_scene(args)
     out = {"law": "two-surface"}
-    out.update(resolve_two_surfaces(M, H, v).as_dict())
+    try:
+        resolution = resolve_two_surfaces(M, H, v)
+    except OverflowError:  # the law's float twins of an exact result beyond the float range
+        arg = "velocity" if args.scene is None else ("velocities" if args.velocities is not None else "masses")
+        raise ImpactInputError(arg, "the result is beyond the float range (about 1.8e308), where its float "
+                               "twin cannot be given; scale the input down") from None
+    out.update(resolution.as_dict())
     out.update(scene_json(desc))
     return out
 
@@ -38,6 +44,9 @@ def render(result: dict) -> str:
         if isinstance(order, dict):
             order = f"[{order['first']}, {1 - order['first']}, ...] ({order['length']} surfaces)"
         kind = "exact" if o["exact"] else f"{o['digits']} certified digits" if o["digits"] else "float"
-        lines.append(f"first surface {o['first']}: {o['reflections']} reflections, order {order}")
+        if o["first"] == -1:  # the law's marker: neither surface is approached
+            lines.append("no surface is approached: no impact (0 reflections), v+ = v-")
+        else:
+            lines.append(f"first surface {o['first']}: {o['reflections']} reflections, order {order}")
         lines.append(f"  v+ = [{', '.join(o['velocity'] if isinstance(o['velocity'][0], str) else map(str, o['velocity']))}]  ({kind})")
     return "\n".join(lines)
