@@ -113,11 +113,16 @@ def check_options(args) -> None:
     try:
         refuse_inapplicable(args, args._resolve_parser, ("law", "scene", *LAW_OPTIONS[law], *form), context)
     except ImpactInputError as exc:
-        why = NOT_APPLICABLE_BECAUSE.get((law, exc.argument))
-        if why is None and scene is None and any(exc.argument in opts for opts in SCENE_OPTIONS.values()):
-            why = f"{option_name(exc.argument)} is a scene parameter; give --scene"
-        if why is None and scene is not None and exc.argument in MATRIX_OPTIONS:
-            why = "the scene defines M, H and v"
+        arg = exc.argument
+        why = NOT_APPLICABLE_BECAUSE.get((law, arg))
+        owners = [name for name, opts in LAW_OPTIONS.items() if arg in opts]
+        if why is None and owners:
+            why = f"{option_name(arg)} applies to --law {', '.join(owners)}"
+        elif why is None and scene is None and any(arg in opts for opts in SCENE_OPTIONS.values()):
+            why = (f"{option_name(arg)} applies only with --scene "
+                   f"({', '.join(s for s in law_scenes(law) if arg in SCENE_OPTIONS[s])})")
+        elif why is None and scene is not None and arg in MATRIX_OPTIONS:
+            why = f"{option_name(arg)} cannot be combined with --scene (the scene defines M, H and v)"
         if why:
             raise ImpactInputError(exc.argument, f"{exc.condition}; {why}") from None
         raise
