@@ -93,6 +93,8 @@ MAX_TEXT = 2000
 
 _SAFE_TEXT = re.compile(r"[0-9A-Za-z_+\-*/().^ eE]+")
 _IDENT = re.compile(r"[A-Za-z_][A-Za-z_0-9]*")
+#: plain numeric text read without the expression parser: ``-3``, ``11/10``, ``1.25``, ``1e-3``
+_PLAIN = re.compile(r"[+-]?(?:\d+\.?\d*|\.\d+)(?:[eE]([+-]?\d+))?(?:/(\d+))?")
 #: a numeric literal, with an optional decimal exponent (``1e-3``, ``2.5E+4``): read exactly
 _LITERAL = re.compile(r"(?<![A-Za-z_0-9.])(?:\d+\.?\d*|\.\d+)(?:[eE]([+-]?\d+))?")
 
@@ -146,6 +148,14 @@ def parse_number(text: Any, argument: str = "value") -> sp.Expr:
     low = s.lower()
     if low in {"nan", "+nan", "-nan", "inf", "+inf", "-inf", "infinity", "-infinity", "oo", "-oo", "zoo"}:
         raise ImpactInputError(argument, f"must be a finite real number, got {s}")
+    plain = _PLAIN.fullmatch(s)
+    if plain and len(s) <= MAX_DIGITS:  # a plain integer, fraction or decimal: no parser needed
+        if plain.group(2) is not None and int(plain.group(2)) == 0:
+            raise ImpactInputError(argument, f"must be a finite real number, got {s} (division by zero)")
+        exponent = plain.group(1)
+        if exponent is None or abs(int(exponent)) <= MAX_DIGITS:
+            num, _, den = s.partition("/")
+            return sp.Rational(Fraction(num)) / (int(den) if den else 1)
     if len(s) > MAX_TEXT:
         raise ImpactInputError(argument, f"entry is {len(s)} characters long; at most {MAX_TEXT} are read")
     if not _SAFE_TEXT.fullmatch(s) or any(name not in _ALLOWED_NAMES for name in _IDENT.findall(_LITERAL.sub(" ", s))):
