@@ -10,7 +10,7 @@ True
 
 from __future__ import annotations
 
-__all__ = ["ImpactError", "ImpactInputError", "DomainError", "NonTermination", "UndecidableSign"]
+__all__ = ["ImpactError", "ImpactInputError", "DomainError", "NonTermination", "UndecidableSign", "TimeLimitExceeded"]
 
 
 class ImpactError(Exception):
@@ -46,3 +46,7 @@ class NonTermination(ImpactError, RuntimeError):
 class UndecidableSign(ImpactError, ArithmeticError):
     """An exact sign could not be certified (for instance a transcendental expression
     that is zero to every precision tried). Never guessed: raised instead."""
+
+
+class TimeLimitExceeded(ImpactError, TimeoutError):
+    """A computation ran past the time limit its caller set (the CLI's ``--timeout``)."""

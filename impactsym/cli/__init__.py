@@ -24,7 +24,9 @@ import argparse
 import importlib
 import json
 import re
+import signal
 import sys
+import threading
 from typing import Sequence
 
 from .. import __version__
@@ -87,7 +89,50 @@ def build_parser() -> argparse.ArgumentParser:
     for name in SUBCOMMANDS:
         module = importlib.import_module(f"{__name__}.{name.replace('-', '_')}")
         module.register(sub)
+    for p in sub.choices.values():  # one time limit for every subcommand
+        p.add_argument("--timeout", metavar="SECONDS",
+                       help="stop with exit status 2 if the work takes longer than SECONDS")
     return parser
+
+
+def _timeout_seconds(text: str | None) -> float | None:
+    if text is None:
+        return None
+    from ..errors import ImpactInputError
+    from ..numbers import parse_number
+
+    value = parse_number(text, "timeout")
+    if not value.is_positive:
+        raise ImpactInputError("timeout", f"must be a positive number of seconds, got {text!r}")
+    return float(value)
+
+
+class _TimeLimit:
+    """``--timeout``: a SIGALRM timer that raises :class:`~impactsym.errors.TimeLimitExceeded` in
+    the main thread, re-armed every half second until the exception has left the computation
+    (a broad ``except`` inside a law cannot swallow it for good)."""
+
+    def __init__(self, seconds: float | None):
+        self.seconds = seconds
+        self.usable = seconds is not None and hasattr(signal, "setitimer") and \
+            threading.current_thread() is threading.main_thread()
+
+    def _fire(self, signum, frame):
+        from ..errors import TimeLimitExceeded
+
+        raise TimeLimitExceeded(f"timeout: the computation did not finish within {self.seconds:g} s (--timeout)")
+
+    def __enter__(self):
+        if self.usable:
+            self.previous = signal.signal(signal.SIGALRM, self._fire)
+            signal.setitimer(signal.ITIMER_REAL, self.seconds, 0.5)
+        return self
+
+    def __exit__(self, *exc):
+        if self.usable:
+            signal.setitimer(signal.ITIMER_REAL, 0, 0)
+            signal.signal(signal.SIGALRM, self.previous)
+        return False
 
 
 def emit(result: dict, args: argparse.Namespace, module) -> None:
@@ -150,7 +195,8 @@ def main(argv: Sequence[str] | None = None) -> int:
     if old_limit is not None:  # exact results may grow beyond the inputs' 1000 digits
         sys.set_int_max_str_digits(0)
     try:
-        result = args.func(args)
+        with _TimeLimit(_timeout_seconds(args.timeout)):
+            result = args.func(args)
         exit_code = 0
         if isinstance(result, tuple):  # (result, exit status) for subcommands that grade a run
             result, exit_code = result

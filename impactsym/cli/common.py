@@ -85,7 +85,7 @@ def given_options(args: argparse.Namespace, parser: argparse.ArgumentParser) -> 
     """The destinations of the optional arguments the user gave (value differs from the default)."""
     out = []
     for action in parser._actions:
-        if not action.option_strings or action.dest in ("help", "version", "json"):
+        if not action.option_strings or action.dest in ("help", "version", "json", "timeout"):
             continue
         if getattr(args, action.dest, action.default) != action.default:
             out.append(action.dest)

@@ -26,7 +26,7 @@ import sympy as sp
 from ..errors import ImpactInputError, NonTermination
 from ..laws.sequential import DEFAULT_MAX_REFLECTIONS, READINGS, TWO_SURFACE_PATHS, resolve_sequential, termination_bound
 from ..numbers import exact_str, parse_number, parse_vector
-from .scene_args import read_scene, scene_json
+from .scene_args import float_range_guard, read_scene, scene_json
 
 __all__ = ["run", "render", "SM_SCENE_PARAMS"]
 
@@ -136,8 +136,9 @@ def run(args) -> dict:
         M, H, v = (np.array(np.array(A).tolist(), dtype=float) if isinstance(A, sp.MatrixBase) else
                    np.asarray(A, dtype=float) for A in (M, H, v))
         v = v.reshape(-1)
-    r = resolve_sequential(M, H, v, reading=reading, max_reflections=cap, exact=not args.float,
-                           two_surface=path)
+    with float_range_guard(args):
+        r = resolve_sequential(M, H, v, reading=reading, max_reflections=cap, exact=not args.float,
+                               two_surface=path)
     if args.max_reflections is not None:
         used = max((o.reflections_max for o in r.outcomes), default=0)
         if used > cap:  # the two-surface closed form needs no cap; a cap the user gave still binds

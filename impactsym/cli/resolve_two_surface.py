@@ -15,7 +15,7 @@ from __future__ import annotations
 from ..errors import ImpactInputError
 from ..laws.two_surface import resolve_two_surfaces
 from ..numbers import parse_number
-from .scene_args import read_scene, scene_json
+from .scene_args import float_range_guard, read_scene, scene_json
 
 __all__ = ["run", "render"]
 
@@ -25,13 +25,8 @@ def run(args) -> dict:
         raise ImpactInputError("restitution", "the two-surface law is elastic (sequential G_u): e must be 1")
     M, H, v, desc = read_scene(args)
     out = {"law": "two-surface"}
-    try:
-        resolution = resolve_two_surfaces(M, H, v)
-    except OverflowError:  # the law's float twins of an exact result beyond the float range
-        arg = "velocity" if args.scene is None else ("velocities" if args.velocities is not None else "masses")
-        raise ImpactInputError(arg, "the result is beyond the float range (about 1.8e308), where its float "
-                               "twin cannot be given; scale the input down") from None
-    out.update(resolution.as_dict())
+    with float_range_guard(args):
+        out.update(resolve_two_surfaces(M, H, v).as_dict())
     out.update(scene_json(desc))
     return out
 
