@@ -73,6 +73,8 @@ class _Parser(argparse.ArgumentParser):
         sys.stderr.write(f"{self.prog}: error: {message}\n")
         m = _ARG_IN_MESSAGE.search(message)
         name = next((g for g in m.groups() if g), None) if m else None
+        if name == "SUBCOMMAND":
+            name = "command"
         raise UsageError(message, name.lstrip("-").replace("-", "_") if name else None)
 
 
