@@ -48,6 +48,7 @@ __all__ = [
     "exact_str",
     "exact_json",
     "check_finite_exact",
+    "MAX_DIGITS",
 ]
 
 def _rational_call(p, q=1):
@@ -118,11 +119,20 @@ def parse_number(text: Any, argument: str = "value") -> sp.Expr:
     """Parse one exact number: int, ``Fraction``, SymPy number or text.
 
     Text may be an integer, a rational ``"p/q"``, a decimal ``"1.1"`` (read as 11/10, exactly),
-    or a SymPy expression in ``sqrt``, ``pi``, ``sin``, ``cos``, ... Floats are refused here:
-    they belong to the float path (see :func:`float_to_rational` for their exact binary value).
+    an exponent literal ``"1e-3"`` (read as 1/1000, exactly), or a SymPy expression in ``sqrt``,
+    ``pi``, ``sin``, ``cos``, ... Floats are refused here: they belong to the float path (see
+    :func:`float_to_rational` for their exact binary value).
 
-    >>> parse_number("-2/6"), parse_number("0.25"), parse_number(3)
-    (-1/3, 1/4, 3)
+    The size of what the text builds is bounded *before* it is built: an integer or rational of
+    more than :data:`MAX_DIGITS` digits (``9^9^9^9``, ``2^(2^30)``, ``1e100000``), or an irrational
+    value beyond ``10^±MAX_DIGITS`` (``exp(exp(exp(10)))``), is refused, naming the limit.
+
+    >>> parse_number("-2/6"), parse_number("0.25"), parse_number(3), parse_number("2.5e-3")
+    (-1/3, 1/4, 3, 1/400)
+    >>> parse_number("9^9^9^9", "velocity")
+    Traceback (most recent call last):
+    ...
+    impactsym.errors.ImpactInputError: velocity: 9**387420489 would have about 369693099 digits; numbers are limited to 1000 digits
     >>> parse_number("nan", "restitution")
     Traceback (most recent call last):
     ...
