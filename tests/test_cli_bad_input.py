@@ -306,3 +306,15 @@ def test_sequential_with_irrational_masses_answers_or_stops_at_the_time_limit():
         assert d["error"]["argument"] == "timeout" and "5 s" in d["error"]["message"]
     else:
         assert d["outcomes"]
+
+
+@pytest.mark.parametrize("law, velocity", [
+    ("newton", ["sqrt(2)/2", "sqrt(2)/2"]), ("poisson", ["sqrt(2)/2", "sqrt(2)/2"]),
+    ("han-gilmore", ["sqrt(2)/2", "sqrt(2)/2"]), ("energetic", ["2**(3/4)/2", "2**(3/4)/2"]),
+])
+def test_irrational_restitution_with_rational_matrices(capsys, law, velocity):
+    # was a TypeError (an irrational e in the rational arithmetic of the scene)
+    code, out, err = run(capsys, ["resolve", "--law", law, "--mass-matrix", "1,0;0,1", "--gradients", "1,0;-1,1",
+                                  "--velocity", "-1,-1", "--restitution", "sqrt(2)/2", "--json"])
+    assert code == 0, err
+    assert json.loads(out)["velocity"] == velocity
