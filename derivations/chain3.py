@@ -338,7 +338,38 @@ in the velocities, so rescale them first when they are that extreme.
 
 
 def generate(outdir) -> list[Path]:
-    """Write ``chain3.py`` into ``outdir`` (``python -m derivations``)."""
+    """Write ``chain3.py`` (the kernels) and ``chain3_naive.py`` (the naive form the benchmark
+    compares against) into ``outdir`` (``python -m derivations``)."""
     path = Path(outdir) / "chain3.py"
     path.write_text(render_family("chain3", "chain3", MODULE_DOC, kernels()))
-    return [path]
+    from .codegen import render_expressions
+
+    naive = Path(outdir) / NAIVE_FILE
+    naive.write_text(render_expressions("chain3", "chain3", NAIVE_DOC, naive_impulse_ratio()))
+    return [path, naive]
+
+
+NAIVE_FILE = "chain3_naive.py"
+NAIVE_DOC = """The 3-ball chain's impulse-ratio law in its naive form: the quadratic formula
+p1 = (-B + sqrt(B^2 - 4AC))/(2A) with the derived coefficients, no stable form, no CSE. Read by
+impactsym.benchmark (its lambdify-naive backend), never by a law."""
+
+
+def naive_impulse_ratio() -> dict:
+    """The chain's law as the textbook quadratic formula (what a naive implementation evaluates):
+    ``{"args": ([m1, m2, m3, v1, v2, v3, e, alpha], ...), "outputs": ([p1, p2, w1, w2, w3], ...)}``,
+    written to ``impactsym/kernels/chain3_naive.py``.
+
+    Examples
+    --------
+    >>> d = naive_impulse_ratio()
+    >>> [str(a) for a in d["args"][0]]
+    ['m1', 'm2', 'm3', 'v1', 'v2', 'v3', 'e', 'alpha']
+    """
+    g = chain3_general()
+    sc = chain3((m1, m2, m3), (v1, v2, v3))
+    c = sc.M.LUsolve(sc.H.T * sp.Matrix([1, alpha]))
+    p1 = (-g["B"] + sp.sqrt(g["B"] ** 2 - 4 * g["A"] * g["C"])) / (2 * g["A"])
+    w = [vi + ci * p1 for vi, ci in zip((v1, v2, v3), c)]
+    return {"args": ([m1, m2, m3, v1, v2, v3, e, alpha], "the kernel chain3_impulse_ratio's arguments"),
+            "outputs": ([p1, alpha * p1, *w], "p1, p2, w1, w2, w3 by the quadratic formula")}

@@ -86,6 +86,30 @@ def header(derivation: str, family: str) -> str:
     )
 
 
+def render_expressions(derivation: str, family: str, module_doc: str, entries: dict) -> str:
+    """The text of a generated data module: exact expressions the package reads at run time
+    instead of running a derivation. ``entries`` maps name -> ``(expression or list of
+    expressions, description)``; each expression is written as its ``sympy.srepr`` (which keeps
+    the symbols' assumptions), sorted by name.
+
+    >>> text = render_expressions("domains", "domains", "Doc.", {"one": (sp.Integer(1), "the unit")})
+    >>> text.splitlines()[-3:]
+    ['    # the unit', "    'one': 'Integer(1)',", '}']
+    """
+    lines = [header(derivation, family).rstrip("\n"), "", '"""' + module_doc.strip() + '\n"""', "",
+             "#: name -> srepr of the exact expression (a list of them for a list)", "EXPRESSIONS = {"]
+    for name, (value, desc) in sorted(entries.items()):
+        lines.append(f"    # {desc}")
+        if isinstance(value, (list, tuple)):
+            lines.append(f"    {name!r}: [")
+            lines.extend(f"        {sp.srepr(sp.sympify(v))!r}," for v in value)
+            lines.append("    ],")
+        else:
+            lines.append(f"    {name!r}: {sp.srepr(sp.sympify(value))!r},")
+    lines.append("}")
+    return "\n".join(lines) + "\n"
+
+
 _CSE_CACHE: dict = {}
 
 

@@ -49,7 +49,7 @@ import sympy as sp
 
 from impactsym.models.acary_taha import chain3, pool
 
-from .codegen import ScalarKernel, render_family
+from .codegen import ScalarKernel, render_expressions, render_family
 from .impulse_ratio import general_quadratic
 
 __all__ = [
@@ -63,6 +63,8 @@ __all__ = [
     "pool_claims",
     "pool_domain_at",
     "bernoulli_tau0_domain",
+    "pool_tau_conditions",
+    "boundary_expressions",
     "kernels",
     "generate",
 ]
@@ -70,6 +72,7 @@ __all__ = [
 alpha = sp.Symbol("alpha", nonnegative=True)
 e = sp.Symbol("e", positive=True)
 theta = sp.Symbol("theta", real=True)
+tau = sp.Symbol("tau", real=True)  # the pool's incidence angle
 c = sp.Symbol("c", real=True)  # cos θ, the pool's kinetic-angle parameter (eq. 42: cos θ₁₂ = −c/2)
 
 
@@ -282,10 +285,10 @@ def pool_claims() -> dict:
     # θ > π/2: w₂⁺ > 0 always (c₂ = 2α − c > 0); w₁⁺ needs e ≥ g. Counterexample c = −1/4, α = 2, e = 1.
     cx = {c: -sp.Rational(1, 4), alpha: 2}
     p1 = 1 / A.subs(cx)  # e = 1: p₁ = −B/A = 1/A
-    w1 = sp.nsimplify(-1 + k1["c"].subs(cx) * p1)
+    w1 = sp.simplify(-1 + k1["c"].subs(cx) * p1)  # exact: rationals in, a rational out
     out["theta_gt_pi2_always_positive"] = {"verdict": "refuted" if w1 < 0 else "confirmed",
                                            "proof": {"cos_theta": -sp.Rational(1, 4), "alpha": 2, "e": 1, "v1+": w1,
-                                                     "v2+": sp.nsimplify(k2["c"].subs(cx) * p1),
+                                                     "v2+": sp.simplify(k2["c"].subs(cx) * p1),
                                                      "true_part": "v2+ = (2 alpha - cos theta) p1 > 0 for cos theta < 0"}}
     g_at_1 = sp.simplify(g.subs(alpha, 1))
     out["domain_nonempty"] = {"verdict": "confirmed" if g_at_1 == 1 else "refuted",
@@ -312,7 +315,7 @@ def pool_domain_at(cos_theta) -> dict:
     lo = sp.Max(0, cs / 2)
     emin_at = lo
     emin = sp.simplify(pool_g(cs).subs(alpha, emin_at))
-    return {"cos_theta": cs, "alpha_range": (sp.simplify(lo), sp.Integer(1)), "e_min": sp.nsimplify(emin) if emin.is_Rational else emin,
+    return {"cos_theta": cs, "alpha_range": (sp.simplify(lo), sp.Integer(1)), "e_min": emin,
             "e_min_at": sp.simplify(emin_at), "g": pool_g(cs), "h": pool_h(cs)}
 
 
@@ -337,9 +340,75 @@ def bernoulli_tau0_domain() -> dict:
     cross = [r for r in sp.Poly(sp.numer(sp.together(g1 - g3)), alpha).real_roots() if 0 < r < sp.Rational(2, 5)]
     assert len(cross) == 1
     a_star = cross[0]
-    e_min = sp.nsimplify(g1.subs(alpha, a_star)) if a_star.is_Rational else g1.subs(alpha, a_star)
+    e_min = g1.subs(alpha, a_star)
     return {"g1": g1, "g3": g3, "R3": k3["R"], "h": cond["h"], "c2": k2["c"], "alpha_range": (sp.Integer(0), sp.Integer(1)),
             "e_min_at": a_star, "e_min": sp.simplify(e_min)}
+
+
+@lru_cache(maxsize=None)
+def pool_tau_conditions() -> dict:
+    """The pool's conditions of eq. 28 at symbolic incidence ``(θ, τ)`` (two closed contacts),
+    and the proof that they are the τ = 0 curves mapped by ``e ↦ sin²τ + cos²τ e``.
+
+    The tangential energy ``½ sin²τ`` is untouched by impulses along the normals, and the normal
+    problem is the τ = 0 problem scaled by ``cos τ``. Proved here for every ``(θ, τ)``
+    (``simplify(derived − mapped) == 0``, asserted); :func:`impactsym.domains.validity_domain`
+    substitutes one ``(θ, τ)`` into the generated form and checks it again.
+
+    Returns
+    -------
+    dict: ``g1`` (contact 1–2: ``w₁⁺ ≥ 0 ⟺ e ≥ g1`` where ``c₁ > 0``), ``h`` (``Δ ≥ 0 ⟺ e ≥ h``),
+    ``b2``, ``c2`` (contact 2–3: ``w₂⁺ = b2 + c2 p₁``), in ``theta``, ``tau``, ``alpha``.
+
+    Examples
+    --------
+    >>> d = pool_tau_conditions()
+    >>> d["b2"], d["c2"]
+    (0, 2*alpha - cos(theta))
+    """
+    cond = admissibility_conditions(pool(theta, tau, third_contact=False), [alpha])
+    k1, k2 = cond["contacts"]
+    s2, c2 = sp.sin(tau) ** 2, sp.cos(tau) ** 2
+    mapped_g = s2 + c2 * pool_g(sp.cos(theta))
+    mapped_h = s2 + c2 * pool_h(sp.cos(theta))
+    assert sp.simplify(k1["g"] - mapped_g) == 0, k1["g"]
+    assert sp.simplify(cond["h"] - mapped_h) == 0, cond["h"]
+    assert k2["b"] == 0 and sp.expand(k2["c"] - (2 * alpha - sp.cos(theta))) == 0, k2
+    return {"g1": k1["g"], "h": cond["h"], "b2": k2["b"], "c2": k2["c"]}
+
+
+def boundary_expressions() -> dict:
+    """What :mod:`impactsym.domains` needs at run time, as exact expressions: name ->
+    ``(expression, description)``. Written to ``impactsym/kernels/domain_boundaries.py`` by
+    :func:`generate`, so that the package reads committed data and never runs a derivation.
+
+    >>> sorted(boundary_expressions())[:3]
+    ['bernoulli_R3', 'bernoulli_e_min', 'bernoulli_e_min_at']
+    """
+    b = bernoulli_tau0_domain()
+    t = pool_tau_conditions()
+    return {
+        "pool_g": (pool_g(), "pool, tau = 0: v1+ = 0 on e = g(alpha) (eq. 29), in c = cos(theta)"),
+        "pool_h": (pool_h(), "pool, tau = 0: Delta = 0 on e = h(alpha) (eq. 31, corrected), in c = cos(theta)"),
+        "chain3_alpha_max": (chain3_alpha_max_expr(), "chain: the root of g(alpha) = e in [1/2, 1] (eq. 19)"),
+        "bernoulli_g1": (b["g1"], "theta = 2pi/3, alpha13 = alpha12 = alpha: v+ = 0 at contact 1-2"),
+        "bernoulli_g3": (b["g3"], "theta = 2pi/3: v+ = 0 at contact 1-3 (where R3 > 0)"),
+        "bernoulli_R3": (b["R3"], "theta = 2pi/3: R3 of contact 1-3 (w3+ >= 0 <=> R3 <= 0 or e >= g3)"),
+        "bernoulli_h": (b["h"], "theta = 2pi/3: Delta = 0 on e = h(alpha)"),
+        "bernoulli_e_min_at": (b["e_min_at"], "theta = 2pi/3: the alpha where g1 = g3 (lowest e)"),
+        "bernoulli_e_min": (b["e_min"], "theta = 2pi/3: the lowest e of the domain"),
+        "pool_tau_g1": (t["g1"], "pool at (theta, tau): v1+ = 0 on e = g1 (contact 1-2)"),
+        "pool_tau_h": (t["h"], "pool at (theta, tau): Delta = 0 on e = h"),
+        "pool_tau_b2": (t["b2"], "pool at (theta, tau): b of contact 2-3 (w2+ = b2 + c2 p1)"),
+        "pool_tau_c2": (t["c2"], "pool at (theta, tau): c of contact 2-3"),
+    }
+
+
+BOUNDARIES_FILE = "domain_boundaries.py"
+BOUNDARIES_DOC = """Exact boundary expressions of the impulse-ratio law's validity domains (Acary & Taha eqs.
+19, 28-32), derived in derivations/domains.py, read by impactsym.domains at run time.
+
+Symbols carry their assumptions (alpha nonnegative, e positive, c, theta and tau real)."""
 
 
 MODULE_DOC = """Boundary curves of the impulse-ratio law's validity domains (Acary & Taha eqs. 19, 29, 31):
@@ -364,7 +433,10 @@ def kernels():
 
 
 def generate(outdir) -> list[Path]:
-    """Write ``domains.py`` into ``outdir``."""
+    """Write ``domains.py`` (the NumPy kernels) and ``domain_boundaries.py`` (the exact expressions
+    :mod:`impactsym.domains` reads) into ``outdir``."""
     path = Path(outdir) / "domains.py"
     path.write_text(render_family("domains", "domains", MODULE_DOC, kernels()))
-    return [path]
+    data = Path(outdir) / BOUNDARIES_FILE
+    data.write_text(render_expressions("domains", "domains", BOUNDARIES_DOC, boundary_expressions()))
+    return [path, data]

@@ -478,7 +478,12 @@ def run_proof(name: str, dimension: int | str) -> ProofResult:
 
 
 def prove_all(dimensions=(2, 3, "n"), names=None) -> list[ProofResult]:
-    """Run every property proof for every dimension (the content of ``impactsym prove``)."""
+    """Run every property proof for every dimension (the content of ``impactsym prove``).
+
+    With :data:`PROPERTIES` (the property names), this is the public entry point of the
+    derivations for ``impactsym prove``: the only import of ``derivations`` in the package
+    (``tests/test_import_layers.py``).
+    """
     names = list(PROPERTIES) if names is None else list(names)
     return [run_proof(nm, d) for nm in names for d in dimensions]
 

@@ -73,18 +73,14 @@ def naive_outputs(name: str):
     if name == "impulse_ratio_root":
         return _exprs("impulse_ratio_root_naive")
     if name == "chain3_impulse_ratio":
-        from derivations import chain3 as c3
-        from .models.acary_taha import chain3
+        # the quadratic formula with the derived coefficients, committed by derivations/chain3.py
+        from .committed import committed_expressions
 
-        g = c3.chain3_general()
-        sc = chain3((c3.m1, c3.m2, c3.m3), (c3.v1, c3.v2, c3.v3))
-        c = sc.M.LUsolve(sc.H.T * sp.Matrix([1, c3.alpha]))
-        p1 = (-g["B"] + sp.sqrt(g["B"] ** 2 - 4 * g["A"] * g["C"])) / (2 * g["A"])
-        w = [vi + ci * p1 for vi, ci in zip((c3.v1, c3.v2, c3.v3), c)]
-        sym = [c3.m1, c3.m2, c3.m3, c3.v1, c3.v2, c3.v3, c3.e, c3.alpha]
+        data = committed_expressions("chain3_naive")
+        sym, naive = data["args"], data["outputs"]
         # rename to the kernel's argument symbols (same names, possibly other assumptions)
         sub = {s: a for s in sym for a in args if str(a) == str(s)}
-        return args, [sp.sympify(x).subs(sub) for x in [p1, c3.alpha * p1, *w]]
+        return args, [sp.sympify(x).subs(sub) for x in naive]
     return args, outs
 
 

@@ -2,8 +2,9 @@
 admissible, as exact inequalities in ``(α, e)`` with their boundary curves (Acary & Taha eqs. 19,
 28–32, Fig. 3).
 
-The curves are derived in :mod:`derivations.domains` (SymPy, from the general law); this module
-packages them per scene, decides membership exactly, and draws Fig. 3.
+The curves are derived in :mod:`derivations.domains` (SymPy, from the general law) and committed as
+exact expressions in the generated ``impactsym/kernels/domain_boundaries.py``; this module reads them
+(it never runs a derivation), packages them per scene, decides membership exactly, and draws Fig. 3.
 
 Scenes
 ------
@@ -14,7 +15,7 @@ Scenes
 
 In every case ``0 ≤ e ≤ 1`` (a dissipative energetic coefficient, eq. 12). The existence condition
 ``Δ ≥ 0`` (``e ≥ h(α)``) is implied by every active velocity condition ``e ≥ g_j(α)``, since
-``g_j − h = R_j²/(4AT⁻) ≥ 0`` (:func:`derivations.domains.admissibility_conditions`).
+``g_j − h = R_j²/(4AT⁻) ≥ 0`` (derived in :func:`derivations.domains.admissibility_conditions`).
 
 Examples
 --------
@@ -35,6 +36,7 @@ from typing import Any
 
 import sympy as sp
 
+from .committed import committed_expressions
 from .errors import ImpactInputError
 from .exact import certified_sign
 from .numbers import exact_str, parse_number, to_exact
@@ -132,15 +134,34 @@ class ValidityDomain:
         return out
 
 
+def _boundary(name: str):
+    """One exact expression of the generated ``impactsym/kernels/domain_boundaries.py`` (written by
+    ``derivations/domains.py``).
+
+    >>> _boundary("pool_tau_c2")
+    2*alpha - cos(theta)
+    """
+    return committed_expressions("domain_boundaries")[name]
+
+
+_c = sp.Symbol("c", real=True)  # cos(theta) in the generated pool curves
+
+
+def _pool_g(cos_theta):
+    return _boundary("pool_g").subs(_c, cos_theta)
+
+
+def _pool_h(cos_theta):
+    return _boundary("pool_h").subs(_c, cos_theta)
+
+
 def _ge(x, y) -> bool:
     return certified_sign(sp.sympify(x) - sp.sympify(y)) >= 0
 
 
 def _chain_or_pool(cs, scene: str, theta) -> ValidityDomain:
     """The two-contact domain for ``c = cos θ`` (the chain is c = 1)."""
-    from derivations.domains import pool_g, pool_h
-
-    g, h = pool_g(cs), pool_h(cs)
+    g, h = _pool_g(cs), _pool_h(cs)
     lo = sp.Max(0, cs / 2)
     emin = sp.simplify(g.subs(alpha, lo))
     pool_ = scene == "pool"
@@ -161,9 +182,7 @@ def _chain_or_pool(cs, scene: str, theta) -> ValidityDomain:
     ]
     ineq = [f"alpha >= {exact_str(lo)}", f"{exact_str(sp.simplify(g))} <= e <= 1"]
     if scene == "chain3":
-        from derivations.domains import chain3_alpha_max_expr
-
-        ineq.append(f"equivalently (eq. 19): 1/3 <= e <= 1 and 1/2 <= alpha <= {exact_str(chain3_alpha_max_expr())}")
+        ineq.append(f"equivalently (eq. 19): 1/3 <= e <= 1 and 1/2 <= alpha <= {exact_str(_boundary('chain3_alpha_max'))}")
     region = {"alpha": (sp.simplify(lo), sp.Integer(1)), "e": (emin, sp.Integer(1)), "e_min_at": sp.simplify(lo),
               "empty": False,
               "description": (f"the set above the curve e = g(alpha) for {exact_str(sp.simplify(lo))} <= alpha <= 1, "
@@ -181,9 +200,8 @@ def _chain_or_pool(cs, scene: str, theta) -> ValidityDomain:
 
 
 def _bernoulli_tau0(theta) -> ValidityDomain:
-    from derivations.domains import bernoulli_tau0_domain
-
-    d = bernoulli_tau0_domain()
+    d = {k: _boundary(f"bernoulli_{k}") for k in ("g1", "g3", "R3", "h", "e_min_at", "e_min")}
+    d["alpha_range"] = (sp.Integer(0), sp.Integer(1))
     g1, g3, R3, h = d["g1"], d["g3"], d["R3"], d["h"]
     bnds = [
         Boundary("alpha_min", "alpha", sp.Integer(0), "alpha13 = alpha12 = alpha >= 0: p >= 0"),
@@ -274,8 +292,9 @@ def validity_domain(scene: str, theta=None, tau=None) -> ValidityDomain:
 def _pool_tau(theta, tau) -> ValidityDomain:
     """The pool's domain at incidence τ ≠ 0, derived from the general admissibility conditions.
 
-    The conditions of eq. 28 for ``pool(θ, τ)`` (:func:`derivations.domains.admissibility_conditions`)
-    are checked, symbolically at this (θ, τ), to equal the τ = 0 curves mapped by
+    The conditions of eq. 28 for ``pool(θ, τ)``, derived for symbolic ``(θ, τ)`` by
+    :func:`derivations.domains.pool_tau_conditions` and committed (``domain_boundaries.py``), are
+    substituted at this (θ, τ) and checked, symbolically, to equal the τ = 0 curves mapped by
     ``e ↦ sin²τ + cos²τ e``: the tangential energy ``½ sin²τ`` is untouched by impulses along the
     normals, and the normal problem is the τ = 0 problem scaled by ``cos τ``.
 
@@ -285,10 +304,6 @@ def _pool_tau(theta, tau) -> ValidityDomain:
     >>> d.contains("sqrt(2)/4", "4/7"), d.contains("1/2", "1/2")
     (True, False)
     """
-    from derivations.domains import admissibility_conditions, pool_g, pool_h
-
-    from .models.acary_taha import pool
-
     if certified_sign(theta - 2 * sp.pi / 3) == 0:
         raise ImpactInputError("tau", "tau != 0 at theta = 2*pi/3 (three closed contacts) has no derived domain; "
                                "use impactsym.laws.impulse_ratio for single points")
@@ -300,11 +315,11 @@ def _pool_tau(theta, tau) -> ValidityDomain:
     base = _validity_domain("pool", theta)
     cs = sp.cos(theta)
     s2, c2 = st**2, ct**2
-    g_tau, h_tau = s2 + c2 * pool_g(cs), s2 + c2 * pool_h(cs)
-    cond = admissibility_conditions(pool(theta, tau), [alpha])
-    c1, c2_ = cond["contacts"]
-    derived_ok = (sp.simplify(c1["g"] - g_tau) == 0 and sp.simplify(cond["h"] - h_tau) == 0
-                  and c2_["b"] == 0 and sp.simplify(c2_["c"] - (2 * alpha - cs)) == 0)
+    g_tau, h_tau = s2 + c2 * _pool_g(cs), s2 + c2 * _pool_h(cs)
+    at = {sp.Symbol("theta", real=True): theta, sp.Symbol("tau", real=True): tau}
+    g1, h1, b2, c2__ = (_boundary(f"pool_tau_{k}").subs(at) for k in ("g1", "h", "b2", "c2"))
+    derived_ok = (sp.simplify(g1 - g_tau) == 0 and sp.simplify(h1 - h_tau) == 0
+                  and b2 == 0 and sp.simplify(c2__ - (2 * alpha - cs)) == 0)
     if not derived_ok:  # pragma: no cover - a failed identity is a bug in the derivation
         raise RuntimeError(f"pool domain at tau = {tau}: the derived conditions differ from the mapped tau = 0 curves")
     bnds = [
@@ -317,7 +332,7 @@ def _pool_tau(theta, tau) -> ValidityDomain:
         Boundary("e_max", "e", sp.Integer(1), "e <= 1: dissipative energetic coefficient (eq. 12)"),
     ]
     lo = base.region["alpha"][0]
-    emin = sp.nsimplify(sp.simplify(s2 + c2 * base.region["e"][0]))
+    emin = sp.radsimp(sp.simplify(s2 + c2 * base.region["e"][0]))  # exact rewriting only
     region = {"alpha": base.region["alpha"], "e": (emin, sp.Integer(1)), "e_min_at": lo, "empty": False,
               "description": (f"the tau = 0 domain mapped by e -> sin^2(tau) + cos^2(tau) e: alpha in "
                               f"[{exact_str(lo)}, 1], e in [{exact_str(emin)}, 1]; the tangential energy "
@@ -345,10 +360,8 @@ def _validity_domain(scene: str, theta) -> ValidityDomain:
 
 
 def _pool_symbolic() -> ValidityDomain:
-    from derivations.domains import pool_g, pool_h
-
     c = sp.cos(sp.Symbol("theta", real=True))
-    g, h = pool_g(c), pool_h(c)
+    g, h = _pool_g(c), _pool_h(c)
     bnds = [
         Boundary("alpha_min", "alpha", sp.Max(0, c / 2), "alpha >= max(0, cos(theta)/2): v2+ >= 0 and p >= 0"),
         Boundary("g", "e", g, "e >= g(alpha): v1+ >= 0 (eq. 29)"),

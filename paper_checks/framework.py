@@ -19,6 +19,10 @@ Verdicts
     whether by rounding or by truncation).
 ``convention-difference``
     Equal after a stated mapping of conventions (the note explains it).
+``supported-by-samples``
+    Agreement that was *sampled*, not proved: a symbolic identity checked exactly at random
+    rational points (simplify did not close it), a statement checked at a few angles or masses, or
+    an ODE integration. The note says what was sampled and how many points.
 ``erratum``
     The published form is wrong; ``corrected`` holds the right form and the check proves it.
 ``refuted``
@@ -53,8 +57,8 @@ import mpmath
 import sympy as sp
 
 __all__ = [
-    "VERDICTS", "PAPERS", "DIGITS", "Finding", "Claim", "Registered", "REGISTRY", "claim",
-    "evaluate", "evaluate_all", "identical", "Identity", "compare_decimal", "compare_decimals",
+    "VERDICTS", "EVIDENCE_KINDS", "PAPERS", "DIGITS", "Finding", "Claim", "Registered", "REGISTRY", "claim",
+    "evaluate", "evaluate_all", "identical", "Identity", "Inconclusive", "compare_decimal", "compare_decimals",
     "conservation", "extremum", "text",
 ]
 
@@ -62,6 +66,7 @@ VERDICTS = (
     "exact-match",
     "match-at-published-precision",
     "convention-difference",
+    "supported-by-samples",
     "erratum",
     "refuted",
     "definition",
@@ -73,6 +78,17 @@ PAPERS = {
     "Multiple Rigid Bodies",
     "acary-taha": "Acary & Taha, Concurrent Multiple Impacts in Rigid Bodies: Formulation and Simulation",
 }
+
+#: how a verdict was reached (``Claim.evidence_kind``):
+#:
+#: ``proof``      symbolic identity (``simplify(a - b) == 0``, structural rewriting) or exact
+#:                arithmetic on rationals and algebraic numbers (minimal polynomials);
+#: ``certified``  interval (Arb / rigorous ``evalf``) enclosures that exclude the other verdict;
+#: ``decimal``    published decimals compared with the exact value at ``DIGITS`` digits;
+#: ``samples``    exact evaluation at sampled points, or an integration: evidence, not proof;
+#: ``judgment``   a reading of typography (a label, a name, a signature), with its reason;
+#: ``definition`` nothing to decide;  ``none``  not checkable.
+EVIDENCE_KINDS = ("proof", "certified", "decimal", "samples", "judgment", "definition", "none")
 
 #: working precision of every decimal comparison and every numerical identity fallback
 DIGITS = 50
@@ -96,12 +112,40 @@ class Finding:
     note: str = ""
     digits: int | None = None
     evidence: dict = field(default_factory=dict)
+    #: the reason, when the verdict is a reading of typography rather than a computation
+    judgment: str | None = None
+    #: one of :data:`EVIDENCE_KINDS`; inferred when not given (see :meth:`kind`)
+    evidence_kind: str | None = None
 
     def __post_init__(self):
         if self.verdict not in VERDICTS:
             raise ValueError(f"verdict: must be one of {VERDICTS}, got {self.verdict!r}")
         if self.verdict == "erratum" and self.corrected is None:
             raise ValueError("corrected: an erratum needs the corrected form")
+        if self.judgment is not None and not str(self.judgment).strip():
+            raise ValueError("judgment: a judgment needs its reason")
+        if self.evidence_kind is not None and self.evidence_kind not in EVIDENCE_KINDS:
+            raise ValueError(f"evidence_kind: must be one of {EVIDENCE_KINDS}, got {self.evidence_kind!r}")
+        if self.verdict == "supported-by-samples" and self.kind() != "samples":
+            raise ValueError("evidence_kind: supported-by-samples rests on samples")
+        if self.kind() == "samples" and self.verdict == "exact-match":
+            raise ValueError("verdict: exact-match means proved; sampled agreement is supported-by-samples")
+
+    def kind(self) -> str:
+        """The evidence kind: explicit, else inferred from the verdict, the judgment and ``digits``."""
+        if self.evidence_kind is not None:
+            return self.evidence_kind
+        if self.judgment is not None:
+            return "judgment"
+        if self.verdict == "definition":
+            return "definition"
+        if self.verdict == "not-checkable":
+            return "none"
+        if self.verdict == "supported-by-samples":
+            return "samples"
+        if self.digits is not None:
+            return "decimal"
+        return "proof"
 
 
 @dataclass
@@ -121,6 +165,8 @@ class Claim:
     note: str = ""
     digits: int | None = None
     evidence: dict = field(default_factory=dict)
+    judgment: str | None = None
+    evidence_kind: str | None = None
     status: str = "ok"  # ok | verdict-differs | raised
     error: str = ""
     seconds: float = 0.0
@@ -140,6 +186,8 @@ class Claim:
             "note": self.note, "digits": self.digits,
             "precision": "exact" if self.digits is None else f"{self.digits} digits",
             "evidence": {k: text(v) for k, v in self.evidence.items()},
+            "judgment": self.judgment is not None, "judgment_reason": self.judgment,
+            "evidence_kind": self.evidence_kind,
             "status": self.status, "error": self.error, "seconds": round(self.seconds, 4),
         }
 
@@ -223,13 +271,14 @@ class Registered:
     expected: str
     func: Callable[[], Finding]
     order: int
+    mutations: tuple = ()
 
 
 #: every claim of both papers, in registration order (id -> Registered)
 REGISTRY: dict[str, Registered] = {}
 
 
-def claim(id: str, *, paper: str, ref: str, quantity: str, expect: str):
+def claim(id: str, *, paper: str, ref: str, quantity: str, expect: str, mutations=()):
     """Register a claim function and pin the verdict it must reach.
 
     Parameters
@@ -239,6 +288,10 @@ def claim(id: str, *, paper: str, ref: str, quantity: str, expect: str):
     ref : ``eq. N`` for a numbered equation, else the section in the paper's numbering
     quantity : what is checked
     expect : the pinned verdict (one of :data:`VERDICTS`)
+    mutations : names in :data:`paper_checks.mutations.MUTATIONS` that this claim's verdict
+        depends on: under each, ``paper_checks/test_mutations.py`` asserts that the claim changes
+        verdict or raises (a claim that no mutation moves is not decided by a computation).
+        Required for every verdict except ``definition`` and ``not-checkable`` and judgments.
 
     Returns
     -------
@@ -260,7 +313,7 @@ def claim(id: str, *, paper: str, ref: str, quantity: str, expect: str):
     def register(func):
         if id in REGISTRY:
             raise ValueError(f"id: {id!r} registered twice")
-        REGISTRY[id] = Registered(id, paper, ref, quantity, expect, func, len(REGISTRY))
+        REGISTRY[id] = Registered(id, paper, ref, quantity, expect, func, len(REGISTRY), tuple(mutations))
         func.claim_id = id
         return func
 
@@ -300,6 +353,7 @@ def evaluate(claim_id: str) -> Claim:
         c.verdict, c.published, c.published_expr = f.verdict, f.published, f.published_expr
         c.derived, c.corrected, c.note, c.digits, c.evidence = (
             f.derived, f.corrected, f.note, f.digits, f.evidence)
+        c.judgment, c.evidence_kind = f.judgment, f.kind()
         c.status = "ok" if c.verdict == c.expected else "verdict-differs"
     except Exception as exc:  # recorded, reported, and fails the run
         c.status = "raised"
@@ -325,14 +379,59 @@ def evaluate_all(paper: str | None = None) -> list[Claim]:
 # --------------------------------------------------------------------------- symbolic identity
 @dataclass
 class Identity:
-    """The outcome of :func:`identical`: whether two expressions are equal, and how it was decided."""
+    """The outcome of :func:`identical`: whether two expressions are equal, and how it was decided.
+
+    ``status`` is one of
+
+    * ``"proved"``: equal, by ``simplify(a − b) == 0`` or an exact zero test (``equal`` is True);
+    * ``"different"``: a point where ``a − b`` is exactly, or certifiably, non-zero;
+    * ``"samples"``: ``a − b`` is exactly zero at every sampled rational point, but no proof
+      closed it: evidence for ``supported-by-samples``, never for ``exact-match``;
+    * ``"inconclusive"``: neither proved equal nor certifiably different.
+
+    Only ``"proved"`` is ``equal`` (and truthy).
+    """
 
     equal: bool
     method: str
     counterexample: dict | None = None
+    status: str = ""
+
+    def __post_init__(self):
+        if not self.status:
+            self.status = "proved" if self.equal else "different"
+        if self.equal != (self.status == "proved"):
+            raise ValueError(f"status: {self.status!r} contradicts equal={self.equal}")
 
     def __bool__(self) -> bool:
         return self.equal
+
+    @property
+    def different(self) -> bool:
+        return self.status == "different"
+
+    def decide(self, equal: str = "exact-match", different: str = "refuted") -> str:
+        """The verdict this identity supports: ``equal`` when proved, ``different`` when refuted,
+        ``supported-by-samples`` when only sampled; an inconclusive identity raises
+        :class:`Inconclusive` (a claim never guesses).
+
+        >>> x = sp.Symbol("x")
+        >>> identical((x + 1)**2, x**2 + 2*x + 1).decide()
+        'exact-match'
+        >>> identical(x**2, x).decide(different="erratum")
+        'erratum'
+        """
+        if self.status == "proved":
+            return equal
+        if self.status == "different":
+            return different
+        if self.status == "samples":
+            return "supported-by-samples"
+        raise Inconclusive(self.method)
+
+
+class Inconclusive(ArithmeticError):
+    """An identity that is neither proved nor certifiably refuted (a claim must not guess)."""
 
 
 def _random_point(symbols, domain, rng):
@@ -345,66 +444,105 @@ def _random_point(symbols, domain, rng):
     return point
 
 
+def _exact_sign(x) -> int | None:
+    """The sign of a closed-form number, decided exactly or by a certified enclosure; ``None``
+    when it cannot be decided (never a guess)."""
+    from impactsym.errors import UndecidableSign
+    from impactsym.exact import certified_sign
+
+    x = sp.sympify(x)
+    if not x.is_number:
+        return None
+    if x.is_real is False:
+        re_, im_ = x.as_real_imag()
+        try:
+            return 1 if certified_sign(im_) != 0 else certified_sign(re_)
+        except UndecidableSign:
+            return None
+    try:
+        return certified_sign(x, max_digits=400)
+    except (UndecidableSign, TypeError, ValueError):
+        return None
+
+
 def identical(a, b, *, domain: dict | None = None, points: int = 8, seed: int = 20240611) -> Identity:
-    """Decide ``a == b`` for expressions or matrices.
+    """Decide ``a == b`` for expressions or matrices, and say how.
 
     Parameters
     ----------
     a, b : SymPy expressions or matrices (same shape)
     domain : ``{symbol: (lo, hi)}`` for the random rational points (default ``(1/7, 13/7)``)
-    points : number of random points of the numerical fallback
+    points : number of random points of the sampled fallback
     seed : seed of the point generator (reproducible)
 
     Returns
     -------
     Identity
-        ``equal`` and the ``method`` that decided it (and a counterexample point when unequal).
+        ``status`` (``proved``, ``different``, ``samples`` or ``inconclusive``), the ``method``
+        that decided it, and a counterexample point when different.
 
-    First ``simplify(a − b) == 0`` (a proof), then ``(a − b).equals(0)``, then evaluation at
-    ``points`` random rational points of ``domain`` (default ``(1/7, 13/7)`` per symbol) at
-    ``DIGITS + 10`` digits: all values below ``10^-DIGITS`` count as equal (stated as numerical
-    evidence in ``method``), one value above ``10^-(DIGITS/2)`` is a counterexample.
+    First ``simplify(a − b) == 0`` (a proof). For numbers, an exact zero test or a certified
+    sign (:func:`impactsym.exact.certified_sign`: rationals exactly, algebraic numbers by their
+    minimal polynomial, others by rigorous enclosures). For expressions with symbols,
+    ``a − b`` is evaluated *exactly* at ``points`` random rational points of ``domain``: an
+    exactly or certifiably non-zero value is a counterexample (``different``, a proof of
+    inequality); zero at every point is ``samples`` (evidence, not proof); a value whose sign
+    cannot be certified is ``inconclusive``. No floating-point band ever counts as equal.
 
     >>> x = sp.Symbol("x")
     >>> r = identical(x**2, x)
-    >>> r.equal, r.method.split(" ")[0]
-    (False, 'counterexample')
+    >>> r.equal, r.status, r.method.split(" ")[0]
+    (False, 'different', 'counterexample')
+    >>> identical(sp.Rational(1, 3) + sp.Rational(1, 10**30), sp.Rational(1, 3)).status
+    'different'
+    >>> identical(sp.sqrt(8), 2 * sp.sqrt(2)).status
+    'proved'
     """
     A, B = sp.sympify(a), sp.sympify(b)
     if isinstance(A, sp.MatrixBase) or isinstance(B, sp.MatrixBase):
         A, B = sp.Matrix(A), sp.Matrix(B)
         if A.shape != B.shape:
-            return Identity(False, f"shapes differ: {A.shape} vs {B.shape}")
+            return Identity(False, f"shapes differ: {A.shape} vs {B.shape}", status="different")
         diffs = list(A - B)
     else:
         diffs = [A - B]
-    symbolic = True
+    rest = []
     for d in diffs:
         try:
             if sp.simplify(d) == 0:
                 continue
         except Exception:
             pass
-        symbolic = False
-        break
-    if symbolic:
-        return Identity(True, "simplify(a - b) == 0")
-    free = sorted(set().union(*[d.free_symbols for d in diffs]), key=str)
+        rest.append(d)
+    if not rest:
+        return Identity(True, "simplify(a - b) == 0", status="proved")
+    free = sorted(set().union(*[d.free_symbols for d in rest]), key=str)
+    if not free:
+        undecided = []
+        for d in rest:
+            sgn = _exact_sign(d)
+            if sgn is None:
+                undecided.append(d)
+            elif sgn != 0:
+                return Identity(False, f"a - b = {sp.N(d, 20)} (sign certified non-zero)", status="different")
+        if undecided:
+            return Identity(False, f"sign of a - b not certified: {undecided[0]}", status="inconclusive")
+        return Identity(True, "a - b is exactly zero (exact zero test)", status="proved")
     rng = random.Random(seed)
     domain = domain or {}
-    for _ in range(points if free else 1):
+    for _ in range(points):
         pt = _random_point(free, domain, rng)
-        for d in diffs:
-            val = sp.N(d.subs(pt), DIGITS + 10)
-            mag = abs(complex(val)) if val.is_number else None
-            if mag is None:
-                return Identity(False, f"not a number at {pt}: {val}")
-            if mag > 10 ** (-DIGITS // 2):
-                return Identity(False, f"counterexample at {pt}: a - b = {sp.N(val, 20)}", pt)
-    if not free:
-        return Identity(True, f"equal to {DIGITS + 10} digits (numbers; simplify did not close it)")
-    return Identity(True, f"simplify inconclusive; a - b < 1e-{DIGITS} at {points} random rational "
-                          f"points, {DIGITS + 10} digits")
+        for d in rest:
+            val = d.subs(pt)
+            sgn = _exact_sign(val) if val.is_number else None
+            if sgn is None:
+                return Identity(False, f"inconclusive at {pt}: sign of a - b = {val} not certified",
+                                pt, status="inconclusive")
+            if sgn != 0:
+                return Identity(False, f"counterexample at {pt}: a - b = {sp.N(val, 20)} (exact)", pt,
+                                status="different")
+    return Identity(False, f"simplify did not close it; a - b is exactly 0 at {points} random rational points "
+                           f"(sampled, not proved)", status="samples")
 
 
 # --------------------------------------------------------------------------- decimals
@@ -475,39 +613,50 @@ def conservation(M, H, vminus, vplus, e=1) -> dict:
 
     Parameters
     ----------
-    M, H : mass matrix (n×n) and gradient rows (k×n)
-    vminus, vplus : pre- and post-impact velocities (n)
+    M, H : mass matrix (n×n) and gradient rows (k×n), exact entries
+    vminus, vplus : pre- and post-impact velocities (n), exact entries
     e : energetic coefficient in force (``T⁺ = e T⁻``)
 
     Returns
     -------
     dict
-        ``momentum`` (bool), ``p``, ``energy_residual`` (``T⁺ − eT⁻``), ``T_minus``, ``T_plus``,
-        ``Hv_plus``.
+        ``momentum`` (bool: ``M(v⁺ − v⁻) = Hᵀp`` has an exact solution ``p``), ``p`` (the
+        impulses, or ``None``), ``impulses_nonnegative`` (bool, or ``None`` without ``p``),
+        ``energy_residual`` (``T⁺ − eT⁻``, exact), ``energy`` (bool: the residual is exactly 0),
+        ``T_minus``, ``T_plus``, ``Hv_plus``, ``contacts`` (bool: ``H v⁺ ≥ 0``) and ``holds``
+        (all four).
 
-    * momentum: ``M(v⁺ − v⁻) = Hᵀp`` has an exact solution ``p`` (least squares residual 0);
-    * impulses non-negative: ``p ≥ 0``;
-    * energy: ``T⁺ − e T⁻ = 0`` (``e`` the energetic coefficient in force);
-    * constraints: ``H v⁺ ≥ 0``.
+    Every sign is decided exactly or certified (:func:`impactsym.exact.certified_sign`); no
+    rounding (``nsimplify``) touches the numbers, so a residual of ``10⁻⁴⁰`` is ``10⁻⁴⁰``.
 
     >>> c = conservation(sp.eye(3), sp.Matrix([[-1, 1, 0], [0, -1, 1]]), sp.Matrix([1, 0, 0]),
     ...                  sp.Matrix([0, 0, 1]))
-    >>> c["momentum"], c["energy_residual"], c["p"]
-    (True, 0, [1, 1])
+    >>> c["momentum"], c["energy_residual"], c["p"], c["impulses_nonnegative"], c["holds"]
+    (True, 0, [1, 1], True, True)
+    >>> conservation(sp.eye(1), sp.Matrix([[1]]), sp.Matrix([-1]),
+    ...              sp.Matrix([1 + sp.Rational(1, 10**20)]))["energy"]
+    False
     """
+    from impactsym.exact import certified_sign
+
     M, H = sp.Matrix(M), sp.Matrix(H)
     vm, vp = sp.Matrix(vminus), sp.Matrix(vplus)
     rhs = M * (vp - vm)
     p_syms = sp.symbols(f"p0:{H.rows}")
     sol = sp.solve(list(H.T * sp.Matrix(p_syms) - rhs), p_syms, dict=True)
     momentum = bool(sol)
-    p = [sp.nsimplify(sp.simplify(sol[0].get(s, s))) for s in p_syms] if sol else None
-    Tm = (vm.T * M * vm)[0, 0] / 2
-    Tp = (vp.T * M * vp)[0, 0] / 2
-    res = sp.nsimplify(sp.simplify(Tp - e * Tm))
-    w = [sp.simplify(x) for x in H * vp]
-    return {"momentum": momentum, "p": p, "energy_residual": res, "T_minus": sp.simplify(Tm),
-            "T_plus": sp.simplify(Tp), "Hv_plus": w}
+    p = [sp.radsimp(sp.simplify(sol[0].get(s, s))) for s in p_syms] if sol else None
+    free = bool(p) and any(x.free_symbols for x in p)
+    nonneg = None if (p is None or free) else all(certified_sign(x) >= 0 for x in p)
+    Tm = sp.simplify((vm.T * M * vm)[0, 0] / 2)
+    Tp = sp.simplify((vp.T * M * vp)[0, 0] / 2)
+    res = sp.radsimp(sp.simplify(Tp - e * Tm))
+    energy = certified_sign(res) == 0 if not res.free_symbols else None
+    w = [sp.radsimp(sp.simplify(x)) for x in H * vp]
+    contacts = all(certified_sign(x) >= 0 for x in w) if not any(x.free_symbols for x in w) else None
+    return {"momentum": momentum, "p": p, "impulses_nonnegative": nonneg, "energy_residual": res,
+            "energy": energy, "T_minus": Tm, "T_plus": Tp, "Hv_plus": w, "contacts": contacts,
+            "holds": bool(momentum and nonneg and energy and contacts)}
 
 
 # --------------------------------------------------------------------------- extrema

@@ -12,10 +12,10 @@ from impactsym.laws.coupling import (
     coupling_decision,
     impact_degree,
     participating_contacts,
-    pool_kinetic_angle_check,
 )
 from impactsym.mechanics import kinetic_angle_cos
 from impactsym.models.acary_taha import bernoulli, chain3, pool
+from paper_checks.acary_taha_support import pool_kinetic_angle_check
 
 
 def test_eq42_symbolic():

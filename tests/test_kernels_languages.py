@@ -63,7 +63,7 @@ def test_rust_compiles_and_matches_reference(tmp_path):
 
 
 @pytest.mark.skipif(shutil.which("gfortran") is None,
-                    reason="gfortran not on PATH (Debian package gfortran; not installed by .ci/run)")
+                    reason="gfortran not on PATH (Debian package gfortran; .ci/run installs it as root)")
 def test_fortran_compiles_and_matches_reference(tmp_path):
     for f in sorted((KERNEL_DIR / "fortran").glob("*.f90")):
         res = subprocess.run(["gfortran", "-std=f2008", "-Wall", "-Werror", "-c", str(f), "-J", str(tmp_path),
@@ -81,7 +81,7 @@ def test_fortran_compiles_and_matches_reference(tmp_path):
 
 
 @pytest.mark.skipif(shutil.which("octave-cli") is None and shutil.which("octave") is None,
-                    reason="octave not on PATH (Debian package octave; not installed by .ci/run)")
+                    reason="octave not on PATH (Debian package octave; .ci/run installs it as root)")
 def test_octave_runs_and_matches_reference():
     exe = shutil.which("octave-cli") or shutil.which("octave")
     code = (f"addpath('{KERNEL_DIR / 'octave'}'); [a, b] = impulse_ratio_root(0.75, -1.0, 1e-13); "
@@ -187,7 +187,7 @@ def _fortran_literal(x: float) -> str:
 
 
 @pytest.mark.skipif(shutil.which("gfortran") is None,
-                    reason="gfortran not on PATH (Debian package gfortran; not installed by .ci/run)")
+                    reason="gfortran not on PATH (Debian package gfortran; .ci/run installs it as root)")
 def test_fortran_every_closed_form_matches_numpy(tmp_path):
     """Every closed-form kernel's Fortran form, on one in-domain input each, equals the NumPy kernel."""
     import numpy as np

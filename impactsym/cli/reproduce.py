@@ -3,7 +3,8 @@
 Every claim of ``paper_checks/`` (every numbered equation, unnumbered display, numeric example and
 stated property of Seghete & Murphey and of Acary & Taha) is evaluated, together with the
 single-impact derivation of ``G_u`` and its machine-checked properties, and the high-precision
-cross-check of the numeric solvers (exact vs float path vs generated kernels).
+cross-check of the numeric solvers (exact vs float path vs generated kernels): all of it by
+:func:`paper_checks.run_audit`, the one function this module calls; it only renders the result.
 
 Output: a table grouped by paper and section with counts per verdict; ``--json`` prints one object
 ``{"claims": [...], "summary": {...}}``; ``--report DIR`` also writes ``DIR/report.md`` (the same
@@ -16,8 +17,7 @@ from the one pinned in ``paper_checks/``, or a cross-check fails.
 
 from __future__ import annotations
 
-import time
-from collections import Counter, OrderedDict
+from collections import OrderedDict
 from pathlib import Path
 
 from .common import add_json_flag, writable_dir
@@ -38,109 +38,70 @@ def register(sub) -> None:
     p.set_defaults(func=run)
 
 
-def _derivation_summary() -> dict:
-    """The foundation's single-impact derivation (eqs. 1a–1b) and the properties of ``G_u``."""
-    from derivations.reflection import PROPERTIES, derive_restitution, derive_single_impact
+class AuditOutput(dict):
+    """What :func:`run` returns: the JSON object ``{"claims": [...], "summary": {...}}`` that
+    ``--json`` prints, carrying the :class:`paper_checks.AuditResult` it was made from (paper titles,
+    verdict order, section order) for the text and Markdown renderings."""
 
-    from paper_checks.seghete_murphey import _proof
-
-    derivations = []
-    for n in (2, 3):
-        d = derive_single_impact(n)
-        derivations.append({"law": "G_u (elastic, eqs. 1a-1b)", "dimension": n,
-                            "lambda_matches_printed": bool(d.matches_printed_lambda),
-                            "G_matches_printed": bool(d.matches_printed_G),
-                            "discarded_roots": [str(r) for r, _ in d.discarded_roots]})
-        r = derive_restitution(n)
-        derivations.append({"law": "G_u(e) (Newton restitution)", "dimension": n,
-                            "lambda_matches_printed": bool(r.matches_printed_lambda),
-                            "G_matches_printed": bool(r.matches_printed_G),
-                            "energy_loss_matches": bool(r.matches_printed_energy_loss)})
-    proofs = []
-    for name in PROPERTIES:
-        for dim in (2, 3, "n"):
-            p = _proof(name, dim)
-            proofs.append({"name": p.name, "dimension": p.dimension, "proven": bool(p.proven),
-                           "seconds": round(p.seconds, 4)})
-    ok = all(p["proven"] for p in proofs) and all(d["lambda_matches_printed"] and d["G_matches_printed"]
-                                                 for d in derivations)
-    return {"derivations": derivations, "properties": proofs, "all_proven": ok}
-
-
-def _section_key(section: str):
-    return section
+    def __init__(self, audit):
+        super().__init__(audit.as_dict())
+        self.audit = audit
 
 
 def run(args):
-    from paper_checks.crosscheck import run_crosschecks
-    from paper_checks.framework import VERDICTS, evaluate_all
+    from paper_checks import run_audit
 
     report_dir = writable_dir(args.report, "report")  # checked before the 1-2 minute audit
-    t0 = time.perf_counter()
-    claims = evaluate_all(args.paper)
-    derivation = _derivation_summary()
-    cross = run_crosschecks()
-    seconds = time.perf_counter() - t0
-
-    per_paper = OrderedDict()
-    for paper in PAPER_ORDER:
-        cs = [c for c in claims if c.paper == paper]
-        if not cs:
-            continue
-        counts = Counter(c.verdict for c in cs if c.verdict)
-        per_paper[paper] = {"claims": len(cs), **{v: counts.get(v, 0) for v in VERDICTS}}
-    totals = Counter(c.verdict for c in claims if c.verdict)
-    raised = [c.id for c in claims if c.status == "raised"]
-    differs = [c.id for c in claims if c.status == "verdict-differs"]
-    ok = not raised and not differs and cross["ok"] and derivation["all_proven"]
-    summary = {
-        "claims": len(claims),
-        "per_paper": per_paper,
-        "per_verdict": {v: totals.get(v, 0) for v in VERDICTS},
-        "raised": raised,
-        "verdict_differs": differs,
-        "crosscheck": cross,
-        "G_u_derivation": derivation,
-        "all_evaluated": not raised,
-        "ok": ok,
-        "seconds": round(seconds, 2),
-    }
-    result = {"claims": [c.as_dict() for c in claims], "summary": summary}
+    audit = run_audit(args.paper)
+    result = AuditOutput(audit)
     if report_dir is not None:
-        summary["report"] = str(write_report(result, report_dir))
-    return result, (0 if ok else 1)
+        result["summary"]["report"] = str(write_report(result, report_dir))
+    return result, (0 if audit.ok else 1)
 
 
 # --------------------------------------------------------------------------- text
+def verdict_table(summary: dict) -> str:
+    """The README's verdict table (Markdown), from a run's ``summary``: one row per paper and a
+    total, one column per verdict. ``tests/test_readme_verdicts.py`` checks the README against it.
+    """
+    verdicts = tuple(summary["per_verdict"])  # the audit's verdict order
+    rows = ["| paper | claims | " + " | ".join(verdicts) + " |", "|---|---|" + "---|" * len(verdicts)]
+    for paper, pp in summary["per_paper"].items():
+        rows.append(f"| {paper} | {pp['claims']} | " + " | ".join(str(pp[v]) for v in verdicts) + " |")
+    rows.append(f"| **total** | **{summary['claims']}** | "
+                + " | ".join(str(summary["per_verdict"][v]) for v in verdicts) + " |")
+    return "\n".join(rows)
+
+
 def _short(s, width):
     s = "" if s is None else str(s).replace("\n", " ")
     return s if len(s) <= width else s[: width - 1] + "…"
 
 
-def _grouped(claims):
+def _grouped(result):
     """Claims grouped by paper, then by section in the paper's reading order (registration order inside)."""
-    from paper_checks.framework import section_rank
-
+    audit = result.audit
     groups = OrderedDict()
-    for paper in PAPER_ORDER:
-        cs = [c for c in claims if c["paper"] == paper]
-        for c in sorted(cs, key=lambda c: section_rank(paper, c["section"])):
+    for paper in audit.papers:
+        cs = [c for c in result["claims"] if c["paper"] == paper]
+        for c in sorted(cs, key=lambda c: audit.section_rank(paper, c["section"])):
             groups.setdefault(paper, OrderedDict()).setdefault(c["section"], []).append(c)
     return groups
 
 
-def render(result: dict) -> str:
-    from paper_checks.framework import PAPERS, VERDICTS
-
+def render(result: AuditOutput) -> str:
+    PAPERS, VERDICTS = result.audit.papers, result.audit.verdicts
     s = result["summary"]
     out = []
-    for paper, sections in _grouped(result["claims"]).items():
+    for paper, sections in _grouped(result).items():
         out.append(f"{PAPERS[paper]}")
         out.append("=" * min(100, len(PAPERS[paper])))
         for section, cs in sections.items():
             out.append(f"  {section}")
             for c in cs:
                 flag = "" if c["status"] == "ok" else f"  [{c['status'].upper()}: pinned {c['expected']}]"
+                if c.get("judgment"):
+                    flag = "  (judgment)" + flag
                 out.append(f"    {c['verdict'] or 'ERROR':<29} {_short(c['ref'], 22):<22} {_short(c['quantity'], 52)}{flag}")
         pp = s["per_paper"][paper]
         out.append("  counts: " + ", ".join(f"{v} {pp[v]}" for v in VERDICTS if pp[v]) + f"  (total {pp['claims']})")
@@ -164,6 +125,8 @@ def render(result: dict) -> str:
     out.append("")
     out.append("Totals: " + ", ".join(f"{v} {n}" for v, n in s["per_verdict"].items() if n) + f"  ({s['claims']} claims, "
                f"{s['seconds']} s)")
+    out.append("Evidence: " + ", ".join(f"{k} {n}" for k, n in s["per_evidence_kind"].items())
+               + f"; (judgment) marks a reading of typography, {len(s['judgments'])} claims (reasons in --json)")
     if s["raised"]:
         out.append(f"RAISED: {s['raised']}")
     if s["verdict_differs"]:
@@ -179,10 +142,9 @@ def _md_escape(s) -> str:
     return ("" if s is None else str(s)).replace("|", "\\|").replace("\n", " ")
 
 
-def write_report(result: dict, outdir: Path) -> Path:
+def write_report(result: AuditOutput, outdir: Path) -> Path:
     """Write ``outdir/report.md`` (and ``outdir/fig3.png``); return the report's path."""
-    from paper_checks.framework import PAPERS, VERDICTS
-
+    PAPERS, VERDICTS = result.audit.papers, result.audit.verdicts
     outdir.mkdir(parents=True, exist_ok=True)
     figs = []
     try:
@@ -200,7 +162,7 @@ def write_report(result: dict, outdir: Path) -> Path:
     L += ["", "| paper | claims | " + " | ".join(VERDICTS) + " |", "|---|---|" + "---|" * len(VERDICTS)]
     for paper, pp in s["per_paper"].items():
         L.append(f"| {paper} | {pp['claims']} | " + " | ".join(str(pp[v]) for v in VERDICTS) + " |")
-    for paper, sections in _grouped(result["claims"]).items():
+    for paper, sections in _grouped(result).items():
         L += ["", f"## {PAPERS[paper]}", ""]
         for section, cs in sections.items():
             L += [f"### {section}", "", "| id | ref | quantity | verdict | note |", "|---|---|---|---|---|"]

@@ -54,7 +54,6 @@ __all__ = [
     "CouplingDecision",
     "coupling_decision",
     "apply_coupling",
-    "pool_kinetic_angle_check",
 ]
 
 
@@ -234,28 +233,4 @@ def apply_coupling(M, H, v, ratios):
                       "cos_kinetic_angle": exact_str(c) if isinstance(c, sp.Basic) else float(c),
                       "equation": eq, "given": None if given is None else str(given[j - 1])})
     return out, notes
-
-
-def pool_kinetic_angle_check():
-    """Verify eq. 42, ``n₁·n₂ = −½ cos θ``, for symbolic θ from the general kinetic-angle function
-    applied to :func:`impactsym.models.acary_taha.pool` (both constraint forms of eq. 24).
-
-    Returns ``{constraint: (derived cos θ₁₂, equals the print)}``.
-
-    >>> r = pool_kinetic_angle_check()
-    >>> r["distance"]
-    (-cos(theta)/2, True)
-    >>> r["squared"][1]
-    True
-    """
-    from ..models.acary_taha import pool
-
-    theta = sp.Symbol("theta", real=True)
-    printed = -sp.cos(theta) / 2  # transcription of eq. 42
-    out = {}
-    for constraint in ("distance", "squared"):
-        sc = pool(theta, constraint=constraint)
-        c = sp.simplify(kinetic_angle_cos(sc.M, sc.H[0, :], sc.H[1, :]))
-        out[constraint] = (c, sp.simplify(c - printed) == 0)
-    return out
 

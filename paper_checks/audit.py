@@ -1,0 +1,152 @@
+"""The whole audit of both papers as one call: :func:`run_audit` evaluates every claim, the
+single-impact derivation of ``G_u`` with its machine-checked properties, and the cross-check of the
+numeric solvers, and returns an :class:`AuditResult`. ``impactsym reproduce`` only renders it.
+
+Examples
+--------
+>>> counts = count_verdicts([])
+>>> counts["claims"], dict(counts["per_paper"]), counts["per_verdict"]["erratum"]
+(0, {}, 0)
+"""
+
+from __future__ import annotations
+
+import time
+from collections import Counter, OrderedDict
+from dataclasses import dataclass, field
+
+from .framework import PAPERS, VERDICTS, Claim, evaluate_all, section_rank
+
+__all__ = ["PAPER_ORDER", "AuditResult", "run_audit", "count_verdicts", "derivation_summary"]
+
+#: the papers in the order the audit reports them
+PAPER_ORDER = ("seghete-murphey", "acary-taha")
+
+
+@dataclass
+class AuditResult:
+    """One run of the audit.
+
+    Attributes
+    ----------
+    claims : the evaluated :class:`~paper_checks.framework.Claim` records, in registration order
+    summary : counts per paper, per verdict and per evidence kind, the judgments, the claims that
+        raised or reached another verdict than the pinned one, the cross-check (``crosscheck``), the
+        ``G_u`` derivation summary (``G_u_derivation``), ``all_evaluated``, ``ok`` and ``seconds``
+    papers : paper id -> title, in :data:`PAPER_ORDER`
+    verdicts : the verdict vocabulary, in reporting order
+    """
+
+    claims: list
+    summary: dict
+    papers: dict = field(default_factory=lambda: {p: PAPERS[p] for p in PAPER_ORDER})
+    verdicts: tuple = VERDICTS
+
+    @property
+    def ok(self) -> bool:
+        """Every claim evaluated and reached its pinned verdict, every cross-check within its bound,
+        every ``G_u`` property proved."""
+        return bool(self.summary["ok"])
+
+    def as_dict(self) -> dict:
+        """The JSON form ``{"claims": [...], "summary": {...}}`` (the summary is shared, not copied)."""
+        return {"claims": [c.as_dict() for c in self.claims], "summary": self.summary}
+
+    def section_rank(self, paper: str, section: str) -> int:
+        """Position of ``section`` in ``paper``'s reading order (unknown sections last)."""
+        return section_rank(paper, section)
+
+
+def count_verdicts(claims: list[Claim]) -> dict:
+    """``claims``, ``per_paper`` and ``per_verdict`` counts of evaluated claims (papers in
+    :data:`PAPER_ORDER`, verdicts in :data:`paper_checks.framework.VERDICTS` order)."""
+    per_paper = OrderedDict()
+    for paper in PAPER_ORDER:
+        cs = [c for c in claims if c.paper == paper]
+        if not cs:
+            continue
+        counts = Counter(c.verdict for c in cs if c.verdict)
+        per_paper[paper] = {"claims": len(cs), **{v: counts.get(v, 0) for v in VERDICTS}}
+    totals = Counter(c.verdict for c in claims if c.verdict)
+    return {"claims": len(claims), "per_paper": per_paper, "per_verdict": {v: totals.get(v, 0) for v in VERDICTS}}
+
+
+def derivation_summary() -> dict:
+    """The single-impact derivation (Seghete & Murphey eqs. 1a–1b) for n = 2, 3, and every
+    property of ``G_u`` for n = 2, 3 and general n (the proofs the claims use, memoized)."""
+    from derivations.reflection import PROPERTIES, derive_restitution, derive_single_impact
+
+    from .seghete_murphey import _proof
+
+    derivations = []
+    for n in (2, 3):
+        d = derive_single_impact(n)
+        derivations.append({"law": "G_u (elastic, eqs. 1a-1b)", "dimension": n,
+                            "lambda_matches_printed": bool(d.matches_printed_lambda),
+                            "G_matches_printed": bool(d.matches_printed_G),
+                            "discarded_roots": [str(r) for r, _ in d.discarded_roots]})
+        r = derive_restitution(n)
+        derivations.append({"law": "G_u(e) (Newton restitution)", "dimension": n,
+                            "lambda_matches_printed": bool(r.matches_printed_lambda),
+                            "G_matches_printed": bool(r.matches_printed_G),
+                            "energy_loss_matches": bool(r.matches_printed_energy_loss)})
+    proofs = []
+    for name in PROPERTIES:
+        for dim in (2, 3, "n"):
+            p = _proof(name, dim)
+            proofs.append({"name": p.name, "dimension": p.dimension, "proven": bool(p.proven),
+                           "seconds": round(p.seconds, 4)})
+    ok = all(p["proven"] for p in proofs) and all(d["lambda_matches_printed"] and d["G_matches_printed"]
+                                                 for d in derivations)
+    return {"derivations": derivations, "properties": proofs, "all_proven": ok}
+
+
+def run_audit(paper: str | None = None) -> AuditResult:
+    """Evaluate every claim (of one paper, or both), the ``G_u`` derivation and proofs, and the
+    cross-check of the numeric solvers: the public entry point of ``impactsym reproduce``.
+
+    Parameters
+    ----------
+    paper : ``"seghete-murphey"``, ``"acary-taha"`` or None (both)
+
+    Returns
+    -------
+    AuditResult
+        ``ok`` is False when a claim raised, a verdict differs from its pin, a cross-check left its
+        bound, or a ``G_u`` property was not proved.
+
+    Raises
+    ------
+    ValueError
+        an unknown paper.
+    """
+    if paper is not None and paper not in PAPER_ORDER:
+        raise ValueError(f"paper: unknown {paper!r}; known: {', '.join(PAPER_ORDER)}")
+    from .crosscheck import run_crosschecks
+
+    t0 = time.perf_counter()
+    claims = evaluate_all(paper)
+    derivation = derivation_summary()
+    cross = run_crosschecks()
+    seconds = time.perf_counter() - t0
+
+    counted = count_verdicts(claims)
+    raised = [c.id for c in claims if c.status == "raised"]
+    differs = [c.id for c in claims if c.status == "verdict-differs"]
+    ok = not raised and not differs and cross["ok"] and derivation["all_proven"]
+    kinds = Counter(c.evidence_kind for c in claims if c.evidence_kind)
+    summary = {
+        "claims": len(claims),
+        "per_paper": counted["per_paper"],
+        "per_verdict": counted["per_verdict"],
+        "per_evidence_kind": dict(sorted(kinds.items())),
+        "judgments": [c.id for c in claims if c.judgment is not None],
+        "raised": raised,
+        "verdict_differs": differs,
+        "crosscheck": cross,
+        "G_u_derivation": derivation,
+        "all_evaluated": not raised,
+        "ok": ok,
+        "seconds": round(seconds, 2),
+    }
+    return AuditResult(claims, summary)

@@ -1,0 +1,84 @@
+"""Every verdict is chosen by a computation: under each mutation it declares, a claim must change
+verdict or raise (``paper_checks/mutations.py``). Claims that are definitions, not checkable, or
+readings of typography (``judgment``) are the only ones allowed to declare none."""
+
+from __future__ import annotations
+
+import ast
+from pathlib import Path
+
+import pytest
+
+from paper_checks import mutations
+from paper_checks.framework import REGISTRY, Finding, claim, evaluate, load_all
+
+load_all()
+IDS = sorted(REGISTRY, key=lambda k: REGISTRY[k].order)
+EXEMPT = ("definition", "not-checkable")
+
+
+def _needs_mutations(cid: str) -> bool:
+    if REGISTRY[cid].expected in EXEMPT:
+        return False
+    return evaluate(cid).judgment is None
+
+
+def _declaring(name: str) -> list[str]:
+    return [cid for cid in IDS if name in REGISTRY[cid].mutations]
+
+
+def test_every_decided_claim_declares_a_known_mutation():
+    missing = [cid for cid in IDS if _needs_mutations(cid) and not REGISTRY[cid].mutations]
+    assert not missing, f"claims whose verdict no mutation is declared to move: {missing}"
+    unknown = {(cid, m) for cid in IDS for m in REGISTRY[cid].mutations if m not in mutations.MUTATIONS}
+    assert not unknown, f"undeclared mutation names: {sorted(unknown)}"
+
+
+def test_judgments_are_few_and_say_why():
+    judged = [cid for cid in IDS if evaluate(cid).judgment is not None]
+    for cid in judged:
+        assert evaluate(cid).judgment.strip(), cid
+    assert len(judged) <= 12, f"judgments must be few: {judged}"
+
+
+@pytest.mark.parametrize("name", sorted(mutations.MUTATIONS))
+def test_mutation_moves_every_claim_that_declares_it(name):
+    ids = _declaring(name)
+    assert ids, f"mutation {name!r} is declared by no claim: remove it or use it"
+    still = []
+    with mutations.applied(name):
+        for cid in ids:
+            c = evaluate(cid)
+            if c.status != "raised" and c.verdict == c.expected:
+                still.append(cid)
+    assert not still, f"under mutation {name!r} these claims kept their pinned verdict: {still}"
+    # the mutation is undone: the claims are back at their pins
+    for cid in ids[:3]:
+        c = evaluate(cid)
+        assert c.status == "ok", (cid, c.verdict, c.error)
+
+
+def test_the_mutation_test_catches_a_fixed_verdict():
+    """A claim that returns a fixed string would keep its verdict under its mutation: detected."""
+
+    @claim("test-fixed", paper="seghete-murphey", ref="sec. II-A", quantity="fixed", expect="erratum",
+           mutations=("reflection_map",))
+    def _fixed():
+        return Finding("erratum", "x", corrected="y")
+
+    try:
+        with mutations.applied("reflection_map"):
+            c = evaluate("test-fixed")
+        assert c.status == "ok" and c.verdict == "erratum"  # unmoved: the parametrized test would fail
+    finally:
+        del REGISTRY["test-fixed"]
+        mutations.clear_caches()
+
+
+def test_no_verdict_logic_in_assert():
+    """``assert`` vanishes under ``python -O``: claim modules never decide with it."""
+    here = Path(__file__).parent
+    for name in ("seghete_murphey.py", "acary_taha.py", "framework.py"):
+        tree = ast.parse((here / name).read_text())
+        asserts = [n.lineno for n in ast.walk(tree) if isinstance(n, ast.Assert)]
+        assert not asserts, f"{name}: assert at lines {asserts}"
