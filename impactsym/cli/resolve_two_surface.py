@@ -39,7 +39,7 @@ def render(result: dict) -> str:
         if isinstance(order, dict):
             order = f"[{order['first']}, {1 - order['first']}, ...] ({order['length']} surfaces)"
         kind = "exact" if o["exact"] else f"{o['digits']} certified digits" if o["digits"] else "float"
-        if o["first"] == -1:  # the law's marker: neither surface is approached
+        if o.get("no_impact") or o["first"] in (-1, None):  # neither surface is approached
             lines.append("no surface is approached: no impact (0 reflections), v+ = v-")
         else:
             lines.append(f"first surface {o['first']}: {o['reflections']} reflections, order {order}")

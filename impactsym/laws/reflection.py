@@ -192,7 +192,11 @@ def reflect(mass_matrix, gradient, velocity, restitution=1, *, dps: int | None =
     if exact and _all_rational(Mx, ux, vx, ex):
         u, w, c = _rational_parts(Mx, ux, ex)
         v = _fmpq_mat(vx)
-        return _sympy_of(v - w * ((u * v)[0, 0] * c))
+        uv = (u * v)[0, 0]
+        out = _sympy_of(v - w * (uv * c))
+        pq = -uv * c  # the impulse p = -(1+e) u v / (u M^-1 u^T)
+        _verify_reflection(Mx, ux, vx, ex, out, sp.Rational(int(pq.p), int(pq.q)))
+        return out
     if exact:
         w = Mx.LUsolve(ux.T)
         s = (ux * w)[0, 0]
