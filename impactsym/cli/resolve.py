@@ -95,7 +95,7 @@ def register(sub) -> None:
     p.add_argument("--float", action="store_true", help="sequential: float64 with certified branch decisions")
     p.add_argument("--two-surface-path", metavar="P", help="sequential: closed-form (default) or iterate")
     p.add_argument("--n-balls", metavar="N", help="sequential scenes cradle, balls-against-wall: number of balls "
-                   "(an integer expression such as 10**2; at most 1000)")
+                   "(an integer expression such as 10**2; at most 200, the sequential law's MAX_COORDINATES)")
     p.add_argument("--strikers", metavar="K", help="sequential scene cradle: number of striking balls")
     add_json_flag(p)
     p.set_defaults(func=run, _resolve_parser=p)

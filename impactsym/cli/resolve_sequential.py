@@ -24,7 +24,8 @@ import numpy as np
 import sympy as sp
 
 from ..errors import ImpactInputError, NonTermination
-from ..laws.sequential import DEFAULT_MAX_REFLECTIONS, READINGS, TWO_SURFACE_PATHS, resolve_sequential, termination_bound
+from ..laws.sequential import (DEFAULT_MAX_REFLECTIONS, MAX_COORDINATES, READINGS, TWO_SURFACE_PATHS,
+                               resolve_sequential, termination_bound)
 from ..numbers import exact_str, parse_number, parse_vector
 from .scene_args import float_range_guard, read_scene, scene_json
 
@@ -40,9 +41,10 @@ SM_SCENE_PARAMS = {
 _SM_PARAMS = ("n_balls", "strikers", "masses", "velocities")
 
 
-#: the most balls ``--n-balls`` accepts (the exact resolver's documented reach; larger scenes are
-#: refused up front rather than left to run for minutes or exhaust memory)
-MAX_N_BALLS = 1000
+#: the most balls ``--n-balls`` accepts: one coordinate per ball, so the sequential law's own limit
+#: (``MAX_COORDINATES``); a larger scene is refused before it is built, naming the limit, rather
+#: than left to run for minutes or exhaust memory
+MAX_N_BALLS = MAX_COORDINATES
 
 
 def _int_option(text, argument, minimum, maximum=None):
@@ -50,10 +52,10 @@ def _int_option(text, argument, minimum, maximum=None):
 
     >>> _int_option("10**2", "n_balls", 2)
     100
-    >>> _int_option("1000000000000", "n_balls", 2, MAX_N_BALLS)
+    >>> _int_option("1000000000000", "n_balls", 2, 200)
     Traceback (most recent call last):
     ...
-    impactsym.errors.ImpactInputError: n_balls: must be at most 1000, got 1000000000000
+    impactsym.errors.ImpactInputError: n_balls: must be at most 200, got 1000000000000
     """
     value = parse_number(str(text), argument)
     if not value.is_Integer:
@@ -62,7 +64,7 @@ def _int_option(text, argument, minimum, maximum=None):
     if value < minimum:
         raise ImpactInputError(argument, f"must be >= {minimum}, got {value}")
     if maximum is not None and value > maximum:
-        raise ImpactInputError(argument, f"must be at most {maximum}, got {value}")
+        raise ImpactInputError(argument, f"must be at most {maximum}, got {value}")  # before any work
     return value
 
 
