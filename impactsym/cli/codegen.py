@@ -20,7 +20,7 @@ from functools import lru_cache
 from pathlib import Path
 
 from ..errors import ImpactInputError
-from .common import add_json_flag
+from .common import add_json_flag, refuse_inapplicable
 
 LANGS = ("c", "python", "numpy", "julia", "octave", "fortran", "rust")
 CATALOG = Path(__file__).resolve().parent.parent / "kernels" / "catalog.json"
@@ -43,7 +43,7 @@ def register(sub) -> None:
     p.add_argument("--lang", metavar="LANG", help=f"with NAME: one of {', '.join(LANGS)} (default numpy)")
     p.add_argument("--list", action="store_true", help="list every kernel with its family and languages")
     add_json_flag(p)
-    p.set_defaults(func=run)
+    p.set_defaults(func=run, _codegen_parser=p)
 
 
 def _languages(k: dict) -> list[str]:
@@ -55,8 +55,8 @@ def run(args) -> dict:
     if args.list or args.name is None:
         if args.name is not None:
             raise ImpactInputError("name", "give either NAME or --list, not both")
-        if args.lang is not None:
-            raise ImpactInputError("lang", "--lang applies with NAME (one kernel), not to --list")
+        # the one option check of the CLI: --lang applies with NAME (one kernel), not to the listing
+        refuse_inapplicable(args, args._codegen_parser, ("list",), "the kernel listing (--lang applies with NAME)")
         return {"kernels": [{"name": k["codegen_name"], "kernel": k["name"], "family": k["family"],
                              "kind": k["kind"], "args": k["args"], "outputs": k["outputs"],
                              "languages": _languages(k), "summary": k["summary"]} for k in kernels]}

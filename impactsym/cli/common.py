@@ -72,7 +72,7 @@ def dumps_strict(obj: Any, **kw) -> str:
     >>> dumps_strict({"x": float("-inf"), "y": "-10**400"})
     '{"x": null, "y": "-10**400"}'
     """
-    return json.dumps(strict_json(obj), allow_nan=False, default=str, **kw)
+    return json.dumps(strict_json(obj), allow_nan=False, **kw)
 
 
 # --------------------------------------------------------------------------- options that apply
