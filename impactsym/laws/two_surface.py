@@ -67,8 +67,9 @@ import numpy as np
 import sympy as sp
 from flint import arb, ctx, fmpq, fmpq_mat, fmpz
 
+from ..arithmetic import (all_rational, arb_to_mpf, arf_fmpq, ball_ends, bits, certified_ceil, certified_sign, enclose,
+                          nearest_int, sign_of, to_fmpq, to_sympy_rational)
 from ..errors import ImpactInputError, UndecidableSign, VerificationError
-from ..exact import certified_sign
 from ..mechanics import check_gradients, check_mass_matrix, check_velocity
 from ..numbers import is_exact
 from ..verify import verify_balls, verify_exact
@@ -235,42 +236,14 @@ class TwoSurfaceResolution:
 
 
 # --------------------------------------------------------------------------- exact scalars
-def _is_rational_matrix(A) -> bool:
-    return all(x.is_Rational for x in A)
-
-
-def _fmpq(x) -> fmpq:
-    if isinstance(x, (float, np.floating)):
-        f = Fraction(float(x))
-        return fmpq(f.numerator, f.denominator)
-    if isinstance(x, Fraction):
-        return fmpq(x.numerator, x.denominator)
-    x = sp.Rational(x)
-    return fmpq(int(x.p), int(x.q))
-
-
-def _arb(x, prec: int) -> arb:
-    """An Arb ball enclosing the exact number ``x`` (fmpq exactly; SymPy by rigorous evalf)."""
-    if isinstance(x, fmpq):
-        return arb(x)
-    if x.is_Rational:
-        return arb(fmpq(int(x.p), int(x.q)))
-    digits = int(prec * 0.30103) + 10
-    if certified_sign(x) == 0:
-        return arb(0)
-    # SymPy's evalf with strict=True either reaches `digits` correct significant digits or raises;
-    # the binary value it returns is taken exactly, and widened by a relative 10^-(digits-3).
-    val = x.evalf(digits, strict=True)
-    sign, man, exp, _ = val._mpf_
-    man = -int(man) if sign else int(man)
-    mid = arb(fmpq(man * 2**exp)) if exp >= 0 else arb(fmpq(man, 2 ** (-exp)))
-    return mid + arb(0, abs(mid) * arb(10) ** (-(digits - 3)))
-
-
-def _sign(x) -> int:
-    if isinstance(x, fmpq):
-        return (x > 0) - (x < 0)
-    return certified_sign(x)
+# (the arithmetic lives in impactsym.arithmetic; these are the names this module has always used)
+_is_rational_matrix = all_rational
+_fmpq = to_fmpq
+_arb = enclose
+_sign = sign_of
+_rational = to_sympy_rational
+_bits = bits
+_arf_fmpq, _ball_ends, _nearest_int, _certified_ceil, _arb_to_mpf = arf_fmpq, ball_ends, nearest_int, certified_ceil, arb_to_mpf
 
 
 class _Data:
@@ -339,15 +312,6 @@ def _lcm(p, q):
     return (p * q) // p.gcd(q)
 
 
-def _rational(x: fmpq) -> sp.Rational:
-    """SymPy ``Rational`` of an fmpq."""
-    return sp.Rational(int(x.p), int(x.q))
-
-
-def _bits(x: fmpq) -> int:
-    return max(int(x.p).bit_length(), int(x.q).bit_length())
-
-
 def _exact_feasible(d: _Data, m: int, budget: int) -> bool:
     size = max(_bits(d.sa * d.sb), _bits(d.g * d.g), _bits(d.D)) + 2
     return m * size <= budget
@@ -385,38 +349,6 @@ def _invariants(exact, M, H, v, n):
     gram = Hq * W
     c = Hq * vq
     return (W, gram, c, True), vq, (Mq, Hq)
-
-
-def _arf_fmpq(x: arb) -> fmpq:
-    """The exact rational value of an exactly representable Arb number (a midpoint or radius):
-    read with ``man_exp``, so no rounding at any working precision."""
-    man, exp = x.man_exp()
-    man, exp = int(man), int(exp)
-    return fmpq(man * 2**exp) if exp >= 0 else fmpq(man, 2 ** (-exp))
-
-
-def _ball_ends(q: arb) -> tuple[fmpq, fmpq]:
-    """Exact rational ends ``[mid − rad, mid + rad]`` of a finite Arb ball (exact reads)."""
-    mid, rad = _arf_fmpq(q.mid()), _arf_fmpq(q.rad())
-    return mid - rad, mid + rad
-
-
-def _nearest_int(x: fmpq) -> int:
-    return int((x + fmpq(1, 2)).floor())
-
-
-def _certified_ceil(q: arb):
-    """``⌈q⌉`` when the ball ``q`` certainly holds no integer (decided on its exact ends), else
-    ``None``. Reads only exact quantities of ``q``, so it does not depend on the precision in
-    force when it is called (a ``q.lower()`` outside the block that made ``q`` is rounded to 53
-    bits: the bug of issue 9)."""
-    if not q.is_finite():
-        return None
-    lo, hi = _ball_ends(q)
-    f = lo.floor()
-    if lo > f and hi < f + 1:
-        return int(f) + 1
-    return None
 
 
 def _certified_ceil_ratio(d: _Data, tie_check, decisions: dict) -> int:
@@ -562,11 +494,6 @@ def _verify_count_rational(d: _Data, m: int) -> None:
 
 def _mid_scale(vel) -> mpmath.mpf:
     return max(abs(vel[i]) for i in range(vel.rows))
-
-
-def _arb_to_mpf(x: arb):
-    man, exp = x.mid().man_exp()
-    return mpmath.mpf((int(man), int(exp)))
 
 
 def _certified_outcome(first, order, m, vel_b, imp_b, rad, digits, prec) -> "TwoSurfaceOutcome":
