@@ -20,7 +20,7 @@ from flint import arb, fmpq
 
 from .closed_form import certified_sign
 
-__all__ = ["enclose", "arf_fmpq", "ball_ends", "certified_ceil", "nearest_int", "arb_to_mpf"]
+__all__ = ["enclose", "arf_fmpq", "ball_ends", "certified_ceil", "certified_ceiling", "nearest_int", "arb_to_mpf"]
 
 
 def enclose(x, prec: int) -> arb:
@@ -104,6 +104,50 @@ def certified_ceil(q: arb):
     f = lo.floor()
     if lo > f and hi < f + 1:
         return int(f) + 1
+    return None
+
+
+def certified_ceiling(ball_at, tie_check, *, min_tie: int = 1, start_bits: int = 64, max_bits: int = 1 << 16):
+    """``⌈x⌉`` of a real ``x`` given as Arb balls at rising precision, with an exact tie test.
+
+    ``ball_at(prec)`` returns a ball of ``x`` made inside ``ctx.workprec(prec)`` (it is read here
+    only exactly). The precision doubles from ``start_bits`` until the ball holds no integer
+    (:func:`certified_ceil`); when the ball is narrower than 1/2 but still holds the integer ``j``
+    (``j ≥ min_tie``), ``tie_check(j)`` may decide exactly that ``x = j`` (``True``; ``False`` or
+    ``None``: not decided), once per ``j``.
+
+    Returns
+    -------
+    tuple or None
+        ``(ceiling, how, prec)`` with ``how`` ``"arb"`` or ``"exact_tie"``; ``None`` when nothing
+        decided it within ``max_bits``.
+
+    Examples
+    --------
+    >>> from flint import ctx
+    >>> def ball_at(prec):
+    ...     with ctx.workprec(prec):
+    ...         return arb.pi() / arb(3).sqrt()
+    >>> certified_ceiling(ball_at, lambda j: None)
+    (2, 'arb', 64)
+    >>> certified_ceiling(lambda prec: arb(3), lambda j: j == 3)
+    (3, 'exact_tie', 64)
+    """
+    prec, tried = start_bits, set()
+    while prec <= max_bits:
+        q = ball_at(prec)
+        m = certified_ceil(q)
+        if m is not None:
+            return m, "arb", prec
+        if q.is_finite():
+            lo, hi = ball_ends(q)
+            if hi - lo < fmpq(1, 2):
+                j = nearest_int((lo + hi) / 2)
+                if j >= min_tie and j not in tried:
+                    tried.add(j)
+                    if tie_check(j) is True:
+                        return j, "exact_tie", prec
+        prec *= 2
     return None
 
 

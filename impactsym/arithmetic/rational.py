@@ -23,7 +23,7 @@ import sympy as sp
 from ..errors import ImpactInputError
 
 __all__ = ["as_fmpq", "to_fmpq", "bits", "rational_matrix", "to_sympy_rational", "to_sympy_matrix",
-           "exact_data", "all_rational"]
+           "exact_data", "all_rational", "float_vector"]
 
 
 def _float_fraction(x) -> Fraction:
@@ -157,3 +157,19 @@ def exact_data(*mats):
             out.append(sp.Matrix([[to_sympy_rational(as_fmpq(x)) if isinstance(x, (float, np.floating)) else sp.sympify(x)
                                    for x in row] for row in arr]))
     return "sympy", out
+
+
+def float_vector(vel) -> np.ndarray:
+    """The nearest floats of a vector: exact SymPy (a rational correctly rounded, anything else
+    through 17 digits), an ``mpmath.matrix`` or anything NumPy reads.
+
+    >>> float_vector(sp.Matrix([sp.Rational(1, 3), sp.sqrt(2)]))
+    array([0.33333333, 1.41421356])
+    """
+    import mpmath
+
+    if isinstance(vel, sp.MatrixBase):
+        return np.array([float(Fraction(int(x.p), int(x.q))) if x.is_Rational else float(sp.N(x, 17)) for x in vel])
+    if isinstance(vel, mpmath.matrix):
+        return np.array([float(vel[i]) for i in range(vel.rows)])
+    return np.asarray(vel, dtype=float)

@@ -59,7 +59,6 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 from dataclasses import dataclass, field
-from fractions import Fraction
 from typing import Any
 
 import mpmath
@@ -67,8 +66,8 @@ import numpy as np
 import sympy as sp
 from flint import arb, ctx, fmpq, fmpq_mat, fmpz
 
-from ..arithmetic import (all_rational, arb_to_mpf, arf_fmpq, ball_ends, bits, certified_ceil, certified_sign, enclose,
-                          nearest_int, sign_of, to_fmpq, to_sympy_rational)
+from ..arithmetic import (all_rational, arb_to_mpf, bits, certified_ceiling, certified_sign, enclose, float_vector,
+                          rational_matrix, sign_of, to_fmpq, to_sympy_rational)
 from ..errors import ImpactInputError, UndecidableSign, VerificationError
 from ..mechanics import check_gradients, check_mass_matrix, check_velocity
 from ..numbers import is_exact
@@ -236,14 +235,9 @@ class TwoSurfaceResolution:
 
 
 # --------------------------------------------------------------------------- exact scalars
-# (the arithmetic lives in impactsym.arithmetic; these are the names this module has always used)
-_is_rational_matrix = all_rational
+# (the arithmetic is impactsym.arithmetic's; ``_fmpq`` is the name the tests use)
 _fmpq = to_fmpq
-_arb = enclose
-_sign = sign_of
-_rational = to_sympy_rational
-_bits = bits
-_arf_fmpq, _ball_ends, _nearest_int, _certified_ceil, _arb_to_mpf = arf_fmpq, ball_ends, nearest_int, certified_ceil, arb_to_mpf
+_floats = float_vector
 
 
 class _Data:
@@ -260,7 +254,7 @@ class _Data:
 
     def balls(self, prec: int):
         with ctx.workprec(prec):
-            sa, sb, g, ca, cb, D = (_arb(x, prec) for x in (self.sa, self.sb, self.g, self.ca, self.cb, self.D))
+            sa, sb, g, ca, cb, D = (enclose(x, prec) for x in (self.sa, self.sb, self.g, self.ca, self.cb, self.D))
             rD = D.sqrt()
             psi = arb.atan2(-ca * rD, sa * cb - g * ca)
             beta = arb.atan2(rD, -g)
@@ -286,11 +280,11 @@ def _field_power_exit(d: _Data, m: int):
 
     # rho = ((g^2 - Δ) + (-2g/Q) r) / (s_A s_B): integer numerators over a common denominator
     re, im = (d.g * d.g - d.D) / (d.sa * d.sb), (-2 * d.g / Q) / (d.sa * d.sb)
-    den_rho = _lcm(re.q, im.q)
+    den_rho = re.q.lcm(im.q)
     a, b = re.p * (den_rho // re.q), im.p * (den_rho // im.q)
     # alpha = (s_A c_B - g c_A) + (c_A/Q) r
     are, aim = d.sa * d.cb - d.g * d.ca, d.ca / Q
-    den_alpha = _lcm(are.q, aim.q)
+    den_alpha = are.q.lcm(aim.q)
     alpha = (are.p * (den_alpha // are.q), aim.p * (den_alpha // aim.q))
     k, acc, base = m // 2, (fmpz(1), fmpz(0)), (a, b)
     while k:
@@ -308,12 +302,8 @@ def _field_power_exit(d: _Data, m: int):
     return ca, (x + d.g * ca) / d.sa
 
 
-def _lcm(p, q):
-    return (p * q) // p.gcd(q)
-
-
 def _exact_feasible(d: _Data, m: int, budget: int) -> bool:
-    size = max(_bits(d.sa * d.sb), _bits(d.g * d.g), _bits(d.D)) + 2
+    size = max(bits(d.sa * d.sb), bits(d.g * d.g), bits(d.D)) + 2
     return m * size <= budget
 
 
@@ -332,19 +322,13 @@ def _checked(mass_matrix, gradients, velocity):
 
 def _invariants(exact, M, H, v, n):
     """``W = M⁻¹Hᵀ``, ``Γ``, ``c`` exactly; rational data as fmpq, irrational as SymPy."""
-    if exact and not (_is_rational_matrix(M) and _is_rational_matrix(H) and _is_rational_matrix(v)):
+    if exact and not (all_rational(M) and all_rational(H) and all_rational(v)):
         W = M.LUsolve(H.T).applyfunc(sp.radsimp)
         gram = (H * W).applyfunc(sp.radsimp)
         c = (H * v).applyfunc(sp.radsimp)
         return W, gram, c, False
-    if exact:
-        Mq = fmpq_mat(n, n, [_fmpq(x) for x in M])
-        Hq = fmpq_mat(2, n, [_fmpq(x) for x in H])
-        vq = fmpq_mat(n, 1, [_fmpq(x) for x in v])
-    else:
-        Mq = fmpq_mat(n, n, [_fmpq(x) for x in np.asarray(M).ravel()])
-        Hq = fmpq_mat(2, n, [_fmpq(x) for x in np.asarray(H).ravel()])
-        vq = fmpq_mat(n, 1, [_fmpq(x) for x in np.asarray(v).ravel()])
+    # exact rational, or float at its binary value
+    Mq, Hq, vq = rational_matrix(M), rational_matrix(H), rational_matrix(v)
     W = Mq.solve(Hq.transpose())
     gram = Hq * W
     c = Hq * vq
@@ -356,31 +340,24 @@ def _certified_ceil_ratio(d: _Data, tie_check, decisions: dict) -> int:
 
     The working precision starts above the bit size of ``π/β`` (the count can be as large as
     that) and doubles until the ball of ``ψ/β`` excludes every integer; every read of the ball
-    is exact (:func:`_certified_ceil`)."""
-    prec, tried = 64, set()
-    while prec <= MAX_PRECISION_BITS:
+    is exact (:func:`impactsym.arithmetic.certified_ceiling`)."""
+    def ball_at(prec):
         *_, psi, beta = d.balls(prec)
         with ctx.workprec(prec):
-            q = psi / beta
-        m = _certified_ceil(q)
-        if m is not None:
-            decisions["arb"] = decisions.get("arb", 0) + 1
-            decisions["max_bits"] = max(decisions.get("max_bits", 0), prec)
-            return m
-        if q.is_finite():
-            lo, hi = _ball_ends(q)
-            if hi - lo < fmpq(1, 2):
-                j = _nearest_int((lo + hi) / 2)
-                if j >= 1 and j not in tried:
-                    tried.add(j)
-                    verdict = tie_check(d, j)
-                    if verdict is True:
-                        decisions["exact_tie"] = decisions.get("exact_tie", 0) + 1
-                        return j
-        prec *= 2
-    raise UndecidableSign(
-        f"the reflection count ceil(psi/beta) could not be certified: psi/beta is within 2^-{MAX_PRECISION_BITS} "
-        "of an integer and an exact check of that tie (an iterate exactly on an edge) was not feasible")
+            return psi / beta
+
+    found = certified_ceiling(ball_at, lambda j: tie_check(d, j), max_bits=MAX_PRECISION_BITS)
+    if found is None:
+        raise UndecidableSign(
+            f"the reflection count ceil(psi/beta) could not be certified: psi/beta is within 2^-{MAX_PRECISION_BITS} "
+            "of an integer and an exact check of that tie (an iterate exactly on an edge) was not feasible")
+    m, how, prec = found
+    if how == "arb":
+        decisions["arb"] = decisions.get("arb", 0) + 1
+        decisions["max_bits"] = max(decisions.get("max_bits", 0), prec)
+    else:
+        decisions["exact_tie"] = decisions.get("exact_tie", 0) + 1
+    return m
 
 
 def _tie_check_rational(d: _Data, j: int):
@@ -437,9 +414,9 @@ def _certified_exit(d: _Data, m: int, digits: int, W, gram, vec, swap: bool):
         balls = d.balls(prec)
         with ctx.workprec(prec):
             sa, sb, g, ca, cb = balls[:5]
-            Wb = [[_arb(W[i][0], prec), _arb(W[i][1], prec)] for i in range(len(W))]
-            gram_b = [[_arb(gram[i][j], prec) for j in range(2)] for i in range(2)]
-            v_arb = [_arb(x, prec) for x in vec]
+            Wb = [[enclose(W[i][0], prec), enclose(W[i][1], prec)] for i in range(len(W))]
+            gram_b = [[enclose(gram[i][j], prec) for j in range(2)] for i in range(2)]
+            v_arb = [enclose(x, prec) for x in vec]
             ca2, cb2 = _w_after(balls, m)
             if swap:
                 ca, cb, ca2, cb2 = cb, ca, cb2, ca2
@@ -462,7 +439,7 @@ def _certified_exit(d: _Data, m: int, digits: int, W, gram, vec, swap: bool):
 def _verify_count_balls(d: _Data, m: int, prec: int) -> None:
     """The count is consistent with the order: the first surface is approached, and after
     ``m − 1`` reflections the surface of the ``m``-th one is approached (not certainly leaving)."""
-    if _sign(d.ca) >= 0:
+    if sign_of(d.ca) >= 0:
         raise VerificationError("two-surface", "the branch starts with a surface that is not approached")
     if m < 2:
         return
@@ -501,9 +478,9 @@ def _certified_outcome(first, order, m, vel_b, imp_b, rad, digits, prec) -> "Two
     :func:`_certified_exit` (made at ``prec`` bits): mpmath midpoints and an error bound covering
     the ball's radius and the rounding of the midpoints."""
     with ctx.workprec(prec), mpmath.workdps(digits + 5):
-        vel = mpmath.matrix([_arb_to_mpf(x) for x in vel_b])
-        imp = mpmath.matrix([_arb_to_mpf(x) for x in imp_b])
-        err = _arb_to_mpf(rad) * 2 + _mid_scale(vel) * mpmath.mpf(10) ** -(digits + 4)
+        vel = mpmath.matrix([arb_to_mpf(x) for x in vel_b])
+        imp = mpmath.matrix([arb_to_mpf(x) for x in imp_b])
+        err = arb_to_mpf(rad) * 2 + _mid_scale(vel) * mpmath.mpf(10) ** -(digits + 4)
     return TwoSurfaceOutcome(first, order, m, vel, _floats(vel), imp, False, digits=digits, error_bound=err,
                              _balls=tuple(vel_b), _prec=prec)
 
@@ -550,7 +527,7 @@ def resolve_two_surfaces(mass_matrix, gradients, velocity, *, digits: int = DEFA
         raise ImpactInputError("digits", f"must be a positive integer, got {digits!r}")
     exact, M, H, v, n = _checked(mass_matrix, gradients, velocity)
     decisions: dict = {}
-    rational_path = not exact or (_is_rational_matrix(M) and _is_rational_matrix(H) and _is_rational_matrix(v))
+    rational_path = not exact or (all_rational(M) and all_rational(H) and all_rational(v))
     if rational_path:
         (W, gram, c, _), vq, (Mq, Hq) = _invariants(exact, M, H, v, n)
         d = _Data(gram[0, 0], gram[1, 1], gram[0, 1], c[0, 0], c[1, 0])
@@ -560,16 +537,16 @@ def resolve_two_surfaces(mass_matrix, gradients, velocity, *, digits: int = DEFA
         d = _Data(gram[0, 0], gram[1, 1], gram[0, 1], c[0], c[1])
         HA, HB = H[0, :], H[1, :]
         tie_check = None  # built per branch below
-    if _sign(d.D) == 0:
+    if sign_of(d.D) == 0:
         raise ImpactInputError(
             "gradients", "the two rows are parallel (Δ = s_1 s_2 − g² = 0): the wedge is degenerate (opening 0 or π)")
-    signs = (_sign(d.ca), _sign(d.cb))
+    signs = (sign_of(d.ca), sign_of(d.cb))
     # bound N = ceil(pi/beta), certified; pi/beta is an integer only for beta = pi/K with
     # cos^2(pi/K) = g^2/(s_A s_B); decided exactly with SymPy for the candidate K.
     bound = _certified_bound(d, decisions)
     with mpmath.workdps(digits):
         *_, beta = d.balls(int(digits * 3.33) + 32)
-        wedge = _arb_to_mpf(beta)
+        wedge = arb_to_mpf(beta)
 
     by_first: dict = {0: None, 1: None}
     outcomes = []
@@ -605,8 +582,8 @@ def resolve_two_surfaces(mass_matrix, gradients, velocity, *, digits: int = DEFA
             vplus = vq + W * jump
             verify_exact("two-surface", Mq, Hq, vq, vplus, jump)
             _verify_count_rational(df, m)
-            vel = sp.Matrix([_rational(vplus[i, 0]) for i in range(n)])
-            imp = sp.Matrix([_rational(jump[i, 0]) for i in range(2)])
+            vel = sp.Matrix([to_sympy_rational(vplus[i, 0]) for i in range(n)])
+            imp = sp.Matrix([to_sympy_rational(jump[i, 0]) for i in range(2)])
             outcomes.append(TwoSurfaceOutcome(first, order, m, vel, _floats(vel), imp, True))
         elif rational_path:
             want = digits if exact else 20
@@ -617,8 +594,8 @@ def resolve_two_surfaces(mass_matrix, gradients, velocity, *, digits: int = DEFA
                 outcomes.append(_certified_outcome(first, order, m, vel_b, imp_b, rad, digits, prec))
             else:
                 with ctx.workprec(prec):
-                    vel = np.array([float(_arb_to_mpf(x)) for x in vel_b])
-                    imp = np.array([float(_arb_to_mpf(x)) for x in imp_b])
+                    vel = np.array([float(arb_to_mpf(x)) for x in vel_b])
+                    imp = np.array([float(arb_to_mpf(x)) for x in imp_b])
                 outcomes.append(TwoSurfaceOutcome(first, order, m, vel, vel.copy(), imp, False,
                                                   _balls=tuple(vel_b), _prec=prec))
         else:  # irrational exact input
@@ -656,20 +633,20 @@ def branch_counts(mass_matrix, gradients, velocity) -> dict:
     {0: 4, 1: 4}
     """
     exact, M, H, v, n = _checked(mass_matrix, gradients, velocity)
-    rational_path = not exact or (_is_rational_matrix(M) and _is_rational_matrix(H) and _is_rational_matrix(v))
+    rational_path = not exact or (all_rational(M) and all_rational(H) and all_rational(v))
     if rational_path:
         (W, gram, c, _), vq, _ = _invariants(exact, M, H, v, n)
         d = _Data(gram[0, 0], gram[1, 1], gram[0, 1], c[0, 0], c[1, 0])
     else:
         W, gram, c, _ = _invariants(exact, M, H, v, n)
         d = _Data(gram[0, 0], gram[1, 1], gram[0, 1], c[0], c[1])
-    if _sign(d.D) == 0:
+    if sign_of(d.D) == 0:
         raise ImpactInputError(
             "gradients", "the two rows are parallel (Δ = s_1 s_2 − g² = 0): the wedge is degenerate (opening 0 or π)")
     out = {}
     for first in (0, 1):
         df = d if first == 0 else d.swapped()
-        if _sign(df.ca) >= 0:
+        if sign_of(df.ca) >= 0:
             continue
         if rational_path:
             check = _tie_check_rational
@@ -686,14 +663,6 @@ def _as_output(exact, v, vq):
     return np.asarray(v, dtype=float).copy()
 
 
-def _floats(vel) -> np.ndarray:
-    if isinstance(vel, sp.MatrixBase):
-        return np.array([float(Fraction(int(x.p), int(x.q))) if x.is_Rational else float(sp.N(x, 17)) for x in vel])
-    if isinstance(vel, mpmath.matrix):
-        return np.array([float(vel[i]) for i in range(vel.rows)])
-    return np.asarray(vel, dtype=float)
-
-
 def _kinetic_cos(d: _Data, exact: bool):
     if d.rational():
         ss = d.sa * d.sb
@@ -703,26 +672,24 @@ def _kinetic_cos(d: _Data, exact: bool):
 
 
 def _certified_bound(d: _Data, decisions: dict) -> int:
-    prec = 64
-    while prec <= MAX_PRECISION_BITS:
+    """``⌈π/β⌉`` (sec. III-C), certified; a tie ``β = π/K`` is decided exactly
+    (``−g/√(s_A s_B) = cos(π/K)``, a certified sign)."""
+    def ball_at(prec):
         *_, beta = d.balls(prec)
         with ctx.workprec(prec):
-            q = arb.pi() / beta
-        m = _certified_ceil(q)
-        if m is not None:
-            return m
-        lo, hi = _ball_ends(q) if q.is_finite() else (fmpq(0), fmpq(1))
-        if hi - lo < fmpq(1, 2):
-            K = _nearest_int((lo + hi) / 2)
-            # beta = pi/K exactly  <=>  cos(beta) = cos(pi/K)  <=>  -g/sqrt(s_A s_B) = cos(pi/K)
-            if K >= 2:
-                to_sp = (lambda x: sp.Rational(int(x.p), int(x.q))) if d.rational() else (lambda x: x)
-                expr = -to_sp(d.g) / sp.sqrt(to_sp(d.sa) * to_sp(d.sb)) - sp.cos(sp.pi / K)
-                try:
-                    if certified_sign(expr, max_digits=200) == 0:
-                        decisions["exact_tie"] = decisions.get("exact_tie", 0) + 1
-                        return K
-                except UndecidableSign:
-                    pass
-        prec *= 2
-    raise UndecidableSign("the bound ceil(pi/beta) could not be certified")
+            return arb.pi() / beta
+
+    def tie(K):
+        to_sp = (lambda x: sp.Rational(int(x.p), int(x.q))) if d.rational() else (lambda x: x)
+        expr = -to_sp(d.g) / sp.sqrt(to_sp(d.sa) * to_sp(d.sb)) - sp.cos(sp.pi / K)
+        try:
+            return certified_sign(expr, max_digits=200) == 0
+        except UndecidableSign:
+            return None
+
+    found = certified_ceiling(ball_at, tie, min_tie=2, max_bits=MAX_PRECISION_BITS)
+    if found is None:
+        raise UndecidableSign("the bound ceil(pi/beta) could not be certified")
+    if found[1] == "exact_tie":
+        decisions["exact_tie"] = decisions.get("exact_tie", 0) + 1
+    return found[0]
