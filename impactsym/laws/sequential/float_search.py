@@ -3,8 +3,11 @@ exact re-decision (replay in rationals) whenever the bound straddles zero.
 """
 
 from __future__ import annotations
+
 import math
+
 import numpy as np
+
 from ...arithmetic import certified_sign
 from ..reflection import FLOAT_ERROR_FACTOR
 from .common import FLOAT_SAFETY, _EPS, _Algebraic, _Rational

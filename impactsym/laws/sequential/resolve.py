@@ -3,16 +3,19 @@ closed form, the exact merge of outcomes, and the selection.
 """
 
 from __future__ import annotations
+
 import numpy as np
 import sympy as sp
-from ...errors import DomainError, ImpactInputError, NonTermination
+
 from ...arithmetic import certified_sign
+from ...errors import DomainError, ImpactInputError, NonTermination
 from ...mechanics import check_gradients, check_mass_matrix, check_velocity
 from ...numbers import float_to_rational, is_exact
 from .common import DEFAULT_MAX_REFLECTIONS, MAX_COORDINATES, READINGS, TWO_SURFACE_PATHS, _Rational, _rank
-from .results import Outcome, SequentialResolution
-from .search import _ExactSystem, _Reflector, _aggregate, _cap_error, _explore, _explore_rational, _merge_exact_keys, _verified_replay
 from .float_search import _float_search
+from .results import Outcome, SequentialResolution
+from .search import (_ExactSystem, _Reflector, _aggregate, _cap_error, _explore, _explore_rational,
+                     _merge_exact_keys, _verified_replay)
 from .selection import _select, _select_two_surface, _verify_selected
 from .witness import valid_velocity_witness
 

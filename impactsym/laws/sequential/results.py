@@ -2,8 +2,10 @@
 """
 
 from __future__ import annotations
+
 from dataclasses import dataclass, field
 from typing import Any, Iterator
+
 import numpy as np
 import sympy as sp
 

@@ -5,10 +5,12 @@ of the benchmarks; algebraic data: SymPy numbers, every sign certified).
 """
 
 from __future__ import annotations
+
 import sympy as sp
 from flint import fmpq, fmpq_mat
-from ...errors import NonTermination
+
 from ...arithmetic import certified_sign
+from ...errors import NonTermination
 from .common import MAX_STATE_BITS, _Algebraic, _Rational, _all_rational, _dot
 
 

@@ -4,12 +4,15 @@ a cone, and the two-surface shortcut.
 """
 
 from __future__ import annotations
+
 import math
+
 import numpy as np
 import sympy as sp
 from flint import fmpq
-from ...errors import DomainError
+
 from ...arithmetic import certified_sign
+from ...errors import DomainError
 from .common import _Algebraic, _Rational, _dot, _independent, _matvec, _minner, _rank, _rref, _solve_columns
 
 

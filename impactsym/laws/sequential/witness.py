@@ -2,8 +2,11 @@
 """
 
 from __future__ import annotations
+
 import itertools
+
 import sympy as sp
+
 from ...numbers import is_exact
 from .common import _Algebraic, _Rational, _all_rational, _dot, _nullspace
 
