@@ -24,17 +24,17 @@ It depends only on :mod:`impactsym.errors`; the laws, :mod:`impactsym.verify` an
 
 from .balls import arb_to_mpf, arf_fmpq, ball_ends, certified_ceil, certified_ceiling, enclose, nearest_int
 from .closed_form import certified_compare, certified_sign, tidy
-from .fields import AlgebraicField, RationalField, field_of, sign_of, sign_surd
+from .fields import AlgebraicField, RationalField, compare_surds, field_of, sign_of, sign_surd
 from .linalg import (ExactLinearAlgebra, dot, exact_rank, in_row_space, independent, kernel_basis, matvec,
                      minner, nullspace, rank, rref, solve_columns)
-from .rational import (all_rational, as_fmpq, bits, exact_data, float_vector, rational_matrix, to_fmpq,
+from .rational import (all_rational, as_fmpq, bits, exact_data, float_vector, rational_matrix, rational_sqrt, to_fmpq,
                        to_sympy_matrix, to_sympy_rational)
 
 __all__ = [
     "certified_sign", "certified_compare", "tidy",
     "as_fmpq", "to_fmpq", "bits", "all_rational", "rational_matrix", "to_sympy_rational", "to_sympy_matrix",
-    "exact_data", "float_vector",
-    "sign_of", "sign_surd", "RationalField", "AlgebraicField", "field_of",
+    "exact_data", "float_vector", "rational_sqrt",
+    "sign_of", "sign_surd", "compare_surds", "RationalField", "AlgebraicField", "field_of",
     "rref", "kernel_basis", "nullspace", "solve_columns", "rank", "independent", "in_row_space", "dot",
     "matvec", "minner", "exact_rank", "ExactLinearAlgebra",
     "enclose", "arf_fmpq", "ball_ends", "certified_ceil", "certified_ceiling", "nearest_int", "arb_to_mpf",

@@ -21,7 +21,7 @@ import sympy as sp
 from .closed_form import certified_sign
 from .rational import all_rational, to_fmpq, to_sympy_rational
 
-__all__ = ["sign_of", "sign_surd", "RationalField", "AlgebraicField", "field_of"]
+__all__ = ["sign_of", "sign_surd", "compare_surds", "RationalField", "AlgebraicField", "field_of"]
 
 
 def sign_of(x) -> int:
@@ -56,6 +56,38 @@ def sign_surd(x, y, d) -> int:
     if sx == sy:
         return sx
     return sx * sign_of(x * x - y * y * d)
+
+
+def compare_surds(x, y, F) -> int:
+    """Exact sign of ``(a1 + b1√q1) − (a2 + b2√q2)`` for ``x = (a1, b1, q1)``, ``y = (a2, b2, q2)``
+    (``q ≥ 0``) in the field ``F``: by squaring for rationals (no root evaluated), certified for
+    algebraic numbers.
+
+    >>> Q = RationalField
+    >>> x, y = (Q.num(0), Q.num(1), Q.num(2)), (Q.num(0), Q.num(1), Q.num(3))   # √2 against √3
+    >>> compare_surds(x, y, Q), compare_surds(y, x, Q), compare_surds(x, x, Q)
+    (-1, 1, 0)
+    >>> compare_surds((Q.num(1), Q.num(1), Q.num(2)), (Q.num(0), Q.num(1), Q.num(3)), Q)   # 1 + √2 > √3
+    1
+    """
+    a1, b1, q1 = x
+    a2, b2, q2 = y
+    if F is AlgebraicField:
+        return certified_sign(a1 + b1 * sp.sqrt(q1) - a2 - b2 * sp.sqrt(q2))
+    if F.sign(b2) == 0 or F.sign(q2) == 0:
+        return F.surd_sign(a1 - a2, b1, q1)
+    if F.sign(b1) == 0 or F.sign(q1) == 0:
+        return -F.surd_sign(a2 - a1, b2, q2)
+    if q1 == q2:
+        return F.surd_sign(a1 - a2, b1 - b2, q1)
+    # A = (a1 - a2) + b1√q1 against C = b2√q2
+    sA = F.surd_sign(a1 - a2, b1, q1)
+    sC = F.sign(b2)
+    if sA != sC:
+        return (sA > sC) - (sA < sC)
+    A2 = ((a1 - a2) * (a1 - a2) + b1 * b1 * q1, 2 * (a1 - a2) * b1, q1)
+    d = F.surd_sign(A2[0] - b2 * b2 * q2, A2[1], A2[2])
+    return sA * d
 
 
 class RationalField:

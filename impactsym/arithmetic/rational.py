@@ -23,7 +23,7 @@ import sympy as sp
 from ..errors import ImpactInputError
 
 __all__ = ["as_fmpq", "to_fmpq", "bits", "rational_matrix", "to_sympy_rational", "to_sympy_matrix",
-           "exact_data", "all_rational", "float_vector"]
+           "exact_data", "all_rational", "float_vector", "rational_sqrt"]
 
 
 def _float_fraction(x) -> Fraction:
@@ -76,6 +76,21 @@ def bits(x: flint.fmpq) -> int:
     5
     """
     return max(int(x.p).bit_length(), int(x.q).bit_length())
+
+
+def rational_sqrt(q: flint.fmpq) -> flint.fmpq | None:
+    """``√q`` when it is rational (``q ≥ 0`` a square of a rational), else ``None``.
+
+    >>> rational_sqrt(flint.fmpq(9, 4)), rational_sqrt(flint.fmpq(2))
+    (3/2, None)
+    """
+    p, d = int(q.p), int(q.q)
+    if p < 0:
+        return None
+    rp, rd = math.isqrt(p), math.isqrt(d)
+    if rp * rp == p and rd * rd == d:
+        return flint.fmpq(rp, rd)
+    return None
 
 
 def all_rational(*mats) -> bool:

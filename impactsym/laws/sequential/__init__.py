@@ -101,6 +101,7 @@ impactsym.errors.DomainError: gradients: no non-zero velocity v satisfies H v >=
 
 from __future__ import annotations
 
+# the private names re-exported below are the ones the tests reach (tests/test_certified_extreme.py)
 from .bound import termination_bound
 from .common import (DEFAULT_MAX_REFLECTIONS, FLOAT_SAFETY, MAX_COORDINATES, MAX_STATE_BITS, READINGS,
                      TWO_SURFACE_PATHS, _Algebraic, _Rational)

@@ -9,9 +9,8 @@ import math
 
 import numpy as np
 import sympy as sp
-from flint import fmpq
 
-from ...arithmetic import certified_sign
+from ...arithmetic import certified_sign, compare_surds, rational_sqrt
 from ...errors import DomainError
 from .common import _Algebraic, _Rational, _dot, _independent, _matvec, _minner, _rank, _rref, _solve_columns
 
@@ -55,7 +54,7 @@ def _select(system, outcomes, impulses, reading):
         if best_val is None:
             best_val, best = val, [vel]
             return
-        c = _cmp_values(val, best_val, F)
+        c = compare_surds(val, best_val, F)
         if reading == "cone":
             c = -c
         if c > 0:
@@ -99,7 +98,7 @@ def _select(system, outcomes, impulses, reading):
                 continue
             face_cache.add(key)
             for vel, val in _face_candidates(M, v0, r2, c0, U, reading, F):
-                c = _cmp_values(val, best_val, F)
+                c = compare_surds(val, best_val, F)
                 if reading == "cone":
                     c = -c
                 if c < 0 or (c == 0 and any(_same_surd(vel, b, F) for b in best)):
@@ -137,31 +136,9 @@ def _affine_key(c0, U, F):
     return (), tuple(c0)
 
 
-def _cmp_values(x, y, F) -> int:
-    """Exact sign of ``(a1 + b1√q1) − (a2 + b2√q2)``."""
-    a1, b1, q1 = x
-    a2, b2, q2 = y
-    if F is _Algebraic:
-        return certified_sign(a1 + b1 * sp.sqrt(q1) - a2 - b2 * sp.sqrt(q2))
-    if F.sign(b2) == 0 or F.sign(q2) == 0:
-        return F.surd_sign(a1 - a2, b1, q1)
-    if F.sign(b1) == 0 or F.sign(q1) == 0:
-        return -F.surd_sign(a2 - a1, b2, q2)
-    if q1 == q2:
-        return F.surd_sign(a1 - a2, b1 - b2, q1)
-    # A = (a1 - a2) + b1√q1 against C = b2√q2
-    sA = F.surd_sign(a1 - a2, b1, q1)
-    sC = F.sign(b2)
-    if sA != sC:
-        return (sA > sC) - (sA < sC)
-    A2 = ((a1 - a2) * (a1 - a2) + b1 * b1 * q1, 2 * (a1 - a2) * b1, q1)
-    d = F.surd_sign(A2[0] - b2 * b2 * q2, A2[1], A2[2])
-    return sA * d
-
-
 def _same_surd(u, w, F) -> bool:
     (a1, b1, q1), (a2, b2, q2) = u, w
-    return all(_cmp_values((x1, y1, q1), (x2, y2, q2), F) == 0 for x1, y1, x2, y2 in zip(a1, b1, a2, b2))
+    return all(compare_surds((x1, y1, q1), (x2, y2, q2), F) == 0 for x1, y1, x2, y2 in zip(a1, b1, a2, b2))
 
 
 def _combo(vectors, coeffs, n, F):
@@ -260,10 +237,8 @@ def _fold_surd(vel, F):
     if F is _Algebraic:
         root = sp.sqrt(q)
         return [F.norm(a + b * root) for a, b in zip(alpha, beta)], [F.zero] * len(alpha), F.zero
-    p, d = int(q.p), int(q.q)
-    rp, rd = math.isqrt(p), math.isqrt(d)
-    if rp * rp == p and rd * rd == d:
-        root = fmpq(rp, rd)
+    root = rational_sqrt(q)
+    if root is not None:
         return [a + b * root for a, b in zip(alpha, beta)], [F.zero] * len(alpha), F.zero
     return vel
 
