@@ -14,7 +14,8 @@ def termination_bound(mass_matrix, gradients):
 
     ``S_0`` is the valid lune of the kinetic sphere, whose dihedral angle is ``π − θ`` (``θ`` the
     kinetic angle between the contacts), so ``S_total / (2 S_0) = π / (π − θ)`` in any dimension.
-    The ceiling is certified (:func:`impactsym.exact.certified_sign`).
+    The ceiling is certified (:func:`impactsym.arithmetic.certified_ceiling`; an exact tie by
+    :func:`impactsym.arithmetic.certified_sign`).
 
     Returns
     -------

@@ -23,7 +23,7 @@ SELECTION_FACE_LIMIT = 200_000
 
 
 def _select(system, outcomes, impulses, reading):
-    """Minimizers of ‖v − v0‖_M over the feasible set (see the module docstring).
+    """Minimizers of ‖v − v0‖_M over the feasible set (see the docstring of :mod:`impactsym.laws.sequential`).
 
     Values are kept as ``(a, b, q)`` meaning ``a + b√q`` and compared exactly; a face's candidate
     is tested for feasibility only when its value can beat (or tie) the best found so far, and the
@@ -322,7 +322,7 @@ def _vel_sympy(vel, F):
 
 
 def _select_two_surface(system, groups, exact):
-    """The energy-reading selection of the two-surface closed form (see :func:`_two_surface_path`):
+    """The energy-reading selection of the two-surface closed form (see :func:`impactsym.laws.sequential.resolve._two_surface_path`):
     the outcome(s) maximizing ``⟨o, v0⟩_M``, compared exactly or with certified Arb balls."""
     F = system.F
     if len(groups) == 1:
