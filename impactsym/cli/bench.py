@@ -10,7 +10,7 @@ from __future__ import annotations
 import sys
 
 from ..errors import ImpactInputError
-from .common import add_json_flag
+from .common import add_json_flag, writable_file
 
 
 def register(sub) -> None:
@@ -29,6 +29,12 @@ def run(args) -> dict:
 
     from .. import benchmark
 
+    plot_path = writable_file(args.plot, "plot", suffixes=(".png", ".pdf", ".svg"))  # before the work
+    if plot_path is not None:
+        try:
+            import matplotlib  # noqa: F401
+        except ImportError:
+            raise ImpactInputError("plot", "needs matplotlib (pip install matplotlib)") from None
     formulas = None
     if args.formula:
         for f in args.formula:
@@ -40,8 +46,8 @@ def run(args) -> dict:
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
         result = benchmark.run(quick=args.quick, formulas=formulas, progress=progress)
-    if args.plot:
-        benchmark.plot(result, args.plot)
+    if plot_path is not None:
+        benchmark.plot(result, plot_path)
     return result
 
 
