@@ -27,12 +27,12 @@ from .closed_form import certified_compare, certified_sign, tidy
 from .fields import AlgebraicField, RationalField, compare_surds, field_of, sign_of, sign_surd
 from .linalg import (ExactLinearAlgebra, dot, exact_rank, in_row_space, independent, kernel_basis, matvec,
                      minner, nullspace, rank, rref, solve_columns)
-from .rational import (all_rational, as_fmpq, bits, exact_data, float_vector, rational_matrix, rational_sqrt, to_fmpq,
-                       to_sympy_matrix, to_sympy_rational)
+from .rational import (all_rational, as_fmpq, bits, exact_data, float_to_rational, float_vector, rational_matrix,
+                       rational_sqrt, to_fmpq, to_sympy_matrix, to_sympy_rational)
 
 __all__ = [
     "certified_sign", "certified_compare", "tidy",
-    "as_fmpq", "to_fmpq", "bits", "all_rational", "rational_matrix", "to_sympy_rational", "to_sympy_matrix",
+    "float_to_rational", "as_fmpq", "to_fmpq", "bits", "all_rational", "rational_matrix", "to_sympy_rational", "to_sympy_matrix",
     "exact_data", "float_vector", "rational_sqrt",
     "sign_of", "sign_surd", "compare_surds", "RationalField", "AlgebraicField", "field_of",
     "rref", "kernel_basis", "nullspace", "solve_columns", "rank", "independent", "in_row_space", "dot",

@@ -22,7 +22,7 @@ import sympy as sp
 
 from ..errors import ImpactInputError
 
-__all__ = ["as_fmpq", "to_fmpq", "bits", "rational_matrix", "to_sympy_rational", "to_sympy_matrix",
+__all__ = ["float_to_rational", "as_fmpq", "to_fmpq", "bits", "rational_matrix", "to_sympy_rational", "to_sympy_matrix",
            "exact_data", "all_rational", "float_vector", "rational_sqrt"]
 
 
@@ -31,6 +31,20 @@ def _float_fraction(x) -> Fraction:
     if not math.isfinite(xf):
         raise ImpactInputError("value", f"must be finite, got {xf}")
     return Fraction(xf)
+
+
+def float_to_rational(x: float) -> sp.Rational:
+    """The exact binary value of a float, as a SymPy ``Rational`` (never re-rounded).
+
+    >>> float_to_rational(0.1)
+    3602879701896397/36028797018963968
+    >>> float_to_rational(float("inf"))
+    Traceback (most recent call last):
+    ...
+    impactsym.errors.ImpactInputError: value: must be finite, got inf
+    """
+    f = _float_fraction(x)
+    return sp.Rational(f.numerator, f.denominator)
 
 
 def as_fmpq(x) -> flint.fmpq | None:
@@ -169,7 +183,7 @@ def exact_data(*mats):
             arr = np.asarray(m, dtype=object)
             if arr.ndim == 1:
                 arr = arr.reshape(-1, 1)
-            out.append(sp.Matrix([[to_sympy_rational(as_fmpq(x)) if isinstance(x, (float, np.floating)) else sp.sympify(x)
+            out.append(sp.Matrix([[float_to_rational(x) if isinstance(x, (float, np.floating)) else sp.sympify(x)
                                    for x in row] for row in arr]))
     return "sympy", out
 

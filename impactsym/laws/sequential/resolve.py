@@ -7,10 +7,10 @@ from __future__ import annotations
 import numpy as np
 import sympy as sp
 
-from ...arithmetic import certified_sign
+from ...arithmetic import certified_sign, float_to_rational
 from ...errors import DomainError, ImpactInputError, NonTermination
 from ...mechanics import check_gradients, check_mass_matrix, check_velocity
-from ...numbers import float_to_rational, is_exact
+from ...numbers import is_exact
 from .common import DEFAULT_MAX_REFLECTIONS, MAX_COORDINATES, READINGS, TWO_SURFACE_PATHS, _Rational, _rank
 from .float_search import _float_search
 from .results import Outcome, SequentialResolution
