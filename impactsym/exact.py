@@ -1,106 +1,18 @@
-"""Certified signs and comparisons of exact numbers.
+"""Certified signs and comparisons of exact numbers (the historical import path).
 
-Every branch of an impact law (is contact *i* approaching? is Δ ≥ 0? is ``p_j`` ≥ 0?) is a sign
-test. For exact input it is decided exactly; for algebraic and transcendental numbers it is
-decided by interval evaluation at rising precision until the enclosure excludes zero, and by the
-minimal polynomial when the number may be zero. A sign that cannot be certified raises
-:class:`~impactsym.errors.UndecidableSign`; it is never guessed.
+The implementation lives in :mod:`impactsym.arithmetic.closed_form`; this module re-exports it
+so that ``from impactsym.exact import certified_sign`` keeps working. Every branch of an impact
+law is a sign test: decided exactly for exact input, by interval evaluation at rising precision
+for algebraic and transcendental numbers, and by the minimal polynomial when the number may be
+zero. A sign that cannot be certified raises :class:`~impactsym.errors.UndecidableSign`.
 
 >>> import sympy as sp
 >>> certified_sign(sp.Rational(-1, 3)), certified_sign(sp.sqrt(2) - sp.Rational(141421, 100000))
 (-1, 1)
 >>> certified_sign(sp.sqrt(3) / 2 - sp.sin(sp.pi / 3))
 0
->>> certified_sign(sp.sqrt(8) - 2 * sp.sqrt(2))
-0
 """
 
-from __future__ import annotations
-
-import sympy as sp
-
-from .errors import UndecidableSign
+from .arithmetic.closed_form import certified_compare, certified_sign
 
 __all__ = ["certified_sign", "certified_compare"]
-
-_MAX_DIGITS = 2000
-
-
-def _rational_sign(x: sp.Expr) -> int | None:
-    if x.is_Rational:
-        return int(bool(x > 0)) - int(bool(x < 0))
-    return None
-
-
-def certified_sign(expr, *, max_digits: int = _MAX_DIGITS) -> int:
-    """The sign (-1, 0, 1) of a real exact number, certified.
-
-    Parameters
-    ----------
-    expr : sympy.Expr or int or Fraction
-        A closed-form real number (no free symbols).
-    max_digits : int
-        Largest precision tried before giving up.
-
-    Raises
-    ------
-    UndecidableSign
-        When neither an exact zero test nor interval evaluation up to ``max_digits`` decides.
-    """
-    x = sp.sympify(expr)
-    if x.free_symbols:
-        raise UndecidableSign(f"cannot take the sign of an expression with free symbols {x.free_symbols}")
-    s = _rational_sign(x)
-    if s is not None:
-        return s
-    if x.is_zero:
-        return 0
-    # Interval evaluation: mpmath-backed evalf with the error estimate; accept only when the
-    # value's magnitude exceeds its error bound (sympy's evalf is rigorous for the closed-form
-    # functions it knows: its result carries accuracy, and strict=True refuses otherwise).
-    digits = 15
-    while digits <= max_digits:
-        try:
-            val = x.evalf(digits, strict=True, maxn=4 * digits)
-        except Exception:  # PrecisionExhausted: the value may be 0
-            val = None
-        if val is not None and val.is_Number and val != 0:
-            return 1 if val > 0 else -1
-        # Maybe exactly zero: try an exact zero test for algebraic numbers.
-        if digits == 15 or digits >= 120:
-            z = _exact_zero(x)
-            if z is True:
-                return 0
-        digits *= 2
-    raise UndecidableSign(f"the sign of {x} could not be certified at {max_digits} digits")
-
-
-def _exact_zero(x: sp.Expr) -> bool | None:
-    if x.is_zero is not None:
-        return bool(x.is_zero)
-    try:
-        # no nsimplify here: it rounds a tiny non-zero number (pi - acos(-1 + 1e-300)) to 0,
-        # which is a guess, not a proof
-        simp = sp.radsimp(sp.simplify(x))
-        if simp == 0:
-            return True
-    except Exception:  # pragma: no cover - simplify failures are not decisions
-        pass
-    try:
-        poly = sp.minimal_polynomial(x, sp.Dummy("z"))
-        if sp.Poly(poly).degree() == 1 and sp.Poly(poly).nth(0) == 0:
-            return True
-        # A non-zero algebraic number has a minimal polynomial other than z.
-        return False if poly.free_symbols else None
-    except Exception:
-        return None
-
-
-def certified_compare(a, b, **kw) -> int:
-    """Certified sign of ``a - b`` (-1, 0 or 1).
-
-    >>> import sympy as sp
-    >>> certified_compare(sp.sqrt(2), sp.Rational(3, 2))
-    -1
-    """
-    return certified_sign(sp.sympify(a) - sp.sympify(b), **kw)

@@ -1,10 +1,13 @@
-"""Exact numbers, the float path, and the CLI's text and JSON forms of them.
+"""The numbers a user gives and gets: text and JSON forms, and the choice of the exact or float path.
 
 impactsym keeps one rule (``CONVENTIONS.md``, *Numbers*): exact in, exact out.
 Integers, rationals (``"11/10"``), decimal strings (``"1.1"`` means ``11/10``) and SymPy
 expressions (``"sqrt(3)/2"``) stay exact; Python floats and NumPy float arrays take the
 float path. A float is never re-rounded through decimal text: when an exact value of a float
 is needed, its exact binary value is used (:func:`float_to_rational`).
+
+This module parses, classifies and formats; the exact arithmetic itself (including
+:func:`float_to_rational`, re-exported here) is :mod:`impactsym.arithmetic`.
 
 Examples
 --------
@@ -34,6 +37,7 @@ import mpmath
 import numpy as np
 import sympy as sp
 
+from .arithmetic.rational import float_to_rational
 from .errors import ImpactInputError
 
 __all__ = [
@@ -312,19 +316,6 @@ def parse_matrix(text: str, argument: str = "matrix") -> sp.Matrix:
     if len(set(lengths)) != 1:
         raise ImpactInputError(argument, f"rows have different lengths {tuple(lengths)}")
     return sp.Matrix([[parse_number(x, argument) for x in r] for r in rows])
-
-
-def float_to_rational(x: float) -> sp.Rational:
-    """The exact binary value of a float, as a SymPy ``Rational`` (never re-rounded).
-
-    >>> float_to_rational(0.1)
-    3602879701896397/36028797018963968
-    """
-    xf = float(x)
-    if not math.isfinite(xf):
-        raise ImpactInputError("value", f"must be finite, got {xf}")
-    f = Fraction(xf)
-    return sp.Rational(f.numerator, f.denominator)
 
 
 def _leaves(obj: Any) -> Iterable[Any]:

@@ -11,7 +11,7 @@ is never returned. The checks are those of ``CONVENTIONS.md``:
 * the momentum balance ``M(v⁺ − v) = Hᵀp`` with ``p ≥ 0`` where the law requires it.
 
 Exact checks run in python-flint ``fmpq`` for rational data, and with certified signs
-(:func:`impactsym.exact.certified_sign`) for algebraic data; no SymPy ``simplify``.
+(:func:`impactsym.arithmetic.certified_sign`) for algebraic data; no SymPy ``simplify``.
 
 Examples
 --------
@@ -29,8 +29,8 @@ from __future__ import annotations
 import sympy as sp
 from flint import arb, ctx, fmpq
 
+from .arithmetic import RationalField, enclose, in_row_space, sign_surd, to_fmpq
 from .errors import VerificationError
-from .exact import certified_sign
 
 __all__ = ["verify_exact", "verify_balls", "enclose"]
 
@@ -39,11 +39,7 @@ def _is_rational(x) -> bool:
     return isinstance(x, (fmpq, int)) or bool(getattr(sp.sympify(x), "is_Rational", False))
 
 
-def _q(x) -> fmpq:
-    if isinstance(x, fmpq):
-        return x
-    x = sp.Rational(x)
-    return fmpq(int(x.p), int(x.q))
+_q = to_fmpq
 
 
 def _entries(A):
@@ -140,7 +136,7 @@ def verify_exact(law: str, M, H, v, vplus, p, *, closed=None, energy_ratio=1, im
                 if sign(pr[i]) < 0:
                     raise VerificationError(law, f"impulse p_{i + 1} = {show(pr[i])} < 0")
     else:
-        _in_row_space(law, Hr, jump, sign, zero)
+        _in_row_space(law, Hr, jump)
 
 
 #: working precision (bits) of the equality checks of algebraic outcomes
@@ -163,58 +159,10 @@ def _verify_algebraic(law, Mr, Hr, vr, vp, pr, closed, energy_ratio, impulse_non
                  impulse_nonnegative=impulse_nonnegative, energy_at_most=energy_at_most)
 
 
-def _in_row_space(law, Hr, jump, sign, zero):
-    """``jump`` (= M(v⁺ − v)) is a combination of the rows of H: exact elimination."""
-    rows = [list(r) for r in Hr]
-    target = list(jump)
-    n = len(target)
-    used = 0
-    for c in range(n):
-        piv = next((i for i in range(used, len(rows)) if sign(rows[i][c]) != 0), None)
-        if piv is None:
-            continue
-        rows[used], rows[piv] = rows[piv], rows[used]
-        r = rows[used]
-        if sign(target[c]) != 0:
-            f = target[c] / r[c]
-            target = [t - f * x for t, x in zip(target, r)]
-        for i in range(used + 1, len(rows)):
-            if sign(rows[i][c]) != 0:
-                f = rows[i][c] / r[c]
-                rows[i] = [a - f * b for a, b in zip(rows[i], r)]
-        used += 1
-    if any(sign(t) != 0 for t in target):
+def _in_row_space(law, Hr, jump):
+    """``jump`` (= M(v⁺ − v)) is a combination of the rows of H (exact ranks, python-flint)."""
+    if not in_row_space(Hr, jump, RationalField):
         raise VerificationError(law, "momentum: M(v+ - v) is not in the row space of H^T")
-
-
-def enclose(x, prec: int) -> arb:
-    """An Arb ball enclosing the exact number ``x`` (fmpq or int exactly; SymPy by strict evalf);
-    call inside ``ctx.workprec(prec)``.
-
-    >>> from flint import ctx
-    >>> with ctx.workprec(100):
-    ...     b = enclose(sp.sqrt(2), 100)
-    ...     ok = (b * b - 2).contains(0)
-    >>> ok
-    True
-    """
-    if isinstance(x, arb):
-        return x
-    if isinstance(x, fmpq):
-        return arb(x)
-    if isinstance(x, int):
-        return arb(x)
-    x = sp.sympify(x)
-    if x.is_Rational:
-        return arb(fmpq(int(x.p), int(x.q)))
-    digits = int(prec * 0.30103) + 10
-    if certified_sign(x) == 0:
-        return arb(0)
-    val = x.evalf(digits, strict=True)
-    sgn, man, exp, _ = val._mpf_
-    man = -int(man) if sgn else int(man)
-    mid = arb(fmpq(man * 2**exp)) if exp >= 0 else arb(fmpq(man, 2 ** (-exp)))
-    return mid + arb(0, abs(mid) * arb(10) ** (-(digits - 3)))
 
 
 def verify_balls(law: str, M, H, v, vel_balls, p_balls, prec: int, *, closed=None, energy_ratio=1,
@@ -281,14 +229,7 @@ def verify_balls(law: str, M, H, v, vel_balls, p_balls, prec: int, *, closed=Non
         raise VerificationError(law, failure)
 
 
-def _surd_sign(x, y, d) -> int:
-    sx, sy = (x > 0) - (x < 0), (y > 0) - (y < 0)
-    if d == 0 or sy == 0:
-        return sx
-    if sx == 0 or sx == sy:
-        return sy if sx == 0 else sx
-    t = x * x - y * y * d
-    return sx * ((t > 0) - (t < 0))
+_surd_sign = sign_surd
 
 
 def verify_surd(law: str, M, H, v, alpha, beta, p_alpha, p_beta, d, *, energy_ratio=1, closed=None,

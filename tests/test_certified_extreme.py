@@ -477,7 +477,9 @@ def test_exact_search_refuses_beyond_the_state_bits_limit(monkeypatch):
     MAX_STATE_BITS (named) instead of growing without bound."""
     from impactsym.errors import NonTermination
 
-    monkeypatch.setattr(seq, "MAX_STATE_BITS", 20_000)
+    from impactsym.laws.sequential import search
+
+    monkeypatch.setattr(search, "MAX_STATE_BITS", 20_000)
     with pytest.raises(NonTermination, match="MAX_STATE_BITS=20000"):
         resolve_sequential("1,0;0,1", "1,0;-1000,1", "-1,0", two_surface="iterate")
 

@@ -59,7 +59,6 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 from dataclasses import dataclass, field
-from fractions import Fraction
 from typing import Any
 
 import mpmath
@@ -67,8 +66,9 @@ import numpy as np
 import sympy as sp
 from flint import arb, ctx, fmpq, fmpq_mat, fmpz
 
+from ..arithmetic import (all_rational, arb_to_mpf, bits, certified_ceiling, certified_sign, enclose, float_vector,
+                          rational_matrix, sign_of, to_fmpq, to_sympy_rational)
 from ..errors import ImpactInputError, UndecidableSign, VerificationError
-from ..exact import certified_sign
 from ..mechanics import check_gradients, check_mass_matrix, check_velocity
 from ..numbers import is_exact
 from ..verify import verify_balls, verify_exact
@@ -235,42 +235,9 @@ class TwoSurfaceResolution:
 
 
 # --------------------------------------------------------------------------- exact scalars
-def _is_rational_matrix(A) -> bool:
-    return all(x.is_Rational for x in A)
-
-
-def _fmpq(x) -> fmpq:
-    if isinstance(x, (float, np.floating)):
-        f = Fraction(float(x))
-        return fmpq(f.numerator, f.denominator)
-    if isinstance(x, Fraction):
-        return fmpq(x.numerator, x.denominator)
-    x = sp.Rational(x)
-    return fmpq(int(x.p), int(x.q))
-
-
-def _arb(x, prec: int) -> arb:
-    """An Arb ball enclosing the exact number ``x`` (fmpq exactly; SymPy by rigorous evalf)."""
-    if isinstance(x, fmpq):
-        return arb(x)
-    if x.is_Rational:
-        return arb(fmpq(int(x.p), int(x.q)))
-    digits = int(prec * 0.30103) + 10
-    if certified_sign(x) == 0:
-        return arb(0)
-    # SymPy's evalf with strict=True either reaches `digits` correct significant digits or raises;
-    # the binary value it returns is taken exactly, and widened by a relative 10^-(digits-3).
-    val = x.evalf(digits, strict=True)
-    sign, man, exp, _ = val._mpf_
-    man = -int(man) if sign else int(man)
-    mid = arb(fmpq(man * 2**exp)) if exp >= 0 else arb(fmpq(man, 2 ** (-exp)))
-    return mid + arb(0, abs(mid) * arb(10) ** (-(digits - 3)))
-
-
-def _sign(x) -> int:
-    if isinstance(x, fmpq):
-        return (x > 0) - (x < 0)
-    return certified_sign(x)
+# (the arithmetic is impactsym.arithmetic's; ``_fmpq`` is the name the tests use)
+_fmpq = to_fmpq
+_floats = float_vector
 
 
 class _Data:
@@ -287,7 +254,7 @@ class _Data:
 
     def balls(self, prec: int):
         with ctx.workprec(prec):
-            sa, sb, g, ca, cb, D = (_arb(x, prec) for x in (self.sa, self.sb, self.g, self.ca, self.cb, self.D))
+            sa, sb, g, ca, cb, D = (enclose(x, prec) for x in (self.sa, self.sb, self.g, self.ca, self.cb, self.D))
             rD = D.sqrt()
             psi = arb.atan2(-ca * rD, sa * cb - g * ca)
             beta = arb.atan2(rD, -g)
@@ -313,11 +280,11 @@ def _field_power_exit(d: _Data, m: int):
 
     # rho = ((g^2 - Δ) + (-2g/Q) r) / (s_A s_B): integer numerators over a common denominator
     re, im = (d.g * d.g - d.D) / (d.sa * d.sb), (-2 * d.g / Q) / (d.sa * d.sb)
-    den_rho = _lcm(re.q, im.q)
+    den_rho = re.q.lcm(im.q)
     a, b = re.p * (den_rho // re.q), im.p * (den_rho // im.q)
     # alpha = (s_A c_B - g c_A) + (c_A/Q) r
     are, aim = d.sa * d.cb - d.g * d.ca, d.ca / Q
-    den_alpha = _lcm(are.q, aim.q)
+    den_alpha = are.q.lcm(aim.q)
     alpha = (are.p * (den_alpha // are.q), aim.p * (den_alpha // aim.q))
     k, acc, base = m // 2, (fmpz(1), fmpz(0)), (a, b)
     while k:
@@ -335,21 +302,8 @@ def _field_power_exit(d: _Data, m: int):
     return ca, (x + d.g * ca) / d.sa
 
 
-def _lcm(p, q):
-    return (p * q) // p.gcd(q)
-
-
-def _rational(x: fmpq) -> sp.Rational:
-    """SymPy ``Rational`` of an fmpq."""
-    return sp.Rational(int(x.p), int(x.q))
-
-
-def _bits(x: fmpq) -> int:
-    return max(int(x.p).bit_length(), int(x.q).bit_length())
-
-
 def _exact_feasible(d: _Data, m: int, budget: int) -> bool:
-    size = max(_bits(d.sa * d.sb), _bits(d.g * d.g), _bits(d.D)) + 2
+    size = max(bits(d.sa * d.sb), bits(d.g * d.g), bits(d.D)) + 2
     return m * size <= budget
 
 
@@ -368,55 +322,17 @@ def _checked(mass_matrix, gradients, velocity):
 
 def _invariants(exact, M, H, v, n):
     """``W = M⁻¹Hᵀ``, ``Γ``, ``c`` exactly; rational data as fmpq, irrational as SymPy."""
-    if exact and not (_is_rational_matrix(M) and _is_rational_matrix(H) and _is_rational_matrix(v)):
+    if exact and not (all_rational(M) and all_rational(H) and all_rational(v)):
         W = M.LUsolve(H.T).applyfunc(sp.radsimp)
         gram = (H * W).applyfunc(sp.radsimp)
         c = (H * v).applyfunc(sp.radsimp)
         return W, gram, c, False
-    if exact:
-        Mq = fmpq_mat(n, n, [_fmpq(x) for x in M])
-        Hq = fmpq_mat(2, n, [_fmpq(x) for x in H])
-        vq = fmpq_mat(n, 1, [_fmpq(x) for x in v])
-    else:
-        Mq = fmpq_mat(n, n, [_fmpq(x) for x in np.asarray(M).ravel()])
-        Hq = fmpq_mat(2, n, [_fmpq(x) for x in np.asarray(H).ravel()])
-        vq = fmpq_mat(n, 1, [_fmpq(x) for x in np.asarray(v).ravel()])
+    # exact rational, or float at its binary value
+    Mq, Hq, vq = rational_matrix(M), rational_matrix(H), rational_matrix(v)
     W = Mq.solve(Hq.transpose())
     gram = Hq * W
     c = Hq * vq
     return (W, gram, c, True), vq, (Mq, Hq)
-
-
-def _arf_fmpq(x: arb) -> fmpq:
-    """The exact rational value of an exactly representable Arb number (a midpoint or radius):
-    read with ``man_exp``, so no rounding at any working precision."""
-    man, exp = x.man_exp()
-    man, exp = int(man), int(exp)
-    return fmpq(man * 2**exp) if exp >= 0 else fmpq(man, 2 ** (-exp))
-
-
-def _ball_ends(q: arb) -> tuple[fmpq, fmpq]:
-    """Exact rational ends ``[mid − rad, mid + rad]`` of a finite Arb ball (exact reads)."""
-    mid, rad = _arf_fmpq(q.mid()), _arf_fmpq(q.rad())
-    return mid - rad, mid + rad
-
-
-def _nearest_int(x: fmpq) -> int:
-    return int((x + fmpq(1, 2)).floor())
-
-
-def _certified_ceil(q: arb):
-    """``⌈q⌉`` when the ball ``q`` certainly holds no integer (decided on its exact ends), else
-    ``None``. Reads only exact quantities of ``q``, so it does not depend on the precision in
-    force when it is called (a ``q.lower()`` outside the block that made ``q`` is rounded to 53
-    bits: the bug of issue 9)."""
-    if not q.is_finite():
-        return None
-    lo, hi = _ball_ends(q)
-    f = lo.floor()
-    if lo > f and hi < f + 1:
-        return int(f) + 1
-    return None
 
 
 def _certified_ceil_ratio(d: _Data, tie_check, decisions: dict) -> int:
@@ -424,31 +340,24 @@ def _certified_ceil_ratio(d: _Data, tie_check, decisions: dict) -> int:
 
     The working precision starts above the bit size of ``π/β`` (the count can be as large as
     that) and doubles until the ball of ``ψ/β`` excludes every integer; every read of the ball
-    is exact (:func:`_certified_ceil`)."""
-    prec, tried = 64, set()
-    while prec <= MAX_PRECISION_BITS:
+    is exact (:func:`impactsym.arithmetic.certified_ceiling`)."""
+    def ball_at(prec):
         *_, psi, beta = d.balls(prec)
         with ctx.workprec(prec):
-            q = psi / beta
-        m = _certified_ceil(q)
-        if m is not None:
-            decisions["arb"] = decisions.get("arb", 0) + 1
-            decisions["max_bits"] = max(decisions.get("max_bits", 0), prec)
-            return m
-        if q.is_finite():
-            lo, hi = _ball_ends(q)
-            if hi - lo < fmpq(1, 2):
-                j = _nearest_int((lo + hi) / 2)
-                if j >= 1 and j not in tried:
-                    tried.add(j)
-                    verdict = tie_check(d, j)
-                    if verdict is True:
-                        decisions["exact_tie"] = decisions.get("exact_tie", 0) + 1
-                        return j
-        prec *= 2
-    raise UndecidableSign(
-        f"the reflection count ceil(psi/beta) could not be certified: psi/beta is within 2^-{MAX_PRECISION_BITS} "
-        "of an integer and an exact check of that tie (an iterate exactly on an edge) was not feasible")
+            return psi / beta
+
+    found = certified_ceiling(ball_at, lambda j: tie_check(d, j), max_bits=MAX_PRECISION_BITS)
+    if found is None:
+        raise UndecidableSign(
+            f"the reflection count ceil(psi/beta) could not be certified: psi/beta is within 2^-{MAX_PRECISION_BITS} "
+            "of an integer and an exact check of that tie (an iterate exactly on an edge) was not feasible")
+    m, how, prec = found
+    if how == "arb":
+        decisions["arb"] = decisions.get("arb", 0) + 1
+        decisions["max_bits"] = max(decisions.get("max_bits", 0), prec)
+    else:
+        decisions["exact_tie"] = decisions.get("exact_tie", 0) + 1
+    return m
 
 
 def _tie_check_rational(d: _Data, j: int):
@@ -505,9 +414,9 @@ def _certified_exit(d: _Data, m: int, digits: int, W, gram, vec, swap: bool):
         balls = d.balls(prec)
         with ctx.workprec(prec):
             sa, sb, g, ca, cb = balls[:5]
-            Wb = [[_arb(W[i][0], prec), _arb(W[i][1], prec)] for i in range(len(W))]
-            gram_b = [[_arb(gram[i][j], prec) for j in range(2)] for i in range(2)]
-            v_arb = [_arb(x, prec) for x in vec]
+            Wb = [[enclose(W[i][0], prec), enclose(W[i][1], prec)] for i in range(len(W))]
+            gram_b = [[enclose(gram[i][j], prec) for j in range(2)] for i in range(2)]
+            v_arb = [enclose(x, prec) for x in vec]
             ca2, cb2 = _w_after(balls, m)
             if swap:
                 ca, cb, ca2, cb2 = cb, ca, cb2, ca2
@@ -530,7 +439,7 @@ def _certified_exit(d: _Data, m: int, digits: int, W, gram, vec, swap: bool):
 def _verify_count_balls(d: _Data, m: int, prec: int) -> None:
     """The count is consistent with the order: the first surface is approached, and after
     ``m − 1`` reflections the surface of the ``m``-th one is approached (not certainly leaving)."""
-    if _sign(d.ca) >= 0:
+    if sign_of(d.ca) >= 0:
         raise VerificationError("two-surface", "the branch starts with a surface that is not approached")
     if m < 2:
         return
@@ -564,19 +473,14 @@ def _mid_scale(vel) -> mpmath.mpf:
     return max(abs(vel[i]) for i in range(vel.rows))
 
 
-def _arb_to_mpf(x: arb):
-    man, exp = x.mid().man_exp()
-    return mpmath.mpf((int(man), int(exp)))
-
-
 def _certified_outcome(first, order, m, vel_b, imp_b, rad, digits, prec) -> "TwoSurfaceOutcome":
     """An outcome certified to ``digits`` significant digits, from the Arb balls of
     :func:`_certified_exit` (made at ``prec`` bits): mpmath midpoints and an error bound covering
     the ball's radius and the rounding of the midpoints."""
     with ctx.workprec(prec), mpmath.workdps(digits + 5):
-        vel = mpmath.matrix([_arb_to_mpf(x) for x in vel_b])
-        imp = mpmath.matrix([_arb_to_mpf(x) for x in imp_b])
-        err = _arb_to_mpf(rad) * 2 + _mid_scale(vel) * mpmath.mpf(10) ** -(digits + 4)
+        vel = mpmath.matrix([arb_to_mpf(x) for x in vel_b])
+        imp = mpmath.matrix([arb_to_mpf(x) for x in imp_b])
+        err = arb_to_mpf(rad) * 2 + _mid_scale(vel) * mpmath.mpf(10) ** -(digits + 4)
     return TwoSurfaceOutcome(first, order, m, vel, _floats(vel), imp, False, digits=digits, error_bound=err,
                              _balls=tuple(vel_b), _prec=prec)
 
@@ -623,7 +527,7 @@ def resolve_two_surfaces(mass_matrix, gradients, velocity, *, digits: int = DEFA
         raise ImpactInputError("digits", f"must be a positive integer, got {digits!r}")
     exact, M, H, v, n = _checked(mass_matrix, gradients, velocity)
     decisions: dict = {}
-    rational_path = not exact or (_is_rational_matrix(M) and _is_rational_matrix(H) and _is_rational_matrix(v))
+    rational_path = not exact or (all_rational(M) and all_rational(H) and all_rational(v))
     if rational_path:
         (W, gram, c, _), vq, (Mq, Hq) = _invariants(exact, M, H, v, n)
         d = _Data(gram[0, 0], gram[1, 1], gram[0, 1], c[0, 0], c[1, 0])
@@ -633,16 +537,16 @@ def resolve_two_surfaces(mass_matrix, gradients, velocity, *, digits: int = DEFA
         d = _Data(gram[0, 0], gram[1, 1], gram[0, 1], c[0], c[1])
         HA, HB = H[0, :], H[1, :]
         tie_check = None  # built per branch below
-    if _sign(d.D) == 0:
+    if sign_of(d.D) == 0:
         raise ImpactInputError(
             "gradients", "the two rows are parallel (Δ = s_1 s_2 − g² = 0): the wedge is degenerate (opening 0 or π)")
-    signs = (_sign(d.ca), _sign(d.cb))
+    signs = (sign_of(d.ca), sign_of(d.cb))
     # bound N = ceil(pi/beta), certified; pi/beta is an integer only for beta = pi/K with
     # cos^2(pi/K) = g^2/(s_A s_B); decided exactly with SymPy for the candidate K.
     bound = _certified_bound(d, decisions)
     with mpmath.workdps(digits):
         *_, beta = d.balls(int(digits * 3.33) + 32)
-        wedge = _arb_to_mpf(beta)
+        wedge = arb_to_mpf(beta)
 
     by_first: dict = {0: None, 1: None}
     outcomes = []
@@ -678,8 +582,8 @@ def resolve_two_surfaces(mass_matrix, gradients, velocity, *, digits: int = DEFA
             vplus = vq + W * jump
             verify_exact("two-surface", Mq, Hq, vq, vplus, jump)
             _verify_count_rational(df, m)
-            vel = sp.Matrix([_rational(vplus[i, 0]) for i in range(n)])
-            imp = sp.Matrix([_rational(jump[i, 0]) for i in range(2)])
+            vel = sp.Matrix([to_sympy_rational(vplus[i, 0]) for i in range(n)])
+            imp = sp.Matrix([to_sympy_rational(jump[i, 0]) for i in range(2)])
             outcomes.append(TwoSurfaceOutcome(first, order, m, vel, _floats(vel), imp, True))
         elif rational_path:
             want = digits if exact else 20
@@ -690,8 +594,8 @@ def resolve_two_surfaces(mass_matrix, gradients, velocity, *, digits: int = DEFA
                 outcomes.append(_certified_outcome(first, order, m, vel_b, imp_b, rad, digits, prec))
             else:
                 with ctx.workprec(prec):
-                    vel = np.array([float(_arb_to_mpf(x)) for x in vel_b])
-                    imp = np.array([float(_arb_to_mpf(x)) for x in imp_b])
+                    vel = np.array([float(arb_to_mpf(x)) for x in vel_b])
+                    imp = np.array([float(arb_to_mpf(x)) for x in imp_b])
                 outcomes.append(TwoSurfaceOutcome(first, order, m, vel, vel.copy(), imp, False,
                                                   _balls=tuple(vel_b), _prec=prec))
         else:  # irrational exact input
@@ -729,20 +633,20 @@ def branch_counts(mass_matrix, gradients, velocity) -> dict:
     {0: 4, 1: 4}
     """
     exact, M, H, v, n = _checked(mass_matrix, gradients, velocity)
-    rational_path = not exact or (_is_rational_matrix(M) and _is_rational_matrix(H) and _is_rational_matrix(v))
+    rational_path = not exact or (all_rational(M) and all_rational(H) and all_rational(v))
     if rational_path:
         (W, gram, c, _), vq, _ = _invariants(exact, M, H, v, n)
         d = _Data(gram[0, 0], gram[1, 1], gram[0, 1], c[0, 0], c[1, 0])
     else:
         W, gram, c, _ = _invariants(exact, M, H, v, n)
         d = _Data(gram[0, 0], gram[1, 1], gram[0, 1], c[0], c[1])
-    if _sign(d.D) == 0:
+    if sign_of(d.D) == 0:
         raise ImpactInputError(
             "gradients", "the two rows are parallel (Δ = s_1 s_2 − g² = 0): the wedge is degenerate (opening 0 or π)")
     out = {}
     for first in (0, 1):
         df = d if first == 0 else d.swapped()
-        if _sign(df.ca) >= 0:
+        if sign_of(df.ca) >= 0:
             continue
         if rational_path:
             check = _tie_check_rational
@@ -759,14 +663,6 @@ def _as_output(exact, v, vq):
     return np.asarray(v, dtype=float).copy()
 
 
-def _floats(vel) -> np.ndarray:
-    if isinstance(vel, sp.MatrixBase):
-        return np.array([float(Fraction(int(x.p), int(x.q))) if x.is_Rational else float(sp.N(x, 17)) for x in vel])
-    if isinstance(vel, mpmath.matrix):
-        return np.array([float(vel[i]) for i in range(vel.rows)])
-    return np.asarray(vel, dtype=float)
-
-
 def _kinetic_cos(d: _Data, exact: bool):
     if d.rational():
         ss = d.sa * d.sb
@@ -776,26 +672,24 @@ def _kinetic_cos(d: _Data, exact: bool):
 
 
 def _certified_bound(d: _Data, decisions: dict) -> int:
-    prec = 64
-    while prec <= MAX_PRECISION_BITS:
+    """``⌈π/β⌉`` (sec. III-C), certified; a tie ``β = π/K`` is decided exactly
+    (``−g/√(s_A s_B) = cos(π/K)``, a certified sign)."""
+    def ball_at(prec):
         *_, beta = d.balls(prec)
         with ctx.workprec(prec):
-            q = arb.pi() / beta
-        m = _certified_ceil(q)
-        if m is not None:
-            return m
-        lo, hi = _ball_ends(q) if q.is_finite() else (fmpq(0), fmpq(1))
-        if hi - lo < fmpq(1, 2):
-            K = _nearest_int((lo + hi) / 2)
-            # beta = pi/K exactly  <=>  cos(beta) = cos(pi/K)  <=>  -g/sqrt(s_A s_B) = cos(pi/K)
-            if K >= 2:
-                to_sp = (lambda x: sp.Rational(int(x.p), int(x.q))) if d.rational() else (lambda x: x)
-                expr = -to_sp(d.g) / sp.sqrt(to_sp(d.sa) * to_sp(d.sb)) - sp.cos(sp.pi / K)
-                try:
-                    if certified_sign(expr, max_digits=200) == 0:
-                        decisions["exact_tie"] = decisions.get("exact_tie", 0) + 1
-                        return K
-                except UndecidableSign:
-                    pass
-        prec *= 2
-    raise UndecidableSign("the bound ceil(pi/beta) could not be certified")
+            return arb.pi() / beta
+
+    def tie(K):
+        to_sp = (lambda x: sp.Rational(int(x.p), int(x.q))) if d.rational() else (lambda x: x)
+        expr = -to_sp(d.g) / sp.sqrt(to_sp(d.sa) * to_sp(d.sb)) - sp.cos(sp.pi / K)
+        try:
+            return certified_sign(expr, max_digits=200) == 0
+        except UndecidableSign:
+            return None
+
+    found = certified_ceiling(ball_at, tie, min_tie=2, max_bits=MAX_PRECISION_BITS)
+    if found is None:
+        raise UndecidableSign("the bound ceil(pi/beta) could not be certified")
+    if found[1] == "exact_tie":
+        decisions["exact_tie"] = decisions.get("exact_tie", 0) + 1
+    return found[0]

@@ -1,0 +1,43 @@
+"""The sequential law's limits and the names it uses for the exact arithmetic.
+
+The fields and the linear algebra are :mod:`impactsym.arithmetic`'s; the short private names below
+are the ones the search and the selection were written with.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ...arithmetic import AlgebraicField as _Algebraic
+from ...arithmetic import RationalField as _Rational
+from ...arithmetic import all_rational as _all_rational
+from ...arithmetic.linalg import dot as _dot
+from ...arithmetic.linalg import independent as _independent
+from ...arithmetic.linalg import kernel_basis as _kernel_basis
+from ...arithmetic.linalg import matvec as _matvec
+from ...arithmetic.linalg import minner as _minner
+from ...arithmetic.linalg import nullspace as _nullspace
+from ...arithmetic.linalg import rank as _rank
+from ...arithmetic.linalg import rref as _rref
+from ...arithmetic.linalg import solve_columns as _solve_columns
+
+__all__ = ["READINGS", "TWO_SURFACE_PATHS", "DEFAULT_MAX_REFLECTIONS", "MAX_STATE_BITS", "MAX_COORDINATES",
+           "FLOAT_SAFETY", "_Rational", "_Algebraic", "_all_rational", "_rref", "_kernel_basis", "_nullspace",
+           "_solve_columns", "_rank", "_independent", "_dot", "_matvec", "_minner"]
+
+#: the two readings of the feasible set (see the package docstring)
+READINGS = ("energy", "cone")
+#: how two independent surfaces are resolved (see ``resolve_sequential(two_surface=...)``)
+TWO_SURFACE_PATHS = ("closed-form", "iterate")
+#: default cap on the reflections of any one ordering
+DEFAULT_MAX_REFLECTIONS = 10_000
+#: largest total size (bits of numerators and denominators) of the exact velocities the rational
+#: search keeps; beyond it the search raises NonTermination naming this limit (32 MiB)
+MAX_STATE_BITS = 1 << 28
+#: largest number of coordinates (size of M) the resolver accepts: its exact input checks and
+#: linear algebra cost O(n^3) to O(n^4) exact operations (n = 200 takes about 10 s; a 1000-ball
+#: cradle would take many minutes), so larger systems are refused up front
+MAX_COORDINATES = 200
+#: safety factor on the float sign-test bound
+FLOAT_SAFETY = 4.0
+_EPS = float(np.finfo(float).eps)

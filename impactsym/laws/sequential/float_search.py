@@ -1,0 +1,138 @@
+"""Float mode of the DAG search: float64 velocities, an error bound on every sign test, and an
+exact re-decision (replay in rationals) whenever the bound straddles zero.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from ...arithmetic import certified_sign
+from ..reflection import FLOAT_ERROR_FACTOR
+from .common import FLOAT_SAFETY, _EPS, _Algebraic, _Rational
+from .search import _aggregate, _explore
+
+
+# ---------------------------------------------------------------------------------------------
+# Float mode
+# ---------------------------------------------------------------------------------------------
+class _FloatSystem:
+    def __init__(self, M, H, v0, cap):
+        self.M = np.asarray(M, dtype=float)
+        self.H = np.asarray(H, dtype=float)
+        self.v0 = np.asarray(v0, dtype=float)
+        self.n, self.k = self.M.shape[0], self.H.shape[0]
+        W = np.linalg.solve(self.M, self.H.T)
+        self.W = W.T.copy()
+        self.s = np.einsum("ij,ij->i", self.H, self.W)
+        self.coef = 2.0 / self.s
+        kappa = float(np.linalg.cond(self.M))
+        gamma = FLOAT_ERROR_FACTOR * self.n * kappa * _EPS
+        vnorm = math.sqrt(max(float(self.v0 @ self.M @ self.v0), 0.0))
+        #: bound on ‖v_float − v_exact‖_M after any ordering of at most `cap` reflections
+        self.energy_error = cap * gamma * vnorm
+        self.rows = [[(j, float(h)) for j, h in enumerate(r) if h != 0.0] for r in self.H]
+        self.wcols = [[(j, float(w)) for j, w in enumerate(c) if w != 0.0] for c in self.W]
+        self.sqrt_s = np.sqrt(self.s)
+        self.k_ = self.k
+
+    def w_and_bound(self, v, i):
+        acc = 0.0
+        mag = 0.0
+        for j, h in self.rows[i]:
+            t = h * v[j]
+            acc += t
+            mag += abs(t)
+        bound = FLOAT_SAFETY * (self.sqrt_s[i] * self.energy_error + 2 * self.n * _EPS * mag)
+        return acc, bound
+
+    def reflect(self, v, i, wi):
+        c = self.coef[i] * wi
+        out = list(v)
+        for j, wj in self.wcols[i]:
+            out[j] = v[j] - c * wj
+        return tuple(out), -c
+
+    def impulse(self, order):
+        v = tuple(float(x) for x in self.v0)
+        p = np.zeros(self.k)
+        for i in order:
+            wi, _ = self.w_and_bound(v, i)
+            v, pi = self.reflect(v, i, wi)
+            p[i] += pi
+        return p
+
+
+def _float_search(M, H, v0, system, cap):
+    fs = _FloatSystem(M, H, v0, cap)
+    F = system.F
+    exact_cache: dict[int, tuple] = {}
+    stats = {"fallbacks": 0}
+    holder: dict = {}
+
+    def exact_state(node):
+        g = holder["g"]
+        chain = []
+        cur = node
+        while cur not in exact_cache and g.parent[cur] is not None:
+            chain.append(cur)
+            cur = g.parent[cur][0]
+        if cur not in exact_cache:
+            exact_cache[cur] = system.v0
+        v = exact_cache[cur]
+        for nd in reversed(chain):
+            v, _ = system.reflect(v, g.parent[nd][1])
+            exact_cache[nd] = v
+        return v
+
+    def sign_of(v, i, node):
+        wi, bound = fs.w_and_bound(v, i)
+        if abs(wi) > bound:
+            return (1 if wi > 0 else -1), wi
+        stats["fallbacks"] += 1
+        holder["g"].fallback[node] = True
+        s = F.sign(system.w(exact_state(node), i))
+        return s, wi
+
+    def same_exact(node, i, cand):
+        stats["fallbacks"] += 1
+        v, _ = system.reflect(exact_state(node), i)
+        return v == exact_state(cand) if F is _Rational else all(
+            certified_sign(a - b) == 0 for a, b in zip(v, exact_state(cand)))
+
+    holder["same_exact"] = same_exact
+
+    class _R:
+        k = fs.k
+
+        def __call__(self, v, i, wi):
+            return fs.reflect(v, i, wi)
+
+    g, tests = _explore(sign_of, _R(), tuple(float(x) for x in fs.v0), cap, holder)
+    root_table = _aggregate(g, lambda v: v)
+    keys = list(root_table)
+    # merge nearby float outcomes by exact comparison of their replays
+    canon: dict = {}
+    reps: list = []
+    tol = 2 * FLOAT_SAFETY * fs.energy_error + 8 * _EPS * max(1.0, math.sqrt(float(fs.v0 @ fs.M @ fs.v0)))
+    exact_of: dict = {}
+    for key in keys:
+        for r in reps:
+            d = np.asarray(key) - np.asarray(r)
+            if key == r or math.sqrt(max(float(d @ fs.M @ d), 0.0)) <= tol:
+                if key != r:
+                    stats["fallbacks"] += 1
+                    for kk in (key, r):
+                        if kk not in exact_of:
+                            exact_of[kk] = system.replay(root_table[kk][3])[0]
+                    if exact_of[key] != exact_of[r] and not (
+                            F is _Algebraic and all(certified_sign(a - b) == 0
+                                                    for a, b in zip(exact_of[key], exact_of[r]))):
+                        continue
+                canon[key] = r
+                break
+        else:
+            reps.append(key)
+            canon[key] = key
+    return g, tests, stats["fallbacks"], root_table, canon, fs

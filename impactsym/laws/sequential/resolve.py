@@ -1,0 +1,293 @@
+"""The sequential resolver: input checks, the choice between the DAG search and the two-surface
+closed form, the exact merge of outcomes, and the selection.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import sympy as sp
+
+from ...arithmetic import certified_sign, float_to_rational
+from ...errors import DomainError, ImpactInputError, NonTermination
+from ...mechanics import check_gradients, check_mass_matrix, check_velocity
+from ...numbers import is_exact
+from .common import DEFAULT_MAX_REFLECTIONS, MAX_COORDINATES, READINGS, TWO_SURFACE_PATHS, _Rational, _rank
+from .float_search import _float_search
+from .results import Outcome, SequentialResolution
+from .search import (_ExactSystem, _Reflector, _aggregate, _cap_error, _explore, _explore_rational,
+                     _merge_exact_keys, _verified_replay)
+from .selection import _select, _select_two_surface, _verify_selected
+from .witness import valid_velocity_witness
+
+
+def _coordinates(mass_matrix):
+    """The number of rows of ``mass_matrix`` read without converting it (``None`` if unknown)."""
+    if isinstance(mass_matrix, str):
+        return mass_matrix.count(";") + 1
+    shape = getattr(mass_matrix, "shape", None)
+    if shape is not None and len(shape) >= 1:
+        return int(shape[0])
+    if isinstance(mass_matrix, (list, tuple)):
+        return len(mass_matrix)
+    return None
+
+
+def _check_inputs(mass_matrix, gradients, velocity, exact):
+    if exact is None:
+        exact = is_exact(mass_matrix, gradients, velocity)
+    M = check_mass_matrix(mass_matrix, exact=exact)
+    n = M.shape[0]
+    H = check_gradients(gradients, n, exact=exact)
+    v = check_velocity(velocity, n, exact=exact)
+    return exact, M, H, v
+
+
+def resolve_sequential(mass_matrix, gradients, velocity, *, reading: str = "energy",
+                       max_reflections: int = DEFAULT_MAX_REFLECTIONS, exact: bool | None = None,
+                       select: bool = True, two_surface: str = "closed-form") -> SequentialResolution:
+    """Every impact ordering of a corner impact, its outcomes, and the selected solution.
+
+    Parameters
+    ----------
+    mass_matrix : matrix-like (n×n), symmetric positive definite
+    gradients : matrix-like (k×n), gradient rows ``H_i`` of the closed contacts, any k ≥ 1
+    velocity : vector-like (n,), pre-impact velocity ``v0``
+    reading : ``"energy"`` (default) or ``"cone"``
+        The feasible set of the selection: conic hull of the outcomes with the momentum-cone
+        requirement, intersected with the energy sphere (``"energy"``) or not (``"cone"``).
+    max_reflections : int
+        Cap on the reflections of any one ordering; exceeding it raises ``NonTermination``.
+    exact : bool, optional
+        Force the exact (``True``) or float (``False``) path; default: exact iff every input is.
+    select : bool
+        Compute the selection (steps 4–5). ``False`` skips it (``selected`` is empty).
+    two_surface : ``"closed-form"`` (default) or ``"iterate"``
+        With exactly two linearly independent rows, ``"closed-form"`` takes every branch from
+        :func:`impactsym.laws.two_surface.resolve_two_surfaces` in O(1), whatever the count (the
+        reflection cap does not apply: nothing is iterated); ``"iterate"`` forces the search,
+        and is refused up front (``NonTermination``) when the certified count of a branch
+        exceeds ``max_reflections``. With the closed form the energy reading selects the
+        outcome(s) with the largest ``⟨o, v0⟩_M`` (exact, or certified Arb comparison of
+        certified outcomes; see :func:`_two_surface_path`); the cone reading of certified
+        outcomes is skipped in exact mode (``selected`` empty, ``selection_note`` says why) and
+        refused in float mode (``DomainError``): a float run never succeeds with an empty
+        selection.
+
+    Returns
+    -------
+    SequentialResolution
+
+    Raises
+    ------
+    ImpactInputError
+        Bad shapes, a mass matrix that is not SPD, a zero gradient row, a bad ``reading`` or cap,
+        more than ``MAX_COORDINATES`` coordinates (refused before any exact work).
+    DomainError
+        No non-zero velocity is valid for all closed contacts (no elastic outcome exists).
+    NonTermination
+        An ordering exceeds ``max_reflections`` or provably never ends, or the exact states of
+        the search exceed ``MAX_STATE_BITS``.
+    VerificationError
+        An exact outcome failed its check before return (a bug; never returned).
+
+    Examples
+    --------
+    ``M = diag(11/10, 1)``, both contacts approaching: two outcomes (sec. III-B.3). The two
+    orderings of length 4 apply a kinetic rotation and its inverse, so both outcomes are equally
+    near ``v0``: the energy reading selects both (a tie); the plain cone selects ``0``.
+
+    >>> r = resolve_sequential("11/10,0;0,1", "1,0;-1,1", "-1,-2")
+    >>> [(o.order, list(o.velocity)) for o in r.outcomes]
+    [((0, 1, 0, 1), [173/147, 278/147]), ((1, 0, 1, 0), [359/441, 922/441])]
+    >>> r.selected == tuple(o.velocity for o in r.outcomes)
+    True
+    >>> list(resolve_sequential("11/10,0;0,1", "1,0;-1,1", "-1,-2", reading="cone").selected[0])
+    [0, 0]
+
+    Float mode counts its exact fallbacks (here the grazing contact 2–3 of the cradle):
+
+    >>> r = resolve_sequential(np.eye(3), [[-1.0, 1, 0], [0, -1, 1]], [1.0, 0, 0], two_surface="iterate")
+    >>> r.outcomes[0].velocity, r.exact, r.exact_fallbacks > 0
+    (array([0., 0., 1.]), False, True)
+
+    References
+    ----------
+    Seghete & Murphey, sec. III-A (algorithm steps 1–5), sec. III-B (branching), eq. 4.
+    """
+    if reading not in READINGS:
+        raise ImpactInputError("reading", f"must be one of {', '.join(READINGS)}, got {reading!r}")
+    if isinstance(max_reflections, bool) or not isinstance(max_reflections, (int, np.integer)) or max_reflections < 1:
+        raise ImpactInputError("max_reflections", f"must be a positive integer, got {max_reflections!r}")
+    cap = int(max_reflections)
+    if two_surface not in TWO_SURFACE_PATHS:
+        raise ImpactInputError("two_surface", f"must be one of {', '.join(TWO_SURFACE_PATHS)}, got {two_surface!r}")
+    size = _coordinates(mass_matrix)
+    if size is not None and size > MAX_COORDINATES:
+        raise ImpactInputError(
+            "mass_matrix", f"has {size} coordinates, more than the sequential law's limit MAX_COORDINATES="
+            f"{MAX_COORDINATES} (its exact checks and linear algebra cost O(n^3) or more exact operations)")
+    exact, M, H, v0 = _check_inputs(mass_matrix, gradients, velocity, exact)
+    if exact:
+        Mx, Hx, vx = M, H, v0
+    else:
+        Mx = sp.Matrix([[float_to_rational(x) for x in row] for row in M])
+        Hx = sp.Matrix([[float_to_rational(x) for x in row] for row in H])
+        vx = sp.Matrix([float_to_rational(x) for x in v0])
+    witness = valid_velocity_witness(Hx)
+    if witness is None:
+        raise DomainError("gradients: no non-zero velocity v satisfies H v >= 0 "
+                          "(the closed contacts admit no elastic exit velocity)")
+    system = _ExactSystem(Mx, Hx, vx)
+    F = system.F
+    if system.k == 2 and _rank(system.H, F) == 2:
+        if two_surface == "closed-form":
+            return _two_surface_path(M, H, v0, system, exact, reading, select, witness)
+        # iterating: refuse up front when a branch needs more than the cap (its exact states grow
+        # linearly, so reaching the cap would cost memory quadratic in it)
+        from ..two_surface import branch_counts
+
+        counts = branch_counts(Mx, Hx, vx)
+        if counts and max(counts.values()) > cap:
+            raise NonTermination(
+                f"max_reflections: the ordering starting with surface {max(counts, key=counts.get)} needs "
+                f"{max(counts.values())} reflections (certified count of the two-surface closed form), more "
+                f"than the cap max_reflections={cap}; raise the cap or use the two-surface closed form")
+    if exact:
+        # a state is (v, w = H v); w is updated with the Gram matrix H M^-1 H^T, not recomputed
+        if F is _Rational:
+            def sign_of(state, i, node):
+                wi = state[1][i]
+                return (wi > 0) - (wi < 0), wi
+        else:
+            def sign_of(state, i, node):
+                wi = state[1][i]
+                return F.sign(wi), wi
+
+        if F is _Rational:
+            def key_of(state):
+                return tuple([(x.p, x.q) for x in state[0]])
+        else:
+            def key_of(state):
+                return state[0]
+        if F is _Rational:
+            g, tests = _explore_rational(system, cap)
+        else:
+            w0 = tuple(system.w(system.v0, i) for i in range(system.k))
+            g, tests = _explore(sign_of, _Reflector(system), (system.v0, w0), cap, {}, key_of)
+            g.vel = [state[0] for state in g.vel]
+        root_table = _aggregate(g, lambda v: v)
+        fallbacks = 0
+        keys = list(root_table)
+        merged = _merge_exact_keys(keys, F)
+    else:
+        g, tests, fallbacks, root_table, merged, float_sys = _float_search(M, H, v0, system, cap)
+    approaching = tuple(F.sign(system.w(system.v0, i)) < 0 for i in range(system.k))
+    # Merge outcome keys that are the same velocity (exact comparison), aggregate stats.
+    groups: dict = {}
+    for key in root_table:
+        canon = merged[key]
+        cnt, lo, hi, rep = root_table[key]
+        if canon not in groups:
+            groups[canon] = [cnt, lo, hi, rep]
+        else:
+            a = groups[canon]
+            a[0] += cnt
+            a[1] = min(a[1], lo)
+            a[2] = max(a[2], hi)
+            if (len(rep), rep) < (len(a[3]), a[3]):
+                a[3] = rep
+    items = sorted(groups.items(), key=lambda kv: (len(kv[1][3]), kv[1][3]))
+    g.outcome_index = {}
+    for idx, (canon, _) in enumerate(items):
+        for key, c in merged.items():
+            if c == canon:
+                g.outcome_index[key] = idx
+    outcomes = []
+    exact_outcomes = []
+    for canon, (cnt, lo, hi, rep) in items:
+        v_ex, p_ex = _verified_replay(system, rep)
+        exact_outcomes.append((v_ex, p_ex))
+        if exact:
+            vel = sp.Matrix([F.to_sympy(x) for x in v_ex])
+            imp = sp.Matrix([F.to_sympy(x) for x in p_ex])
+        else:
+            vel = np.array(canon, dtype=float)
+            imp = float_sys.impulse(rep)
+        outcomes.append(Outcome(rep, len(rep), vel, imp, cnt, lo, hi))
+    total = sum(o.orderings for o in outcomes)
+    longest = max(o.reflections_max for o in outcomes)
+    if longest > cap:
+        raise _cap_error(cap)
+    selected: tuple = ()
+    if select:
+        selected = _select(system, [v for v, _ in exact_outcomes], [p for _, p in exact_outcomes], reading)
+        _verify_selected(system, selected, reading)
+    return SequentialResolution(tuple(outcomes), selected, reading, total, longest, len(g.vel), tests,
+                                fallbacks, exact, F.name if exact else "float", approaching, witness, _graph=g)
+
+
+def _two_surface_path(M, H, v0, system, exact, reading, select, witness):
+    """Outcomes of two independent surfaces from the O(1) closed form, merged exactly.
+
+    The selection (energy reading) needs no face enumeration: the feasible set lies on the arc
+    of the energy sphere between the two outcomes ``o_1``, ``o_2`` (it is the whole arc when
+    ``v0 ∈ span(M⁻¹Hᵀ)``, only its end points otherwise), ``v0``'s direction is not on the arc
+    (``v0`` is invalid, the arc is valid), and ``⟨v, v0⟩_M`` restricted to such an arc is largest
+    at an end point. So the selection is the outcome(s) with the largest ``⟨o_i, v0⟩_M``: an exact
+    comparison, or a certified one (Arb) for certified outcomes. When both branches have the same
+    even count the two values are equal exactly (``o_2 = R⁻¹v0`` for ``o_1 = Rv0``, ``R`` a
+    kinetic isometry), and both are selected."""
+    from ..two_surface import resolve_two_surfaces
+
+    F = system.F
+    ts = resolve_two_surfaces(M, H, v0)
+    groups: list = []  # [velocity, [orders], impulse, exact, two-surface outcome]
+    for o in ts.outcomes:
+        # (reflections, first surface, order): a closed-form order may be too long for len()
+        first = -1 if o.first is None else o.first
+        order = (o.reflections, first, tuple(o.order) if o.reflections <= 10_000 else o.order)
+        for grp in groups:
+            if o.exact and grp[3] and all(certified_sign(a - b) == 0 for a, b in zip(o.velocity, grp[0])):
+                grp[1].append(order)
+                break
+            if not exact and not o.exact and grp[3] is False and np.array_equal(o.velocity, grp[0]):
+                grp[1].append(order)
+                break
+        else:
+            groups.append([o.velocity, [order], o.impulse, o.exact, o])
+    outcomes = []
+    orders = []
+    for grp in groups:
+        grp[1] = sorted(grp[1], key=lambda t: t[:2])  # the iteration's order: shortest, then first surface
+    groups.sort(key=lambda grp: grp[1][0][:2])
+    for idx, (vel, ords, imp, _, _) in enumerate(groups):
+        lens = [t[0] for t in ords]
+        outcomes.append(Outcome(ords[0][2], lens[0], vel, imp, len(ords), min(lens), max(lens)))
+        orders.extend((t[2], idx) for t in ords)
+    selected: tuple = ()
+    note = None
+    all_exact = all(g[3] for g in groups)
+    short = max(o.reflections for o in outcomes) <= 10_000
+    if select and reading == "energy" and (exact or not short):
+        selected = _select_two_surface(system, groups, exact)
+    elif select and (all_exact or not exact):
+        if exact:
+            exact_outs = [tuple(F.num(x) for x in o.velocity) for o in outcomes]
+        elif short:  # float input: replay short orderings exactly (an exact selection)
+            exact_outs = [system.replay(o.order)[0] for o in outcomes]
+        else:
+            raise DomainError(
+                f"select: the {reading} reading needs the exact outcomes, but the orderings take "
+                f"{max(o.reflections for o in outcomes)} reflections (more than 10000 are not replayed "
+                "exactly); use reading='energy' or select=False")
+        selected = _select(system, exact_outs, None, reading)
+    elif select:
+        note = (f"the {reading} reading needs exact outcomes; these are certified digits "
+                "(use reading='energy')")
+    approaching = tuple(F.sign(system.w(system.v0, i)) < 0 for i in range(system.k))
+    res = SequentialResolution(tuple(outcomes), selected, reading, len(orders),
+                               max(o.reflections_max for o in outcomes), 0, 2, 0, exact and all_exact,
+                               (F.name if exact else "float"), approaching, witness,
+                               method="two-surface closed form", bound=ts.bound, _orders=orders)
+    res.selection_note = note
+    return res

@@ -1,0 +1,152 @@
+"""The results of the sequential resolver: :class:`Outcome` and :class:`SequentialResolution`.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Any, Iterator
+
+import numpy as np
+import sympy as sp
+
+
+# ---------------------------------------------------------------------------------------------
+# Results
+# ---------------------------------------------------------------------------------------------
+@dataclass(frozen=True)
+class Outcome:
+    """One distinct exit velocity of the sequential resolution.
+
+    Attributes
+    ----------
+    order : tuple of int
+        A representative ordering (surface indices, rows of ``H``): the shortest, then the
+        lexicographically first, of the orderings that give this velocity.
+    reflections : int
+        ``len(order)``.
+    velocity : sympy.Matrix (exact) or numpy.ndarray (float mode)
+    impulse : sympy.Matrix or numpy.ndarray (k,)
+        ``p`` of ``M(v⁺ − v0) = Hᵀp`` accumulated along ``order`` (every entry ``≥ 0``).
+    orderings : int
+        How many orderings give this velocity.
+    reflections_min, reflections_max : int
+        Shortest and longest of those orderings.
+    """
+
+    order: tuple
+    reflections: int
+    velocity: Any
+    impulse: Any
+    orderings: int
+    reflections_min: int
+    reflections_max: int
+
+    @property
+    def velocity_float(self) -> list[float]:
+        return _floats(self.velocity)
+
+
+def _floats(v) -> list[float]:
+    import mpmath
+
+    if isinstance(v, mpmath.matrix):
+        return [float(v[i]) for i in range(v.rows)]
+    if isinstance(v, sp.MatrixBase):
+        return [float(sp.N(x, 17)) for x in v]
+    return [float(x) for x in np.asarray(v, dtype=float).reshape(-1)]
+
+
+@dataclass
+class SequentialResolution:
+    """Everything the sequential resolver found.
+
+    Attributes
+    ----------
+    outcomes : tuple of Outcome
+        The distinct exit velocities (merged exactly), sorted by representative ordering.
+    selected : tuple
+        The minimizers of ``‖v − v0‖_M`` over the feasible set of ``reading`` (usually one;
+        ties are all listed). Exact (SymPy) in exact mode and in float mode (computed from the
+        exact replays of the float outcomes; see ``selected_float``); with the two-surface
+        closed form it is the selected outcome itself (exact, certified ``mpmath.matrix`` or
+        float, like the outcome). Empty when ``select=False``, or as ``selection_note`` says.
+    reading : str
+        ``"energy"`` or ``"cone"``.
+    orderings : int
+        Number of orderings (root-to-exit paths), counted on the DAG.
+    max_reflections_used : int
+        Length of the longest ordering.
+    states_visited : int
+        Distinct states (velocity, legal surfaces) of the DAG.
+    sign_tests : int
+        Sign decisions ``H_i v`` made.
+    exact_fallbacks : int
+        Float mode: decisions re-made exactly because the float bound straddled zero, plus the
+        exact comparisons that let such a state be shared in the DAG and that merge nearby float
+        outcomes. 0 in exact mode.
+    exact : bool
+        Whether the outcome velocities are exact.
+    backend : str
+        ``"rational"``, ``"algebraic"`` or ``"float"``.
+    approaching : tuple of bool
+        ``H_i v0 < 0`` for each contact (decided exactly or certified).
+    witness : sympy.Matrix
+        A non-zero valid velocity (``H v ≥ 0``), the certificate that the refusal check passed.
+    method : str
+        ``"iteration"`` (the DAG search) or ``"two-surface closed form"``
+        (:func:`impactsym.laws.two_surface.resolve_two_surfaces`, used for two independent rows).
+    bound : int or None
+        Two surfaces: the paper's ``N = ⌈S_total/(2S₀)⌉`` (sec. III-C), certified.
+    """
+
+    outcomes: tuple
+    selected: tuple
+    reading: str
+    orderings: int
+    max_reflections_used: int
+    states_visited: int
+    sign_tests: int
+    exact_fallbacks: int
+    exact: bool
+    backend: str
+    approaching: tuple
+    witness: Any
+    method: str = "iteration"
+    bound: int | None = None
+    #: why ``selected`` is empty although ``select=True`` (``None`` otherwise)
+    selection_note: str | None = None
+    _graph: Any = field(default=None, repr=False, compare=False)
+    _orders: Any = field(default=None, repr=False, compare=False)
+
+    @property
+    def selected_float(self) -> list[list[float]]:
+        return [_floats(v) for v in self.selected]
+
+    def iter_orderings(self, limit: int | None = None) -> Iterator[tuple[tuple, int]]:
+        """Every ordering with the index of its outcome in :attr:`outcomes`, depth first.
+
+        >>> from impactsym.laws.sequential import resolve_sequential
+        >>> r = resolve_sequential("1,0;0,1", "1,0;-1,1", "-1,-2")
+        >>> list(r.iter_orderings())
+        [((0, 1, 0, 1), 0), ((1, 0, 1, 0), 0)]
+        """
+        if self._graph is None:  # two-surface closed form: one ordering per first surface
+            for count, (order, idx) in enumerate(self._orders, 1):
+                yield (tuple(order) if isinstance(order, tuple) else order), idx
+                if limit is not None and count >= limit:
+                    return
+            return
+        g = self._graph
+        count = 0
+        stack = [(g.root, ())]
+        while stack:
+            node, path = stack.pop()
+            kids = g.children[node]
+            if not kids:
+                yield path, g.outcome_index[g.terminal_key[node]]
+                count += 1
+                if limit is not None and count >= limit:
+                    return
+                continue
+            for i, child in reversed(kids):
+                stack.append((child, path + (i,)))

@@ -1,0 +1,64 @@
+"""The refusal test: is any non-zero velocity valid (``H v ≥ 0``)? Decided exactly.
+"""
+
+from __future__ import annotations
+
+import itertools
+
+import sympy as sp
+
+from ...numbers import is_exact
+from .common import _Algebraic, _Rational, _all_rational, _dot, _nullspace
+
+
+# ---------------------------------------------------------------------------------------------
+# Refusal: is any non-zero velocity valid?
+# ---------------------------------------------------------------------------------------------
+def valid_velocity_witness(gradients, *, exact: bool | None = None):
+    """A non-zero ``v`` with ``H v ≥ 0`` (exact), or ``None`` when none exists.
+
+    Decided exactly: if ``rank H < n`` a null vector of ``H`` is a witness; otherwise the cone
+    ``{v : H v ≥ 0}`` is pointed and is non-zero exactly when it has an extreme ray, which spans
+    the null space of ``n − 1`` linearly independent rows of ``H``; every such subset is tried.
+    Float input is decided on the floats' exact binary values.
+
+    Parameters
+    ----------
+    gradients : matrix-like (k×n), the gradient rows ``H``
+
+    Returns
+    -------
+    sympy.Matrix (n×1) or None
+
+    Examples
+    --------
+    >>> valid_velocity_witness("1,0;-1,1").T
+    Matrix([[0, 1]])
+    >>> valid_velocity_witness("1;-1") is None
+    True
+    >>> valid_velocity_witness("1,0;0,1;-1,-1") is None
+    True
+    """
+    H = gradients
+    if not isinstance(H, sp.MatrixBase) or not is_exact(H):
+        from ...numbers import to_exact_matrix
+
+        H = to_exact_matrix(H, "gradients")
+    k, n = H.shape
+    F = _Rational if _all_rational(H) else _Algebraic
+    rows = [[F.num(H[i, j]) for j in range(n)] for i in range(k)]
+    null = _nullspace(rows, n, F)
+    if null:
+        return sp.Matrix([F.to_sympy(x) for x in null[0]])
+    for subset in itertools.combinations(range(k), n - 1):
+        sub = [rows[i] for i in subset]
+        ns = _nullspace(sub, n, F) if sub else [[F.one if j == 0 else F.zero for j in range(n)]] if n == 1 else None
+        if ns is None or len(ns) != 1:
+            continue
+        r = ns[0]
+        signs = {F.sign(_dot(row, r, F)) for row in rows}
+        if signs <= {0, 1}:
+            return sp.Matrix([F.to_sympy(x) for x in r])
+        if signs <= {0, -1}:
+            return sp.Matrix([F.to_sympy(-x) for x in r])
+    return None

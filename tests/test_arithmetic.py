@@ -1,0 +1,94 @@
+"""The exact-arithmetic layer (impactsym.arithmetic): its linear algebra agrees with SymPy's exact
+``Matrix.rref`` on rational, algebraic and transcendental data, and its certified helpers decide
+what they claim."""
+
+from __future__ import annotations
+
+import random
+
+import pytest
+import sympy as sp
+from flint import arb, ctx, fmpq
+
+from impactsym.arithmetic import (AlgebraicField, RationalField, certified_ceiling, exact_rank, field_of,
+                                  in_row_space, nullspace, rank, rref, sign_surd, solve_columns)
+
+
+def _rows(A: sp.Matrix, F):
+    return [[F.num(x) for x in A.row(i)] for i in range(A.rows)]
+
+
+def _sympy(rows, F, ncols):
+    return sp.Matrix(len(rows), ncols, [F.to_sympy(x) for r in rows for x in r])
+
+
+def _random_rational(rng, r, c, rank_at_most):
+    B = sp.Matrix(r, rank_at_most, lambda i, j: sp.Rational(rng.randint(-5, 5), rng.randint(1, 4)))
+    C = sp.Matrix(rank_at_most, c, lambda i, j: sp.Rational(rng.randint(-5, 5), rng.randint(1, 4)))
+    return B * C
+
+
+@pytest.mark.parametrize("seed", range(12))
+def test_rational_rref_equals_sympy(seed):
+    rng = random.Random(seed)
+    A = _random_rational(rng, rng.randint(1, 5), rng.randint(1, 5), rng.randint(1, 3))
+    R, piv = rref(_rows(A, RationalField), A.cols, RationalField)
+    Rs, pivs = A.rref()
+    assert list(piv) == list(pivs)
+    assert _sympy(R, RationalField, A.cols) == Rs[:len(pivs), :]
+    assert rank(_rows(A, RationalField), RationalField) == A.rank() == exact_rank(A)
+    for x in nullspace(_rows(A, RationalField), A.cols, RationalField):
+        assert A * sp.Matrix([RationalField.to_sympy(t) for t in x]) == sp.zeros(A.rows, 1)
+
+
+def test_algebraic_rref_equals_sympy():
+    s2, s3 = sp.sqrt(2), sp.sqrt(3)
+    A = sp.Matrix([[s2, 1, s3], [2, s2, s2 * s3], [1, 0, s3 - 1]])
+    assert field_of(A) is AlgebraicField
+    R, piv = rref(_rows(A, AlgebraicField), 3, AlgebraicField)
+    Rs, pivs = A.rref(simplify=True)
+    assert list(piv) == list(pivs) == [0, 1]   # row 2 is sqrt(2) times row 1
+    assert all(sp.simplify(a - b) == 0 for a, b in zip(_sympy(R, AlgebraicField, 3), Rs[:2, :]))
+
+
+def test_transcendental_entries_use_the_certified_elimination():
+    """No number field holds pi: the zero tests are certified signs, and 1/pi - 1/pi is decided 0."""
+    A = [[sp.pi, 1], [1, 1 / sp.pi]]
+    assert rank(A, AlgebraicField) == 1
+    assert rank([[sp.pi, 1], [1, sp.E]], AlgebraicField) == 2
+    sol = solve_columns([[sp.pi, 1], [1, sp.E]], [sp.pi + 1, 1 + sp.E], AlgebraicField)
+    assert sol is not None and not sol[1]
+    assert all(sp.simplify(z - 1) == 0 for z in sol[0])
+
+
+def test_solve_and_row_space_decide_inconsistency():
+    Q = RationalField
+    one, two = Q.num(1), Q.num(2)
+    assert solve_columns([[one, one]], [one, two], Q) is None          # x (1, 1) = (1, 2): no x
+    z0, basis = solve_columns([[one, one], [two, two]], [one, one], Q)  # a (1,1) + b (2,2) = (1,1)
+    assert len(basis) == 1 and z0[0] + 2 * z0[1] == 1
+    assert in_row_space([[one, Q.num(0)], [Q.num(0), one]], [Q.num(3), Q.num(-7)], Q)
+    assert not in_row_space([[one, one]], [one, Q.num(0)], Q)
+
+
+def test_sign_surd_decides_near_ties_exactly():
+    # 665857/470832 - sqrt(2) > 0 by about 1.6e-12; 470832/332929 - sqrt(2) < 0
+    assert sign_surd(fmpq(665857, 470832), -1, 2) == 1
+    assert sign_surd(fmpq(470832, 332929), -1, 2) == -1
+    assert sign_surd(fmpq(-3), 1, 9) == 0
+    with pytest.raises(ValueError, match="non-negative"):
+        sign_surd(1, 1, -2)
+
+
+def test_certified_ceiling_refines_and_ties():
+    calls = []
+
+    def ball_at(prec):  # 10 - 2^-200: its ceiling is 10, which 64 bits cannot see
+        calls.append(prec)
+        with ctx.workprec(prec):
+            return arb(10) - arb(2) ** -200
+
+    assert certified_ceiling(ball_at, lambda j: False) == (10, "arb", 256)
+    assert calls == [64, 128, 256]
+    assert certified_ceiling(lambda prec: arb(7), lambda j: j == 7) == (7, "exact_tie", 64)
+    assert certified_ceiling(lambda prec: arb(7), lambda j: None, max_bits=256) is None
