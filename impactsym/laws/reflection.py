@@ -40,6 +40,7 @@ import numpy as np
 import sympy as sp
 
 from .. import kernels
+from . import _reflection as _r
 from ..errors import DomainError, ImpactInputError
 from ..exact import certified_sign
 from ..mechanics import check_gradient, check_mass_matrix, check_velocity
@@ -100,9 +101,8 @@ def _mp_parts(Mx, ux, ex, exact):
     n = Mx.shape[0]
     Mm = mpmath.matrix([[_mp(Mx[i, j]) for j in range(n)] for i in range(n)])
     um = mpmath.matrix([_mp(ux[i]) for i in range(n)])
-    w = mpmath.lu_solve(Mm, um)
-    s = sum(um[i] * w[i] for i in range(n))
-    return Mm, um, w, s, (1 + _mp(ex)) / s
+    w, s = _r.mpmath_parts(Mm, um)
+    return Mm, um, w, s, _r.gain(s, _mp(ex))
 
 
 def _all_rational(*mats) -> bool:
@@ -125,9 +125,8 @@ def _rational_parts(Mx, ux, ex):
     from flint import fmpq
 
     u = _fmpq_mat(ux)
-    w = _fmpq_mat(Mx).solve(u.transpose())
-    s = (u * w)[0, 0]
-    return u, w, (1 + fmpq(int(ex.p), int(ex.q))) / s
+    w, s = _r.fmpq_parts(_fmpq_mat(Mx), u)
+    return u, w, _r.gain(s, fmpq(int(ex.p), int(ex.q)))
 
 
 def reflection_map(mass_matrix, gradient, restitution=1, *, dps: int | None = None):
@@ -157,17 +156,16 @@ def reflection_map(mass_matrix, gradient, restitution=1, *, dps: int | None = No
     if dps is not None:
         with mpmath.workdps(dps):
             _, um, w, _, c = _mp_parts(Mx, ux, ex, exact)
-            return mpmath.eye(n) - c * (w * um.T)
+            return _r.reflection_matrix(mpmath.eye(n), w, um.T, c)
     if exact and _all_rational(Mx, ux, ex):  # rational input: exact linear algebra in python-flint
         from flint import fmpq_mat
 
         u, w, c = _rational_parts(Mx, ux, ex)
-        G = fmpq_mat(n, n, [int(i == j) for i in range(n) for j in range(n)]) - (w * u) * c
+        G = _r.reflection_matrix(fmpq_mat(n, n, [int(i == j) for i in range(n) for j in range(n)]), w, u, c)
         return _sympy_of(G)
     if exact:
-        w = Mx.LUsolve(ux.T)
-        s = (ux * w)[0, 0]
-        return (sp.eye(n) - (1 + ex) * (w * ux) / s).applyfunc(sp.radsimp)
+        w, s = _r.sympy_parts(Mx, ux)
+        return _r.reflection_matrix(sp.eye(n), w, ux, _r.gain(s, ex)).applyfunc(sp.radsimp)
     return kernels.reflection_map(Mx, ux, ex)
 
 
@@ -188,20 +186,19 @@ def reflect(mass_matrix, gradient, velocity, restitution=1, *, dps: int | None =
             _, um, w, _, c = _mp_parts(Mx, ux, ex, exact)
             vm = mpmath.matrix([_mp(vx[i]) for i in range(n)])
             uv = sum(um[i] * vm[i] for i in range(n))
-            return vm - (c * uv) * w
+            return _r.reflect_along(vm, w, uv, c)[0]
     if exact and _all_rational(Mx, ux, vx, ex):
         u, w, c = _rational_parts(Mx, ux, ex)
         v = _fmpq_mat(vx)
-        uv = (u * v)[0, 0]
-        out = _sympy_of(v - w * (uv * c))
-        pq = -uv * c  # the impulse p = -(1+e) u v / (u M^-1 u^T)
+        vq, pq = _r.reflect_along(v, w, (u * v)[0, 0], c)  # p = -(1+e) u v / (u M^-1 u^T)
+        out = _sympy_of(vq)
         _verify_reflection(Mx, ux, vx, ex, out, sp.Rational(int(pq.p), int(pq.q)))
         return out
     if exact:
-        w = Mx.LUsolve(ux.T)
-        s = (ux * w)[0, 0]
-        out = (vx - (1 + ex) * w * (ux * vx)[0, 0] / s).applyfunc(sp.radsimp)
-        _verify_reflection(Mx, ux, vx, ex, out, sp.radsimp(-(1 + ex) * (ux * vx)[0, 0] / s))
+        w, s = _r.sympy_parts(Mx, ux)
+        out, p = _r.reflect_along(vx, w, (ux * vx)[0, 0], _r.gain(s, ex))
+        out = out.applyfunc(sp.radsimp)
+        _verify_reflection(Mx, ux, vx, ex, out, sp.radsimp(p))
         return out
     return kernels.reflect(Mx, ux, vx, ex)
 
@@ -243,7 +240,7 @@ def impulse_multiplier(mass_matrix, gradient, velocity, restitution=1):
     """
     exact, Mx, ux, vx, ex = _checked(mass_matrix, gradient, velocity, restitution)
     if exact:
-        s = (ux * Mx.LUsolve(ux.T))[0, 0]
-        return sp.radsimp(-(1 + ex) * (ux * vx)[0, 0] / s)
+        _, s = _r.sympy_parts(Mx, ux)
+        return sp.radsimp(-_r.gain(s, ex) * (ux * vx)[0, 0])
     s = float(ux @ np.linalg.solve(Mx, ux))
-    return -(1 + ex) * float(ux @ vx) / s
+    return -_r.gain(s, ex) * float(ux @ vx)

@@ -72,6 +72,7 @@ from ..errors import ImpactInputError, UndecidableSign, VerificationError
 from ..mechanics import check_gradients, check_mass_matrix, check_velocity
 from ..numbers import is_exact
 from ..verify import verify_balls, verify_exact
+from . import _reflection as _r
 
 __all__ = [
     "resolve_two_surfaces",
@@ -384,8 +385,8 @@ def _iterate_exact(M, HA, HB, v, m):
     out, cur = [], v
     for k in range(m):
         h = HA if k % 2 == 0 else HB
-        w = M.LUsolve(h.T)
-        cur = (cur - 2 * w * (h * cur)[0, 0] / (h * w)[0, 0]).applyfunc(sp.radsimp)
+        w, s = _r.sympy_parts(M, h)
+        cur = _r.reflect_along(cur, w, (h * cur)[0, 0], _r.gain(s))[0].applyfunc(sp.radsimp)
         out.append(cur)
     return out
 

@@ -9,6 +9,7 @@ import math
 import numpy as np
 
 from ...arithmetic import certified_sign
+from .. import _reflection as _r
 from ..reflection import FLOAT_ERROR_FACTOR
 from .common import FLOAT_SAFETY, _EPS, _Algebraic, _Rational
 from .search import _aggregate, _explore
@@ -26,7 +27,7 @@ class _FloatSystem:
         W = np.linalg.solve(self.M, self.H.T)
         self.W = W.T.copy()
         self.s = np.einsum("ij,ij->i", self.H, self.W)
-        self.coef = 2.0 / self.s
+        self.coef = _r.gain(self.s, 1.0)
         kappa = float(np.linalg.cond(self.M))
         gamma = FLOAT_ERROR_FACTOR * self.n * kappa * _EPS
         vnorm = math.sqrt(max(float(self.v0 @ self.M @ self.v0), 0.0))
@@ -48,11 +49,7 @@ class _FloatSystem:
         return acc, bound
 
     def reflect(self, v, i, wi):
-        c = self.coef[i] * wi
-        out = list(v)
-        for j, wj in self.wcols[i]:
-            out[j] = v[j] - c * wj
-        return tuple(out), -c
+        return _r.reflect_sparse(v, self.wcols[i], self.coef[i] * wi)
 
     def impulse(self, order):
         v = tuple(float(x) for x in self.v0)

@@ -11,6 +11,7 @@ from flint import fmpq, fmpq_mat
 
 from ...arithmetic import certified_sign
 from ...errors import NonTermination
+from .. import _reflection as _r
 from .common import MAX_STATE_BITS, _Algebraic, _Rational, _all_rational, _dot
 
 
@@ -47,7 +48,7 @@ class _ExactSystem:
             Ws = M.LUsolve(H.T)
             self.W = [[F.norm(Ws[j, i]) for j in range(n)] for i in range(k)]
         self.s = [_dot(self.H[i], self.W[i], F) for i in range(k)]
-        self.coef = [F.norm(2 / s) if F is _Algebraic else fmpq(2) / s for s in self.s]
+        self.coef = [F.norm(_r.gain(s)) if F is _Algebraic else _r.gain(s, fmpq(1)) for s in self.s]
         self.rows = [[(j, h) for j, h in enumerate(r) if F.sign(h) != 0] for r in self.H]
         self.wcols = [[(j, w) for j, w in enumerate(c) if F.sign(w) != 0] for c in self.W]
         #: column i of the Gram matrix H M^-1 H^T, sparse: how w = H v changes when surface i acts
@@ -61,11 +62,7 @@ class _ExactSystem:
         F = self.F
         if wi is None:
             wi = self.w(v, i)
-        c = self.coef[i] * wi
-        out = list(v)
-        for j, wj in self.wcols[i]:
-            out[j] = F.norm(v[j] - c * wj)
-        return tuple(out), F.norm(-c)
+        return _r.reflect_sparse(v, self.wcols[i], self.coef[i] * wi, F.norm)
 
     def replay(self, order):
         v = self.v0
