@@ -35,6 +35,7 @@ from dataclasses import dataclass
 import sympy as sp
 
 from .errors import DomainError, ImpactInputError
+from .laws import _reflection as _r
 from .numbers import to_exact
 
 __all__ = ["simulate_line", "SimulationResult", "realize_ordering", "perturbed_scene_positions",
@@ -158,14 +159,12 @@ def simulate_line(masses, radii, positions, velocities, walls=(), *, max_events:
         t = t + dt
         x = [xi + vi * dt for xi, vi in zip(x, v)]
         if ev[0] == "pair":
-            _, a, b = ev
-            ma, mb = m[a], m[b]
-            va, vb = v[a], v[b]
-            v[a] = ((ma - mb) * va + 2 * mb * vb) / (ma + mb)
-            v[b] = ((mb - ma) * vb + 2 * ma * va) / (ma + mb)
+            _, a, b = ev  # G_u on (v_a, v_b), M = diag(m_a, m_b), u = (-1, 1)
+            wcol = (-1 / m[a], 1 / m[b])
+            (v[a], v[b]), _ = _r.reflect_along([v[a], v[b]], wcol, v[b] - v[a], _r.gain(1 / m[a] + 1 / m[b]))
         else:
-            _, wall, b, side = ev
-            v[b] = -v[b]
+            _, wall, b, side = ev  # G_u on v_b, M = (m_b), u = (side)
+            (v[b],), _ = _r.reflect_along([v[b]], [side / m[b]], side * v[b], _r.gain(1 / m[b]))
         events.append((t, _event_name(ev, name_pair)))
     raise DomainError(f"max_events: more than {max_events} collisions (the configured cap)")
 
