@@ -10,8 +10,11 @@ dimension in :mod:`derivations.impulse_ratio`)
     A p₁² + B p₁ + C = 0,   A = ½ aᵀHM⁻¹Hᵀa,   B = aᵀHv⁻,   C = (1 − e) T⁻,   D = B² − 4AC.
 
 The physical root is ``p₁ = (−B + √D)/(2A)`` (:func:`derivations.impulse_ratio.physical_root_proof`),
-evaluated in floats without cancellation as ``q/A``, ``q = (−B + √D)/2``, when ``B < 0``, and
-as ``−2C/(B + √D)`` when ``B > 0``.
+evaluated in floats by the generated kernel ``impactsym.kernels.impulse_ratio_root`` (the stable
+form of :mod:`derivations.impulse_ratio_root`: ``q/A``, ``q = (−B + √D)/2``, when ``B < 0``, and
+``−2C/(B + √D)`` otherwise). The exact and float paths restate ``A``, ``B``, ``C`` in their own
+arithmetic (fmpq, SymPy, float); ``tests/test_impulse_ratio_formula.py`` evaluates them against
+:func:`derivations.impulse_ratio.general_quadratic` at random rationals.
 
 **Δ.** :attr:`ImpulseRatioResult.delta` is ``D`` itself, in the units of ``B²``. The paper's Δ
 (eqs. 18, 27) is ``D`` normalized by ``B²`` (``delta_normalized``): its scenes have ``B = −1``
@@ -70,6 +73,7 @@ from typing import Any, Sequence
 import numpy as np
 import sympy as sp
 
+from .. import kernels
 from ..errors import DomainError, ImpactInputError
 from ..mechanics import check_gradients, check_mass_matrix, check_velocity
 from ..numbers import exact_json, exact_str, is_exact, to_exact
@@ -339,13 +343,13 @@ def energy_balance_along(Mx, Hx, vx, ex, a, *, exact: bool, allow_invalid: bool 
     if sD < 0:
         p = vplus = None
     else:
-        sq = np.sqrt(max(Df, 0.0)) if sD > 0 else 0.0  # D >= 0 was decided exactly
-        if sB < 0:
-            p1 = (-Bf + sq) / 2.0 / Af
-        elif Bf + sq > 0:
-            p1 = -2.0 * Cf / (Bf + sq)
+        # D >= 0 was decided exactly. The generated kernel impulse_ratio_root evaluates the stable
+        # form (q/A for B < 0, C/q otherwise); at a double root (D = 0 exactly) or when the float D
+        # rounds below 0 although D > 0, sqrt(D) is taken as 0 and the root is -B/(2A).
+        if sD > 0 and Df > 0:
+            p1 = float(kernels.impulse_ratio_root(Af, Bf, Cf)[0])
         else:
-            p1 = 0.0
+            p1 = -Bf / (2.0 * Af) if Bf != 0 else 0.0
         p = p1 * af
         vplus = vf + p1 * wf
     return ImpulseRatioResult(p, vplus, Df, dnorm, (Af, Bf, Cf), list(af), False, not violations, violations, notes)
