@@ -71,3 +71,25 @@ def test_primitive_equals_derivation_at_random_rationals():
 def test_float_searches_gain_is_the_elastic_gain():
     s = np.array([2.0, 0.5])
     assert list(r.gain(s, 1.0)) == [1.0, 4.0]
+
+
+def test_float_search_step_agrees_with_the_generated_kernel():
+    """The sequential float search reflects with the primitive on precomputed sparse columns (the
+    kernel would re-solve M at every step); each step agrees with ``kernels.reflect``."""
+    from impactsym import kernels
+    from impactsym.laws.sequential.float_search import _FloatSystem
+
+    rng = np.random.default_rng(11)
+    for _ in range(20):
+        n, k = int(rng.integers(2, 6)), int(rng.integers(1, 4))
+        L = rng.normal(size=(n, n))
+        M = L @ L.T + n * np.eye(n)
+        H = rng.normal(size=(k, n))
+        v = rng.normal(size=n)
+        fs = _FloatSystem(M, H, v, 10)
+        for i in range(k):
+            wi, _ = fs.w_and_bound(tuple(v), i)
+            got, p = fs.reflect(tuple(v), i, wi)
+            want = kernels.reflect(M, H[i], v)
+            assert np.allclose(got, want, rtol=1e-12, atol=1e-12 * np.abs(v).max())
+            assert np.allclose(M @ (np.array(got) - v), H[i] * p, rtol=1e-10, atol=1e-10)
