@@ -67,9 +67,10 @@ def _alternate(M, surfaces, v0, first: int, cap: int = 64):
     """Sequential single impacts on two surfaces (sec. III-B), with the intermediate velocities:
     reflect across the first surface, then across whichever surface the velocity still violates
     (``u v < 0``, decided exactly or from the symbols' assumptions), until valid. Every impact is
-    :func:`impactsym.laws.reflection.reflection_map` applied exactly (no rounding); used where a
-    claim needs the intermediate velocities or a symbolic ``v0``
-    (:func:`impactsym.laws.sequential.resolve_sequential` takes numbers and returns outcomes only).
+    :func:`impactsym.laws.reflection.reflection_map` applied exactly (no rounding; ``G_u`` itself is
+    never re-typed here). Used only where a claim needs the intermediate velocities or a symbolic
+    ``v0``: :func:`impactsym.laws.sequential.resolve_sequential` takes numbers and returns outcomes
+    only, and every claim that needs only the outcomes of numeric data calls it (:func:`_outcomes`).
 
     Returns the list of velocities ``[v0, v1, ...]`` and the surfaces hit.
 
@@ -1256,11 +1257,8 @@ def bound_N():
         base = [M.LUsolve(u.T), M.LUsolve(v.T)]
         for k in range(0, 13):  # v0 = −((12−k) w_u + k w_v)/12 sweeps the approach directions
             v0 = -(sp.Rational(12 - k, 12) * base[0] + sp.Rational(k, 12) * base[1])
-            for first in (0, 1):
-                if certified_sign(([u, v][first] * v0)[0, 0]) >= 0:
-                    continue
-                seq, _ = _alternate(M, [u, v], v0, first)
-                worst = max(worst, len(seq) - 1)
+            # the resolver, every first surface (only the counts are needed, not the iterates)
+            worst = max([worst] + [o.reflections_max for o in _outcomes(M, u.col_join(v), v0).outcomes])
         ok &= worst <= N
         rows.append({"case": name, "cos(kinetic angle)": c, "N = ceil(pi/beta)": N, "max impacts observed": worst})
     return Finding("exact-match" if ok else "refuted", published=r"N = \left\lceil\frac{S_{total}}{2S_0}\right\rceil",
@@ -1268,7 +1266,7 @@ def bound_N():
                    note="derivations.two_surface.paper_bound: S_0/S_total = β/(2π) in every dimension (β = π − kinetic angle), "
                         "so N = ⌈π/β⌉ (proved); impactsym.laws.sequential.termination_bound gives the same N on every example. "
                         "bound_versus_count: the exact maximum count never exceeds N and attains it (β/π = 1/4, 2/7, 1/3, 3/10). On the "
-                        "paper's examples the exact sequential count (impactsym.reflection_map) stays ≤ N over 13 approach "
+                        "paper's examples the exact sequential count (impactsym.laws.sequential.resolve_sequential) stays ≤ N over 13 approach "
                         "directions v0 = −((12−k)M⁻¹uᵀ + kM⁻¹vᵀ)/12, k = 0..12, both first surfaces.")
 
 
