@@ -155,6 +155,35 @@ def _pool_h(cos_theta):
     return _boundary("pool_h").subs(_c, cos_theta)
 
 
+_theta = sp.Symbol("theta", real=True)
+
+
+@lru_cache(maxsize=None)
+def _pool_factors():
+    """The two-contact pool curves' factors, in ``c = cos θ``, all read from the committed expressions:
+    ``c2`` (``w2⁺ = c2 p₁`` at contact 2-3: ``pool_tau_c2`` at τ = 0), ``A`` (``h``'s denominator is
+    ``2A``), ``w`` (``g``'s denominator is ``w²``, signed so that ``w = 2`` at α = 0: ``w1⁺ = −1 + w p₁``)
+    and the identity ``g − h = α² c2² / (2 A w²)``, checked exactly here (a failure is a bug)."""
+    from .errors import VerificationError
+
+    g, h = _boundary("pool_g"), _boundary("pool_h")
+    c2 = _boundary("pool_tau_c2").subs(sp.cos(_theta), _c)
+    A = sp.expand(sp.fraction(sp.together(h))[1] / 2)
+    base = sp.factor(sp.fraction(sp.together(g))[1])
+    if not (isinstance(base, sp.Pow) and base.exp == 2):
+        raise VerificationError("validity_domain", f"pool_g's denominator {base} is not a square")
+    w = base.base if certified_sign(base.base.subs(alpha, 0)) > 0 else sp.expand(-base.base)
+    if sp.cancel(g - h - alpha**2 * c2**2 / (2 * A * w**2)) != 0:
+        raise VerificationError("validity_domain", "g - h != alpha^2 c2^2 / (2 A w^2) for the committed curves")
+    return c2, A, w
+
+
+def _words(x, cs, order=None) -> str:
+    """``x`` (in ``c = cos θ``) as the domain's text: ``c`` read as ``cos(theta)`` for the pool, products spaced."""
+    x = x.subs(_c, sp.cos(_theta) if cs is None else cs)
+    return sp.sstr(x, order=order).replace("*", " ")
+
+
 def _ge(x, y) -> bool:
     return certified_sign(sp.sympify(x) - sp.sympify(y)) >= 0
 
@@ -162,22 +191,23 @@ def _ge(x, y) -> bool:
 def _chain_or_pool(cs, scene: str, theta) -> ValidityDomain:
     """The two-contact domain for ``c = cos θ`` (the chain is c = 1)."""
     g, h = _pool_g(cs), _pool_h(cs)
-    lo = sp.Max(0, cs / 2)
+    c2s, _, ws = _pool_factors()
+    c2, w = c2s.subs(_c, cs), ws.subs(_c, cs)  # w2+ = c2 p1 (contact 2-3), w1+ = -1 + w p1 (contact 1-2)
+    (root,) = sp.solve(c2s, alpha)  # c2 = 0
+    lo = sp.Max(0, root.subs(_c, cs))
     emin = sp.simplify(g.subs(alpha, lo))
     pool_ = scene == "pool"
-    cos_ = "cos(theta)" if pool_ else "1"
+    text_c = None if pool_ else sp.Integer(1)  # the text reads c as cos(theta) for the pool
     bnds = [
         Boundary("alpha_min", "alpha", lo,
-                 f"alpha >= {exact_str(lo)}: v2+ >= 0 at contact 2-3 (v2+ = (2 alpha - {cos_}) p1) and p2 = alpha p1 >= 0"),
+                 f"alpha >= {exact_str(lo)}: v2+ >= 0 at contact 2-3 (v2+ = ({_words(c2s, text_c)}) p1) and p2 = alpha p1 >= 0"),
         Boundary("g", "e", sp.simplify(g),
                  f"e >= g(alpha): v1+ >= 0 at contact 1-2 ({'eq. 29' if pool_ else 'eq. 19'}); g <= 1 iff alpha <= 1, "
                  "so alpha <= 1"),
         Boundary("h", "e", sp.simplify(h),
                  f"e >= h(alpha): Delta >= 0 ({'eq. 31, corrected' if pool_ else 'eq. 18'}); implied by e >= g since g - h = "
-                 + ("alpha^2 (2 alpha - cos(theta))^2 / (2 A (2 - alpha cos(theta))^2)" if pool_ else
-                    "alpha^2 (2 alpha - 1)^2 / (2 A (2 - alpha)^2)")
-                 + " >= 0; touches g at alpha = 0 and "
-                 f"alpha = {cos_}/2"),
+                 f"alpha^2 ({_words(c2s, text_c)})^2 / (2 A ({_words(ws, text_c, 'none')})^2) >= 0; touches g at alpha = 0 and "
+                 f"alpha = {_words(root, text_c)}"),
         Boundary("e_max", "e", sp.Integer(1), "e <= 1: dissipative energetic coefficient (eq. 12)"),
     ]
     ineq = [f"alpha >= {exact_str(lo)}", f"{exact_str(sp.simplify(g))} <= e <= 1"]
@@ -190,9 +220,9 @@ def _chain_or_pool(cs, scene: str, theta) -> ValidityDomain:
                               "g(1) = 1 closes it at (1, 1)")}
 
     def member(a, ee):
-        if not (_ge(ee, 0) and _ge(1, ee) and _ge(a, 0) and _ge(2 * a, cs)):
+        if not (_ge(ee, 0) and _ge(1, ee) and _ge(a, 0) and _ge(c2.subs(alpha, a), 0)):
             return False
-        if certified_sign(2 - a * cs) <= 0:  # w1+ = -1 + (2 - alpha c) p1 < 0
+        if certified_sign(w.subs(alpha, a)) <= 0:  # w1+ = -1 + w p1 < 0
             return False
         return _ge(ee, g.subs(alpha, a))
 

@@ -1,0 +1,27 @@
+"""The pool/chain domain's factors (c2, A, w) and its text are read from the committed curves
+(impactsym/kernels/domain_boundaries.py), not re-typed; here they are checked against the
+derivation (derivations.domains) and the paper's printed forms."""
+
+import sympy as sp
+
+from derivations import domains as dd
+from impactsym.domains import _c, _pool_factors, alpha, validity_domain
+
+
+def test_factors_come_from_the_committed_curves_and_match_the_derivation():
+    c2, A, w = _pool_factors()
+    cond = dd._pool_conditions()  # the derivation's conditions for the pool at tau = 0, in c
+    c = dd.c
+    assert sp.simplify(c2.subs(_c, c) - cond["contacts"][1]["c"]) == 0  # w2+ = c2 p1
+    assert sp.simplify(w.subs(_c, c) - cond["contacts"][0]["c"]) == 0  # w1+ = b1 + w p1
+    assert sp.simplify(A.subs(_c, c) - cond["A"]) == 0
+    assert cond["contacts"][0]["b"] == -1 and cond["contacts"][1]["b"] == 0
+
+
+def test_domain_text_is_printed_from_the_factors():
+    d = validity_domain("pool", "pi/5")
+    h = next(b for b in d.boundaries if b.name == "h")
+    assert "g - h = alpha^2 (2 alpha - cos(theta))^2 / (2 A (2 - alpha cos(theta))^2) >= 0" in h.condition
+    d = validity_domain("chain3")
+    h = next(b for b in d.boundaries if b.name == "h")
+    assert "g - h = alpha^2 (2 alpha - 1)^2 / (2 A (2 - alpha)^2) >= 0" in h.condition
