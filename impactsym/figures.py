@@ -37,7 +37,7 @@ __all__ = [
     "sm_fig5_cradle_kinetic_plane", "sm_sec3c_termination", "sm_three_surface_overgeneration",
     "at_fig3_domain", "at_domain_over_theta", "at_chain3_velocities", "at_fig4_bernoulli",
     "at_fig5_transmission", "outcomes_per_law", "laws_side_by_side", "speed_against_error",
-    "README_FIGURES", "write_readme_figures", "save",
+    "README_FIGURES", "write_readme_figures", "save", "show",
 ]
 
 
@@ -67,6 +67,21 @@ def save(fig, path) -> str:
     fig.savefig(path, dpi=100)
     _plt().close(fig)
     return str(path)
+
+
+def show(fig):
+    """The figure as an ``IPython.display.Image`` (PNG), for a notebook cell's last line; closes ``fig``.
+
+    With the Agg backend a bare ``Figure`` displays as text; this shows the picture, once.
+    """
+    import io
+
+    from IPython.display import Image
+
+    buf = io.BytesIO()
+    fig.savefig(buf, format="png", dpi=90)
+    _plt().close(fig)
+    return Image(data=buf.getvalue(), format="png")
 
 
 # --------------------------------------------------------------------------- kinetic coordinates
@@ -413,9 +428,10 @@ def sm_fig4_configuration_space(masses=("11/10", 1), v0=(-1, -2), *, gap_scale="
         four = all(n == 4 for n in lens.values()) and len(lens) == 2
         ax.fill(np.r_[0, np.cos(t), 0], np.r_[0, np.sin(t), 0], color="C0" if four else cmap[k % len(cmap)],
                 alpha=0.6 if four else 0.5, lw=0.3, ec="w")
-        mid = 0.72 * np.array([np.cos(t.mean()), np.sin(t.mean())])
-        ax.text(mid[0], mid[1], "/".join(f"{'uv'[f]}:{n}" for f, n in sorted(lens.items())), fontsize=6,
-                ha="center", va="center")
+        if a1 - a0 > 0.12:  # label the sectors wide enough to read
+            mid = 0.72 * np.array([np.cos(t.mean()), np.sin(t.mean())])
+            ax.text(mid[0], mid[1], "/".join(f"{'uv'[f]}:{n}" for f, n in sorted(lens.items())), fontsize=6,
+                    ha="center", va="center")
         if four and g in inside:
             claim = [g["from"], g["to"]]
     for ray in claim:
@@ -978,12 +994,13 @@ def outcomes_per_law(M, H, v, restitution=1, ratios=None) -> dict:
     return out
 
 
-def laws_side_by_side(scene="cradle", ratios=None):
+def laws_side_by_side(scene="cradle", ratios=None, *, max_drawn: int = 6):
     """One scene under every law (:func:`outcomes_per_law`): a panel per law, a bar per velocity component.
 
     ``scene``: ``"cradle"`` (5 balls, 2 strikers), ``"two-balls-wall"`` (masses 11/10, 1) or
     ``"pool"`` (the planar break at θ = π/4, ratio α₁₂ = 1 by default), or a
-    :class:`impactsym.scenes.Scene`.
+    :class:`impactsym.scenes.Scene`. At most ``max_drawn`` outcomes per law are drawn (the source
+    data hold them all).
 
     Examples
     --------
@@ -1011,15 +1028,16 @@ def laws_side_by_side(scene="cradle", ratios=None):
     fig, axes = plt.subplots(1, len(LAWS), figsize=(2.3 * len(LAWS), 3.8), sharey=True)
     for ax, law in zip(axes, LAWS):
         r = res[law]
-        m = max(1, len(r["outcomes"]))
-        w = 0.8 / m
-        for j, (o, ok) in enumerate(zip(r["outcomes"], r["valid"])):
+        shown = list(zip(r["outcomes"], r["valid"]))[:max_drawn]
+        w = 0.8 / max(1, len(shown))
+        for j, (o, ok) in enumerate(shown):
             ax.bar(np.arange(n) + j * w, _f(o), w, color=f"C{j % 10}", alpha=1 if ok else 0.35,
                    hatch=None if ok else "//")
         ax.axhline(0, color="k", lw=0.5)
         ax.set_xticks(np.arange(n))
         ax.set_xticklabels(sc.coordinates, fontsize=6, rotation=90)
-        ax.set_title(f"{law}\n{len(r['outcomes'])} outcome(s)" if r["outcomes"] else f"{law}\n(none)", fontsize=8)
+        more = f" ({len(shown)} drawn)" if len(shown) < len(r["outcomes"]) else ""
+        ax.set_title(f"{law}\n{len(r['outcomes'])} outcome(s){more}" if r["outcomes"] else f"{law}\n(none)", fontsize=8)
         if not r["outcomes"]:
             ax.text(0.5, 0.5, r["note"][:60], transform=ax.transAxes, fontsize=6, ha="center", wrap=True)
     axes[0].set_ylabel("exit velocity")
