@@ -34,8 +34,8 @@ from .numbers import exact_str
 
 __all__ = [
     "sm_fig1_convex_corner", "sm_fig2_concave_corner", "sm_fig4_configuration_space", "ordering_regions",
-    "sm_fig5_cradle_kinetic_plane", "sm_sec3c_termination", "sm_three_surface_overgeneration",
-    "at_fig3_domain", "at_domain_over_theta", "at_chain3_velocities", "at_fig4_bernoulli",
+    "sm_fig5_cradle_kinetic_plane", "sm_sec3c_termination", "two_surface_figure", "sm_three_surface_overgeneration",
+    "at_fig2_pool", "at_fig3_domain", "at_domain_over_theta", "domain_figure", "at_chain3_velocities", "at_fig4_bernoulli",
     "at_fig5_transmission", "outcomes_per_law", "laws_side_by_side", "speed_against_error",
     "README_FIGURES", "write_readme_figures", "save", "show",
 ]
@@ -548,14 +548,110 @@ def sm_fig5_cradle_kinetic_plane(masses=(1, 1, 1), v0=(1, 0, 0)):
 
 
 # --------------------------------------------------------------------------- sec. III-C
-def sm_sec3c_termination(M="1,0;0,1", H="1,0;-3,1", v0="-2,-7"):
-    """Seghete & Murphey sec. III-C: the termination argument as a picture.
+#: iterates drawn per branch by :func:`two_surface_figure` (the count itself is never capped)
+MAX_DRAWN_REFLECTIONS = 200
 
-    In kinetic coordinates the two surfaces bound a wedge of opening ``β`` (π minus the kinetic
-    angle); each pair of reflections rotates the velocity by ``2β``, so the branch that starts with
-    surface ``i`` ends after ``⌈ψᵢ/β⌉`` reflections and no branch needs more than ``N = ⌈π/β⌉``.
-    The counts, ``β`` and ``N`` are read from :func:`impactsym.laws.two_surface.resolve_two_surfaces`;
-    the iterates drawn are single reflections (:func:`impactsym.laws.reflection.reflect`).
+
+def _exact_inputs(M, H, v):
+    """``M``, ``H``, ``v`` checked and exact: float entries taken at their exact binary value (as the
+    laws decide float input)."""
+    from .mechanics import check_gradients, check_mass_matrix, check_velocity
+    from .numbers import float_to_rational
+
+    Mx = check_mass_matrix(M)
+    n = Mx.shape[0]
+    Hx, vx = check_gradients(H, n), check_velocity(v, n)
+
+    def ex(A):
+        A = sp.Matrix(np.asarray(A, dtype=object).tolist()) if not isinstance(A, sp.MatrixBase) else A
+        return A.applyfunc(lambda x: float_to_rational(float(x)) if isinstance(x, (float, np.floating))
+                           or getattr(x, "is_Float", False) else sp.sympify(x))
+    return ex(Mx), ex(Hx), ex(vx).reshape(n, 1)
+
+
+def two_surface_figure(M, H, v, *, title=None):
+    """The two-surface law as a picture, in any dimension: the plane of the two M-normals (sec. III-C).
+
+    In M-orthonormal coordinates of that plane the valid velocities form a wedge of opening ``β``
+    (π minus the kinetic angle); each pair of reflections rotates ``v`` by ``2β``, so the branch
+    that starts with surface ``i`` ends after ``⌈ψᵢ/β⌉`` reflections, never more than
+    ``N = ⌈π/β⌉``. The counts, ``β``, ``N`` and the exits are read from
+    :func:`impactsym.laws.two_surface.resolve_two_surfaces`; the drawn iterates are single
+    reflections (:func:`impactsym.laws.reflection.reflect`), at most :data:`MAX_DRAWN_REFLECTIONS`
+    per branch. One panel per branch.
+
+    Returns
+    -------
+    (Figure, dict) : ``counts`` (the law's, per first surface), ``iterated_counts`` (by explicit
+    iteration, ``None`` beyond the drawing cap), ``bound``, ``wedge_angle``, ``exits``.
+    """
+    from .laws.reflection import reflect
+    from .laws.two_surface import resolve_two_surfaces
+
+    plt = _plt()
+    Mx, Hx, vx = _exact_inputs(M, H, v)
+    if Hx.shape[0] != 2:
+        raise ImpactInputError("gradients", f"the two-surface picture needs exactly two rows, got {Hx.shape[0]}")
+    res = resolve_two_surfaces(Mx, Hx, vx)
+    Mf, e1, e2 = _plane_basis(Mx, Hx)
+    Hf = np.array(Hx.evalf(17).tolist(), dtype=float)
+
+    def coords(w):
+        wf = _f(w)
+        return np.array([wf @ Mf @ e1, wf @ Mf @ e2])
+
+    panels = len(res.outcomes)
+    fig, axes = plt.subplots(1, panels, figsize=(5.2 * panels, 5.2), squeeze=False)
+    counts, iterated = {}, {}
+    beta = float(res.wedge_angle)
+    t = np.linspace(0, 2 * np.pi, 721)
+    dirs = np.outer(np.cos(t), e1) + np.outer(np.sin(t), e2)
+    ok = ((dirs @ Hf.T) >= 0).all(axis=1)
+    x0 = coords(vx)
+    rad = float(np.linalg.norm(x0)) or 1.0
+    for ax, o in zip(axes[0], res.outcomes):
+        for k in range(len(t) - 1):
+            if ok[k] and ok[k + 1]:
+                ax.fill([0, 1.6 * np.cos(t[k]), 1.6 * np.cos(t[k + 1])], [0, 1.6 * np.sin(t[k]), 1.6 * np.sin(t[k + 1])],
+                        color="C2", alpha=0.25, lw=0)
+        ax.fill([], [], color="C2", alpha=0.25, label=f"valid wedge, opening beta = {beta:.6g} rad")
+        pts = [x0]
+        if o.first in (0, 1):
+            w, i, m = vx, o.first, 0
+            while not all(sp.sign(c) >= 0 for c in Hx * w) and m < MAX_DRAWN_REFLECTIONS:
+                w = reflect(Mx, Hx[i, :], w)
+                i, m = 1 - i, m + 1
+                pts.append(coords(w))
+            done = all(sp.sign(c) >= 0 for c in Hx * w)
+            iterated[str(o.first)] = m if done else None
+        if not iterated.get(str(o.first)):
+            pts.append(np.array([o.velocity_float @ Mf @ e1, o.velocity_float @ Mf @ e2]))
+        for k, p in enumerate(pts):
+            ax.plot([0, p[0] / rad], [0, p[1] / rad], color=plt.cm.viridis(k / max(1, len(pts) - 1)), lw=1.2)
+            if len(pts) <= 40:
+                ax.text(1.08 * p[0] / rad, 1.08 * p[1] / rad, str(k), fontsize=7, ha="center", va="center")
+        ax.plot(np.cos(t), np.sin(t), color="0.7", lw=0.5)
+        counts[str(o.first)] = o.reflections
+        ax.set_xlim(-1.3, 1.3)
+        ax.set_ylim(-1.3, 1.3)
+        ax.set_aspect("equal")
+        cap = "" if iterated.get(str(o.first)) is not None or o.first not in (0, 1) else \
+            f" ({MAX_DRAWN_REFLECTIONS} drawn)"
+        ax.set_title(f"first surface {o.first}: {o.reflections} reflections{cap} (law: ceil(psi/beta))\n"
+                     f"two reflections rotate v by 2 beta; bound N = ceil(pi/beta) = {res.bound}", fontsize=9)
+        ax.legend(fontsize=7, loc="lower left")
+    fig.suptitle(title or "The two-surface law in the plane of the two M-normals (iterate k; sec. III-C)", fontsize=10)
+    fig.tight_layout()
+    return fig, {"M": [_vs(Mx.row(i)) for i in range(Mx.shape[0])], "H": [_vs(Hx.row(i)) for i in range(2)],
+                 "v0": _vs(vx), "counts": counts, "iterated_counts": iterated, "bound": res.bound,
+                 "wedge_angle": str(res.as_dict()["wedge_angle"]), "kinetic_angle_cos": _s(res.kinetic_angle_cos),
+                 "exits": {str(o.first): (_vs(o.velocity) if o.exact else [float(x) for x in o.velocity_float])
+                           for o in res.outcomes}}
+
+
+def sm_sec3c_termination(M="1,0;0,1", H="1,0;-3,1", v0="-2,-7"):
+    """Seghete & Murphey sec. III-C: the termination argument as a picture (:func:`two_surface_figure`
+    on a wedge of about 18.4°, so that the rotation by ``2β`` is visible step by step).
 
     Examples
     --------
@@ -563,49 +659,8 @@ def sm_sec3c_termination(M="1,0;0,1", H="1,0;-3,1", v0="-2,-7"):
     >>> src["counts"], src["bound"], src["iterated_counts"] == src["counts"]
     ({'0': 9, '1': 10}, 10, True)
     """
-    from .laws.reflection import reflect
-    from .laws.two_surface import resolve_two_surfaces
-    from .mechanics import check_gradients, check_mass_matrix, check_velocity
-
-    plt = _plt()
-    Mx = check_mass_matrix(M, exact=True)
-    Hx = check_gradients(H, Mx.shape[0], exact=True)
-    vx = check_velocity(v0, Mx.shape[0], exact=True)
-    if Mx.shape[0] != 2:
-        raise ImpactInputError("mass_matrix", "the termination picture is planar (2x2)")
-    res = resolve_two_surfaces(Mx, Hx, vx)
-    L = _kinetic_frame(Mx)
-    fig, axes = plt.subplots(1, len(res.outcomes), figsize=(5.2 * len(res.outcomes), 5.2), squeeze=False)
-    counts, iterated = {}, {}
-    beta = float(res.wedge_angle)
-    for ax, o in zip(axes[0], res.outcomes):
-        _shade_cone(ax, L, Hx, radius=1.6, label=f"valid wedge, opening beta = {beta:.4f} rad")
-        x0 = _kin(L, vx)
-        rad = float(np.linalg.norm(x0))
-        v, i, m = vx, o.first, 0
-        pts = [x0]
-        while not all(w >= 0 for w in Hx * v):  # iterate the forced alternation until valid
-            v = reflect(Mx, Hx[i, :], v)
-            i, m = 1 - i, m + 1
-            pts.append(_kin(L, v))
-        for k, p in enumerate(pts):
-            ax.plot([0, p[0] / rad], [0, p[1] / rad], color=plt.cm.viridis(k / max(1, len(pts) - 1)), lw=1.2)
-            ax.text(1.07 * p[0] / rad, 1.07 * p[1] / rad, str(k), fontsize=7, ha="center", va="center")
-        tt = np.linspace(0, 2 * np.pi, 200)
-        ax.plot(np.cos(tt), np.sin(tt), color="0.7", lw=0.5)
-        counts[str(o.first)], iterated[str(o.first)] = o.reflections, m
-        ax.set_xlim(-1.3, 1.3)
-        ax.set_ylim(-1.3, 1.3)
-        ax.set_aspect("equal")
-        ax.set_title(f"first surface {o.first}: {o.reflections} reflections (law: ceil(psi/beta))\n"
-                     f"every two reflections rotate v by 2 beta; bound N = ceil(pi/beta) = {res.bound}", fontsize=9)
-        ax.legend(fontsize=7, loc="lower left")
-    fig.suptitle("Seghete & Murphey sec. III-C: termination for two surfaces (kinetic coordinates; k = iterate)")
-    fig.tight_layout()
-    return fig, {"M": [_vs(Mx.row(i)) for i in range(2)], "H": [_vs(Hx.row(i)) for i in range(2)],
-                 "v0": _vs(vx), "counts": counts, "iterated_counts": iterated, "bound": res.bound,
-                 "wedge_angle": str(res.as_dict()["wedge_angle"]), "kinetic_angle_cos": _s(res.kinetic_angle_cos),
-                 "exits": {str(o.first): _vs(o.velocity) for o in res.outcomes}}
+    return two_surface_figure(M, H, v0, title="Seghete & Murphey sec. III-C: termination for two surfaces "
+                                              "(kinetic coordinates; k = iterate)")
 
 
 # --------------------------------------------------------------------------- three surfaces
@@ -668,6 +723,52 @@ def sm_three_surface_overgeneration(masses=(1, 3, 4), velocities=(-1, -3, 0),
 
 
 # --------------------------------------------------------------------------- Acary & Taha
+def at_fig2_pool(theta="pi/4", tau=0):
+    """Acary & Taha Fig. 2: the pool, ball 1 striking balls 2 and 3 (sec. 4.1).
+
+    The centres (:func:`impactsym.models.acary_taha.pool_positions`), ball 1's incoming velocity and
+    the contact normals are those of the scene :func:`impactsym.models.acary_taha.pool` (its
+    gradient rows); the kinetic angle between the two contacts is
+    :func:`impactsym.mechanics.kinetic_angle_cos` (eq. 42).
+
+    Examples
+    --------
+    >>> fig, src = at_fig2_pool("pi/3")
+    >>> src["contacts"], src["cos_kinetic_angle_12"]
+    (['1-2', '2-3'], '-1/4')
+    """
+    from .mechanics import kinetic_angle_cos
+    from .models.acary_taha import pool, pool_positions
+
+    plt = _plt()
+    sc = pool(sp.sympify(theta), sp.sympify(tau))
+    P = [_f(p) for p in pool_positions(sp.sympify(theta))]
+    fig, ax = plt.subplots(figsize=(6, 4.5))
+    for i, c in enumerate(P):
+        ax.add_patch(plt.Circle(c, 1, fill=False, lw=1.2))
+        ax.text(c[0], c[1], str(i + 1), ha="center", va="center")
+    vin = _f(sc.v)[:2]
+    ax.annotate("", xy=P[0], xytext=P[0] - 1.6 * vin, arrowprops=dict(arrowstyle="->", lw=2, color="C0"))
+    Hf = np.array(sc.H.evalf(17).tolist(), dtype=float)
+    pairs = [tuple(int(x) - 1 for x in c.split("-")) for c in sc.contacts]
+    for (i, j), row in zip(pairs, Hf):
+        mid = (P[i] + P[j]) / 2
+        d = row[2 * j:2 * j + 2]  # the gradient on ball j: the normal pushing j away from i
+        ax.annotate("", xy=mid + 0.8 * d, xytext=mid, arrowprops=dict(arrowstyle="->", color="C3"))
+    ax.plot([], [], color="C0", label="velocity of ball 1")
+    ax.plot([], [], color="C3", label="contact normals (gradient rows)")
+    cosk = kinetic_angle_cos(sc.M, sc.H[0, :], sc.H[1, :])
+    ax.set_aspect("equal")
+    ax.set_xlim(-5, 4)
+    ax.set_ylim(-4, 2.5)
+    ax.legend(fontsize=8, loc="lower right")
+    ax.set_title(f"Acary & Taha Fig. 2: the pool, theta = {_s(theta)}, tau = {_s(tau)}; "
+                 f"cos(kinetic angle 1-2, 2-3) = {_s(cosk)}", fontsize=9)
+    fig.tight_layout()
+    return fig, {"theta": _s(theta), "tau": _s(tau), "contacts": list(sc.contacts), "v0": _vs(sc.v),
+                 "cos_kinetic_angle_12": _s(cosk)}
+
+
 def at_fig3_domain(theta="pi/4", *, printed_h=None, alpha_max=1.5):
     """Acary & Taha Fig. 3: the pool's valid domain in ``(α₁₂, e)`` at θ, from the derived curves.
 
@@ -700,7 +801,7 @@ def at_fig3_domain(theta="pi/4", *, printed_h=None, alpha_max=1.5):
     lo = dom.region["alpha"][0]
     for a in (lo, (lo + 1) / 2, sp.Integer(1)):
         a = sp.nsimplify(a)
-        pts.append([_s(a), _s(sp.radsimp(g.subs(A, a)))])
+        pts.append([_s(a), _s(sp.radsimp(sp.simplify(g.subs(A, a))))])
     src["boundary_points"] = pts
     if printed_h is not None:
         expr = sp.sympify(printed_h).subs({s: A for s in sp.sympify(printed_h).free_symbols if s.name == "alpha"})
@@ -760,6 +861,71 @@ def at_domain_over_theta(thetas=None):
     fig.suptitle("Acary & Taha: the pool's valid domain as theta varies")
     fig.tight_layout()
     return fig, {"panels": panels}
+
+
+def domain_figure(scene: str, theta=None, tau=None):
+    """The validity domain that :func:`impactsym.domains.validity_domain` returns, drawn (what
+    ``impactsym domain --plot`` writes).
+
+    ``chain3``: eq. 19's domain (the pool's curves at θ = 0); ``pool`` without θ: the small
+    multiples of :func:`at_domain_over_theta`; ``pool`` at θ: :func:`at_fig3_domain` (the
+    three-contact panel at θ = 2π/3); at ``τ ≠ 0`` the mapped curves ``g_tau``, ``h_tau`` as the
+    library gives them (an empty domain is drawn empty, with its reason).
+
+    Examples
+    --------
+    >>> fig, src = domain_figure("pool", "pi/4", "pi/6")
+    >>> src["e"]
+    ['4/7', '1']
+    """
+    from .domains import alpha as A, plot_domain, validity_domain
+
+    plt = _plt()
+    if scene == "pool" and theta is None:
+        if tau is not None:
+            raise ImpactInputError("tau", "needs theta (the domain at one (theta, tau))")
+        return at_domain_over_theta()
+    dom = validity_domain(scene, theta, tau)
+    src = {"scene": scene, "theta": None if dom.theta is None else _s(dom.theta),
+           "tau": None if dom.tau is None else _s(dom.tau), "empty": bool(dom.region["empty"])}
+    if scene == "chain3":
+        fig, ax = plt.subplots(figsize=(6, 4.5))
+        plot_domain(0, None, ax=ax)
+        ax.set_title("Acary & Taha eq. 19: valid domain of the 3-ball chain (the pool's curves at theta = 0)",
+                     fontsize=9)
+        fig.tight_layout()
+    elif tau is None or sp.sympify(tau) == 0:
+        if len(dom.boundaries) == 4:
+            return at_fig3_domain(dom.theta)
+        fig, s2 = at_domain_over_theta([dom.theta])
+    elif dom.region["empty"]:
+        fig, ax = plt.subplots(figsize=(6, 4.5))
+        ax.text(0.5, 0.5, "empty domain:\n" + dom.region["description"], ha="center", va="center", wrap=True,
+                fontsize=8, transform=ax.transAxes)
+        ax.set_xlabel("alpha_12")
+        ax.set_ylabel("e")
+        fig.tight_layout()
+        return fig, src
+    else:
+        fig, ax = plt.subplots(figsize=(6, 4.5))
+        xs = np.linspace(0, 1.5, 400)
+        b = {x.name: x.expression for x in dom.boundaries}
+        g = sp.lambdify(A, b["g_tau"], "numpy")(xs) * np.ones_like(xs)
+        h = sp.lambdify(A, b["h_tau"], "numpy")(xs) * np.ones_like(xs)
+        ax.plot(xs, g, label="g_tau: v1+ = 0 at this (theta, tau)")
+        ax.plot(xs, h, ls="--", label="h_tau: Delta = 0")
+        lo, hi = (float(sp.N(x, 17)) for x in dom.region["alpha"])
+        m = (xs >= lo) & (xs <= hi)
+        ax.fill_between(xs[m], g[m], 1, color="C2", alpha=0.3, label="valid domain")
+        ax.set_xlim(0, 1.5)
+        ax.set_ylim(0, 1.05)
+        ax.set_xlabel("alpha_12")
+        ax.set_ylabel("e")
+        ax.legend(fontsize=8, loc="lower right")
+        ax.set_title(f"valid domain of the pool, theta = {_s(dom.theta)}, tau = {_s(dom.tau)}", fontsize=10)
+        fig.tight_layout()
+    src.update(alpha=_vs(dom.region["alpha"]), e=_vs(dom.region["e"]))
+    return fig, src
 
 
 def at_chain3_velocities(restitutions=("1", "9/10", "2/3", "1/3"), alphas=None):

@@ -223,3 +223,31 @@ def test_save_writes_a_png(tmp_path):
     fig, _ = F.sm_fig1_convex_corner()
     path = F.save(fig, tmp_path / "f.png")
     assert Path(path).read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+
+
+def test_two_surface_figure_any_dimension_float_input_and_large_counts():
+    fig, src = F.two_surface_figure(np.diag([1.1, 1.0]), [[1.0, 0], [-1, 1]], [-1.0, -2])
+    assert src["counts"] == src["iterated_counts"] == {"0": 4, "1": 4}
+    fig, src = F.two_surface_figure("1,0,0;0,1,0;0,0,1", "-1,1,0;0,-1,1", "1,1,0")
+    assert src["exits"] == {"1": ["0", "1", "1"]} and src["iterated_counts"] == {"1": 2}
+    fig, src = F.two_surface_figure("1,0;0,1", "1,0;-1000000,1", "-1,0")  # 1570797 reflections, not iterated
+    assert src["counts"] == {"0": 1570797} and src["iterated_counts"] == {"0": None} and src["bound"] == 3141593
+    with pytest.raises(F.ImpactInputError, match="two rows"):
+        F.two_surface_figure("1,0;0,1", "1,0", "-1,0")
+
+
+@pytest.mark.parametrize("args", [("chain3",), ("pool", "pi/4"), ("pool", "2*pi/3"), ("pool", "pi/4", "pi/6"),
+                                  ("pool", "pi/4", "pi")])
+def test_domain_figure_draws_the_validity_domain(args):
+    fig, src = F.domain_figure(*args)
+    dom = validity_domain(*args)
+    if dom.region["empty"]:
+        assert src["empty"]
+    else:
+        assert [sp.sympify(x) for x in src["e"]] == list(dom.region["e"])
+
+
+def test_fig2_pool_kinetic_angle_is_eq42_corrected_sign():
+    fig, src = F.at_fig2_pool("pi/3")
+    assert src["cos_kinetic_angle_12"] == "-1/4"  # -cos(theta)/2 at theta = pi/3
+    assert src["v0"][:2] == ["1/2", "sqrt(3)/2"]
