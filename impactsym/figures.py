@@ -36,7 +36,7 @@ __all__ = [
     "sm_fig1_convex_corner", "sm_fig2_concave_corner", "sm_fig4_configuration_space", "ordering_regions",
     "sm_fig5_cradle_kinetic_plane", "sm_sec3c_termination", "two_surface_figure", "sm_three_surface_overgeneration",
     "at_fig2_pool", "at_fig3_domain", "at_domain_over_theta", "domain_figure", "at_chain3_velocities", "at_fig4_bernoulli",
-    "at_fig5_transmission", "outcomes_per_law", "laws_side_by_side", "speed_against_error",
+    "at_fig5_transmission", "outcomes_per_law", "laws_side_by_side", "resolve_figure", "speed_against_error",
     "README_FIGURES", "write_readme_figures", "save", "show",
 ]
 
@@ -1213,6 +1213,52 @@ def laws_side_by_side(scene="cradle", ratios=None, *, max_drawn: int = 6):
            "laws": {law: {"outcomes": [_vs(o) for o in r["outcomes"]], "valid": list(r["valid"]), "note": r["note"]}
                     for law, r in res.items()}}
     return fig, src
+
+
+def resolve_figure(law: str, M, H, v, result: dict):
+    """The picture for one ``impactsym resolve`` answer (what ``--plot`` writes).
+
+    Two surfaces (``--law two-surface``, or ``--law sequential`` with two linearly independent
+    rows): :func:`two_surface_figure`, the law in the plane of the two M-normals. Otherwise the
+    velocities before and after, one bar group per coordinate, read from ``result`` (the CLI's JSON
+    answer, so the picture shows exactly the outcomes printed).
+
+    Examples
+    --------
+    >>> r = {"law": "newton", "velocity_float": [-1/3, 2/3, 2/3], "valid": True}
+    >>> fig, src = resolve_figure("newton", "1,0,0;0,1,0;0,0,1", "-1,1,0;0,-1,1", "1,0,0", r)
+    >>> src["kind"], src["outcomes_float"]
+    ('velocities', [[-0.3333333333333333, 0.6666666666666666, 0.6666666666666666]])
+    """
+    Mx, Hx, vx = _exact_inputs(M, H, v)
+    if law == "two-surface" or (law == "sequential" and Hx.shape[0] == 2 and Hx.rank() == 2):
+        fig, src = two_surface_figure(Mx, Hx, vx, title=f"impactsym resolve --law {law}: the two surfaces in the "
+                                                        "plane of their M-normals (iterate k)")
+        src["kind"] = "two-surface"
+        return fig, src
+    plt = _plt()
+    if result.get("outcomes"):
+        outs = [o["velocity_float"] for o in result["outcomes"]]
+    elif result.get("velocity_float") is not None:
+        outs = [result["velocity_float"]]
+    else:
+        outs = []
+    n = Mx.shape[0]
+    fig, ax = plt.subplots(figsize=(max(5.0, 0.9 * n + 2), 4))
+    groups = [("v- (before)", _f(vx))] + [(f"v+ outcome {j + 1}" if len(outs) > 1 else "v+ (after)", np.asarray(o, float))
+                                          for j, o in enumerate(outs[:8])]
+    w = 0.8 / len(groups)
+    for j, (label, vals) in enumerate(groups):
+        ax.bar(np.arange(n) + j * w, vals, w, label=label, color="0.6" if j == 0 else f"C{(j - 1) % 10}")
+    ax.axhline(0, color="k", lw=0.5)
+    ax.set_xticks(np.arange(n) + 0.4 - w / 2)
+    ax.set_xticklabels([f"q{i + 1}" for i in range(n)])
+    more = f" ({len(outs)} outcomes, 8 drawn)" if len(outs) > 8 else ""
+    valid = result.get("valid")
+    ax.set_title(f"impactsym resolve --law {law}{more}" + ("" if valid is None else f"; valid: {valid}"), fontsize=10)
+    ax.legend(fontsize=7)
+    fig.tight_layout()
+    return fig, {"kind": "velocities", "law": law, "v0": _vs(vx), "outcomes_float": [list(map(float, o)) for o in outs]}
 
 
 # --------------------------------------------------------------------------- benchmark

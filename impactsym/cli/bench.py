@@ -29,6 +29,9 @@ def run(args) -> dict:
 
     from .. import benchmark
 
+    from .plot import plot_path
+
+    path = plot_path(args)  # checked before the (long) work
     formulas = None
     if args.formula:
         for f in args.formula:
@@ -40,8 +43,8 @@ def run(args) -> dict:
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
         result = benchmark.run(quick=args.quick, formulas=formulas, progress=progress)
-    if args.plot:
-        benchmark.plot(result, args.plot)
+    if path is not None:
+        benchmark.plot(result, path)
     return result
 
 

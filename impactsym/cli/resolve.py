@@ -11,6 +11,7 @@ import importlib
 
 from ..errors import ImpactInputError
 from .common import add_json_flag
+from .plot import add_plot_option, plot_path, write_figure
 
 #: CLI law name -> "module:function" (module relative to impactsym)
 LAWS: dict[str, str] = {
@@ -50,6 +51,8 @@ def register(sub) -> None:
     p.add_argument("--two-surface-path", metavar="P", help="sequential: closed-form (default) or iterate")
     p.add_argument("--n-balls", metavar="N", help="sequential scenes cradle, balls-against-wall: number of balls")
     p.add_argument("--strikers", metavar="K", help="sequential scene cradle: number of striking balls")
+    add_plot_option(p, "the picture of the answer (two surfaces: the law in the plane of their M-normals; "
+                       "otherwise the velocities before and after)")
     add_json_flag(p)
     p.set_defaults(func=run, _resolve_parser=p)
 
@@ -57,9 +60,27 @@ def register(sub) -> None:
 def run(args) -> dict:
     if args.law not in LAWS:
         raise ImpactInputError("law", f"unknown law {args.law!r}; known: {', '.join(LAWS) or '(none yet)'}")
+    path = plot_path(args)  # checked before the work
     module_name, func_name = LAWS[args.law].split(":")
     module = importlib.import_module(f"impactsym.{module_name}")
-    return getattr(module, func_name)(args)
+    result = getattr(module, func_name)(args)
+    if path is not None:
+        from ..figures import resolve_figure
+
+        M, H, v = _system(args)
+        write_figure(resolve_figure(args.law, M, H, v, result)[0], path)
+    return result
+
+
+def _system(args):
+    """``(M, H, v)`` as the law read them (exact), for ``--plot``."""
+    if args.law == "sequential":
+        from .resolve_sequential import _read
+
+        return _read(args)[:3]
+    from .scene_args import read_scene
+
+    return read_scene(args)[:3]
 
 
 def render(result: dict) -> str:
