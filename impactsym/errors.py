@@ -10,7 +10,8 @@ True
 
 from __future__ import annotations
 
-__all__ = ["ImpactError", "ImpactInputError", "DomainError", "NonTermination", "UndecidableSign"]
+__all__ = ["ImpactError", "ImpactInputError", "DomainError", "NonTermination", "UndecidableSign",
+           "VerificationError"]
 
 
 class ImpactError(Exception):
@@ -46,3 +47,21 @@ class NonTermination(ImpactError, RuntimeError):
 class UndecidableSign(ImpactError, ArithmeticError):
     """An exact sign could not be certified (for instance a transcendental expression
     that is zero to every precision tried). Never guessed: raised instead."""
+
+
+class VerificationError(AssertionError):
+    """A certified or exact outcome failed the check its law runs before returning it
+    (``H v⁺ ≥ 0`` on the closed contacts, the kinetic energy, the momentum balance, the count).
+
+    This is a bug in impactsym, not bad input: it is deliberately *not* an :class:`ImpactError`
+    (the CLI exits with status 1), and it is raised instead of returning the outcome.
+
+    >>> issubclass(VerificationError, ImpactError)
+    False
+    """
+
+    def __init__(self, law: str, condition: str):
+        self.law = law
+        self.condition = condition
+        super().__init__(f"{law}: verification of the outcome failed: {condition} (a bug in impactsym; "
+                         "the outcome was not returned)")

@@ -79,7 +79,9 @@ def _exact_zero(x: sp.Expr) -> bool | None:
     if x.is_zero is not None:
         return bool(x.is_zero)
     try:
-        simp = sp.radsimp(sp.simplify(x))  # exact rewriting only: nsimplify would round
+        # no nsimplify here: it rounds a tiny non-zero number (pi - acos(-1 + 1e-300)) to 0,
+        # which is a guess, not a proof
+        simp = sp.radsimp(sp.simplify(x))
         if simp == 0:
             return True
     except Exception:  # pragma: no cover - simplify failures are not decisions

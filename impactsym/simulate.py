@@ -116,6 +116,7 @@ def simulate_line(masses, radii, positions, velocities, walls=(), *, max_events:
             wall_contacts.append((wall, b, side))
     t = sp.Integer(0)
     events = []
+    v0 = list(v)
 
     def name_pair(a, b):
         i, j = min(a, b), max(a, b)
@@ -145,6 +146,7 @@ def simulate_line(masses, radii, positions, velocities, walls=(), *, max_events:
                 elif dt == best[0]:
                     tied.append(cand)
         if best is None:
+            _verify_final(m, v0, v, bool(w))
             return SimulationResult(v, x, events, t)
         if tied:
             names = [_event_name(c[1], name_pair) for c in [best] + tied]
@@ -166,6 +168,17 @@ def simulate_line(masses, radii, positions, velocities, walls=(), *, max_events:
             v[b] = -v[b]
         events.append((t, _event_name(ev, name_pair)))
     raise DomainError(f"max_events: more than {max_events} collisions (the configured cap)")
+
+
+def _verify_final(m, v0, v, walls: bool) -> None:
+    """The exact final velocities conserve the kinetic energy (every collision is elastic) and,
+    without walls, the momentum; checked before they are returned (a failure is a bug)."""
+    from .errors import VerificationError
+
+    if sum(mi * vi * vi for mi, vi in zip(m, v)) != sum(mi * vi * vi for mi, vi in zip(m, v0)):
+        raise VerificationError("simulate_line", "the final kinetic energy differs from the initial one")
+    if not walls and sum(mi * vi for mi, vi in zip(m, v)) != sum(mi * vi for mi, vi in zip(m, v0)):
+        raise VerificationError("simulate_line", "the final momentum differs from the initial one")
 
 
 def _event_name(ev, name_pair):

@@ -75,7 +75,7 @@ def corrupt(obj: Any) -> Any:
     ``obj`` can be corrupted (a mutation must never be a silent no-op).
 
     >>> corrupt(sp.Rational(1, 2))
-    101/194
+    99/194
     >>> corrupt(sp.Matrix([[1, 0]]))
     Matrix([[98/97, 0]])
     """
@@ -193,6 +193,12 @@ def applied(name: str):
     finally:
         for mod, key in patched:
             setattr(mod, key, original)
+        # a module first imported under the mutation bound the replacement (``from x import f``): undo that too
+        for mname, mod in list(sys.modules.items()):
+            if mod is not None and _in_scope(mname):
+                for key, value in list(vars(mod).items()):
+                    if value is replacement:
+                        setattr(mod, key, original)
         clear_caches()
 
 

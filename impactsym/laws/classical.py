@@ -329,10 +329,22 @@ def _finish(law, exact, sc, p, extra_violations=(), notes=(), details=None, uniq
                                         f"{_str(sc, Hv[j, 0])} < 0", j + 1))
     if sign_of(Tplus - sc.T) > 0:
         violations.append(Violation("energy-increase", f"energy-increase: T+ = {_str(sc, Tplus)} > T- = {_str(sc, sc.T)}"))
+    if exact:
+        _verify(law, sc, vplus, p, valid=not violations)
     conv = _values(sc, exact)
     return ClassicalResult(law, conv(p), conv(vplus), exact, not violations, violations, conv(sc.T), conv(Tplus),
                            unique, [conv(o) for o in others], list(notes),
                            {k_: conv(v_) for k_, v_ in (details or {}).items()})
+
+
+def _verify(law, sc, vplus, p, *, valid):
+    """Verify an exact outcome before it is returned (:func:`impactsym.verify.verify_exact`):
+    the momentum balance ``M(v⁺ − v) = Hᵀp`` always; when the law labels it valid also
+    ``H v⁺ ≥ 0``, ``p ≥ 0`` and ``T⁺ ≤ T⁻`` (the classical laws dissipate)."""
+    from ..verify import verify_exact
+
+    verify_exact(law, sc.M, sc.H, sc.v, vplus, p, energy_ratio=None, closed=None if valid else [],
+                 impulse_nonnegative=valid, energy_at_most=1 if valid else None)
 
 
 def _str(sc, x) -> str:
@@ -625,6 +637,9 @@ def han_gilmore(mass_matrix, gradients, velocity, restitution=1, *, max_stages: 
     explore(sc.v, la.zeros(sc.k, 1), [], 0)
     if not outcomes:
         raise NonTermination(f"Han-Gilmore: no sequence of impacts ends within max_stages = {max_stages} stages")
+    if exact:
+        for v, p, _ in outcomes:
+            _verify("han-gilmore", sc, v, p, valid=True)
     conv = _values(sc, exact)
     outs = [HanGilmoreOutcome(conv(v), conv(p), seqs, conv(sc.energy(v))) for v, p, seqs in outcomes]
     notes = ["stages: Newton's law as an equality on every set J of closed contacts with H_i v <= 0 containing "

@@ -34,7 +34,7 @@ import sympy as sp
 from ..exact import certified_sign
 from ..numbers import float_to_rational
 
-__all__ = ["ExactLinearAlgebra", "exact_data", "rational_matrix", "to_sympy_rational", "to_sympy_matrix", "sign_of", "sign_surd", "delassus"]
+__all__ = ["ExactLinearAlgebra", "exact_data", "exact_rank", "rational_matrix", "to_sympy_rational", "to_sympy_matrix", "sign_of", "sign_surd", "delassus"]
 
 
 def _fmpq(x) -> flint.fmpq | None:
@@ -222,7 +222,7 @@ class ExactLinearAlgebra:
     def rank(self, A) -> int:
         if self.kind == "rational":
             return A.rank()
-        return A.applyfunc(sp.nsimplify).rank(simplify=True)
+        return exact_rank(A)
 
     def to_sympy(self, X):
         if self.kind == "sympy":
@@ -230,6 +230,68 @@ class ExactLinearAlgebra:
         if isinstance(X, flint.fmpq_mat):
             return to_sympy_matrix(X)
         return to_sympy_rational(X) if isinstance(X, flint.fmpq) else sp.sympify(X)
+
+
+def exact_rank(A) -> int:
+    """The rank of a matrix of exact SymPy numbers, decided exactly (no rounding, no ``nsimplify``).
+
+    Rational and algebraic entries (``sqrt(2)``, ``cos(pi/5)`` once SymPy writes it as a surd) are
+    reduced in their number field (``DomainMatrix`` over ``QQ`` or ``QQ<...>``); any other entries by
+    Gaussian elimination whose every zero test is :func:`impactsym.exact.certified_sign` (which
+    raises rather than guess).
+
+    Parameters
+    ----------
+    A : sympy.Matrix of numbers (no free symbols)
+
+    Returns
+    -------
+    int
+
+    Raises
+    ------
+    ValueError
+        ``A`` has free symbols.
+
+    Examples
+    --------
+    A non-singular matrix whose determinant is ``-13*sqrt(2)/10**34`` (``nsimplify`` rounds it to a
+    singular one):
+
+    >>> A = sp.Matrix([[sp.sqrt(2), 1], [1, sp.sqrt(2) / 2 - sp.Rational(13, 10**34)]])
+    >>> exact_rank(A), exact_rank(sp.Matrix([[sp.sqrt(2), 1], [1, sp.sqrt(2) / 2]]))
+    (2, 1)
+    >>> exact_rank(sp.Matrix([[sp.pi, 1], [1, 1 / sp.pi]])), exact_rank(sp.Matrix([[sp.pi, 1], [1, sp.E]]))
+    (1, 2)
+    """
+    from sympy.polys.matrices import DomainMatrix
+
+    A = sp.Matrix(A)
+    if A.free_symbols:
+        raise ValueError(f"A: exact_rank needs numbers, got the symbols {sorted(map(str, A.free_symbols))}")
+    if A.rows == 0 or A.cols == 0:
+        return 0
+    try:
+        dM = DomainMatrix.from_Matrix(A, extension=True)
+    except Exception:  # noqa: BLE001 - no number field found: fall back to certified elimination
+        dM = None
+    if dM is not None and (dM.domain.is_ZZ or dM.domain.is_QQ or dM.domain.is_AlgebraicField):
+        return dM.to_field().rank()
+    rows = [[sp.sympify(x) for x in A.row(i)] for i in range(A.rows)]
+    rank, col = 0, 0
+    while rank < len(rows) and col < A.cols:
+        pivot = next((i for i in range(rank, len(rows)) if certified_sign(rows[i][col]) != 0), None)
+        if pivot is None:
+            col += 1
+            continue
+        rows[rank], rows[pivot] = rows[pivot], rows[rank]
+        pr = rows[rank]
+        for i in range(rank + 1, len(rows)):
+            f = rows[i][col] / pr[col]
+            rows[i] = [sp.radsimp(rows[i][j] - f * pr[j]) for j in range(A.cols)]
+        rank += 1
+        col += 1
+    return rank
 
 
 def tidy(x):

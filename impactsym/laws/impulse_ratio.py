@@ -306,6 +306,11 @@ def energy_balance_along(Mx, Hx, vx, ex, a, *, exact: bool, allow_invalid: bool 
     if violations and not allow_invalid:
         raise DomainError(f"{law} outside its domain: " + "; ".join(v.message for v in violations))
 
+    # verify the exact outcome before it is returned (the law's equations always; the sign
+    # conditions when the law labels it valid)
+    if exact and sD >= 0:
+        _verify(law, kind, Mq, Hq, vq, aq, w, A, B, D, e_q, not violations)
+
     # values
     if exact:
         to_s = (lambda x: to_sympy_rational(x)) if kind == "rational" else (lambda x: x)
@@ -344,6 +349,27 @@ def energy_balance_along(Mx, Hx, vx, ex, a, *, exact: bool, allow_invalid: bool 
         p = p1 * af
         vplus = vf + p1 * wf
     return ImpulseRatioResult(p, vplus, Df, dnorm, (Af, Bf, Cf), list(af), False, not violations, violations, notes)
+
+
+def _verify(law, kind, Mq, Hq, vq, aq, w, A, B, D, e_q, valid):
+    """Exact verification (:mod:`impactsym.verify`) of ``p = p₁a``, ``v⁺ = v⁻ + p₁M⁻¹Hᵀa`` with
+    ``p₁ = (−B + √D)/(2A)``: energy ``T⁺ = e T⁻``, momentum, and (``valid``) ``H v⁺ ≥ 0``,
+    ``p ≥ 0``. Rational data in ``Q(√D)`` with fmpq; algebraic data with certified signs."""
+    from ..verify import verify_exact, verify_surd
+
+    k, n = Hq.nrows() if kind == "rational" else Hq.rows, vq.nrows() if kind == "rational" else vq.rows
+    if kind == "rational":
+        r0, s0 = -B / (2 * A), 1 / (2 * A)
+        alpha = [vq[i, 0] + r0 * w[i, 0] for i in range(n)]
+        beta = [s0 * w[i, 0] for i in range(n)]
+        pa = [aq[j, 0] * r0 for j in range(k)]
+        pb = [aq[j, 0] * s0 for j in range(k)]
+        verify_surd(law, Mq, Hq, [vq[i, 0] for i in range(n)], alpha, beta, pa, pb, D, energy_ratio=e_q,
+                    check_signs=valid)
+        return
+    p1 = (-B + sp.sqrt(D)) / (2 * A)
+    verify_exact(law, Mq, Hq, vq, vq + p1 * w, aq * p1, energy_ratio=e_q,
+                 closed=None if valid else [], impulse_nonnegative=valid)
 
 
 def _tidy(x):

@@ -161,8 +161,36 @@ def reflect(mass_matrix, gradient, velocity, restitution=1, *, dps: int | None =
     if exact:
         w = Mx.LUsolve(ux.T)
         s = (ux * w)[0, 0]
-        return (vx - (1 + ex) * w * (ux * vx)[0, 0] / s).applyfunc(sp.radsimp)
+        out = (vx - (1 + ex) * w * (ux * vx)[0, 0] / s).applyfunc(sp.radsimp)
+        _verify_reflection(Mx, ux, vx, ex, out, sp.radsimp(-(1 + ex) * (ux * vx)[0, 0] / s))
+        return out
     return kernels.reflect(Mx, ux, vx, ex)
+
+
+def _verify_reflection(Mx, ux, vx, ex, vplus, p):
+    """Verify an exact reflection before returning it: ``M(v⁺ − v) = uᵀp`` and Newton's
+    ``u v⁺ = −e u v`` (so ``T⁺ = T⁻`` when ``e = 1``, and ``u v⁺ ≥ 0`` when ``v`` approaches),
+    exactly for rational data, on 512-bit Arb balls for algebraic data
+    (:mod:`impactsym.verify`)."""
+    from flint import ctx
+
+    from ..errors import VerificationError
+    from ..verify import ALGEBRAIC_CHECK_BITS, enclose, verify_exact
+
+    verify_exact("reflection", Mx, ux, vx, vplus, [p], closed=[], impulse_nonnegative=False,
+                 energy_ratio=1 if ex == 1 else None)
+    n = Mx.shape[0]
+    rel = sum((ux[i] * (vplus[i] + ex * vx[i]) for i in range(n)), sp.Integer(0))
+    if all(x.is_Rational for x in list(ux) + list(vplus) + list(vx) + [sp.sympify(ex)]):
+        bad = rel != 0
+    else:
+        prec = ALGEBRAIC_CHECK_BITS
+        with ctx.workprec(prec):
+            ball = sum((enclose(ux[i], prec) * (enclose(vplus[i], prec) + enclose(ex, prec) * enclose(vx[i], prec))
+                        for i in range(n)), enclose(0, prec))
+            bad = not ball.contains(0)
+    if bad:
+        raise VerificationError("reflection", f"Newton's law: u v+ + e u v = {rel} != 0")
 
 
 def impulse_multiplier(mass_matrix, gradient, velocity, restitution=1):

@@ -117,6 +117,8 @@ __all__ = [
     "termination_bound",
     "READINGS",
     "DEFAULT_MAX_REFLECTIONS",
+    "MAX_STATE_BITS",
+    "MAX_COORDINATES",
     "FLOAT_SAFETY",
     "SELECTION_FACE_LIMIT",
     "TWO_SURFACE_PATHS",
@@ -128,6 +130,13 @@ READINGS = ("energy", "cone")
 TWO_SURFACE_PATHS = ("closed-form", "iterate")
 #: default cap on the reflections of any one ordering
 DEFAULT_MAX_REFLECTIONS = 10_000
+#: largest total size (bits of numerators and denominators) of the exact velocities the rational
+#: search keeps; beyond it the search raises NonTermination naming this limit (32 MiB)
+MAX_STATE_BITS = 1 << 28
+#: largest number of coordinates (size of M) the resolver accepts: its exact input checks and
+#: linear algebra cost O(n^3) to O(n^4) exact operations (n = 200 takes about 10 s; a 1000-ball
+#: cradle would take many minutes), so larger systems are refused up front
+MAX_COORDINATES = 200
 #: safety factor on the float sign-test bound
 FLOAT_SAFETY = 4.0
 _EPS = float(np.finfo(float).eps)
@@ -401,8 +410,9 @@ class SequentialResolution:
     selected : tuple
         The minimizers of ``‖v − v0‖_M`` over the feasible set of ``reading`` (usually one;
         ties are all listed). Exact (SymPy) in exact mode and in float mode (computed from the
-        exact replays of the float outcomes; see ``selected_float``). Empty when
-        ``select=False``.
+        exact replays of the float outcomes; see ``selected_float``); with the two-surface
+        closed form it is the selected outcome itself (exact, certified ``mpmath.matrix`` or
+        float, like the outcome). Empty when ``select=False``, or as ``selection_note`` says.
     reading : str
         ``"energy"`` or ``"cone"``.
     orderings : int
@@ -446,6 +456,8 @@ class SequentialResolution:
     witness: Any
     method: str = "iteration"
     bound: int | None = None
+    #: why ``selected`` is empty although ``select=True`` (``None`` otherwise)
+    selection_note: str | None = None
     _graph: Any = field(default=None, repr=False, compare=False)
     _orders: Any = field(default=None, repr=False, compare=False)
 
@@ -542,6 +554,13 @@ class _ExactSystem:
             v, pi = self.reflect(v, i)
             p[i] = self.F.norm(p[i] + pi)
         return v, p
+
+
+def _state_bits_error(states):
+    return NonTermination(
+        f"max_reflections: the exact states of the search exceed MAX_STATE_BITS={MAX_STATE_BITS} bits "
+        f"after {states} states (the rationals grow with every reflection); lower max_reflections, give "
+        "floats, or use the two-surface closed form")
 
 
 def _cycle_error(cap):
@@ -652,6 +671,18 @@ def _aggregate(g, key_of):
     return out
 
 
+def _coordinates(mass_matrix):
+    """The number of rows of ``mass_matrix`` read without converting it (``None`` if unknown)."""
+    if isinstance(mass_matrix, str):
+        return mass_matrix.count(";") + 1
+    shape = getattr(mass_matrix, "shape", None)
+    if shape is not None and len(shape) >= 1:
+        return int(shape[0])
+    if isinstance(mass_matrix, (list, tuple)):
+        return len(mass_matrix)
+    return None
+
+
 def _check_inputs(mass_matrix, gradients, velocity, exact):
     if exact is None:
         exact = is_exact(mass_matrix, gradients, velocity)
@@ -684,9 +715,14 @@ def resolve_sequential(mass_matrix, gradients, velocity, *, reading: str = "ener
     two_surface : ``"closed-form"`` (default) or ``"iterate"``
         With exactly two linearly independent rows, ``"closed-form"`` takes every branch from
         :func:`impactsym.laws.two_surface.resolve_two_surfaces` in O(1), whatever the count (the
-        reflection cap does not apply: nothing is iterated); ``"iterate"`` forces the search.
-        When a closed-form exit velocity is certified digits rather than exact, the selection
-        is skipped (``selected`` is empty).
+        reflection cap does not apply: nothing is iterated); ``"iterate"`` forces the search,
+        and is refused up front (``NonTermination``) when the certified count of a branch
+        exceeds ``max_reflections``. With the closed form the energy reading selects the
+        outcome(s) with the largest ``⟨o, v0⟩_M`` (exact, or certified Arb comparison of
+        certified outcomes; see :func:`_two_surface_path`); the cone reading of certified
+        outcomes is skipped in exact mode (``selected`` empty, ``selection_note`` says why) and
+        refused in float mode (``DomainError``): a float run never succeeds with an empty
+        selection.
 
     Returns
     -------
@@ -695,11 +731,15 @@ def resolve_sequential(mass_matrix, gradients, velocity, *, reading: str = "ener
     Raises
     ------
     ImpactInputError
-        Bad shapes, a mass matrix that is not SPD, a zero gradient row, a bad ``reading`` or cap.
+        Bad shapes, a mass matrix that is not SPD, a zero gradient row, a bad ``reading`` or cap,
+        more than ``MAX_COORDINATES`` coordinates (refused before any exact work).
     DomainError
         No non-zero velocity is valid for all closed contacts (no elastic outcome exists).
     NonTermination
-        An ordering exceeds ``max_reflections`` or provably never ends.
+        An ordering exceeds ``max_reflections`` or provably never ends, or the exact states of
+        the search exceed ``MAX_STATE_BITS``.
+    VerificationError
+        An exact outcome failed its check before return (a bug; never returned).
 
     Examples
     --------
@@ -732,6 +772,11 @@ def resolve_sequential(mass_matrix, gradients, velocity, *, reading: str = "ener
     cap = int(max_reflections)
     if two_surface not in TWO_SURFACE_PATHS:
         raise ImpactInputError("two_surface", f"must be one of {', '.join(TWO_SURFACE_PATHS)}, got {two_surface!r}")
+    size = _coordinates(mass_matrix)
+    if size is not None and size > MAX_COORDINATES:
+        raise ImpactInputError(
+            "mass_matrix", f"has {size} coordinates, more than the sequential law's limit MAX_COORDINATES="
+            f"{MAX_COORDINATES} (its exact checks and linear algebra cost O(n^3) or more exact operations)")
     exact, M, H, v0 = _check_inputs(mass_matrix, gradients, velocity, exact)
     if exact:
         Mx, Hx, vx = M, H, v0
@@ -745,8 +790,19 @@ def resolve_sequential(mass_matrix, gradients, velocity, *, reading: str = "ener
                           "(the closed contacts admit no elastic exit velocity)")
     system = _ExactSystem(Mx, Hx, vx)
     F = system.F
-    if two_surface == "closed-form" and system.k == 2 and _rank(system.H, F) == 2:
-        return _two_surface_path(M, H, v0, system, exact, reading, select, witness)
+    if system.k == 2 and _rank(system.H, F) == 2:
+        if two_surface == "closed-form":
+            return _two_surface_path(M, H, v0, system, exact, reading, select, witness)
+        # iterating: refuse up front when a branch needs more than the cap (its exact states grow
+        # linearly, so reaching the cap would cost memory quadratic in it)
+        from .two_surface import branch_counts
+
+        counts = branch_counts(Mx, Hx, vx)
+        if counts and max(counts.values()) > cap:
+            raise NonTermination(
+                f"max_reflections: the ordering starting with surface {max(counts, key=counts.get)} needs "
+                f"{max(counts.values())} reflections (certified count of the two-surface closed form), more "
+                f"than the cap max_reflections={cap}; raise the cap or use the two-surface closed form")
     if exact:
         # a state is (v, w = H v); w is updated with the Gram matrix H M^-1 H^T, not recomputed
         if F is _Rational:
@@ -800,7 +856,7 @@ def resolve_sequential(mass_matrix, gradients, velocity, *, reading: str = "ener
     outcomes = []
     exact_outcomes = []
     for canon, (cnt, lo, hi, rep) in items:
-        v_ex, p_ex = system.replay(rep)
+        v_ex, p_ex = _verified_replay(system, rep)
         exact_outcomes.append((v_ex, p_ex))
         if exact:
             vel = sp.Matrix([F.to_sympy(x) for x in v_ex])
@@ -816,20 +872,31 @@ def resolve_sequential(mass_matrix, gradients, velocity, *, reading: str = "ener
     selected: tuple = ()
     if select:
         selected = _select(system, [v for v, _ in exact_outcomes], [p for _, p in exact_outcomes], reading)
+        _verify_selected(system, selected, reading)
     return SequentialResolution(tuple(outcomes), selected, reading, total, longest, len(g.vel), tests,
                                 fallbacks, exact, F.name if exact else "float", approaching, witness, _graph=g)
 
 
 def _two_surface_path(M, H, v0, system, exact, reading, select, witness):
-    """Outcomes of two independent surfaces from the O(1) closed form, merged exactly."""
+    """Outcomes of two independent surfaces from the O(1) closed form, merged exactly.
+
+    The selection (energy reading) needs no face enumeration: the feasible set lies on the arc
+    of the energy sphere between the two outcomes ``o_1``, ``o_2`` (it is the whole arc when
+    ``v0 ∈ span(M⁻¹Hᵀ)``, only its end points otherwise), ``v0``'s direction is not on the arc
+    (``v0`` is invalid, the arc is valid), and ``⟨v, v0⟩_M`` restricted to such an arc is largest
+    at an end point. So the selection is the outcome(s) with the largest ``⟨o_i, v0⟩_M``: an exact
+    comparison, or a certified one (Arb) for certified outcomes. When both branches have the same
+    even count the two values are equal exactly (``o_2 = R⁻¹v0`` for ``o_1 = Rv0``, ``R`` a
+    kinetic isometry), and both are selected."""
     from .two_surface import resolve_two_surfaces
 
     F = system.F
     ts = resolve_two_surfaces(M, H, v0)
-    groups: list = []  # [velocity, [orders], impulse, exact]
+    groups: list = []  # [velocity, [orders], impulse, exact, two-surface outcome]
     for o in ts.outcomes:
         # (reflections, first surface, order): a closed-form order may be too long for len()
-        order = (o.reflections, o.first, tuple(o.order) if o.reflections <= 10_000 else o.order)
+        first = -1 if o.first is None else o.first
+        order = (o.reflections, first, tuple(o.order) if o.reflections <= 10_000 else o.order)
         for grp in groups:
             if o.exact and grp[3] and all(certified_sign(a - b) == 0 for a, b in zip(o.velocity, grp[0])):
                 grp[1].append(order)
@@ -838,33 +905,123 @@ def _two_surface_path(M, H, v0, system, exact, reading, select, witness):
                 grp[1].append(order)
                 break
         else:
-            groups.append([o.velocity, [order], o.impulse, o.exact])
+            groups.append([o.velocity, [order], o.impulse, o.exact, o])
     outcomes = []
     orders = []
     for grp in groups:
         grp[1] = sorted(grp[1], key=lambda t: t[:2])  # the iteration's order: shortest, then first surface
     groups.sort(key=lambda grp: grp[1][0][:2])
-    for idx, (vel, ords, imp, _) in enumerate(groups):
+    for idx, (vel, ords, imp, _, _) in enumerate(groups):
         lens = [t[0] for t in ords]
         outcomes.append(Outcome(ords[0][2], lens[0], vel, imp, len(ords), min(lens), max(lens)))
         orders.extend((t[2], idx) for t in ords)
     selected: tuple = ()
+    note = None
     all_exact = all(g[3] for g in groups)
-    if select and (all_exact or not exact):
+    short = max(o.reflections for o in outcomes) <= 10_000
+    if select and reading == "energy" and (exact or not short):
+        selected = _select_two_surface(system, groups, exact)
+    elif select and (all_exact or not exact):
         if exact:
             exact_outs = [tuple(F.num(x) for x in o.velocity) for o in outcomes]
-        else:  # float input: replay the (short or long) orderings exactly only when they are short
-            if max(o.reflections for o in outcomes) > 10_000:
-                exact_outs = None
-            else:
-                exact_outs = [system.replay(o.order)[0] for o in outcomes]
-        if exact_outs is not None:
-            selected = _select(system, exact_outs, None, reading)
+        elif short:  # float input: replay short orderings exactly (an exact selection)
+            exact_outs = [system.replay(o.order)[0] for o in outcomes]
+        else:
+            raise DomainError(
+                f"select: the {reading} reading needs the exact outcomes, but the orderings take "
+                f"{max(o.reflections for o in outcomes)} reflections (more than 10000 are not replayed "
+                "exactly); use reading='energy' or select=False")
+        selected = _select(system, exact_outs, None, reading)
+    elif select:
+        note = (f"the {reading} reading needs exact outcomes; these are certified digits "
+                "(use reading='energy')")
     approaching = tuple(F.sign(system.w(system.v0, i)) < 0 for i in range(system.k))
-    return SequentialResolution(tuple(outcomes), selected, reading, len(orders),
-                                max(o.reflections_max for o in outcomes), 0, 2, 0, exact and all_exact,
-                                (F.name if exact else "float"), approaching, witness,
-                                method="two-surface closed form", bound=ts.bound, _orders=orders)
+    res = SequentialResolution(tuple(outcomes), selected, reading, len(orders),
+                               max(o.reflections_max for o in outcomes), 0, 2, 0, exact and all_exact,
+                               (F.name if exact else "float"), approaching, witness,
+                               method="two-surface closed form", bound=ts.bound, _orders=orders)
+    res.selection_note = note
+    return res
+
+
+def _select_two_surface(system, groups, exact):
+    """The energy-reading selection of the two-surface closed form (see :func:`_two_surface_path`):
+    the outcome(s) maximizing ``⟨o, v0⟩_M``, compared exactly or with certified Arb balls."""
+    F = system.F
+    if len(groups) == 1:
+        return (groups[0][0],)
+    (va, _, _, ea, oa), (vb, _, _, eb, ob) = groups
+    # equal even counts: o_b = R^-1 v0 and o_a = R v0 with R a kinetic isometry, an exact tie
+    if oa.reflections == ob.reflections and oa.reflections % 2 == 0:
+        return (va, vb)
+    if ea and eb and exact:
+        val = [_minner(system.M, [F.num(x) for x in vel], list(system.v0), F) for vel in (va, vb)]
+        c = F.sign(F.norm(val[0] - val[1]))
+    else:
+        c = _certified_compare_balls(system, oa, ob)
+    return (va,) if c > 0 else (vb,) if c < 0 else (va, vb)
+
+
+def _certified_compare_balls(system, oa, ob) -> int:
+    """Sign of ``⟨o_a − o_b, v0⟩_M`` from the outcomes' Arb balls (exact outcomes are enclosed);
+    raises :class:`~impactsym.errors.UndecidableSign` when the balls cannot separate it."""
+    from flint import ctx
+
+    from ..errors import UndecidableSign
+    from ..verify import enclose
+
+    precs = [o._prec for o in (oa, ob) if getattr(o, "_balls", None) is not None]
+    prec = max(precs) if precs else 128
+    with ctx.workprec(prec):
+        Mb = [[enclose(x, prec) for x in row] for row in system.M]
+        vb0 = [enclose(x, prec) for x in system.v0]
+        Mv0 = [sum((a * b for a, b in zip(row, vb0)), enclose(0, prec)) for row in Mb]
+
+        def balls(o):
+            if getattr(o, "_balls", None) is not None:
+                return list(o._balls)
+            return [enclose(x, prec) for x in o.velocity]
+
+        diff = sum(((a - b) * m for a, b, m in zip(balls(oa), balls(ob), Mv0)), enclose(0, prec))
+        s = 1 if diff > 0 else -1 if diff < 0 else None
+    if s is None:
+        raise UndecidableSign("selection: <o_1 - o_2, v0>_M could not be separated from 0 by the certified "
+                              f"outcomes at {prec} bits (a possible tie between the two outcomes)")
+    return s
+
+
+def _verified_replay(system, order):
+    """The exact outcome of ``order`` and its impulse, verified before it is used or returned:
+    every reflection acts on an approached surface (``H_i v < 0``: the count is consistent with
+    the order), and :func:`impactsym.verify.verify_exact` (``H v⁺ ≥ 0``, energy, momentum, ``p ≥ 0``)."""
+    from ..errors import VerificationError
+    from ..verify import verify_exact
+
+    F = system.F
+    v = system.v0
+    p = [F.zero] * system.k
+    for step, i in enumerate(order):
+        wi = system.w(v, i)
+        if F.sign(wi) >= 0:
+            raise VerificationError("sequential", f"ordering {tuple(order)[:20]}: reflection {step + 1} acts on "
+                                                  f"surface {i}, which is not approached (H_{i + 1} v = {wi})")
+        v, pi = system.reflect(v, i, wi)
+        p[i] = F.norm(p[i] + pi)
+    verify_exact("sequential", system.M, system.H, list(system.v0), list(v), p)
+    return v, p
+
+
+def _verify_selected(system, selected, reading):
+    """A rational selected velocity is checked exactly: valid, on the energy sphere (energy
+    reading) and with its momentum jump in the row space of ``Hᵀ``. (Its impulse sign is part
+    of the selection's own exact feasibility test.)"""
+    from ..verify import verify_exact
+
+    for vel in selected:
+        if all(x.is_Rational for x in vel):
+            verify_exact("sequential (selection)", system.M, system.H, list(system.v0),
+                         [system.F.num(x) if system.F is _Rational else x for x in vel], None,
+                         energy_ratio=1 if reading == "energy" else None)
 
 
 def _rational_key(v):
@@ -1133,6 +1290,7 @@ def _explore_rational(system, cap):
 
     root = new_node(v0, w0, None)
     index[tuple([(x.p, x.q) for x in v0])] = root
+    stored = 0  # bits of the exact velocities kept (the numbers of a long ordering grow linearly)
     state = {root: 1}
     stack = [(root, iter(legal_of[root]))]
     while stack:
@@ -1152,6 +1310,9 @@ def _explore_rational(system, cap):
         if child is None:
             if len(stack) > cap:
                 raise _cap_error(cap)
+            stored += sum(p.bit_length() + q.bit_length() for p, q in key)
+            if stored > MAX_STATE_BITS:
+                raise _state_bits_error(len(vel))
             wn = list(w)
             for j, a in gcols[i]:
                 wn[j] = w[j] - c * a
@@ -1518,19 +1679,22 @@ def termination_bound(mass_matrix, gradients):
     >>> termination_bound("1,0;0,1", "1,0;-1,1"), termination_bound("1,0,0;0,1,0;0,0,1", "-1,1,0;0,-1,1")
     (4, 3)
     """
-    from ..mechanics import kinetic_angle
+    from .two_surface import _Data, _certified_bound, _sign
 
     M = check_mass_matrix(mass_matrix, exact=True)
     H = check_gradients(gradients, M.shape[0], exact=True)
     if H.rows != 2:
         raise ImpactInputError("gradients", f"the bound of sec. III-C is for exactly two surfaces, got {H.rows}")
-    theta = kinetic_angle(M, H[0, :], H[1, :])
-    if certified_sign(sp.pi - theta) == 0:
-        raise DomainError("gradients: the two surfaces are opposite (kinetic angle pi): no valid lune, no bound")
-    x = sp.pi / (sp.pi - theta)
-    m = int(sp.floor(sp.N(x, 30)))
-    while certified_sign(x - m) < 0:
-        m -= 1
-    while certified_sign(x - (m + 1)) > 0:
-        m += 1
-    return m if certified_sign(x - m) == 0 else m + 1
+    # pi/(pi - theta) = pi/beta with beta = atan2(sqrt(Delta), -g): certified with Arb balls (the
+    # two-surface law's bound), exact ties (beta = pi/K) decided exactly
+    if _all_rational(M, H):
+        Mq = fmpq_mat([[_Rational.num(x) for x in M.row(i)] for i in range(M.rows)])
+        Hq = fmpq_mat([[_Rational.num(x) for x in H.row(i)] for i in range(2)])
+        gram = Hq * Mq.solve(Hq.transpose())
+    else:
+        gram = (H * M.LUsolve(H.T)).applyfunc(sp.radsimp)
+    d = _Data(gram[0, 0], gram[1, 1], gram[0, 1], gram[0, 0], gram[1, 1])
+    if _sign(d.D) == 0:
+        raise DomainError("gradients: the two surfaces are parallel (kinetic angle 0 or pi): the wedge is "
+                          "degenerate, no bound")
+    return _certified_bound(d, {})

@@ -67,13 +67,15 @@ import numpy as np
 import sympy as sp
 from flint import arb, ctx, fmpq, fmpq_mat, fmpz
 
-from ..errors import ImpactInputError, UndecidableSign
+from ..errors import ImpactInputError, UndecidableSign, VerificationError
 from ..exact import certified_sign
 from ..mechanics import check_gradients, check_mass_matrix, check_velocity
 from ..numbers import is_exact
+from ..verify import verify_balls, verify_exact
 
 __all__ = [
     "resolve_two_surfaces",
+    "branch_counts",
     "TwoSurfaceResolution",
     "TwoSurfaceOutcome",
     "AlternatingOrder",
@@ -145,13 +147,15 @@ class AlternatingOrder(Sequence):
 class TwoSurfaceOutcome:
     """One branch: the ordering (surface indices, alternating), the count and the exit velocity.
 
+    ``first`` is the index of the first surface, or ``None`` for the single outcome of a velocity
+    that approaches neither surface (no impact: no reflection, ``v⁺ = v``, ``no_impact`` in JSON).
     ``velocity`` is a SymPy column (``exact``), a float64 array (float input), or an
     ``mpmath.matrix`` certified to ``digits`` significant digits per component, with ``error_bound``
     an upper bound of every component's error. ``impulse`` is ``p`` in ``M(v⁺ − v) = Hᵀp``, in the
     same form.
     """
 
-    first: int
+    first: int | None
     order: AlternatingOrder
     reflections: int
     velocity: Any
@@ -160,6 +164,9 @@ class TwoSurfaceOutcome:
     exact: bool
     digits: int | None = None
     error_bound: Any = None
+    #: the certified Arb balls of ``velocity`` and their working precision (certified outcomes)
+    _balls: Any = field(default=None, repr=False, compare=False)
+    _prec: int | None = field(default=None, repr=False, compare=False)
 
     def as_dict(self) -> dict:
         """JSON-ready form (exact numbers as SymPy strings, mpmath values as strings)."""
@@ -171,7 +178,7 @@ class TwoSurfaceOutcome:
             return [float(x) for x in v]
         return {"order": self.order.to_json(), "first": self.first, "reflections": self.reflections,
                 "velocity": text(self.velocity), "velocity_float": [float(x) for x in self.velocity_float],
-                "exact": self.exact, "digits": self.digits}
+                "exact": self.exact, "digits": self.digits, "no_impact": self.first is None}
 
 
 @dataclass
@@ -377,29 +384,67 @@ def _invariants(exact, M, H, v, n):
     W = Mq.solve(Hq.transpose())
     gram = Hq * W
     c = Hq * vq
-    return (W, gram, c, True), vq
+    return (W, gram, c, True), vq, (Mq, Hq)
+
+
+def _arf_fmpq(x: arb) -> fmpq:
+    """The exact rational value of an exactly representable Arb number (a midpoint or radius):
+    read with ``man_exp``, so no rounding at any working precision."""
+    man, exp = x.man_exp()
+    man, exp = int(man), int(exp)
+    return fmpq(man * 2**exp) if exp >= 0 else fmpq(man, 2 ** (-exp))
+
+
+def _ball_ends(q: arb) -> tuple[fmpq, fmpq]:
+    """Exact rational ends ``[mid − rad, mid + rad]`` of a finite Arb ball (exact reads)."""
+    mid, rad = _arf_fmpq(q.mid()), _arf_fmpq(q.rad())
+    return mid - rad, mid + rad
+
+
+def _nearest_int(x: fmpq) -> int:
+    return int((x + fmpq(1, 2)).floor())
+
+
+def _certified_ceil(q: arb):
+    """``⌈q⌉`` when the ball ``q`` certainly holds no integer (decided on its exact ends), else
+    ``None``. Reads only exact quantities of ``q``, so it does not depend on the precision in
+    force when it is called (a ``q.lower()`` outside the block that made ``q`` is rounded to 53
+    bits: the bug of issue 9)."""
+    if not q.is_finite():
+        return None
+    lo, hi = _ball_ends(q)
+    f = lo.floor()
+    if lo > f and hi < f + 1:
+        return int(f) + 1
+    return None
 
 
 def _certified_ceil_ratio(d: _Data, tie_check, decisions: dict) -> int:
-    """``⌈ψ/β⌉`` of the A-first branch, certified (Arb at rising precision, exact tie test)."""
+    """``⌈ψ/β⌉`` of the A-first branch, certified (Arb at rising precision, exact tie test).
+
+    The working precision starts above the bit size of ``π/β`` (the count can be as large as
+    that) and doubles until the ball of ``ψ/β`` excludes every integer; every read of the ball
+    is exact (:func:`_certified_ceil`)."""
     prec, tried = 64, set()
     while prec <= MAX_PRECISION_BITS:
         *_, psi, beta = d.balls(prec)
         with ctx.workprec(prec):
             q = psi / beta
-        if q.is_finite() and not q.contains_integer():
+        m = _certified_ceil(q)
+        if m is not None:
             decisions["arb"] = decisions.get("arb", 0) + 1
             decisions["max_bits"] = max(decisions.get("max_bits", 0), prec)
-            return int(q.lower().floor().unique_fmpz()) + 1
-        if q.is_finite() and q.rad() < 0.25:
-            j = int(q.mid().floor().unique_fmpz()) if q.mid() - q.mid().floor() < 0.5 else \
-                int(q.mid().ceil().unique_fmpz())
-            if j >= 1 and j not in tried:
-                tried.add(j)
-                verdict = tie_check(d, j)
-                if verdict is True:
-                    decisions["exact_tie"] = decisions.get("exact_tie", 0) + 1
-                    return j
+            return m
+        if q.is_finite():
+            lo, hi = _ball_ends(q)
+            if hi - lo < fmpq(1, 2):
+                j = _nearest_int((lo + hi) / 2)
+                if j >= 1 and j not in tried:
+                    tried.add(j)
+                    verdict = tie_check(d, j)
+                    if verdict is True:
+                        decisions["exact_tie"] = decisions.get("exact_tie", 0) + 1
+                        return j
         prec *= 2
     raise UndecidableSign(
         f"the reflection count ceil(psi/beta) could not be certified: psi/beta is within 2^-{MAX_PRECISION_BITS} "
@@ -436,26 +481,34 @@ def _iterate_exact(M, HA, HB, v, m):
     return out
 
 
+def _w_after(balls, m: int):
+    """Balls of ``(H_A v_m, H_B v_m)`` after ``m ≥ 1`` reflections starting with A (the angle form
+    of the closed form); call inside the ``ctx.workprec`` block that made ``balls``."""
+    sa, sb, g, ca, cb, D, rD, psi, beta = balls
+    sigma = 1 if m % 2 == 0 else -1
+    th = sigma * (m * beta - psi) + (beta if sigma == -1 else 0)
+    pn = ((sb * ca * ca - 2 * g * ca * cb + sa * cb * cb) / D).sqrt()
+    return sa.sqrt() * pn * th.sin(), sb.sqrt() * pn * (beta - th).sin()
+
+
 def _certified_exit(d: _Data, m: int, digits: int, W, gram, vec, swap: bool):
     """Certified ``v⁺`` (Arb): every component to ``digits`` significant digits (radius below
     ``10^-digits·|v⁺_i|``), except components below ``10^-digits·max|v⁺|``, which are certified to
     the absolute ``10^-2digits·max|v⁺|``.
 
     ``W`` (n×2), ``gram`` (2×2) and ``vec`` (n) hold exact numbers (fmpq or SymPy); they are
-    enclosed at each working precision."""
+    enclosed at each working precision. Returns the velocity and impulse balls, the largest
+    radius and the working precision they were made at (read them only inside a block of it)."""
     extra = max(m, 1).bit_length()
     prec = int(digits * 3.33) + extra + 64
     while prec <= MAX_PRECISION_BITS:
-        sa, sb, g, ca, cb, D, rD, psi, beta = d.balls(prec)
+        balls = d.balls(prec)
         with ctx.workprec(prec):
+            sa, sb, g, ca, cb = balls[:5]
             Wb = [[_arb(W[i][0], prec), _arb(W[i][1], prec)] for i in range(len(W))]
             gram_b = [[_arb(gram[i][j], prec) for j in range(2)] for i in range(2)]
             v_arb = [_arb(x, prec) for x in vec]
-            sigma = 1 if m % 2 == 0 else -1
-            th = sigma * (m * beta - psi) + (beta if sigma == -1 else 0)
-            pn = ((sb * ca * ca - 2 * g * ca * cb + sa * cb * cb) / D).sqrt()
-            ca2 = sa.sqrt() * pn * th.sin()
-            cb2 = sb.sqrt() * pn * (beta - th).sin()
+            ca2, cb2 = _w_after(balls, m)
             if swap:
                 ca, cb, ca2, cb2 = cb, ca, cb2, ca2
             dA, dB = ca2 - ca, cb2 - cb
@@ -467,11 +520,44 @@ def _certified_exit(d: _Data, m: int, digits: int, W, gram, vec, swap: bool):
             scale = max((abs(x.mid()) for x in vel), default=arb(0))
             rad = max((x.rad() for x in vel), default=arb(0))
             tol, floor = arb(10) ** (-digits), arb(10) ** (-2 * digits) * scale
-            ok = all(x.rad() <= tol * abs(x.mid()) or x.rad() <= floor for x in vel)
+            ok = all(x.is_finite() and (x.rad() <= tol * abs(x.mid()) or x.rad() <= floor) for x in vel)
         if ok:
-            return vel, (pA, pB), rad
+            return vel, (pA, pB), rad, prec
         prec *= 2
     raise UndecidableSign(f"the exit velocity could not be certified to {digits} digits within {MAX_PRECISION_BITS} bits")
+
+
+def _verify_count_balls(d: _Data, m: int, prec: int) -> None:
+    """The count is consistent with the order: the first surface is approached, and after
+    ``m − 1`` reflections the surface of the ``m``-th one is approached (not certainly leaving)."""
+    if _sign(d.ca) >= 0:
+        raise VerificationError("two-surface", "the branch starts with a surface that is not approached")
+    if m < 2:
+        return
+    balls = d.balls(prec)
+    with ctx.workprec(prec):
+        wa, wb = _w_after(balls, m - 1)
+        nxt = wa if (m - 1) % 2 == 0 else wb
+        bad = nxt >= 0 and not nxt.contains(0)
+        shown = nxt.str(10, radius=True)
+    if bad:
+        raise VerificationError(
+            "two-surface", f"count {m}: after {m - 1} reflections the next surface has H v = {shown} >= 0 "
+            "(the branch would have ended earlier)")
+
+
+def _verify_count_rational(d: _Data, m: int) -> None:
+    """Exact form of :func:`_verify_count_balls` (rational data)."""
+    if d.ca >= 0:
+        raise VerificationError("two-surface", "the branch starts with a surface that is not approached")
+    if m < 2:
+        return
+    wa, wb = _field_power_exit(d, m - 1)
+    nxt = wa if (m - 1) % 2 == 0 else wb
+    if nxt >= 0:
+        raise VerificationError(
+            "two-surface", f"count {m}: after {m - 1} reflections the next surface has H v = {nxt} >= 0 "
+            "(the branch would have ended earlier)")
 
 
 def _mid_scale(vel) -> mpmath.mpf:
@@ -483,15 +569,16 @@ def _arb_to_mpf(x: arb):
     return mpmath.mpf((int(man), int(exp)))
 
 
-def _certified_outcome(first, order, m, vel_b, imp_b, rad, digits) -> "TwoSurfaceOutcome":
+def _certified_outcome(first, order, m, vel_b, imp_b, rad, digits, prec) -> "TwoSurfaceOutcome":
     """An outcome certified to ``digits`` significant digits, from the Arb balls of
-    :func:`_certified_exit`: mpmath midpoints and an error bound covering the ball's radius and
-    the rounding of the midpoints."""
-    with mpmath.workdps(digits + 5):
+    :func:`_certified_exit` (made at ``prec`` bits): mpmath midpoints and an error bound covering
+    the ball's radius and the rounding of the midpoints."""
+    with ctx.workprec(prec), mpmath.workdps(digits + 5):
         vel = mpmath.matrix([_arb_to_mpf(x) for x in vel_b])
         imp = mpmath.matrix([_arb_to_mpf(x) for x in imp_b])
         err = _arb_to_mpf(rad) * 2 + _mid_scale(vel) * mpmath.mpf(10) ** -(digits + 4)
-    return TwoSurfaceOutcome(first, order, m, vel, _floats(vel), imp, False, digits=digits, error_bound=err)
+    return TwoSurfaceOutcome(first, order, m, vel, _floats(vel), imp, False, digits=digits, error_bound=err,
+                             _balls=tuple(vel_b), _prec=prec)
 
 
 def resolve_two_surfaces(mass_matrix, gradients, velocity, *, digits: int = DEFAULT_DIGITS,
@@ -538,7 +625,7 @@ def resolve_two_surfaces(mass_matrix, gradients, velocity, *, digits: int = DEFA
     decisions: dict = {}
     rational_path = not exact or (_is_rational_matrix(M) and _is_rational_matrix(H) and _is_rational_matrix(v))
     if rational_path:
-        (W, gram, c, _), vq = _invariants(exact, M, H, v, n)
+        (W, gram, c, _), vq, (Mq, Hq) = _invariants(exact, M, H, v, n)
         d = _Data(gram[0, 0], gram[1, 1], gram[0, 1], c[0, 0], c[1, 0])
         tie_check = _tie_check_rational
     else:
@@ -562,7 +649,8 @@ def resolve_two_surfaces(mass_matrix, gradients, velocity, *, digits: int = DEFA
     if signs[0] >= 0 and signs[1] >= 0:
         vel = _as_output(exact, v, vq if rational_path else None)
         zero = sp.zeros(2, 1) if exact else np.zeros(2)
-        o = TwoSurfaceOutcome(first=-1, order=AlternatingOrder(0, 0), reflections=0, velocity=vel,
+        # no surface is approached: no impact, no first surface (``first`` is None), v+ = v
+        o = TwoSurfaceOutcome(first=None, order=AlternatingOrder(0, 0), reflections=0, velocity=vel,
                               velocity_float=_floats(vel), impulse=zero, exact=exact)
         return TwoSurfaceResolution([o], by_first, bound, wedge, exact, decisions, d)
 
@@ -570,6 +658,8 @@ def resolve_two_surfaces(mass_matrix, gradients, velocity, *, digits: int = DEFA
     W_ex = [[W[i, 0], W[i, 1]] for i in range(n)]
     gram_ex = [[gram[0, 0], gram[0, 1]], [gram[1, 0], gram[1, 1]]]
     v_ex = [vq[i, 0] for i in range(n)] if rational_path else list(v)
+    # the exact data every outcome is verified against before it is returned
+    data_ex = (Mq, Hq, vq) if rational_path else (M, H, v)
     for first in (0, 1):
         if signs[first] >= 0:
             continue
@@ -584,33 +674,83 @@ def resolve_two_surfaces(mass_matrix, gradients, velocity, *, digits: int = DEFA
             ca2, cb2 = _field_power_exit(df, m)
             if first == 1:
                 ca2, cb2 = cb2, ca2
-            if ca2 < 0 or cb2 < 0:  # pragma: no cover - the derivation proves this cannot happen
-                raise AssertionError("exact exit velocity is not valid: a bug in the two-surface law")
             jump = gram.solve(fmpq_mat(2, 1, [ca2 - c[0, 0], cb2 - c[1, 0]]))
             vplus = vq + W * jump
+            verify_exact("two-surface", Mq, Hq, vq, vplus, jump)
+            _verify_count_rational(df, m)
             vel = sp.Matrix([_rational(vplus[i, 0]) for i in range(n)])
             imp = sp.Matrix([_rational(jump[i, 0]) for i in range(2)])
             outcomes.append(TwoSurfaceOutcome(first, order, m, vel, _floats(vel), imp, True))
         elif rational_path:
             want = digits if exact else 20
-            vel_b, imp_b, rad = _certified_exit(df, m, want, W_ex, gram_ex, v_ex, first == 1)
+            vel_b, imp_b, rad, prec = _certified_exit(df, m, want, W_ex, gram_ex, v_ex, first == 1)
+            verify_balls("two-surface", *data_ex, vel_b, imp_b, prec)
+            _verify_count_balls(df, m, prec)
             if exact:
-                outcomes.append(_certified_outcome(first, order, m, vel_b, imp_b, rad, digits))
+                outcomes.append(_certified_outcome(first, order, m, vel_b, imp_b, rad, digits, prec))
             else:
-                vel = np.array([float(_arb_to_mpf(x)) for x in vel_b])
-                imp = np.array([float(_arb_to_mpf(x)) for x in imp_b])
-                outcomes.append(TwoSurfaceOutcome(first, order, m, vel, vel.copy(), imp, False))
+                with ctx.workprec(prec):
+                    vel = np.array([float(_arb_to_mpf(x)) for x in vel_b])
+                    imp = np.array([float(_arb_to_mpf(x)) for x in imp_b])
+                outcomes.append(TwoSurfaceOutcome(first, order, m, vel, vel.copy(), imp, False,
+                                                  _balls=tuple(vel_b), _prec=prec))
         else:  # irrational exact input
             rows = (HA, HB) if first == 0 else (HB, HA)
             if m <= MAX_EXACT_ALGEBRAIC_REFLECTIONS:
                 vel = _iterate_exact(M, rows[0], rows[1], v, m)[-1]
                 imp = (gram.LUsolve(H * vel - c)).applyfunc(sp.radsimp)
+                verify_exact("two-surface", M, H, v, vel, imp)
                 outcomes.append(TwoSurfaceOutcome(first, order, m, vel, _floats(vel), imp, True))
             else:
-                vel_b, imp_b, rad = _certified_exit(df, m, digits, W_ex, gram_ex, v_ex, first == 1)
-                outcomes.append(_certified_outcome(first, order, m, vel_b, imp_b, rad, digits))
+                vel_b, imp_b, rad, prec = _certified_exit(df, m, digits, W_ex, gram_ex, v_ex, first == 1)
+                verify_balls("two-surface", *data_ex, vel_b, imp_b, prec)
+                _verify_count_balls(df, m, prec)
+                outcomes.append(_certified_outcome(first, order, m, vel_b, imp_b, rad, digits, prec))
         by_first[first] = outcomes[-1]
     return TwoSurfaceResolution(outcomes, by_first, bound, wedge, exact, decisions, d)
+
+
+def branch_counts(mass_matrix, gradients, velocity) -> dict:
+    """The certified reflection count of every branch, without the exit velocities.
+
+    Cheap (no exact power, no exit enclosure): what a caller needs to refuse an iteration up
+    front (:func:`impactsym.laws.sequential.resolve_sequential` with ``two_surface="iterate"``).
+
+    Returns
+    -------
+    dict
+        ``{first surface: count}`` for each approached surface (empty when none is approached).
+
+    Examples
+    --------
+    >>> branch_counts("1,0;0,1", "1,0;-1000000,1", "-1,0")
+    {0: 1570797}
+    >>> branch_counts("11/10,0;0,1", "1,0;-1,1", "-1,-2")
+    {0: 4, 1: 4}
+    """
+    exact, M, H, v, n = _checked(mass_matrix, gradients, velocity)
+    rational_path = not exact or (_is_rational_matrix(M) and _is_rational_matrix(H) and _is_rational_matrix(v))
+    if rational_path:
+        (W, gram, c, _), vq, _ = _invariants(exact, M, H, v, n)
+        d = _Data(gram[0, 0], gram[1, 1], gram[0, 1], c[0, 0], c[1, 0])
+    else:
+        W, gram, c, _ = _invariants(exact, M, H, v, n)
+        d = _Data(gram[0, 0], gram[1, 1], gram[0, 1], c[0], c[1])
+    if _sign(d.D) == 0:
+        raise ImpactInputError(
+            "gradients", "the two rows are parallel (Δ = s_1 s_2 − g² = 0): the wedge is degenerate (opening 0 or π)")
+    out = {}
+    for first in (0, 1):
+        df = d if first == 0 else d.swapped()
+        if _sign(df.ca) >= 0:
+            continue
+        if rational_path:
+            check = _tie_check_rational
+        else:
+            rows = (H[0, :], H[1, :]) if first == 0 else (H[1, :], H[0, :])
+            check = _make_tie_check_algebraic(M, rows[0], rows[1], v)
+        out[first] = _certified_ceil_ratio(df, check, {})
+    return out
 
 
 def _as_output(exact, v, vq):
@@ -641,10 +781,12 @@ def _certified_bound(d: _Data, decisions: dict) -> int:
         *_, beta = d.balls(prec)
         with ctx.workprec(prec):
             q = arb.pi() / beta
-        if not q.contains_integer():
-            return int(q.lower().floor().unique_fmpz()) + 1
-        if q.rad() < 0.25:
-            K = int(q.mid().floor().unique_fmpz()) if q.mid() - q.mid().floor() < 0.5 else int(q.mid().ceil().unique_fmpz())
+        m = _certified_ceil(q)
+        if m is not None:
+            return m
+        lo, hi = _ball_ends(q) if q.is_finite() else (fmpq(0), fmpq(1))
+        if hi - lo < fmpq(1, 2):
+            K = _nearest_int((lo + hi) / 2)
             # beta = pi/K exactly  <=>  cos(beta) = cos(pi/K)  <=>  -g/sqrt(s_A s_B) = cos(pi/K)
             if K >= 2:
                 to_sp = (lambda x: sp.Rational(int(x.p), int(x.q))) if d.rational() else (lambda x: x)

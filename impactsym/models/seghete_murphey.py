@@ -41,6 +41,18 @@ def _positive_int(value, argument, minimum):
     return value
 
 
+def _ball_count(value):
+    """``n_balls``: an integer >= 1 and at most the sequential law's ``MAX_COORDINATES`` (one
+    coordinate per ball; refused here, before the O(n²) symbolic scene is built)."""
+    from ..laws.sequential import MAX_COORDINATES
+
+    n = _positive_int(value, "n_balls", 1)
+    if n > MAX_COORDINATES:
+        raise ImpactInputError("n_balls", f"must be at most {MAX_COORDINATES} (the sequential law's limit "
+                                          f"MAX_COORDINATES, one coordinate per ball), got {n}")
+    return n
+
+
 def _row_positions(n, radius, start):
     r = sp.sympify(radius)
     return [start + r + 2 * r * i for i in range(n)]
@@ -104,7 +116,7 @@ def cradle(n_balls=3, strikers=1, masses=None, speed=1, radius=1) -> Scene:
     >>> sc.contacts, sc.approaching
     (['1-2', '2-3', '3-4'], [True, False, False])
     """
-    n = _positive_int(n_balls, "n_balls", 2)
+    n = _positive_int(_ball_count(n_balls), "n_balls", 2)
     k = _positive_int(strikers, "strikers", 1)
     if k >= n:
         raise ImpactInputError("strikers", f"must be smaller than n_balls={n}, got {k}")
@@ -125,7 +137,7 @@ def balls_against_wall(n_balls=2, masses=None, velocities=None, radius=1) -> Sce
     >>> balls_against_wall(3).contacts
     ['1-2', '2-3', 'wall@0-1']
     """
-    n = _positive_int(n_balls, "n_balls", 1)
+    n = _ball_count(n_balls)
     masses = [1] * n if masses is None else list(masses)
     velocities = [0] * (n - 1) + [-1] if velocities is None else list(velocities)
     if len(masses) != n or len(velocities) != n:
