@@ -951,7 +951,7 @@ def at_chain3_velocities(restitutions=("1", "9/10", "2/3", "1/3"), alphas=None):
     Mf = np.array(sc.M.evalf(17).tolist(), dtype=float)
     Hf = np.array(sc.H.evalf(17).tolist(), dtype=float)
     vf = _f(sc.v)
-    alphas = np.linspace(0.0, 1.5, 151) if alphas is None else np.asarray(alphas, dtype=float)
+    alphas = np.linspace(0.0, 1.5, 61) if alphas is None else np.asarray(alphas, dtype=float)
     fig, axes = plt.subplots(1, 3, figsize=(14, 4.3), sharey=True)
     src = {"restitutions": list(restitutions), "valid_alpha": {}}
     for ci, e in enumerate(restitutions):
