@@ -36,7 +36,7 @@ __all__ = [
     "sm_fig1_convex_corner", "sm_fig2_concave_corner", "sm_fig4_configuration_space", "ordering_regions",
     "sm_fig5_cradle_kinetic_plane", "sm_sec3c_termination", "two_surface_figure", "sm_three_surface_overgeneration",
     "at_fig2_pool", "at_fig3_domain", "at_domain_over_theta", "domain_figure", "at_chain3_velocities", "at_fig4_bernoulli",
-    "at_fig5_transmission", "outcomes_per_law", "laws_side_by_side", "resolve_figure", "speed_against_error",
+    "at_fig5_transmission", "at_fig5_planar_chain", "outcomes_per_law", "laws_side_by_side", "resolve_figure", "speed_against_error",
     "README_FIGURES", "write_readme_figures", "save", "show",
 ]
 
@@ -1085,6 +1085,79 @@ def at_fig5_transmission(n_balls=5, stiffness=1.0):
                         "energy_ratio": r.energy_ratio} for m, r in runs.items()},
                  "law": {"impulses": np.asarray(law.impulses).tolist(), "velocity": np.asarray(law.velocity).tolist(),
                          "valid": law.valid}}
+
+
+#: a planar open chain (sec. 5.2): unit bonds turning by acos(4/5), acos(3/5), then π/2 (rational centres)
+PLANAR_CHAIN = ((0, 0), (2, 0), ("18/5", "6/5"), ("18/5", "16/5"), ("8/5", "16/5"))
+
+
+def at_fig5_planar_chain(positions=PLANAR_CHAIN, ratios=("3/4", "1/2", "1/2"), restitution=1):
+    """Acary & Taha Fig. 5 in the plane (sec. 5.2, eqs. 43–45): how far an impulse travels along a bent chain.
+
+    Ball 1 strikes a chain of resting balls (:func:`impactsym.scenes.balls_in_plane`). The kinetic
+    angle between consecutive contacts (:func:`impactsym.laws.coupling.coupling_decision`) decides
+    whether they are coupled (``cos θ < 0``, eq. 43); the impact degree (eq. 45,
+    :func:`impactsym.laws.coupling.impact_degree`) counts the leading coupled contacts. The
+    impulse-ratio law with the coupling criteria (``coupling=True``) sets the ratios of the
+    uncoupled contacts to zero and gives the impulses and exit velocities drawn.
+
+    Examples
+    --------
+    >>> fig, src = at_fig5_planar_chain()
+    >>> src["cos_consecutive"], src["impact_degree"], src["ratios_used"]
+    (['-2/5', '-3/10', '0'], 3, ['1', '3/4', '1/2', '0'])
+    """
+    from .laws.coupling import coupling_decision, impact_degree
+    from .laws.impulse_ratio import impulse_ratio_law
+    from .scenes import balls_in_plane
+
+    plt = _plt()
+    nb = len(positions)
+    sc = balls_in_plane([1] * nb, [1] * nb, [tuple(sp.sympify(c) for c in p) for p in positions],
+                        [(1, 0)] + [(0, 0)] * (nb - 1))
+    dec = coupling_decision(sc.M, sc.H, sc.v)
+    deg = impact_degree(sc.M, sc.H, sc.v)
+    res = impulse_ratio_law(sc.M, sc.H, sc.v, restitution, list(ratios), coupling=True, allow_invalid=True)
+    P = [_f([sp.sympify(c) for c in p]) for p in positions]
+    k = sc.H.shape[0]
+    fig, ax = plt.subplots(figsize=(6.5, 5.5))
+    pmax = max(float(x) for x in res.impulses) if res.impulses is not None else 1.0
+    for i, c in enumerate(P):
+        ax.add_patch(plt.Circle(c, 1, fill=False, lw=1))
+        ax.text(c[0], c[1] - 0.3, str(i + 1), ha="center", fontsize=8)
+    for j, name in enumerate(sc.contacts):
+        a, b = (int(x) - 1 for x in name.split("-"))
+        mid = (P[a] + P[b]) / 2
+        pj = float(res.impulses[j]) if res.impulses is not None else 0.0
+        ax.plot(*mid, "o", ms=4 + 14 * pj / pmax, color="C3", alpha=0.7)
+        label = f"p{j + 1} = {_s(res.impulses[j])}" if res.impulses is not None else ""
+        if j + 1 < k:
+            cs = dec.cosines[(j, j + 1)]
+            label += f"\ncos th{j + 1},{j + 2} = {_s(cs)}"
+        ax.text(mid[0] + 0.15, mid[1] + 0.15, label, fontsize=7)
+    vout = _f(res.velocity) if res.velocity is not None else np.zeros(2 * nb)
+    for i, c in enumerate(P):
+        d = vout[2 * i:2 * i + 2]
+        if np.linalg.norm(d) > 1e-12:
+            ax.annotate("", xy=c + 1.5 * d, xytext=c, arrowprops=dict(arrowstyle="->", color="C0", lw=1.6))
+    ax.annotate("", xy=P[0], xytext=P[0] - np.array([1.5, 0]), arrowprops=dict(arrowstyle="->", color="0.5", lw=2))
+    ax.plot([], [], color="0.5", label="incoming velocity of ball 1")
+    ax.plot([], [], color="C0", label="exit velocities")
+    ax.plot([], [], "o", color="C3", label="impulse at a contact (size)")
+    ax.set_aspect("equal")
+    ax.autoscale_view()
+    ax.set_xlim(min(c[0] for c in P) - 2.8, max(c[0] for c in P) + 2.5)
+    ax.set_ylim(min(c[1] for c in P) - 2, max(c[1] for c in P) + 2)
+    ax.legend(fontsize=7, loc="lower right")
+    ax.set_title(f"Acary & Taha Fig. 5 in the plane: impact degree {deg} (eq. 45); "
+                 f"ratios {[_s(x) for x in res.ratios]}, valid: {res.valid}", fontsize=9)
+    fig.tight_layout()
+    return fig, {"positions": [[_s(c) for c in p] for p in positions], "contacts": list(sc.contacts),
+                 "cos_consecutive": [_s(dec.cosines[(j, j + 1)]) for j in range(k - 1)],
+                 "coupled_consecutive": [bool(dec.coupled[(j, j + 1)]) for j in range(k - 1)],
+                 "impact_degree": deg, "ratios_used": [_s(x) for x in res.ratios],
+                 "impulses": None if res.impulses is None else _vs(res.impulses),
+                 "velocity": None if res.velocity is None else _vs(res.velocity), "valid": res.valid}
 
 
 # --------------------------------------------------------------------------- laws side by side

@@ -251,3 +251,20 @@ def test_fig2_pool_kinetic_angle_is_eq42_corrected_sign():
     fig, src = F.at_fig2_pool("pi/3")
     assert src["cos_kinetic_angle_12"] == "-1/4"  # -cos(theta)/2 at theta = pi/3
     assert src["v0"][:2] == ["1/2", "sqrt(3)/2"]
+
+
+def test_planar_chain_degree_and_zero_ratio_follow_the_coupling_criteria():
+    from impactsym.laws.coupling import impact_degree
+    from impactsym.scenes import balls_in_plane
+
+    fig, src = F.at_fig5_planar_chain()
+    pos = [tuple(sp.sympify(c) for c in p) for p in src["positions"]]
+    sc = balls_in_plane([1] * 5, [1] * 5, pos, [(1, 0)] + [(0, 0)] * 4)
+    assert src["impact_degree"] == impact_degree(sc.M, sc.H, sc.v) == 3
+    assert src["coupled_consecutive"] == [True, True, False]
+    assert src["ratios_used"][-1] == "0" and src["impulses"][-1] == "0"  # no impulse past the uncoupled contact
+    v = _m(src["velocity"])
+    assert list(v[8:]) == [0, 0]  # ball 5 stays at rest
+    p = _m(src["impulses"])
+    assert sc.M * (v - sc.v) == sc.H.T * p  # momentum balance, exactly
+    assert kinetic_energy(sc.M, v) == kinetic_energy(sc.M, sc.v)  # e = 1
