@@ -63,7 +63,13 @@ def _f(v) -> np.ndarray:
 
 
 def save(fig, path) -> str:
-    """Write ``fig`` to ``path`` (PNG, 100 dpi) and close it; return the path as text."""
+    """Write ``fig`` to ``path`` (the format from its suffix, 100 dpi) and close it; return the path as text.
+
+    >>> import os, tempfile
+    >>> fig, _ = at_fig3_domain()
+    >>> os.path.getsize(save(fig, os.path.join(tempfile.mkdtemp(), "fig3.png"))) > 0
+    True
+    """
     fig.savefig(path, dpi=100)
     _plt().close(fig)
     return str(path)
@@ -73,6 +79,10 @@ def show(fig):
     """The figure as an ``IPython.display.Image`` (PNG), for a notebook cell's last line; closes ``fig``.
 
     With the Agg backend a bare ``Figure`` displays as text; this shows the picture, once.
+
+    >>> fig, _ = sm_fig1_convex_corner()
+    >>> show(fig).format
+    'png'
     """
     import io
 
@@ -584,6 +594,14 @@ def two_surface_figure(M, H, v, *, title=None):
     -------
     (Figure, dict) : ``counts`` (the law's, per first surface), ``iterated_counts`` (by explicit
     iteration, ``None`` beyond the drawing cap), ``bound``, ``wedge_angle``, ``exits``.
+
+    Examples
+    --------
+    The 3-ball cradle, balls 1 and 2 striking ball 3 (3-D; eq. 4):
+
+    >>> fig, src = two_surface_figure("1,0,0;0,1,0;0,0,1", "-1,1,0;0,-1,1", "1,1,0")
+    >>> src["counts"], src["exits"], src["bound"]
+    ({'1': 2}, {'1': ['0', '1', '1']}, 3)
     """
     from .laws.reflection import reflect
     from .laws.two_surface import resolve_two_surfaces
@@ -1414,6 +1432,11 @@ def write_readme_figures(outdir, names=None, *, pixels: bool = True) -> dict:
 
     ``pixels=False`` writes only the JSON (what the currency test regenerates). Returns
     ``{name: source data}``.
+
+    >>> import tempfile
+    >>> out = write_readme_figures(tempfile.mkdtemp(), ["at_fig3_domain"], pixels=False)
+    >>> out["at_fig3_domain"]["e"]
+    ['3/7', '1']
     """
     outdir = Path(outdir)
     outdir.mkdir(parents=True, exist_ok=True)
