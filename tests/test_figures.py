@@ -268,3 +268,15 @@ def test_planar_chain_degree_and_zero_ratio_follow_the_coupling_criteria():
     p = _m(src["impulses"])
     assert sc.M * (v - sc.v) == sc.H.T * p  # momentum balance, exactly
     assert kinetic_energy(sc.M, v) == kinetic_energy(sc.M, sc.v)  # e = 1
+
+
+def test_ordering_regions_with_irrational_gradients():
+    M, H = sp.eye(2), sp.Matrix([[1, 0], [-1, sp.sqrt(3)]])  # a wedge of pi/3
+    regs = F.ordering_regions(M, H)
+    dirs = [tuple(g["from"]) for g in regs]
+    assert len(set(dirs)) == len(dirs)  # one ray per direction
+    for g in regs:
+        s = _m(g["from"]) + _m(g["to"])
+        it = resolve_sequential(M, H, s, two_surface="iterate", select=False)
+        assert {o[0]: list(o) for o, _ in it.iter_orderings()} == g["orders"]
+    assert max(len(o) for g in regs for o in g["orders"].values()) <= termination_bound(M, H) == 3
