@@ -11,7 +11,7 @@ True
 from __future__ import annotations
 
 __all__ = ["ImpactError", "ImpactInputError", "DomainError", "NonTermination", "UndecidableSign",
-           "VerificationError"]
+           "VerificationError", "TimeLimitExceeded"]
 
 
 class ImpactError(Exception):
@@ -65,3 +65,7 @@ class VerificationError(AssertionError):
         self.condition = condition
         super().__init__(f"{law}: verification of the outcome failed: {condition} (a bug in impactsym; "
                          "the outcome was not returned)")
+
+
+class TimeLimitExceeded(ImpactError, TimeoutError):
+    """A computation ran past the time limit its caller set (the CLI's ``--timeout``)."""

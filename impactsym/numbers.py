@@ -30,6 +30,7 @@ from fractions import Fraction
 from numbers import Integral, Rational as _NumRational
 from typing import Any, Iterable
 
+import mpmath
 import numpy as np
 import sympy as sp
 
@@ -47,17 +48,56 @@ __all__ = [
     "exact_str",
     "exact_json",
     "check_finite_exact",
+    "MAX_DIGITS",
 ]
+
+def _rational_call(p, q=1):
+    """``Rational(p, q)`` in text: ``p/q``, built unevaluated so that its size is bounded first."""
+    return sp.Mul(p, sp.Pow(q, -1, evaluate=False), evaluate=False)
+
+
+def _integer_call(x):
+    """``Integer(x)`` in text: ``x`` itself (checked to be an integer once evaluated)."""
+    return _IntegerCall(x, evaluate=False)
+
+
+class _IntegerCall(sp.Function):
+    """Marker for ``Integer(x)`` in text; evaluates to ``x`` when ``x`` is an integer."""
+
+    nargs = 1
+
+    @classmethod
+    def eval(cls, x):
+        if x.is_Integer:
+            return x
+        if x.is_number and x.is_Rational:
+            raise ImpactInputError("value", f"Integer({x}): not an integer")
+        return None
+
 
 _ALLOWED_NAMES = {
     "sqrt": sp.sqrt, "pi": sp.pi, "E": sp.E, "sin": sp.sin, "cos": sp.cos, "tan": sp.tan,
     "asin": sp.asin, "acos": sp.acos, "atan": sp.atan, "exp": sp.exp, "log": sp.log,
     "Rational": sp.Rational, "Integer": sp.Integer, "root": sp.root, "cbrt": sp.cbrt,
 }
+#: what the names of the text become while parsing: ``Rational(p, q)`` and ``Integer(x)`` are built
+#: unevaluated (renamed, because the parser itself wraps every literal in ``Integer``/``Rational``)
+_PARSE_NAMES = {**_ALLOWED_NAMES, "_text_Rational_": _rational_call, "_text_Integer_": _integer_call}
+_USER_CALL = re.compile(r"\b(Rational|Integer)\s*\(")
 
+#: the most decimal digits of any integer or rational the parser builds (numerator or denominator),
+#: and of any integer power's estimated result; a larger number (``9^9^9^9``, ``2^(2^30)``) is
+#: refused before it is computed, naming this limit
+MAX_DIGITS = 1000
+#: the longest text accepted for one entry
+MAX_TEXT = 2000
 
 _SAFE_TEXT = re.compile(r"[0-9A-Za-z_+\-*/().^ eE]+")
 _IDENT = re.compile(r"[A-Za-z_][A-Za-z_0-9]*")
+#: plain numeric text read without the expression parser: ``-3``, ``11/10``, ``1.25``, ``1e-3``
+_PLAIN = re.compile(r"[+-]?(?:\d+\.?\d*|\.\d+)(?:[eE]([+-]?\d+))?(?:/(\d+))?")
+#: a numeric literal, with an optional decimal exponent (``1e-3``, ``2.5E+4``): read exactly
+_LITERAL = re.compile(r"(?<![A-Za-z_0-9.])(?:\d+\.?\d*|\.\d+)(?:[eE]([+-]?\d+))?")
 
 
 def check_finite_exact(value: sp.Expr, argument: str) -> sp.Expr:
@@ -79,11 +119,20 @@ def parse_number(text: Any, argument: str = "value") -> sp.Expr:
     """Parse one exact number: int, ``Fraction``, SymPy number or text.
 
     Text may be an integer, a rational ``"p/q"``, a decimal ``"1.1"`` (read as 11/10, exactly),
-    or a SymPy expression in ``sqrt``, ``pi``, ``sin``, ``cos``, ... Floats are refused here:
-    they belong to the float path (see :func:`float_to_rational` for their exact binary value).
+    an exponent literal ``"1e-3"`` (read as 1/1000, exactly), or a SymPy expression in ``sqrt``,
+    ``pi``, ``sin``, ``cos``, ... Floats are refused here: they belong to the float path (see
+    :func:`float_to_rational` for their exact binary value).
 
-    >>> parse_number("-2/6"), parse_number("0.25"), parse_number(3)
-    (-1/3, 1/4, 3)
+    The size of what the text builds is bounded *before* it is built: an integer or rational of
+    more than :data:`MAX_DIGITS` digits (``9^9^9^9``, ``2^(2^30)``, ``1e100000``), or an irrational
+    value beyond ``10^±MAX_DIGITS`` (``exp(exp(exp(10)))``), is refused, naming the limit.
+
+    >>> parse_number("-2/6"), parse_number("0.25"), parse_number(3), parse_number("2.5e-3")
+    (-1/3, 1/4, 3, 1/400)
+    >>> parse_number("9^9^9^9", "velocity")
+    Traceback (most recent call last):
+    ...
+    impactsym.errors.ImpactInputError: velocity: 9**387420489 would have about 369693099 digits; numbers are limited to 1000 digits
     >>> parse_number("nan", "restitution")
     Traceback (most recent call last):
     ...
@@ -109,18 +158,121 @@ def parse_number(text: Any, argument: str = "value") -> sp.Expr:
     low = s.lower()
     if low in {"nan", "+nan", "-nan", "inf", "+inf", "-inf", "infinity", "-infinity", "oo", "-oo", "zoo"}:
         raise ImpactInputError(argument, f"must be a finite real number, got {s}")
-    if not _SAFE_TEXT.fullmatch(s) or any(name not in _ALLOWED_NAMES for name in _IDENT.findall(s)):
+    plain = _PLAIN.fullmatch(s)
+    if plain and len(s) <= MAX_DIGITS:  # a plain integer, fraction or decimal: no parser needed
+        if plain.group(2) is not None and int(plain.group(2)) == 0:
+            raise ImpactInputError(argument, f"must be a finite real number, got {s} (division by zero)")
+        exponent = plain.group(1)
+        if exponent is None or abs(int(exponent)) <= MAX_DIGITS:
+            num, _, den = s.partition("/")
+            return sp.Rational(Fraction(num)) / (int(den) if den else 1)
+    if len(s) > MAX_TEXT:
+        raise ImpactInputError(argument, f"entry is {len(s)} characters long; at most {MAX_TEXT} are read")
+    if not _SAFE_TEXT.fullmatch(s) or any(name not in _ALLOWED_NAMES for name in _IDENT.findall(_LITERAL.sub(" ", s))):
         raise ImpactInputError(
             argument,
-            f"cannot read {s!r} as a number (allowed: digits, + - * / ^ ( ), and {', '.join(sorted(_ALLOWED_NAMES))})",
+            f"cannot read {s!r} as a number (allowed: digits, decimals and exponent literals such as 1e-3, "
+            f"+ - * / ^ ( ), and {', '.join(sorted(_ALLOWED_NAMES))})",
         )
+    for m in _LITERAL.finditer(s):
+        if m.group(1) is not None and abs(int(m.group(1))) > MAX_DIGITS:
+            raise ImpactInputError(argument, f"the exponent of {m.group(0)!r} exceeds {MAX_DIGITS} "
+                                             f"(numbers are limited to {MAX_DIGITS} digits)")
     try:
-        value = sp.sympify(s.replace("^", "**"), locals=_ALLOWED_NAMES, rational=True, evaluate=True)
-    except (sp.SympifyError, SyntaxError, TypeError, ValueError, TokenError_) as exc:  # noqa: F821
+        code = _USER_CALL.sub(lambda m: f"_text_{m.group(1)}_(", s.replace("^", "**"))
+        tree = sp.sympify(code, locals=_PARSE_NAMES, rational=True, evaluate=False)
+    except ImpactInputError as exc:
+        raise ImpactInputError(argument, exc.condition) from None
+    except (sp.SympifyError, SyntaxError, TypeError, ValueError, TokenError_, AttributeError) as exc:  # noqa: F821
         raise ImpactInputError(argument, f"cannot read {s!r} as a number ({exc.__class__.__name__})") from None
-    if not isinstance(value, sp.Expr):
+    except (RecursionError, MemoryError):
+        raise ImpactInputError(argument, f"cannot read {s!r} as a number (nested too deeply)") from None
+    if not isinstance(tree, sp.Expr):
         raise ImpactInputError(argument, f"cannot read {s!r} as a number")
-    return check_finite_exact(value, argument)
+    try:
+        value = _bounded_eval(tree, argument)
+    except ImpactInputError as exc:
+        raise ImpactInputError(argument, exc.condition) from None
+    except RecursionError:
+        raise ImpactInputError(argument, f"cannot read {s!r} as a number (nested too deeply)") from None
+    if value.has(_IntegerCall):
+        raise ImpactInputError(argument, f"cannot read {s!r} as a number (Integer() of a non-integer)")
+    value = check_finite_exact(value, argument)
+    if not value.is_Rational:
+        _check_magnitude(value, s, argument)
+    return value
+
+
+def _check_magnitude(value: sp.Expr, text: str, argument: str) -> None:
+    """Refuse an irrational value outside ``10^±MAX_DIGITS`` (``exp(exp(exp(10)))``): the exact
+    arithmetic downstream could not evaluate it."""
+    try:
+        approx = sp.N(value, 15)
+        if approx == 0:
+            mag = 0.0
+        elif isinstance(approx, sp.Float):
+            mag = abs(float(mpmath.log10(abs(mpmath.mpf(approx._mpf_)))))
+        else:
+            mag = abs(math.log10(abs(complex(approx))))
+    except (OverflowError, ValueError, TypeError, ZeroDivisionError, RecursionError):
+        mag = math.inf
+    if mag > MAX_DIGITS:
+        raise ImpactInputError(argument, f"{text!r} is beyond 10^{MAX_DIGITS} in magnitude (or below "
+                                         f"10^-{MAX_DIGITS}); numbers are limited to {MAX_DIGITS} digits")
+
+
+def _digits(x: sp.Rational) -> int:
+    """Decimal digits of the larger of numerator and denominator (an upper estimate)."""
+    return int(max(abs(int(x.p)), int(x.q)).bit_length() * 0.30103) + 1
+
+
+def _log10_size(base: sp.Expr) -> float:
+    """Decimal digits per unit exponent of a power of ``base``: ``|log10 |base||``, and at least the
+    digits of the rationals inside ``base`` (SymPy expands ``sqrt(q)**n`` into ``q**(n/2)``)."""
+    if base.is_Rational:
+        return max(abs(math.log10(abs(int(base.p)))) if base.p else 0.0, math.log10(int(base.q)))
+    inner = max((_digits(a) - 1 for a in base.atoms(sp.Rational)), default=0)
+    try:
+        mag = abs(math.log10(abs(complex(sp.N(base, 15)))))
+    except (OverflowError, ValueError, TypeError, ZeroDivisionError):
+        mag = math.inf
+    return max(mag, float(inner))
+
+
+def _bounded_eval(node: sp.Basic, argument: str) -> sp.Basic:
+    """Evaluate an unevaluated parse tree bottom-up, refusing any integer power or rational whose
+    size would exceed :data:`MAX_DIGITS` digits *before* it is computed.
+
+    >>> _bounded_eval(sp.sympify("2**10", evaluate=False), "x")
+    1024
+    >>> _bounded_eval(sp.sympify("9**9**9", evaluate=False), "x")
+    Traceback (most recent call last):
+    ...
+    impactsym.errors.ImpactInputError: x: 9**387420489 would have about 369693099 digits; numbers are limited to 1000 digits
+    """
+    if not node.args:
+        if node.is_Rational and _digits(node) > MAX_DIGITS:
+            raise ImpactInputError(argument, f"{_digits(node)}-digit number; numbers are limited to {MAX_DIGITS} digits")
+        return node
+    args = [_bounded_eval(a, argument) for a in node.args]
+    if isinstance(node, sp.Pow):
+        base, expo = args
+        if expo.is_Rational and expo.q < 10 ** 6 and not (base.is_zero or base in (sp.S.One, sp.S.NegativeOne)):
+            size = abs(float(expo)) * _log10_size(base) if base.is_number else 0.0
+            if size > MAX_DIGITS:
+                b, x = str(base), str(expo)
+                shown = f"{b if len(b) < 40 else 'a power of a large number'}**{x if len(x) < 40 else '(a large exponent)'}"
+                about = f"about {int(size)}" if math.isfinite(size) else f"more than {MAX_DIGITS}"
+                raise ImpactInputError(argument, f"{shown} would have {about} digits; numbers are limited "
+                                                 f"to {MAX_DIGITS} digits")
+        elif expo.is_Rational and expo.q >= 10 ** 6:
+            raise ImpactInputError(argument, f"the exponent {expo} has a denominator of {_digits(expo)} digits "
+                                             f"(roots of order at most 10^6 are read)")
+    value = node.func(*args)
+    for atom in value.atoms(sp.Rational):
+        if _digits(atom) > MAX_DIGITS:
+            raise ImpactInputError(argument, f"a {_digits(atom)}-digit number; numbers are limited to {MAX_DIGITS} digits")
+    return value
 
 
 try:  # tokenizer errors surface from sympify for malformed text such as "1,,"

@@ -81,7 +81,9 @@ HARD = [c for c in HARD_CASES if c.kernel in SCALAR]
 @pytest.mark.parametrize("case", HARD, ids=[f"{c.kernel}:{c.name}" for c in HARD])
 def test_c_kernel_hard_cases(clib, case):
     got = call_scalar(clib, case.kernel, case.inputs)
-    numpy_out = getattr(K, case.kernel)(**case.inputs)
+    # some hard cases lie outside the law's domain on purpose (D < 0): NaN there is documented
+    with np.errstate(invalid="ignore", divide="ignore"):
+        numpy_out = getattr(K, case.kernel)(**case.inputs)
     numpy_out = numpy_out if isinstance(numpy_out, tuple) else (numpy_out,)
     if case.kernel in NOT_HELD:
         # held to agreement with the NumPy kernel only (same formula, same CSE; libm may differ by an ulp)
@@ -123,7 +125,9 @@ def test_c_batch_equals_numpy(clib, name):
         rng = np.random.default_rng(3)
         sample = {a: rng.uniform(0.34, 0.9, 200) for a in k["args"]}
     c_out = c_batch(clib, name, sample)
-    np_out = getattr(K, name)(**sample)
+    # the sampler's box is wider than the law's validity domain: NaN outside it is documented
+    with np.errstate(invalid="ignore", divide="ignore"):
+        np_out = getattr(K, name)(**sample)
     np_out = np_out if isinstance(np_out, tuple) else (np_out,)
     # C's libm and NumPy's sin/atan2 may differ by an ulp; the two-surface angles amplify that by
     # their (natural) condition number, up to ~1e4 on this sample

@@ -60,10 +60,20 @@ def test_plot_path_checked_before_the_work(argv, tmp_path, capsys):
     assert not bad.parent.exists()
 
 
-@pytest.mark.parametrize("plot, message", [("fig.txt", "suffix"), ("", "empty"), (".", "suffix")])
+@pytest.mark.parametrize("plot, message", [("fig.txt", "must end with"), ("", "empty"), (".", "directory")])
 def test_bad_plot_names_are_refused(plot, message, tmp_path, capsys, monkeypatch):
     monkeypatch.chdir(tmp_path)
     assert main(["domain", "--scene", "chain3", "--plot", plot, "--json"]) == 2
     out = capsys.readouterr()
     assert message in out.err
-    assert json.loads(out.out)["error"]["argument"] == "plot" if out.out.strip() else True
+    assert json.loads(out.out)["error"]["argument"] == "plot"
+
+
+def test_plot_goes_through_the_one_option_check(tmp_path, capsys):
+    """--plot applies to every law of resolve; an option a law does not take is still refused
+    (the plot path then never matters)."""
+    path = tmp_path / "fig.png"
+    argv = ["resolve", "--law", "newton", "--scene", "chain3", "--reading", "cone", "--plot", str(path), "--json"]
+    assert main(argv) == 2
+    assert json.loads(capsys.readouterr().out)["error"]["argument"] == "reading"
+    assert not path.exists()

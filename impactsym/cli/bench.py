@@ -11,6 +11,7 @@ import sys
 
 from ..errors import ImpactInputError
 from .common import add_json_flag
+from .plot import add_plot_option, plot_path
 
 
 def register(sub) -> None:
@@ -19,7 +20,7 @@ def register(sub) -> None:
                                    "domain and on the hard-case set.")
     p.add_argument("--quick", action="store_true", help="three formulas, smaller batches (about a minute)")
     p.add_argument("--formula", action="append", metavar="NAME", help="restrict to a formula (kernel name); repeatable")
-    p.add_argument("--plot", metavar="PNG", help="also write the log-log plot of throughput against error")
+    add_plot_option(p, "the log-log plot of throughput against error")
     add_json_flag(p)
     p.set_defaults(func=run)
 
@@ -28,8 +29,6 @@ def run(args) -> dict:
     import warnings
 
     from .. import benchmark
-
-    from .plot import plot_path
 
     path = plot_path(args)  # checked before the (long) work
     formulas = None

@@ -20,7 +20,7 @@ from functools import lru_cache
 from pathlib import Path
 
 from ..errors import ImpactInputError
-from .common import add_json_flag
+from .common import add_json_flag, refuse_inapplicable
 
 LANGS = ("c", "python", "numpy", "julia", "octave", "fortran", "rust")
 CATALOG = Path(__file__).resolve().parent.parent / "kernels" / "catalog.json"
@@ -40,10 +40,10 @@ def register(sub) -> None:
                     "(e.g. chain3-impulse-ratio); --list shows them all.",
     )
     p.add_argument("name", nargs="?", metavar="NAME", help="kernel codegen name (see --list)")
-    p.add_argument("--lang", default="numpy", metavar="LANG", help=f"one of {', '.join(LANGS)} (default numpy)")
+    p.add_argument("--lang", metavar="LANG", help=f"with NAME: one of {', '.join(LANGS)} (default numpy)")
     p.add_argument("--list", action="store_true", help="list every kernel with its family and languages")
     add_json_flag(p)
-    p.set_defaults(func=run)
+    p.set_defaults(func=run, _codegen_parser=p)
 
 
 def _languages(k: dict) -> list[str]:
@@ -55,9 +55,13 @@ def run(args) -> dict:
     if args.list or args.name is None:
         if args.name is not None:
             raise ImpactInputError("name", "give either NAME or --list, not both")
+        # the one option check of the CLI: --lang applies with NAME (one kernel), not to the listing
+        refuse_inapplicable(args, args._codegen_parser, ("list",), "the kernel listing (--lang applies with NAME)")
         return {"kernels": [{"name": k["codegen_name"], "kernel": k["name"], "family": k["family"],
                              "kind": k["kind"], "args": k["args"], "outputs": k["outputs"],
                              "languages": _languages(k), "summary": k["summary"]} for k in kernels]}
+    if args.lang is None:
+        args.lang = "numpy"
     if args.lang not in LANGS:
         raise ImpactInputError("lang", f"must be one of {', '.join(LANGS)}, got {args.lang!r}")
     by_name = {k["codegen_name"]: k for k in kernels}

@@ -48,8 +48,12 @@ def render(result: dict) -> str:
         out.append(f"  {b['name']}: {b['expression']}")
         out.append(f"      {b['condition']}")
     reg = result["region"]
-    out += ["", "region:", f"  alpha in [{reg['alpha'][0]}, {reg['alpha'][1]}]", f"  e     in [{reg['e'][0]}, {reg['e'][1]}]",
-            f"  empty: {reg['empty']}", f"  {reg['description']}"]
+    out += ["", "region:"]
+    if "alpha" in reg:  # an empty domain (no impact at all) has no alpha/e ranges
+        out.append(f"  alpha in [{reg['alpha'][0]}, {reg['alpha'][1]}]")
+    if "e" in reg:
+        out.append(f"  e     in [{reg['e'][0]}, {reg['e'][1]}]")
+    out += [f"  empty: {reg['empty']}", f"  {reg['description']}"]
     if result.get("theta_sweep"):
         out += ["", "by theta:"]
         for row in result["theta_sweep"]:

@@ -20,7 +20,7 @@ from __future__ import annotations
 from collections import OrderedDict
 from pathlib import Path
 
-from .common import add_json_flag
+from .common import add_json_flag, writable_dir
 
 PAPER_ORDER = ("seghete-murphey", "acary-taha")
 
@@ -51,10 +51,11 @@ class AuditOutput(dict):
 def run(args):
     from paper_checks import run_audit
 
+    report_dir = writable_dir(args.report, "report")  # checked before the 1-2 minute audit
     audit = run_audit(args.paper)
     result = AuditOutput(audit)
-    if getattr(args, "report", None):
-        result["summary"]["report"] = str(write_report(result, Path(args.report)))
+    if report_dir is not None:
+        result["summary"]["report"] = str(write_report(result, report_dir))
     return result, (0 if audit.ok else 1)
 
 

@@ -10,7 +10,6 @@ Han–Gilmore ``outcomes`` (each with its ``sequences`` of impact stages; ``impu
 
 from __future__ import annotations
 
-from ..errors import ImpactInputError
 from ..laws import classical
 from ..numbers import parse_number
 from .resolve_impulse_ratio import ratios_arg
@@ -19,13 +18,8 @@ from .scene_args import read_scene, scene_json
 __all__ = ["run_newton", "run_poisson", "run_energetic", "run_han_gilmore", "render"]
 
 
-def _common(args, *, ratios_ok=False, variant_ok=False, vector_e=False):
-    if args.ratios is not None and not ratios_ok:
-        raise ImpactInputError("ratios", f"--ratios does not apply to --law {args.law}")
-    if args.coupling:
-        raise ImpactInputError("coupling", f"--coupling applies to --law impulse-ratio, not {args.law}")
-    if args.variant is not None and not variant_ok:
-        raise ImpactInputError("variant", f"--variant applies to --law poisson, not {args.law}")
+def _common(args, *, vector_e=False):
+    # which options apply to which law is checked once, by impactsym.cli.resolve.check_options
     M, H, v, desc = read_scene(args)
     text = args.restitution if args.restitution is not None else "1"
     if vector_e and "," in text:
@@ -48,20 +42,17 @@ def run_newton(args) -> dict:
 
 
 def run_poisson(args) -> dict:
-    M, H, v, e, desc = _common(args, variant_ok=True, vector_e=True)
+    M, H, v, e, desc = _common(args, vector_e=True)
     return _out(classical.poisson(M, H, v, e, variant=args.variant or "paper", allow_invalid=args.allow_invalid), e, desc)
 
 
 def run_energetic(args) -> dict:
-    M, H, v, e, desc = _common(args, ratios_ok=True)
+    M, H, v, e, desc = _common(args)
     return _out(classical.energetic(M, H, v, e, ratios_arg(args.ratios), allow_invalid=args.allow_invalid), e, desc)
 
 
 def run_han_gilmore(args) -> dict:
     M, H, v, e, desc = _common(args)
-    if args.allow_invalid:
-        raise ImpactInputError("allow_invalid", "--allow-invalid does not apply to --law han-gilmore (its outcomes "
-                               "are admissible by construction)")
     return _out(classical.han_gilmore(M, H, v, e), e, desc)
 
 

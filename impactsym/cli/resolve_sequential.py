@@ -23,10 +23,11 @@ import mpmath
 import numpy as np
 import sympy as sp
 
-from ..errors import ImpactInputError
-from ..laws.sequential import DEFAULT_MAX_REFLECTIONS, READINGS, TWO_SURFACE_PATHS, resolve_sequential, termination_bound
-from ..numbers import exact_str, parse_vector
-from .scene_args import read_scene, scene_json
+from ..errors import ImpactInputError, NonTermination
+from ..laws.sequential import (DEFAULT_MAX_REFLECTIONS, MAX_COORDINATES, READINGS, TWO_SURFACE_PATHS,
+                               resolve_sequential, termination_bound)
+from ..numbers import exact_str, parse_number, parse_vector
+from .scene_args import float_range_guard, read_scene, scene_json
 
 __all__ = ["run", "render", "SM_SCENE_PARAMS"]
 
@@ -40,13 +41,30 @@ SM_SCENE_PARAMS = {
 _SM_PARAMS = ("n_balls", "strikers", "masses", "velocities")
 
 
-def _int_option(text, argument, minimum):
-    try:
-        value = int(str(text).strip())
-    except ValueError:
-        raise ImpactInputError(argument, f"must be an integer, got {text!r}") from None
+#: the most balls ``--n-balls`` accepts: one coordinate per ball, so the sequential law's own limit
+#: (``MAX_COORDINATES``); a larger scene is refused before it is built, naming the limit, rather
+#: than left to run for minutes or exhaust memory
+MAX_N_BALLS = MAX_COORDINATES
+
+
+def _int_option(text, argument, minimum, maximum=None):
+    """An integer option, given as an integer or an exact integer expression (``10**2``).
+
+    >>> _int_option("10**2", "n_balls", 2)
+    100
+    >>> _int_option("1000000000000", "n_balls", 2, 200)
+    Traceback (most recent call last):
+    ...
+    impactsym.errors.ImpactInputError: n_balls: must be at most 200, got 1000000000000
+    """
+    value = parse_number(str(text), argument)
+    if not value.is_Integer:
+        raise ImpactInputError(argument, f"must be an integer, got {text!r}")
+    value = int(value)
     if value < minimum:
         raise ImpactInputError(argument, f"must be >= {minimum}, got {value}")
+    if maximum is not None and value > maximum:
+        raise ImpactInputError(argument, f"must be at most {maximum}, got {value}")  # before any work
     return value
 
 
@@ -70,9 +88,9 @@ def _read(args):
         if given["velocities"] is not None:
             kw["velocities"] = list(parse_vector(given["velocities"], "velocities"))
         if given["n_balls"] is not None:
-            kw["n_balls"] = _int_option(given["n_balls"], "n_balls", 1)
+            kw["n_balls"] = _int_option(given["n_balls"], "n_balls", 1, MAX_N_BALLS)
         if given["strikers"] is not None:
-            kw["strikers"] = _int_option(given["strikers"], "strikers", 1)
+            kw["strikers"] = _int_option(given["strikers"], "strikers", 1, MAX_N_BALLS)
         try:
             sc = sm.SCENES[args.scene](**kw)
         except TypeError as exc:  # pragma: no cover - guarded by SM_SCENE_PARAMS
@@ -120,8 +138,14 @@ def run(args) -> dict:
         M, H, v = (np.array(np.array(A).tolist(), dtype=float) if isinstance(A, sp.MatrixBase) else
                    np.asarray(A, dtype=float) for A in (M, H, v))
         v = v.reshape(-1)
-    r = resolve_sequential(M, H, v, reading=reading, max_reflections=cap, exact=not args.float,
-                           two_surface=path)
+    with float_range_guard(args):
+        r = resolve_sequential(M, H, v, reading=reading, max_reflections=cap, exact=not args.float,
+                               two_surface=path)
+    if args.max_reflections is not None:
+        used = max((o.reflections_max for o in r.outcomes), default=0)
+        if used > cap:  # the two-surface closed form needs no cap; a cap the user gave still binds
+            raise NonTermination(f"max_reflections: an ordering needs {used} reflections, more than the cap "
+                                 f"max_reflections={cap}; raise the cap or omit --max-reflections")
     outcomes = []
     for o in r.outcomes:
         d = {"order": _order_json(o.order), "reflections": o.reflections}
@@ -130,6 +154,10 @@ def run(args) -> dict:
         d.update({"orderings": o.orderings, "reflections_min": o.reflections_min,
                   "reflections_max": o.reflections_max})
         outcomes.append(d)
+    selected = r.selected
+    if args.float:  # the float path reports floats, also where the selection compared exactly
+        selected = [np.array([float(sp.N(x, 17)) for x in sel]) if isinstance(sel, sp.MatrixBase) else sel
+                    for sel in selected]
     bound = r.bound
     if bound is None and len(contacts) == 2 and not args.float:
         try:
@@ -139,8 +167,8 @@ def run(args) -> dict:
     out = {"law": "sequential", "exact": r.exact, "backend": r.backend, "method": r.method,
            "reading": reading, "contacts": contacts, "approaching": list(r.approaching),
            "outcomes": outcomes,
-           "selected": [_vec("v", s)["v"] for s in r.selected],
-           "selected_float": [_vec("v", s)["v_float"] for s in r.selected],
+           "selected": [_vec("v", s)["v"] for s in selected],
+           "selected_float": [_vec("v", s)["v_float"] for s in selected],
            "two_surface_bound": bound,
            "counts": {"orderings": r.orderings, "states_visited": r.states_visited, "sign_tests": r.sign_tests,
                       "exact_fallbacks": r.exact_fallbacks, "max_reflections_used": r.max_reflections_used}}

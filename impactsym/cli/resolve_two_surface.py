@@ -15,7 +15,7 @@ from __future__ import annotations
 from ..errors import ImpactInputError
 from ..laws.two_surface import resolve_two_surfaces
 from ..numbers import parse_number
-from .scene_args import read_scene, scene_json
+from .scene_args import float_range_guard, read_scene, scene_json
 
 __all__ = ["run", "render"]
 
@@ -25,7 +25,8 @@ def run(args) -> dict:
         raise ImpactInputError("restitution", "the two-surface law is elastic (sequential G_u): e must be 1")
     M, H, v, desc = read_scene(args)
     out = {"law": "two-surface"}
-    out.update(resolve_two_surfaces(M, H, v).as_dict())
+    with float_range_guard(args):
+        out.update(resolve_two_surfaces(M, H, v).as_dict())
     out.update(scene_json(desc))
     return out
 
@@ -38,6 +39,9 @@ def render(result: dict) -> str:
         if isinstance(order, dict):
             order = f"[{order['first']}, {1 - order['first']}, ...] ({order['length']} surfaces)"
         kind = "exact" if o["exact"] else f"{o['digits']} certified digits" if o["digits"] else "float"
-        lines.append(f"first surface {o['first']}: {o['reflections']} reflections, order {order}")
+        if o.get("no_impact") or o["first"] in (-1, None):  # neither surface is approached
+            lines.append("no surface is approached: no impact (0 reflections), v+ = v-")
+        else:
+            lines.append(f"first surface {o['first']}: {o['reflections']} reflections, order {order}")
         lines.append(f"  v+ = [{', '.join(o['velocity'] if isinstance(o['velocity'][0], str) else map(str, o['velocity']))}]  ({kind})")
     return "\n".join(lines)

@@ -6,13 +6,15 @@ the chosen form are refused, never ignored."""
 
 from __future__ import annotations
 
+from contextlib import contextmanager
+
 import sympy as sp
 
 from ..errors import ImpactInputError
 from ..numbers import exact_str, parse_number, parse_vector
 from .common import matrix_arg, vector_arg
 
-__all__ = ["SCENES", "read_scene", "scene_json"]
+__all__ = ["SCENES", "read_scene", "scene_json", "float_range_guard"]
 
 #: scene name -> the parameter options it accepts
 SCENES = {"chain3": ("masses", "velocities"), "pool": ("theta", "tau"), "bernoulli": ("tau",)}
@@ -77,3 +79,18 @@ def read_scene(args):
 def scene_json(desc: dict) -> dict:
     """The scene description as it goes into the JSON result (``None`` for explicit matrices)."""
     return {"scene": desc if desc.get("scene") else None}
+
+
+@contextmanager
+def float_range_guard(args):
+    """Turn an ``OverflowError`` of a law's float twins (an exact result beyond the float range,
+    about 1.8e308) into a refusal naming the input, instead of a traceback."""
+    try:
+        yield
+    except OverflowError:
+        if getattr(args, "scene", None) is None:
+            arg = "velocity"
+        else:
+            arg = next((a for a in ("velocities", "masses") if getattr(args, a, None) is not None), "scene")
+        raise ImpactInputError(arg, "the result is beyond the float range (about 1.8e308), where its float "
+                               "twin cannot be given; scale the input down") from None

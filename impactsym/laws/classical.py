@@ -177,8 +177,12 @@ def _checked(M, H, v, e, *, vector_e=False):
 class _Scene:
     """Exact data of a checked scene: W, w = H v, M⁻¹Hᵀ, T⁻, in one arithmetic."""
 
-    def __init__(self, Mx, Hx, vx):
-        self.kind, (self.M, self.H, self.v) = exact_data(Mx, Hx, vx)
+    def __init__(self, Mx, Hx, vx, restitution=()):
+        # an irrational restitution (sqrt(2)/2) takes the SymPy arithmetic, as irrational M, H, v do
+        es = list(restitution) if isinstance(restitution, (list, tuple)) else [restitution]
+        es = [x for x in es if isinstance(x, sp.Basic)]
+        self.kind, mats = exact_data(Mx, Hx, vx, *([sp.Matrix(es)] if es else []))
+        self.M, self.H, self.v = mats[:3]
         self.la = ExactLinearAlgebra(self.kind)
         Ht = self.H.T if self.kind == "sympy" else self.H.transpose()
         self.MinvHt = self.M.LUsolve(Ht) if self.kind == "sympy" else self.M.solve(Ht)
@@ -403,7 +407,7 @@ def newton_moreau(mass_matrix, gradients, velocity, restitution=1, *, allow_inva
     (False, Matrix([[1, 0]]), [[2, 0], [0, 2]])
     """
     exact, Mx, Hx, vx, ex = _checked(mass_matrix, gradients, velocity, restitution)
-    sc = _Scene(Mx, Hx, vx)
+    sc = _Scene(Mx, Hx, vx, ex)
     factor = 1 + (ex if exact else to_exact(ex))
     sols, method = _lcp(sc, Mx, Hx, vx, factor)
     q = sc.w * sc.scalar(factor)
@@ -432,7 +436,7 @@ def poisson(mass_matrix, gradients, velocity, restitution=1, *, variant: str = "
     if variant not in ("paper", "glocker-pfeiffer"):
         raise ImpactInputError("variant", f"must be 'paper' or 'glocker-pfeiffer', got {variant!r}")
     exact, Mx, Hx, vx, ex = _checked(mass_matrix, gradients, velocity, restitution, vector_e=True)
-    sc = _Scene(Mx, Hx, vx)
+    sc = _Scene(Mx, Hx, vx, ex)
     sols, method = _lcp(sc, Mx, Hx, vx, 1)  # compression: 0 <= H v_c _|_ p_c >= 0
     pc = sols[0]
     la = sc.la
@@ -480,7 +484,7 @@ def energetic(mass_matrix, gradients, velocity, restitution=1, ratios=None, *, a
         notes.append("direction (1, alpha_12, ...) from the given ratios: this is the impulse-ratio law" if k > 1
                      else "one contact: eq. 12 fixes the impulse")
     else:
-        sc = _Scene(Mx, Hx, vx)
+        sc = _Scene(Mx, Hx, vx, ex)
         sols, _ = _lcp(sc, Mx, Hx, vx, 2)
         q = sc.w * sc.scalar(2)
         unique, why = _uniqueness(sc, sols, lambda p: sc.W * p + q)
@@ -498,7 +502,7 @@ def energetic(mass_matrix, gradients, velocity, restitution=1, ratios=None, *, a
         notes.append("eq. 12 alone is under-determined for k >= 2: direction taken from the elastic (e = 1) "
                      "Newton/Moreau impulse, magnitude from T+ = e T-")
     r = energy_balance_along(Mx, Hx, vx, ex, a, exact=exact, allow_invalid=True, law="energetic law")
-    sc = _Scene(Mx, Hx, vx)
+    sc = _Scene(Mx, Hx, vx, ex)
     conv = _values(sc, exact)
     Tplus = None
     if r.velocity is not None:
@@ -590,7 +594,7 @@ def han_gilmore(mass_matrix, gradients, velocity, restitution=1, *, max_stages: 
     [(Matrix([[-1/3, 2/3, 2/3]]), [[(1, 2)]]), (Matrix([[0, 0, 1]]), [[(1,), (2,)]])]
     """
     exact, Mx, Hx, vx, ex = _checked(mass_matrix, gradients, velocity, restitution)
-    sc = _Scene(Mx, Hx, vx)
+    sc = _Scene(Mx, Hx, vx, ex)
     la = sc.la
     e = sc.scalar(ex if exact else to_exact(ex))
     outcomes: list = []  # (v, p, [sequences])

@@ -105,6 +105,31 @@ def _mp_parts(Mx, ux, ex, exact):
     return Mm, um, w, s, (1 + _mp(ex)) / s
 
 
+def _all_rational(*mats) -> bool:
+    return all(x.is_Rational for m in mats for x in (m if isinstance(m, sp.MatrixBase) else [m]))
+
+
+def _fmpq_mat(A: sp.Matrix):
+    from flint import fmpq, fmpq_mat
+
+    return fmpq_mat(A.rows, A.cols, [fmpq(int(x.p), int(x.q)) for x in A])
+
+
+def _sympy_of(F) -> sp.Matrix:
+    return sp.Matrix(F.nrows(), F.ncols(), [sp.Rational(int(F[i, j].p), int(F[i, j].q))
+                                            for i in range(F.nrows()) for j in range(F.ncols())])
+
+
+def _rational_parts(Mx, ux, ex):
+    """``w = M⁻¹uᵀ`` and ``c = (1+e)/(u w)`` exactly over the rationals (python-flint, O(n³))."""
+    from flint import fmpq
+
+    u = _fmpq_mat(ux)
+    w = _fmpq_mat(Mx).solve(u.transpose())
+    s = (u * w)[0, 0]
+    return u, w, (1 + fmpq(int(ex.p), int(ex.q))) / s
+
+
 def reflection_map(mass_matrix, gradient, restitution=1, *, dps: int | None = None):
     """``G_u(e) = I − (1+e) M⁻¹uᵀu / (u M⁻¹ uᵀ)`` for one gradient covector ``u``.
 
@@ -133,6 +158,12 @@ def reflection_map(mass_matrix, gradient, restitution=1, *, dps: int | None = No
         with mpmath.workdps(dps):
             _, um, w, _, c = _mp_parts(Mx, ux, ex, exact)
             return mpmath.eye(n) - c * (w * um.T)
+    if exact and _all_rational(Mx, ux, ex):  # rational input: exact linear algebra in python-flint
+        from flint import fmpq_mat
+
+        u, w, c = _rational_parts(Mx, ux, ex)
+        G = fmpq_mat(n, n, [int(i == j) for i in range(n) for j in range(n)]) - (w * u) * c
+        return _sympy_of(G)
     if exact:
         w = Mx.LUsolve(ux.T)
         s = (ux * w)[0, 0]
@@ -158,6 +189,14 @@ def reflect(mass_matrix, gradient, velocity, restitution=1, *, dps: int | None =
             vm = mpmath.matrix([_mp(vx[i]) for i in range(n)])
             uv = sum(um[i] * vm[i] for i in range(n))
             return vm - (c * uv) * w
+    if exact and _all_rational(Mx, ux, vx, ex):
+        u, w, c = _rational_parts(Mx, ux, ex)
+        v = _fmpq_mat(vx)
+        uv = (u * v)[0, 0]
+        out = _sympy_of(v - w * (uv * c))
+        pq = -uv * c  # the impulse p = -(1+e) u v / (u M^-1 u^T)
+        _verify_reflection(Mx, ux, vx, ex, out, sp.Rational(int(pq.p), int(pq.q)))
+        return out
     if exact:
         w = Mx.LUsolve(ux.T)
         s = (ux * w)[0, 0]
