@@ -415,7 +415,7 @@ def _pool_symbolic() -> ValidityDomain:
     return ValidityDomain("pool", None, bnds, ["alpha >= max(0, cos(theta)/2)", "g(alpha) <= e <= 1"], region, None, sweep)
 
 
-def plot_domain(theta, path, *, alpha_max=None, points: int = 400) -> dict:
+def plot_domain(theta, path, *, alpha_max=None, points: int = 400, ax=None) -> dict:
     """Draw the valid domain of ``(α₁₂, e)`` for the pool at θ (Fig. 3 is θ = π/4) into ``path`` (PNG).
 
     The curves are the generated kernels ``pool_g`` and ``pool_h`` (derived in
@@ -424,9 +424,11 @@ def plot_domain(theta, path, *, alpha_max=None, points: int = 400) -> dict:
     Parameters
     ----------
     theta : θ ∈ [0, 2π/3) (exact or float)
-    path : output file
+    path : output file (``None``: draw only, on ``ax``)
     alpha_max : right end of the α axis (default 1.5)
     points : samples per curve
+    ax : a matplotlib Axes to draw on (the figure is then neither saved unless ``path`` is given,
+        nor closed); default: a new figure, saved to ``path`` and closed
 
     Returns
     -------
@@ -457,7 +459,11 @@ def plot_domain(theta, path, *, alpha_max=None, points: int = 400) -> dict:
     a = np.linspace(0.0, a_hi, points)
     g, h = g_kernel(tf, a), h_kernel(tf, a)
     lo, hi = (float(sp.N(x, 17)) for x in dom.region["alpha"])
-    fig, ax = plt.subplots(figsize=(6, 4.5))
+    own = ax is None
+    if own:
+        fig, ax = plt.subplots(figsize=(6, 4.5))
+    else:
+        fig = ax.figure
     ax.plot(a, g, color="C0", label="g: v1+ = 0 (eq. 29)")
     ax.plot(a, h, color="C1", linestyle="--", label="h: Delta = 0 (eq. 31, corrected)")
     inside = (a >= lo) & (a <= hi)
@@ -471,10 +477,13 @@ def plot_domain(theta, path, *, alpha_max=None, points: int = 400) -> dict:
     ax.set_ylabel("e")
     ax.set_title(f"Valid domain of e and alpha_12, theta = {exact_str(t)}")
     ax.legend(loc="lower right", fontsize=8)
-    fig.tight_layout()
-    fig.savefig(path, dpi=100)
+    if own:
+        fig.tight_layout()
+    if path is not None:
+        fig.savefig(path, dpi=100)
     lines = {"g": ax.lines[0].get_ydata().copy(), "h": ax.lines[1].get_ydata().copy(), "alpha": ax.lines[0].get_xdata().copy()}
-    plt.close(fig)
-    return {"path": str(path), "alpha": lines["alpha"], "g": lines["g"], "h": lines["h"],
+    if own:
+        plt.close(fig)
+    return {"path": None if path is None else str(path), "alpha": lines["alpha"], "g": lines["g"], "h": lines["h"],
             "alpha_range": (lo, hi), "e_min": emin, "theta": t}
 

@@ -10,7 +10,8 @@ from __future__ import annotations
 import sys
 
 from ..errors import ImpactInputError
-from .common import add_json_flag, writable_file
+from .common import add_json_flag
+from .plot import add_plot_option, plot_path
 
 
 def register(sub) -> None:
@@ -19,7 +20,7 @@ def register(sub) -> None:
                                    "domain and on the hard-case set.")
     p.add_argument("--quick", action="store_true", help="three formulas, smaller batches (about a minute)")
     p.add_argument("--formula", action="append", metavar="NAME", help="restrict to a formula (kernel name); repeatable")
-    p.add_argument("--plot", metavar="PNG", help="also write the log-log plot of throughput against error")
+    add_plot_option(p, "the log-log plot of throughput against error")
     add_json_flag(p)
     p.set_defaults(func=run)
 
@@ -29,12 +30,7 @@ def run(args) -> dict:
 
     from .. import benchmark
 
-    plot_path = writable_file(args.plot, "plot", suffixes=(".png", ".pdf", ".svg"))  # before the work
-    if plot_path is not None:
-        try:
-            import matplotlib  # noqa: F401
-        except ImportError:
-            raise ImpactInputError("plot", "needs matplotlib (pip install matplotlib)") from None
+    path = plot_path(args)  # checked before the (long) work
     formulas = None
     if args.formula:
         for f in args.formula:
@@ -46,8 +42,8 @@ def run(args) -> dict:
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
         result = benchmark.run(quick=args.quick, formulas=formulas, progress=progress)
-    if plot_path is not None:
-        benchmark.plot(result, plot_path)
+    if path is not None:
+        benchmark.plot(result, path)
     return result
 
 

@@ -5,6 +5,7 @@ from __future__ import annotations
 
 from ..domains import SCENES, validity_domain
 from .common import add_json_flag
+from .plot import add_plot_option, plot_path, write_figure
 
 
 def register(sub) -> None:
@@ -19,12 +20,19 @@ def register(sub) -> None:
                    help="pool angle theta in [0, 2*pi/3] (exact text: 'pi/4', '1/2'); omitted: the domain as a function of theta")
     p.add_argument("--tau", metavar="TAU",
                    help="pool incidence angle tau (needs --theta; default 0): the domain at (theta, tau)")
+    add_plot_option(p, "the domain drawn (without --theta: small multiples over theta)")
     add_json_flag(p)
     p.set_defaults(func=run)
 
 
 def run(args) -> dict:
-    return validity_domain(args.scene, args.theta, args.tau).as_json()
+    path = plot_path(args)  # checked before the work
+    result = validity_domain(args.scene, args.theta, args.tau).as_json()
+    if path is not None:
+        from ..figures import domain_figure
+
+        write_figure(domain_figure(args.scene, args.theta, args.tau)[0], path)
+    return result
 
 
 def render(result: dict) -> str:

@@ -14,6 +14,7 @@ import importlib
 
 from ..errors import ImpactInputError
 from .common import add_json_flag, option_name, refuse_inapplicable
+from .plot import add_plot_option, plot_path, write_figure
 
 #: CLI law name -> "module:function" (module relative to impactsym)
 LAWS: dict[str, str] = {
@@ -97,6 +98,8 @@ def register(sub) -> None:
     p.add_argument("--n-balls", metavar="N", help="sequential scenes cradle, balls-against-wall: number of balls "
                    "(an integer expression such as 10**2; at most 200, the sequential law's MAX_COORDINATES)")
     p.add_argument("--strikers", metavar="K", help="sequential scene cradle: number of striking balls")
+    add_plot_option(p, "the picture of the answer (two surfaces: the law in the plane of their M-normals; "
+                       "otherwise the velocities before and after)")
     add_json_flag(p)
     p.set_defaults(func=run, _resolve_parser=p)
 
@@ -111,7 +114,7 @@ def check_options(args) -> None:
     form = SCENE_OPTIONS[scene] if scene is not None else MATRIX_OPTIONS
     context = f"--law {law} " + (f"--scene {scene}" if scene is not None else "with explicit matrices (no --scene)")
     try:
-        refuse_inapplicable(args, args._resolve_parser, ("law", "scene", *LAW_OPTIONS[law], *form), context)
+        refuse_inapplicable(args, args._resolve_parser, ("law", "scene", "plot", *LAW_OPTIONS[law], *form), context)
     except ImpactInputError as exc:
         arg = exc.argument
         why = NOT_APPLICABLE_BECAUSE.get((law, arg))
@@ -132,9 +135,27 @@ def run(args) -> dict:
     if args.law not in LAWS:
         raise ImpactInputError("law", f"unknown law {args.law!r}; known: {', '.join(LAWS) or '(none yet)'}")
     check_options(args)
+    path = plot_path(args)  # checked before the work
     module_name, func_name = LAWS[args.law].split(":")
     module = importlib.import_module(f"impactsym.{module_name}")
-    return getattr(module, func_name)(args)
+    result = getattr(module, func_name)(args)
+    if path is not None:
+        from ..figures import resolve_figure
+
+        M, H, v = _system(args)
+        write_figure(resolve_figure(args.law, M, H, v, result)[0], path)
+    return result
+
+
+def _system(args):
+    """``(M, H, v)`` as the law read them (exact), for ``--plot``."""
+    if args.law == "sequential":
+        from .resolve_sequential import _read
+
+        return _read(args)[:3]
+    from .scene_args import read_scene
+
+    return read_scene(args)[:3]
 
 
 def render(result: dict) -> str:
