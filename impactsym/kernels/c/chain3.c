@@ -26,22 +26,23 @@
 /* in the velocities, so rescale them first when they are that extreme. */
 void chain3_impulse_ratio(double m1, double m2, double m3, double v1, double v2, double v3, double e, double alpha, double *p1, double *p2, double *w1, double *w2, double *w3)
 {
-    const double x0 = m1*m3;
-    const double x1 = pow(alpha, 2);
-    const double x2 = -2*alpha*x0 + m1*m2*x1 + m2*m3 + x0*x1 + x0;
-    const double x3 = alpha*v2 - alpha*v3 + v1 - v2;
+    const double x0 = alpha - 1;
+    const double x1 = m1*m3;
+    const double x2 = alpha*(v2 - v3) + v1 - v2;
+    const double x3 = e - 1;
     const double x4 = 1.0/m1;
-    const double x5 = 1.0/m2;
-    const double x6 = 1.0/m3;
-    const double x7 = (e - 1)*(m1*pow(v1, 2) + m2*pow(v2, 2) + m3*pow(v3, 2));
-    const double x8 = sqrt(x2*x4*x5*x6*x7 + pow(x3, 2)) + fabs(x3);
-    const double x9 = ((x3 >= 0) ? ( m2*x0*x8/x2 ) : ( x7/x8 ));
-    const double x10 = alpha*x9;
-    *p1 = x9;
-    *p2 = x10;
-    *w1 = v1 - x4*x9;
-    *w2 = v2 - x5*x9*(alpha - 1);
-    *w3 = v3 + x10*x6;
+    const double x5 = 1.0/m3;
+    const double x6 = m3*v3;
+    const double x7 = m1*v1;
+    const double x8 = 1.0/m2;
+    const double x9 = sqrt(e*pow(x2, 2) + x3*(x4*x5*pow(alpha*x7 + x6, 2) + x4*x8*pow(m2*v2 - x0*x7, 2) + x5*x8*pow(alpha*m2*v2 + x0*x6, 2))) + fabs(x2);
+    const double x10 = ((x2 >= 0) ? ( m2*x1*x9/(m2*(pow(alpha, 2)*m1 + m3) + pow(x0, 2)*x1) ) : ( x3*(m1*pow(v1, 2) + m2*pow(v2, 2) + m3*pow(v3, 2))/x9 ));
+    const double x11 = alpha*x10;
+    *p1 = x10;
+    *p2 = x11;
+    *w1 = v1 - x10*x4;
+    *w2 = v2 - x0*x10*x8;
+    *w3 = v3 + x11*x5;
 }
 
 void chain3_impulse_ratio_batch(size_t n, const double *m1, const double *m2, const double *m3, const double *v1, const double *v2, const double *v3, const double *e, const double *alpha, double *p1, double *p2, double *w1, double *w2, double *w3)

@@ -26,23 +26,26 @@ pure subroutine chain3_impulse_ratio(m1, m2, m3, v1, v2, v3, e, alpha, p1, p2, w
     name="f_chain3_impulse_ratio")
     real(c_double), value, intent(in) :: m1, m2, m3, v1, v2, v3, e, alpha
     real(c_double), intent(out) :: p1, p2, w1, w2, w3
-    real(c_double) :: x0, x1, x2, x3, x4, x5, x6, x7, x8, x9, x10
-    x0 = m1*m3
-    x1 = alpha**2
-    x2 = -2*alpha*x0 + m1*m2*x1 + m2*m3 + x0*x1 + x0
-    x3 = alpha*v2 - alpha*v3 + v1 - v2
+    real(c_double) :: x0, x1, x2, x3, x4, x5, x6, x7, x8, x9, x10, x11
+    x0 = alpha - 1
+    x1 = m1*m3
+    x2 = alpha*(v2 - v3) + v1 - v2
+    x3 = e - 1
     x4 = 1d0/m1
-    x5 = 1d0/m2
-    x6 = 1d0/m3
-    x7 = (e - 1)*(m1*v1**2 + m2*v2**2 + m3*v3**2)
-    x8 = sqrt(x2*x4*x5*x6*x7 + x3**2) + abs(x3)
-    x9 = merge(real(m2*x0*x8/x2, c_double), real(x7/x8, c_double), x3 >= 0)
-    x10 = alpha*x9
-    p1 = x9
-    p2 = x10
-    w1 = v1 - x4*x9
-    w2 = v2 - x5*x9*(alpha - 1)
-    w3 = v3 + x10*x6
+    x5 = 1d0/m3
+    x6 = m3*v3
+    x7 = m1*v1
+    x8 = 1d0/m2
+    x9 = sqrt(e*x2**2 + x3*(x4*x5*(alpha*x7 + x6)**2 + x4*x8*(m2*v2 - x0*x7)**2 + &
+        x5*x8*(alpha*m2*v2 + x0*x6)**2)) + abs(x2)
+    x10 = merge(real(m2*x1*x9/(m2*(alpha**2*m1 + m3) + x0**2*x1), c_double), real( x3*(m1*v1**2 + &
+        m2*v2**2 + m3*v3**2)/x9, c_double), x2 >= 0)
+    x11 = alpha*x10
+    p1 = x10
+    p2 = x11
+    w1 = v1 - x10*x4
+    w2 = v2 - x0*x10*x8
+    w3 = v3 + x11*x5
 end subroutine chain3_impulse_ratio
 
 ! Upper end of the chain's admissible impulse ratios at energetic coefficient e

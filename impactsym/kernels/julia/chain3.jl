@@ -20,22 +20,23 @@ negative (found by Hypothesis with v3 = 6.8e-272, alpha = 0). The law is homogen
 in the velocities, so rescale them first when they are that extreme.
 """
 function chain3_impulse_ratio(m1, m2, m3, v1, v2, v3, e, alpha)
-    x0 = m1 .* m3
-    x1 = alpha .^ 2
-    x2 = -2 * alpha .* x0 + m1 .* m2 .* x1 + m2 .* m3 + x0 .* x1 + x0
-    x3 = alpha .* v2 - alpha .* v3 + v1 - v2
+    x0 = alpha - 1
+    x1 = m1 .* m3
+    x2 = alpha .* (v2 - v3) + v1 - v2
+    x3 = e - 1
     x4 = 1 ./ m1
-    x5 = 1 ./ m2
-    x6 = 1 ./ m3
-    x7 = (e - 1) .* (m1 .* v1 .^ 2 + m2 .* v2 .^ 2 + m3 .* v3 .^ 2)
-    x8 = sqrt(x2 .* x4 .* x5 .* x6 .* x7 + x3 .^ 2) + abs(x3)
-    x9 = ((x3 >= 0) ? (m2 .* x0 .* x8 ./ x2) : (x7 ./ x8))
-    x10 = alpha .* x9
-    p1 = x9
-    p2 = x10
-    w1 = v1 - x4 .* x9
-    w2 = v2 - x5 .* x9 .* (alpha - 1)
-    w3 = v3 + x10 .* x6
+    x5 = 1 ./ m3
+    x6 = m3 .* v3
+    x7 = m1 .* v1
+    x8 = 1 ./ m2
+    x9 = sqrt(e .* x2 .^ 2 + x3 .* (x4 .* x5 .* (alpha .* x7 + x6) .^ 2 + x4 .* x8 .* (m2 .* v2 - x0 .* x7) .^ 2 + x5 .* x8 .* (alpha .* m2 .* v2 + x0 .* x6) .^ 2)) + abs(x2)
+    x10 = ((x2 >= 0) ? (m2 .* x1 .* x9 ./ (m2 .* (alpha .^ 2 .* m1 + m3) + x0 .^ 2 .* x1)) : (x3 .* (m1 .* v1 .^ 2 + m2 .* v2 .^ 2 + m3 .* v3 .^ 2) ./ x9))
+    x11 = alpha .* x10
+    p1 = x10
+    p2 = x11
+    w1 = v1 - x10 .* x4
+    w2 = v2 - x0 .* x10 .* x8
+    w3 = v3 + x11 .* x5
     return (p1, p2, w1, w2, w3)
 end
 

@@ -19,22 +19,23 @@
 /// in the velocities, so rescale them first when they are that extreme.
 #[allow(non_snake_case, unused_parens, clippy::all)]
 pub fn chain3_impulse_ratio(m1: f64, m2: f64, m3: f64, v1: f64, v2: f64, v3: f64, e: f64, alpha: f64) -> (f64, f64, f64, f64, f64) {
-    let x0 = m1*m3;
-    let x1 = (alpha).powi(2);
-    let x2 = -2_f64*alpha*x0 + m1*m2*x1 + m2*m3 + x0*x1 + x0;
-    let x3 = alpha*v2 - alpha*v3 + v1 - v2;
+    let x0 = alpha - 1_f64;
+    let x1 = m1*m3;
+    let x2 = alpha*(v2 - v3) + v1 - v2;
+    let x3 = e - 1_f64;
     let x4 = (m1).recip();
-    let x5 = (m2).recip();
-    let x6 = (m3).recip();
-    let x7 = (e - 1_f64)*(m1*(v1).powi(2) + m2*(v2).powi(2) + m3*(v3).powi(2));
-    let x8 = (x2*x4*x5*x6*x7 + (x3).powi(2)).sqrt() + x3.abs();
-    let x9 = (if (x3 >= 0.0_f64) { m2*x0*x8/x2 } else { x7/x8 });
-    let x10 = alpha*x9;
-    let p1 = x9;
-    let p2 = x10;
-    let w1 = v1 - x4*x9;
-    let w2 = v2 - x5*x9*(alpha - 1_f64);
-    let w3 = v3 + x10*x6;
+    let x5 = (m3).recip();
+    let x6 = m3*v3;
+    let x7 = m1*v1;
+    let x8 = (m2).recip();
+    let x9 = (e*(x2).powi(2) + x3*(x4*x5*(alpha*x7 + x6).powi(2) + x4*x8*(m2*v2 - x0*x7).powi(2) + x5*x8*(alpha*m2*v2 + x0*x6).powi(2))).sqrt() + x2.abs();
+    let x10 = (if (x2 >= 0.0_f64) { m2*x1*x9/(m2*((alpha).powi(2)*m1 + m3) + (x0).powi(2)*x1) } else { x3*(m1*(v1).powi(2) + m2*(v2).powi(2) + m3*(v3).powi(2))/x9 });
+    let x11 = alpha*x10;
+    let p1 = x10;
+    let p2 = x11;
+    let w1 = v1 - x10*x4;
+    let w2 = v2 - x0*x10*x8;
+    let w3 = v3 + x11*x5;
     (p1, p2, w1, w2, w3)
 }
 
