@@ -483,8 +483,8 @@ class Verdict:
     """The accuracy of every implementation of one kernel at one input.
 
     ``ratio[lang]`` is the largest error ratio (:func:`impactsym.references.error_ratio`) over the
-    continuous outputs (an upper bound, ``|f̂ − f| / (eps |f|)``, where that bound already shows the
-    point within ``bound``); ``output[lang]`` names the output where it occurs. ``problems`` lists
+    continuous outputs (with ``screen``, an upper bound, ``|f̂ − f| / (eps |f|)``, where that bound
+    already shows the point within ``bound``); ``output[lang]`` names the output where it occurs. ``problems`` lists
     every violation: a ratio above the bound, a number where the exact value is not real, or a
     reflection count that no input within ``bound · eps`` (relative) has.
     """
@@ -535,9 +535,14 @@ def _near_domain(ref, inputs, bound, seed=0) -> bool:
     return False
 
 
-def accuracy_check(kernel: str, inputs: dict, impls: dict, bound: float = 64.0, ref=None) -> Verdict:
+def accuracy_check(kernel: str, inputs: dict, impls: dict, bound: float = 64.0, ref=None,
+                   screen: bool = True) -> Verdict:
     """Check every output of every implementation of ``kernel`` at ``inputs`` against the
     ladder-checked mpmath reference: ``|f̂ − f| ≤ bound · eps · (|f| + Σ_j |x_j ∂f/∂x_j|)``.
+
+    With ``screen`` (the default), the condition numbers (``2n + 1`` reference evaluations per
+    rung) are computed only where the relative error exceeds ``bound · eps``; the ratio reported
+    there is the upper bound ``|f̂ − f| / (eps |f|)``. ``screen=False`` gives the exact ratio.
 
     Examples
     --------
@@ -589,7 +594,7 @@ def accuracy_check(kernel: str, inputs: dict, impls: dict, bound: float = 64.0, 
                         break
                     else:
                         screened.append(float(abs(mpmath.mpf(c) - v) / (EPS * abs(v))))
-        if screened is not None and max(screened, default=0.0) <= bound:
+        if screen and screened is not None and max(screened, default=0.0) <= bound:
             r = screened
         else:
             if full is None:
@@ -626,6 +631,24 @@ class SearchResult:
 
 _CORNER_VALUES = (0.0, 1.0, -1.0, 1e-12, 1e12, 0.5, 1 / 3, _PI / 2)
 
+#: where the search may go: argument -> (low, high), closed (the laws' domains: e in [0, 1],
+#: masses, ratios and Gram diagonals positive; points outside are not the kernels' inputs)
+SEARCH_DOMAIN = {"e": (0.0, 1.0), "alpha": (0.0, math.inf), "alpha13": (0.0, math.inf),
+                 "m1": (1e-300, math.inf), "m2": (1e-300, math.inf), "m3": (1e-300, math.inf),
+                 "m_00": (1e-300, math.inf), "m_11": (1e-300, math.inf), "m_22": (1e-300, math.inf),
+                 "A": (1e-300, math.inf), "s_a": (1e-300, math.inf), "s_b": (1e-300, math.inf)}
+
+
+def _in_search_domain(kernel: str, x: dict) -> bool:
+    lo_e = 1 / 3 if kernel == "chain3_alpha_max" else 0.0
+    for k, v in x.items():
+        lo, hi = SEARCH_DOMAIN.get(k, (-math.inf, math.inf))
+        if k == "e":
+            lo = lo_e
+        if not (math.isfinite(v) and lo <= v <= hi):
+            return False
+    return True
+
 
 def _mutate(x: dict, rng, frozen=()) -> dict:
     y = dict(x)
@@ -643,14 +666,15 @@ def _mutate(x: dict, rng, frozen=()) -> dict:
     else:  # jump to a corner value, nudged
         c = float(rng.choice(_CORNER_VALUES))
         y[k] = c * (1 + rng.choice([-1, 1]) * 10.0 ** -rng.uniform(6, 16)) if c != 0 else 0.0
-    return y
+    return {a: float(b) for a, b in y.items()}
 
 
 def adversarial_search(kernel: str, budget: int = 100, seed: int = 0, starts=None, impls=None,
                        bound: float = 64.0, frozen=()) -> SearchResult:
     """Hill-climb on the error ratio of every implementation of ``kernel``, from ``starts``.
 
-    Each step mutates one argument of the current point (a relative nudge ``1 ± 10^-k``, a change
+    Each point is judged with exact ratios (``accuracy_check(..., screen=False)``). Each step
+    mutates one argument of the current point (a relative nudge ``1 ± 10^-k``, a change
     of scale, a few ulps, or a jump to a corner value) and keeps the new point when its worst ratio
     (over implementations and outputs, see :func:`accuracy_check`) does not decrease; every point
     with a problem is kept in ``failures``. Deterministic for a given ``seed``. Points outside the
@@ -687,7 +711,7 @@ def adversarial_search(kernel: str, budget: int = 100, seed: int = 0, starts=Non
         nonlocal evaluations
         evaluations += 1
         try:
-            v = accuracy_check(kernel, x, impls, bound, ref)
+            v = accuracy_check(kernel, x, impls, bound, ref, screen=False)
         except (ReferenceUnstable, OverflowError, ValueError):
             return None
         if v.problems:
@@ -708,7 +732,7 @@ def adversarial_search(kernel: str, budget: int = 100, seed: int = 0, starts=Non
     while evaluations < budget:
         cur = climbers[ci % len(climbers)]
         cand = _mutate(cur.inputs, rng, frozen)
-        if not all(math.isfinite(x) for x in cand.values()):
+        if not _in_search_domain(kernel, cand):
             evaluations += 1
             continue
         v = check(cand)
