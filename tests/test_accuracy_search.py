@@ -28,8 +28,6 @@ LANGS = ("numpy", "python", "c") if (shutil.which("gcc") or shutil.which("cc")) 
 #: Each is a strict xfail, run only with ``-m slow`` (their grids take about a minute each), so a
 #: fix makes it XPASS and fail until it is moved out of this dict.
 KNOWN_OPEN = {
-    "pool_impulse_ratio": "w1x = cos(tau - theta) - cos(theta) p1 at theta = pi/2, tau = 1e-9, alpha = 1e-12: "
-                          "1.9e8 eps (1 + cond); the true value ~ sin(theta) sin(tau) cancels out of the difference",
     "two_surface_resolution": "exit velocities at s_a = s_b = 1e-12 with tiny wedges: up to 2e15 eps (1 + cond)",
     "two_surface_resolution_2": "v1_a at M = diag(1e6, 1e-6), right-angle wedge: 1.7e6 eps (1 + cond)",
     "two_surface_reflection_count": "counts differ from every input's within 64 eps at s_a = s_b = 1e-12",

@@ -33,19 +33,25 @@ def pool_impulse_ratio(theta, tau, e, alpha):
     e = numpy.asarray(e, dtype=float)
     alpha = numpy.asarray(alpha, dtype=float)
     x0 = numpy.cos(theta)
-    x1 = alpha**2 - alpha*x0 + 1
-    x2 = numpy.cos(tau)
-    x3 = numpy.select([numpy.greater(x2, 0),True], [(1/2)*(x2 + numpy.sqrt(2*x1*(e - 1) + x2**2))/x1,0], default=numpy.nan)
-    x4 = alpha*x3
-    x5 = tau - theta
-    x6 = x3*numpy.sin(theta)
-    p1 = x3
-    p2 = x4
-    w1x = -x0*x3 + numpy.cos(x5)
-    w1y = -x6 - numpy.sin(x5)
-    w2x = -x3*(alpha - x0)
-    w2y = x6
-    w3x = x4
+    x1 = alpha - x0
+    x2 = alpha*x1
+    x3 = numpy.cos(tau)
+    x4 = x3**2
+    x5 = numpy.sin(tau)
+    x6 = numpy.sin(theta)
+    x7 = numpy.sqrt(e*x4 + (e - 1)*(alpha**2 + x1**2 + x5**2 + x6**2))
+    x8 = numpy.greater(x3, 0)
+    x9 = numpy.select([x8,True], [(1/2)*(x3 + x7)/(x2 + 1),0], default=numpy.nan)
+    x10 = alpha*x9
+    x11 = 2*x2
+    x12 = numpy.select([x8,True], [(-e + x11*x4 + 1)/(x3*(x11 + 1) + x7),x3], default=numpy.nan)
+    p1 = x9
+    p2 = x10
+    w1x = x0*x12 + x5*x6
+    w1y = -x0*x5 + x12*x6
+    w2x = -x1*x9
+    w2y = x6*x9
+    w3x = x10
     w3y = 0
     return (p1, p2, w1x, w1y, w2x, w2y, w3x, w3y)
 
