@@ -123,6 +123,10 @@ class Reference:
             raw = self._f(*xs)
         except ZeroDivisionError:
             raise OutsideDomain("the exact value divides by zero at these inputs (degenerate input)") from None
+        except (AttributeError, TypeError):  # a real-only mpmath function (atan2, ceil) given a complex value
+            err = OutsideDomain("the exact value is not real at these inputs (a real function of a complex value)")
+            err.nonreal = list(range(len(self.outputs)))
+            raise err from None
         nonreal = [i for i, v in enumerate(raw) if isinstance(v, mpmath.mpc) and v.imag != 0]
         if nonreal:
             err = OutsideDomain(f"the exact value is not real at these inputs (e.g. D < 0): {raw}")

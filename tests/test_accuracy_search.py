@@ -25,19 +25,23 @@ LANGS = ("numpy", "python", "c") if (shutil.which("gcc") or shutil.which("cc")) 
 
 
 #: kernels the corner grid still breaks (issue 15 left open: found by this grid, not yet fixed).
-#: Each is a strict xfail, run only with ``-m slow`` (their grids take about a minute each), so a
+#: Each grid test is a strict xfail, run only with ``-m slow`` (their grids take 20-30 s each), so a
 #: fix makes it XPASS and fail until it is moved out of this dict.
 KNOWN_OPEN = {
-    "two_surface_resolution": "exit velocities at s_a = s_b = 1e-12 with tiny wedges: up to 2e15 eps (1 + cond)",
-    "two_surface_resolution_2": "v1_a at M = diag(1e6, 1e-6), right-angle wedge: 1.7e6 eps (1 + cond)",
-    "two_surface_reflection_count": "counts differ from every input's within 64 eps at s_a = s_b = 1e-12",
+    "two_surface_resolution": "exit angles 2 beta - psi ~ 1e-12 formed from atan2 values ~ pi (absolute error "
+                              "eps pi) where the inputs hardly move beta (right-angle wedge, s_a = s_b = 1e-12): "
+                              "up to 1e15 eps (1 + cond); needs the angle products in complex form",
+    "two_surface_resolution_2": "v1_a/v1_b at M = diag(1e6, 1e-6) or diag(1e12, 1), right-angle wedge: up to "
+                                "6.9e5 eps (1 + cond) (same cause)",
 }
 
 
-def _params():
+def _params(strict=True):
+    """Every corner kernel; the known-open ones slow and xfail (strict for the grid, which finds
+    them every time; not strict for the 24-point search, which may not reach them)."""
     out = []
     for k in CORNER_KERNELS:
-        marks = [pytest.mark.slow, pytest.mark.xfail(strict=True, reason=KNOWN_OPEN[k])] if k in KNOWN_OPEN else []
+        marks = [pytest.mark.slow, pytest.mark.xfail(strict=strict, reason=KNOWN_OPEN[k])] if k in KNOWN_OPEN else []
         out.append(pytest.param(k, marks=marks, id=k))
     return out
 
@@ -86,7 +90,7 @@ def test_every_corner_within_bound(kernel, impls):
     assert n > 0 and not problems, f"{len(problems)} of {n} corners: {problems[:3]}"
 
 
-@pytest.mark.parametrize("kernel", _params())
+@pytest.mark.parametrize("kernel", _params(strict=False))
 def test_adversarial_search_finds_nothing(kernel, impls):
     """A fixed-seed hill-climb on error / (eps (1 + cond)) from the corner grid (small budget here;
     the bench runs a larger one)."""

@@ -59,25 +59,37 @@ def two_surface_resolution(s_a, s_b, g, c_a, c_b):
     x5 = numpy.arctan2(-c_a*x1, c_b*s_a - x4)
     x6 = numpy.ceil(x3*x5)
     x7 = numpy.less(c_a, 0)
-    x8 = numpy.mod(x6, 2)
-    x9 = x2*x8
-    x10 = x2*x6 + 2*x5*x8 - x5 - 2*x6*x9 + x9
-    x11 = numpy.sqrt(c_a**2*s_b + c_b**2*s_a - 2*c_b*x4)/x1
-    x12 = numpy.sqrt(s_a)*x11
-    x13 = -x2
-    x14 = numpy.sqrt(s_b)*x11
-    x15 = numpy.arctan2(-c_b*x1, c_a*s_b - c_b*g)
-    x16 = numpy.ceil(x15*x3)
-    x17 = numpy.less(c_b, 0)
-    x18 = numpy.mod(x16, 2)
-    x19 = x18*x2
-    x20 = 2*x15*x18 - x15 - 2*x16*x19 + x16*x2 + x19
+    x8 = numpy.sqrt(c_a**2*s_b + c_b**2*s_a - 2*c_b*x4)/x1
+    x9 = numpy.sqrt(s_a)*x8
+    x10 = x2*(x6 - 1) - x5
+    x11 = -numpy.sin(x10)
+    x12 = numpy.equal(numpy.mod(x6, 2), 1)
+    x13 = (1/2)*x2
+    x14 = numpy.less_equal(x5, x13*(2*x6 - 1))
+    x15 = numpy.logical_and.reduce((x12,x14))
+    x16 = -x2*x6 + x5
+    x17 = numpy.sin(x2 - (-x16))
+    x18 = numpy.sin(x2 - (-x10))
+    x19 = -numpy.sin(x16)
+    x20 = numpy.sqrt(s_b)*x8
+    x21 = numpy.arctan2(-c_b*x1, c_a*s_b - c_b*g)
+    x22 = numpy.ceil(x21*x3)
+    x23 = numpy.less(c_b, 0)
+    x24 = x2*(x22 - 1) - x21
+    x25 = numpy.sin(x2 - (-x24))
+    x26 = numpy.equal(numpy.mod(x22, 2), 1)
+    x27 = numpy.less_equal(x21, x13*(2*x22 - 1))
+    x28 = numpy.logical_and.reduce((x26,x27))
+    x29 = -x2*x22 + x21
+    x30 = -numpy.sin(x29)
+    x31 = -numpy.sin(x24)
+    x32 = numpy.sin(x2 - (-x29))
     count_a = numpy.select([x0,x7,True], [0,x6,-1], default=numpy.nan)
-    ca_a = numpy.select([x0,x7,True], [c_a,x12*numpy.sin(x10),numpy.nan], default=numpy.nan)
-    cb_a = numpy.select([x0,x7,True], [c_b,-x14*numpy.sin(x10 + x13),numpy.nan], default=numpy.nan)
-    count_b = numpy.select([x0,x17,True], [0,x16,-1], default=numpy.nan)
-    ca_b = numpy.select([x0,x17,True], [c_a,-x12*numpy.sin(x13 + x20),numpy.nan], default=numpy.nan)
-    cb_b = numpy.select([x0,x17,True], [c_b,x14*numpy.sin(x20),numpy.nan], default=numpy.nan)
+    ca_a = numpy.select([x0,x7,True], [c_a,x9*numpy.select([x15,x12,x14,True], [x11,x17,x18,x19], default=numpy.nan),numpy.nan], default=numpy.nan)
+    cb_a = numpy.select([x0,x7,True], [c_b,x20*numpy.select([x15,x12,x14,True], [x18,x19,x11,x17], default=numpy.nan),numpy.nan], default=numpy.nan)
+    count_b = numpy.select([x0,x23,True], [0,x22,-1], default=numpy.nan)
+    ca_b = numpy.select([x0,x23,True], [c_a,x9*numpy.select([x28,x26,x27,True], [x25,x30,x31,x32], default=numpy.nan),numpy.nan], default=numpy.nan)
+    cb_b = numpy.select([x0,x23,True], [c_b,x20*numpy.select([x28,x26,x27,True], [x31,x32,x25,x30], default=numpy.nan),numpy.nan], default=numpy.nan)
     return (count_a, ca_a, cb_a, count_b, ca_b, cb_b)
 
 
@@ -135,30 +147,41 @@ def two_surface_resolution_2(m_00, m_01, m_11, h_00, h_01, h_10, h_11, v_0, v_1)
     x15 = numpy.ceil(x10*x14)
     x16 = numpy.less(x0, 0)
     x17 = x3**(-1.0)
-    x18 = x15*x9
-    x19 = numpy.mod(x15, 2)
-    x20 = x19*x9
-    x21 = 2*x14*x19
-    x22 = 2*x15*x20
-    x23 = numpy.sqrt(x4*(v_0*(m_00*v_0 + m_01*v_1) + v_1*(m_01*v_0 + m_11*v_1)))/x5
-    x24 = x23*numpy.sqrt(x4*(h_00*x12 - h_01*x11))
-    x25 = numpy.select([x2,x16,True], [x0,x24*numpy.sin(-x14 + x18 + x20 + x21 - x22),numpy.nan], default=numpy.nan)
-    x26 = x23*numpy.sqrt(x4*(h_10*x7 - h_11*x8))
-    x27 = numpy.select([x2,x16,True], [x1,x26*numpy.sin(x14 - x18 - x20 - x21 + x22 + x9),numpy.nan], default=numpy.nan)
-    x28 = numpy.arctan2(-x1*x6, -x13*(v_0*x8 + v_1*x7))
-    x29 = numpy.ceil(x10*x28)
-    x30 = numpy.less(x1, 0)
-    x31 = x29*x9
-    x32 = numpy.mod(x29, 2)
-    x33 = x32*x9
-    x34 = 2*x28*x32
-    x35 = 2*x29*x33
-    x36 = numpy.select([x2,x30,True], [x1,x26*numpy.sin(-x28 + x31 + x33 + x34 - x35),numpy.nan], default=numpy.nan)
-    x37 = numpy.select([x2,x30,True], [x0,x24*numpy.sin(x28 - x31 - x33 - x34 + x35 + x9),numpy.nan], default=numpy.nan)
+    x18 = numpy.sqrt(x4*(v_0*(m_00*v_0 + m_01*v_1) + v_1*(m_01*v_0 + m_11*v_1)))/x5
+    x19 = x18*numpy.sqrt(x4*(h_00*x12 - h_01*x11))
+    x20 = -x14
+    x21 = x20 + x9*(x15 - 1)
+    x22 = -numpy.sin(x21)
+    x23 = numpy.equal(numpy.mod(x15, 2), 1)
+    x24 = (1/2)*x9
+    x25 = numpy.less_equal(x14, x24*(2*x15 - 1))
+    x26 = numpy.logical_and.reduce((x23,x25))
+    x27 = x15*x9 + x20
+    x28 = numpy.sin(x9 - x27)
+    x29 = numpy.sin(x9 - (-x21))
+    x30 = numpy.sin(x27)
+    x31 = numpy.select([x2,x16,True], [x0,x19*numpy.select([x26,x23,x25,True], [x22,x28,x29,x30], default=numpy.nan),numpy.nan], default=numpy.nan)
+    x32 = x18*numpy.sqrt(x4*(h_10*x7 - h_11*x8))
+    x33 = numpy.select([x2,x16,True], [x1,x32*numpy.select([x26,x23,x25,True], [x29,x30,x22,x28], default=numpy.nan),numpy.nan], default=numpy.nan)
+    x34 = numpy.arctan2(-x1*x6, -x13*(v_0*x8 + v_1*x7))
+    x35 = numpy.ceil(x10*x34)
+    x36 = numpy.less(x1, 0)
+    x37 = -x34
+    x38 = x37 + x9*(x35 - 1)
+    x39 = numpy.sin(x9 - (-x38))
+    x40 = numpy.equal(numpy.mod(x35, 2), 1)
+    x41 = numpy.less_equal(x34, x24*(2*x35 - 1))
+    x42 = numpy.logical_and.reduce((x40,x41))
+    x43 = x35*x9 + x37
+    x44 = numpy.sin(x43)
+    x45 = -numpy.sin(x38)
+    x46 = numpy.sin(x9 - x43)
+    x47 = numpy.select([x2,x36,True], [x0,x19*numpy.select([x42,x40,x41,True], [x39,x44,x45,x46], default=numpy.nan),numpy.nan], default=numpy.nan)
+    x48 = numpy.select([x2,x36,True], [x1,x32*numpy.select([x42,x40,x41,True], [x45,x46,x39,x44], default=numpy.nan),numpy.nan], default=numpy.nan)
     count_a = numpy.select([x2,x16,True], [0,x15,-1], default=numpy.nan)
-    v0_a = -x17*(h_01*x27 - h_11*x25)
-    v1_a = x17*(h_00*x27 - h_10*x25)
-    count_b = numpy.select([x2,x30,True], [0,x29,-1], default=numpy.nan)
-    v0_b = -x17*(h_01*x36 - h_11*x37)
-    v1_b = x17*(h_00*x36 - h_10*x37)
+    v0_a = x17*(-h_01*x33 + h_11*x31)
+    v1_a = x17*(h_00*x33 - h_10*x31)
+    count_b = numpy.select([x2,x36,True], [0,x35,-1], default=numpy.nan)
+    v0_b = x17*(-h_01*x48 + h_11*x47)
+    v1_b = x17*(h_00*x48 - h_10*x47)
     return (count_a, v0_a, v1_a, count_b, v0_b, v1_b)
