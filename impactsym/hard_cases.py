@@ -423,7 +423,8 @@ def corner_cases(kernel: str, full: bool = False):
 def kernel_implementations(kernel: str, languages=("numpy", "python", "c")) -> dict:
     """``language -> f(inputs: dict) -> list[float]`` for one generated closed-form kernel.
 
-    ``numpy`` is the committed NumPy kernel, ``python`` the plain-Python (``math``) form from the
+    ``numpy`` is the committed NumPy kernel (called with 0-d arrays, so that it takes the NumPy path:
+    Python scalars are dispatched to the plain-Python form), ``python`` the plain-Python (``math``) form from the
     catalog (a math-domain error or a division by zero is answered NaN, as NumPy does), ``c`` the
     committed C kernel compiled with gcc (left out when no compiler is found).
 
@@ -442,9 +443,9 @@ def kernel_implementations(kernel: str, languages=("numpy", "python", "c")) -> d
 
             f = getattr(K, kernel)
 
-            def call(inputs, f=f):
+            def call(inputs, f=f):  # 0-d arrays: the NumPy path (Python scalars go to the Python form)
                 with np.errstate(all="ignore"):
-                    r = f(**{a: inputs[a] for a in args})
+                    r = f(**{a: np.asarray(float(inputs[a])) for a in args})
                 return [float(x) for x in (r if isinstance(r, tuple) else (r,))]
         elif lang == "python":
             ns: dict = {}

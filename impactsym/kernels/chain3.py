@@ -9,6 +9,8 @@ B <= 0, -2C/(|B| + sqrt(D)) for B > 0).
 """
 
 
+import math
+
 import numpy
 
 
@@ -17,6 +19,30 @@ __all__ = ['chain3_impulse_ratio', 'chain3_alpha_max']
 
 #: kebab-case codegen name -> kernel name
 CODEGEN_NAMES = {'chain3-impulse-ratio': 'chain3_impulse_ratio', 'chain3-alpha-max': 'chain3_alpha_max'}
+
+
+_SCALAR_TYPES = (float, int, numpy.float64)
+
+
+def _scalars(*xs):
+    """Every argument a Python or NumPy float or int: the call goes to the plain-Python form."""
+    return all(type(x) in _SCALAR_TYPES for x in xs)
+
+
+def _chain3_impulse_ratio_python(m1, m2, m3, v1, v2, v3, e, alpha):
+    x0 = alpha - 1
+    x1 = m1*m3
+    x2 = alpha*(v2 - v3) + v1 - v2
+    x3 = e - 1
+    x4 = 1/m1
+    x5 = 1/m3
+    x6 = m3*v3
+    x7 = m1*v1
+    x8 = 1/m2
+    x9 = math.sqrt(e*x2**2 + x3*(x4*x5*(alpha*x7 + x6)**2 + x4*x8*(m2*v2 - x0*x7)**2 + x5*x8*(alpha*m2*v2 + x0*x6)**2)) + abs(x2)
+    x10 = ((m2*x1*x9/(m2*(alpha**2*m1 + m3) + x0**2*x1)) if (x2 >= 0) else (x3*(m1*v1**2 + m2*v2**2 + m3*v3**2)/x9))
+    x11 = alpha*x10
+    return (float(x10), float(x11), float(v1 - x10*x4), float(v2 - x0*x10*x8), float(v3 + x11*x5))
 
 
 def chain3_impulse_ratio(m1, m2, m3, v1, v2, v3, e, alpha):
@@ -32,6 +58,11 @@ def chain3_impulse_ratio(m1, m2, m3, v1, v2, v3, e, alpha):
     negative (found by Hypothesis with v3 = 6.8e-272, alpha = 0). The law is homogeneous of degree 1
     in the velocities, so rescale them first when they are that extreme.
     """
+    if _scalars(m1, m2, m3, v1, v2, v3, e, alpha):  # plain Python: ~40-300x faster than NumPy on one point
+        try:
+            return _chain3_impulse_ratio_python(m1, m2, m3, v1, v2, v3, e, alpha)
+        except (ValueError, ZeroDivisionError, OverflowError):
+            pass  # NaN / inf / overflow: NumPy's semantics below
     m1 = numpy.asarray(m1, dtype=float)
     m2 = numpy.asarray(m2, dtype=float)
     m3 = numpy.asarray(m3, dtype=float)
@@ -60,10 +91,19 @@ def chain3_impulse_ratio(m1, m2, m3, v1, v2, v3, e, alpha):
     return (p1, p2, w1, w2, w3)
 
 
+def _chain3_alpha_max_python(e):
+    return float(-(-2*e + math.sqrt(2)*math.sqrt(3*e - 1) + 2)/(e - 3))
+
+
 def chain3_alpha_max(e):
     """Upper end of the chain's admissible impulse ratios at energetic coefficient e
     (eq. 19, 1/3 <= e <= 1): alpha_max(e) = (2e - 2 - sqrt(6e - 2))/(e - 3).
     """
+    if _scalars(e):  # plain Python: ~40-300x faster than NumPy on one point
+        try:
+            return _chain3_alpha_max_python(e)
+        except (ValueError, ZeroDivisionError, OverflowError):
+            pass  # NaN / inf / overflow: NumPy's semantics below
     e = numpy.asarray(e, dtype=float)
     alpha_max = -(-2*e + numpy.sqrt(2)*numpy.sqrt(3*e - 1) + 2)/(e - 3)
     return alpha_max

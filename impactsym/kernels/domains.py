@@ -8,6 +8,8 @@ chain3_alpha_max(e), and the pool's g (v1+ = 0) and h (Delta = 0) as functions o
 """
 
 
+import math
+
 import numpy
 
 
@@ -18,9 +20,29 @@ __all__ = ['pool_g', 'pool_h']
 CODEGEN_NAMES = {'pool-g': 'pool_g', 'pool-h': 'pool_h'}
 
 
+_SCALAR_TYPES = (float, int, numpy.float64)
+
+
+def _scalars(*xs):
+    """Every argument a Python or NumPy float or int: the call goes to the plain-Python form."""
+    return all(type(x) in _SCALAR_TYPES for x in xs)
+
+
+def _pool_g_python(theta, alpha):
+    x0 = alpha**2
+    x1 = math.cos(theta)
+    x2 = -4*alpha*x1 + x0*x1**2
+    return float((2*x0 + x2 + 2)/(x2 + 4))
+
+
 def pool_g(theta, alpha):
     """Pool (tau = 0): e = g(alpha) is where v1+ = 0 (eq. 29); valid e >= g(alpha).
     """
+    if _scalars(theta, alpha):  # plain Python: ~40-300x faster than NumPy on one point
+        try:
+            return _pool_g_python(theta, alpha)
+        except (ValueError, ZeroDivisionError, OverflowError):
+            pass  # NaN / inf / overflow: NumPy's semantics below
     theta = numpy.asarray(theta, dtype=float)
     alpha = numpy.asarray(alpha, dtype=float)
     x0 = alpha**2
@@ -30,9 +52,20 @@ def pool_g(theta, alpha):
     return g
 
 
+def _pool_h_python(theta, alpha):
+    x0 = alpha**2
+    x1 = alpha*math.cos(theta)
+    return float((1/2)*(2*x0 - 2*x1 + 1)/(x0 - x1 + 1))
+
+
 def pool_h(theta, alpha):
     """Pool (tau = 0): e = h(alpha) is where Delta = 0 (eq. 31, corrected: -2 alpha cos(theta)).
     """
+    if _scalars(theta, alpha):  # plain Python: ~40-300x faster than NumPy on one point
+        try:
+            return _pool_h_python(theta, alpha)
+        except (ValueError, ZeroDivisionError, OverflowError):
+            pass  # NaN / inf / overflow: NumPy's semantics below
     theta = numpy.asarray(theta, dtype=float)
     alpha = numpy.asarray(alpha, dtype=float)
     x0 = alpha**2

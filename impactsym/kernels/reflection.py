@@ -9,6 +9,8 @@ G_u(e) = I - (1+e) M^-1 u^T u / (u M^-1 u^T); e = 1 is the elastic reflection G_
 """
 
 
+import math
+
 import numpy
 
 
@@ -17,6 +19,14 @@ __all__ = ['reflection_map', 'reflect', 'reflection_map_2', 'reflect_2', 'reflec
 
 #: kebab-case codegen name -> kernel name
 CODEGEN_NAMES = {'reflection-map': 'reflection_map', 'reflect': 'reflect', 'reflection-map-2': 'reflection_map_2', 'reflect-2': 'reflect_2', 'reflection-map-3': 'reflection_map_3', 'reflect-3': 'reflect_3'}
+
+
+_SCALAR_TYPES = (float, int, numpy.float64)
+
+
+def _scalars(*xs):
+    """Every argument a Python or NumPy float or int: the call goes to the plain-Python form."""
+    return all(type(x) in _SCALAR_TYPES for x in xs)
 
 
 def reflection_map(mass_matrix, gradient, restitution=1.0):
@@ -50,10 +60,25 @@ def reflect(mass_matrix, gradient, velocity, restitution=1.0):
     return velocity - (c * numpy.einsum("...i,...i->...", gradient, velocity))[..., None] * w
 
 
+def _reflection_map_2_python(m_00, m_01, m_11, u_0, u_1, e):
+    x0 = m_00*u_1 - m_01*u_0
+    x1 = u_1*x0
+    x2 = m_01*u_1 - m_11*u_0
+    x3 = u_0*x2
+    x4 = 1/(-x1 + x3)
+    x5 = x4*(e + 1)
+    return (float(-x4*(e*x3 + x1)), float(-u_1*x2*x5), float(u_0*x0*x5), float(x4*(e*x1 + x3)))
+
+
 def reflection_map_2(m_00, m_01, m_11, u_0, u_1, e=1.0):
     """Closed-form G_u(e) for n = 2 (entries row-major), M given by its upper triangle.
     Uses adj(M): det(M) cancels from M^-1 u^T / (u M^-1 u^T).
     """
+    if _scalars(m_00, m_01, m_11, u_0, u_1, e):  # plain Python: ~40-300x faster than NumPy on one point
+        try:
+            return _reflection_map_2_python(m_00, m_01, m_11, u_0, u_1, e)
+        except (ValueError, ZeroDivisionError, OverflowError):
+            pass  # NaN / inf / overflow: NumPy's semantics below
     m_00 = numpy.asarray(m_00, dtype=float)
     m_01 = numpy.asarray(m_01, dtype=float)
     m_11 = numpy.asarray(m_11, dtype=float)
@@ -73,9 +98,25 @@ def reflection_map_2(m_00, m_01, m_11, u_0, u_1, e=1.0):
     return (g00, g01, g10, g11)
 
 
+def _reflect_2_python(m_00, m_01, m_11, u_0, u_1, v_0, v_1, e):
+    x0 = m_01*u_1 - m_11*u_0
+    x1 = m_00*u_1 - m_01*u_0
+    x2 = u_1*x1
+    x3 = -x2
+    x4 = 1/(u_0*x0 + x3)
+    x5 = e + 1
+    x6 = -u_0*x0
+    return (float(x4*(-u_1*v_1*x0*x5 + v_0*(e*x6 + x3))), float(x4*(u_0*v_0*x1*x5 + v_1*(e*x2 - x6))))
+
+
 def reflect_2(m_00, m_01, m_11, u_0, u_1, v_0, v_1, e=1.0):
     """Closed-form G_u(e) v for n = 2, M given by its upper triangle.
     """
+    if _scalars(m_00, m_01, m_11, u_0, u_1, v_0, v_1, e):  # plain Python: ~40-300x faster than NumPy on one point
+        try:
+            return _reflect_2_python(m_00, m_01, m_11, u_0, u_1, v_0, v_1, e)
+        except (ValueError, ZeroDivisionError, OverflowError):
+            pass  # NaN / inf / overflow: NumPy's semantics below
     m_00 = numpy.asarray(m_00, dtype=float)
     m_01 = numpy.asarray(m_01, dtype=float)
     m_11 = numpy.asarray(m_11, dtype=float)
@@ -96,10 +137,34 @@ def reflect_2(m_00, m_01, m_11, u_0, u_1, v_0, v_1, e=1.0):
     return (w0, w1)
 
 
+def _reflection_map_3_python(m_00, m_01, m_02, m_11, m_12, m_22, u_0, u_1, u_2, e):
+    x0 = m_01*m_22 - m_02*m_12
+    x1 = m_00*m_12 - m_01*m_02
+    x2 = u_0*x0 - u_1*(m_00*m_22 - m_02**2) + u_2*x1
+    x3 = u_1*x2
+    x4 = m_01*m_12 - m_02*m_11
+    x5 = u_0*(m_11*m_22 - m_12**2) - u_1*x0 + u_2*x4
+    x6 = u_0*x5
+    x7 = u_0*x4 - u_1*x1 + u_2*(m_00*m_11 - m_01**2)
+    x8 = u_2*x7
+    x9 = x6 + x8
+    x10 = 1/(-x3 + x9)
+    x11 = x10*(e + 1)
+    x12 = x11*x5
+    x13 = x11*x2
+    x14 = x11*x7
+    return (float(x10*(-e*x6 + u_2*x7 - x3)), float(-u_1*x12), float(-u_2*x12), float(u_0*x13), float(x10*(e*x3 + x9)), float(u_2*x13), float(-u_0*x14), float(-u_1*x14), float(x10*(-e*x8 + u_0*x5 - x3)))
+
+
 def reflection_map_3(m_00, m_01, m_02, m_11, m_12, m_22, u_0, u_1, u_2, e=1.0):
     """Closed-form G_u(e) for n = 3 (entries row-major), M given by its upper triangle.
     Uses adj(M): det(M) cancels from M^-1 u^T / (u M^-1 u^T).
     """
+    if _scalars(m_00, m_01, m_02, m_11, m_12, m_22, u_0, u_1, u_2, e):  # plain Python: ~40-300x faster than NumPy on one point
+        try:
+            return _reflection_map_3_python(m_00, m_01, m_02, m_11, m_12, m_22, u_0, u_1, u_2, e)
+        except (ValueError, ZeroDivisionError, OverflowError):
+            pass  # NaN / inf / overflow: NumPy's semantics below
     m_00 = numpy.asarray(m_00, dtype=float)
     m_01 = numpy.asarray(m_01, dtype=float)
     m_02 = numpy.asarray(m_02, dtype=float)
@@ -137,9 +202,33 @@ def reflection_map_3(m_00, m_01, m_02, m_11, m_12, m_22, u_0, u_1, u_2, e=1.0):
     return (g00, g01, g02, g10, g11, g12, g20, g21, g22)
 
 
+def _reflect_3_python(m_00, m_01, m_02, m_11, m_12, m_22, u_0, u_1, u_2, v_0, v_1, v_2, e):
+    x0 = m_01*m_22 - m_02*m_12
+    x1 = m_00*m_12 - m_01*m_02
+    x2 = u_0*x0 - u_1*(m_00*m_22 - m_02**2) + u_2*x1
+    x3 = u_1*x2
+    x4 = m_01*m_12 - m_02*m_11
+    x5 = u_0*(m_11*m_22 - m_12**2) - u_1*x0 + u_2*x4
+    x6 = u_0*x5
+    x7 = u_0*x4 - u_1*x1 + u_2*(m_00*m_11 - m_01**2)
+    x8 = u_2*x7
+    x9 = x6 + x8
+    x10 = 1/(-x3 + x9)
+    x11 = e + 1
+    x12 = u_1*v_1
+    x13 = u_2*v_2
+    x14 = u_0*v_0
+    return (float(x10*(v_0*(-e*x6 + u_2*x7 - x3) - x11*x5*(x12 + x13))), float(x10*(v_1*(e*x3 + x9) + x11*x2*(x13 + x14))), float(x10*(v_2*(-e*x8 + u_0*x5 - x3) - x11*x7*(x12 + x14))))
+
+
 def reflect_3(m_00, m_01, m_02, m_11, m_12, m_22, u_0, u_1, u_2, v_0, v_1, v_2, e=1.0):
     """Closed-form G_u(e) v for n = 3, M given by its upper triangle.
     """
+    if _scalars(m_00, m_01, m_02, m_11, m_12, m_22, u_0, u_1, u_2, v_0, v_1, v_2, e):  # plain Python: ~40-300x faster than NumPy on one point
+        try:
+            return _reflect_3_python(m_00, m_01, m_02, m_11, m_12, m_22, u_0, u_1, u_2, v_0, v_1, v_2, e)
+        except (ValueError, ZeroDivisionError, OverflowError):
+            pass  # NaN / inf / overflow: NumPy's semantics below
     m_00 = numpy.asarray(m_00, dtype=float)
     m_01 = numpy.asarray(m_01, dtype=float)
     m_02 = numpy.asarray(m_02, dtype=float)

@@ -11,6 +11,8 @@ ceil(psi_i / beta) reflections. Float kernels, uncertified; impactsym.laws.two_s
 """
 
 
+import math
+
 import numpy
 
 
@@ -21,12 +23,32 @@ __all__ = ['two_surface_reflection_count', 'two_surface_resolution', 'two_surfac
 CODEGEN_NAMES = {'two-surface-reflection-count': 'two_surface_reflection_count', 'two-surface-resolution': 'two_surface_resolution', 'two-surface-exit-velocity': 'two_surface_exit_velocity', 'two-surface-resolution-2': 'two_surface_resolution_2'}
 
 
+_SCALAR_TYPES = (float, int, numpy.float64)
+
+
+def _scalars(*xs):
+    """Every argument a Python or NumPy float or int: the call goes to the plain-Python form."""
+    return all(type(x) in _SCALAR_TYPES for x in xs)
+
+
+def _two_surface_reflection_count_python(s_a, s_b, g, c_a, c_b):
+    x0 = (c_a >= 0) and (c_b >= 0)
+    x1 = math.sqrt(-g**2 + s_a*s_b)
+    x2 = 1/math.atan2(x1, -g)
+    return (float(((0) if x0 else (math.ceil(x2*math.atan2(-c_a*x1, -c_a*g + c_b*s_a))) if (c_a < 0) else (-1))), float(((0) if x0 else (math.ceil(x2*math.atan2(-c_b*x1, c_a*s_b - c_b*g))) if (c_b < 0) else (-1))))
+
+
 def two_surface_reflection_count(s_a, s_b, g, c_a, c_b):
     """Reflection counts (count_a, count_b) of the branches that start with surface A, B
     (Seghete & Murphey sec. III-B/C): ceil(psi/beta), psi = atan2(-c_i sqrt(Delta), s_i c_j - g c_i),
     beta = atan2(sqrt(Delta), -g), Delta = s_a s_b - g^2; 0 when c >= 0 (valid), -1 when the branch
     does not exist. Float arithmetic, uncertified: impactsym.laws.two_surface certifies the count.
     """
+    if _scalars(s_a, s_b, g, c_a, c_b):  # plain Python: ~40-300x faster than NumPy on one point
+        try:
+            return _two_surface_reflection_count_python(s_a, s_b, g, c_a, c_b)
+        except (ValueError, ZeroDivisionError, OverflowError):
+            pass  # NaN / inf / overflow: NumPy's semantics below
     s_a = numpy.asarray(s_a, dtype=float)
     s_b = numpy.asarray(s_b, dtype=float)
     g = numpy.asarray(g, dtype=float)
@@ -40,12 +62,54 @@ def two_surface_reflection_count(s_a, s_b, g, c_a, c_b):
     return (count_a, count_b)
 
 
+def _two_surface_resolution_python(s_a, s_b, g, c_a, c_b):
+    x0 = (c_a >= 0) and (c_b >= 0)
+    x1 = math.sqrt(-g**2 + s_a*s_b)
+    x2 = math.atan2(x1, -g)
+    x3 = 1/x2
+    x4 = c_a*g
+    x5 = math.atan2(-c_a*x1, c_b*s_a - x4)
+    x6 = math.ceil(x3*x5)
+    x7 = (c_a < 0)
+    x8 = math.sqrt(c_a**2*s_b + c_b**2*s_a - 2*c_b*x4)/x1
+    x9 = math.sqrt(s_a)*x8
+    x10 = x2*(x6 - 1) - x5
+    x11 = -math.sin(x10)
+    x12 = ((x6 % 2) == 1)
+    x13 = (1/2)*x2
+    x14 = (x5 <= x13*(2*x6 - 1))
+    x15 = x12 and x14
+    x16 = -x2*x6 + x5
+    x17 = math.sin(x2 - (-x16))
+    x18 = math.sin(x2 - (-x10))
+    x19 = -math.sin(x16)
+    x20 = math.sqrt(s_b)*x8
+    x21 = math.atan2(-c_b*x1, c_a*s_b - c_b*g)
+    x22 = math.ceil(x21*x3)
+    x23 = (c_b < 0)
+    x24 = x2*(x22 - 1) - x21
+    x25 = math.sin(x2 - (-x24))
+    x26 = ((x22 % 2) == 1)
+    x27 = (x21 <= x13*(2*x22 - 1))
+    x28 = x26 and x27
+    x29 = -x2*x22 + x21
+    x30 = -math.sin(x29)
+    x31 = -math.sin(x24)
+    x32 = math.sin(x2 - (-x29))
+    return (float(((0) if x0 else (x6) if x7 else (-1))), float(((c_a) if x0 else (x9*((x11) if x15 else (x17) if x12 else (x18) if x14 else (x19))) if x7 else (math.nan))), float(((c_b) if x0 else (x20*((x18) if x15 else (x19) if x12 else (x11) if x14 else (x17))) if x7 else (math.nan))), float(((0) if x0 else (x22) if x23 else (-1))), float(((c_a) if x0 else (x9*((x25) if x28 else (x30) if x26 else (x31) if x27 else (x32))) if x23 else (math.nan))), float(((c_b) if x0 else (x20*((x31) if x28 else (x32) if x26 else (x25) if x27 else (x30))) if x23 else (math.nan))))
+
+
 def two_surface_resolution(s_a, s_b, g, c_a, c_b):
     """Counts and exit relative velocities (H v+) of both branches: (count_a, ca_a, cb_a,
     count_b, ca_b, cb_b). c' = (sqrt(s_a)|p| sin th, sqrt(s_b)|p| sin(beta - th)),
     th = sigma (m beta - psi) + (1 - sigma) beta / 2, sigma = (-1)^m (A-first frame).
     Float: the angle error grows like m * eps; the law gives certified values.
     """
+    if _scalars(s_a, s_b, g, c_a, c_b):  # plain Python: ~40-300x faster than NumPy on one point
+        try:
+            return _two_surface_resolution_python(s_a, s_b, g, c_a, c_b)
+        except (ValueError, ZeroDivisionError, OverflowError):
+            pass  # NaN / inf / overflow: NumPy's semantics below
     s_a = numpy.asarray(s_a, dtype=float)
     s_b = numpy.asarray(s_b, dtype=float)
     g = numpy.asarray(g, dtype=float)
@@ -115,11 +179,69 @@ def two_surface_exit_velocity(mass_matrix, gradients, velocity):
     return counts, exits
 
 
+def _two_surface_resolution_2_python(m_00, m_01, m_11, h_00, h_01, h_10, h_11, v_0, v_1):
+    x0 = h_00*v_0 + h_01*v_1
+    x1 = h_10*v_0 + h_11*v_1
+    x2 = (x0 >= 0) and (x1 >= 0)
+    x3 = h_00*h_11 - h_01*h_10
+    x4 = 1/(m_00*m_11 - m_01**2)
+    x5 = math.sqrt(x4)
+    x6 = x5*abs(x3)
+    x7 = h_10*m_11 - h_11*m_01
+    x8 = h_10*m_01 - h_11*m_00
+    x9 = math.atan2(x6, -x4*(h_00*x7 - h_01*x8))
+    x10 = 1/x9
+    x11 = h_00*m_01 - h_01*m_00
+    x12 = h_00*m_11 - h_01*m_01
+    x13 = x3*x4
+    x14 = math.atan2(-x0*x6, x13*(v_0*x11 + v_1*x12))
+    x15 = math.ceil(x10*x14)
+    x16 = (x0 < 0)
+    x17 = 1/x3
+    x18 = math.sqrt(x4*(v_0*(m_00*v_0 + m_01*v_1) + v_1*(m_01*v_0 + m_11*v_1)))/x5
+    x19 = x18*math.sqrt(x4*(h_00*x12 - h_01*x11))
+    x20 = -x14
+    x21 = x20 + x9*(x15 - 1)
+    x22 = -math.sin(x21)
+    x23 = ((x15 % 2) == 1)
+    x24 = (1/2)*x9
+    x25 = (x14 <= x24*(2*x15 - 1))
+    x26 = x23 and x25
+    x27 = x15*x9 + x20
+    x28 = math.sin(x9 - x27)
+    x29 = math.sin(x9 - (-x21))
+    x30 = math.sin(x27)
+    x31 = ((x0) if x2 else (x19*((x22) if x26 else (x28) if x23 else (x29) if x25 else (x30))) if x16 else (math.nan))
+    x32 = x18*math.sqrt(x4*(h_10*x7 - h_11*x8))
+    x33 = ((x1) if x2 else (x32*((x29) if x26 else (x30) if x23 else (x22) if x25 else (x28))) if x16 else (math.nan))
+    x34 = math.atan2(-x1*x6, -x13*(v_0*x8 + v_1*x7))
+    x35 = math.ceil(x10*x34)
+    x36 = (x1 < 0)
+    x37 = -x34
+    x38 = x37 + x9*(x35 - 1)
+    x39 = math.sin(x9 - (-x38))
+    x40 = ((x35 % 2) == 1)
+    x41 = (x34 <= x24*(2*x35 - 1))
+    x42 = x40 and x41
+    x43 = x35*x9 + x37
+    x44 = math.sin(x43)
+    x45 = -math.sin(x38)
+    x46 = math.sin(x9 - x43)
+    x47 = ((x0) if x2 else (x19*((x39) if x42 else (x44) if x40 else (x45) if x41 else (x46))) if x36 else (math.nan))
+    x48 = ((x1) if x2 else (x32*((x45) if x42 else (x46) if x40 else (x39) if x41 else (x44))) if x36 else (math.nan))
+    return (float(((0) if x2 else (x15) if x16 else (-1))), float(x17*(-h_01*x33 + h_11*x31)), float(x17*(h_00*x33 - h_10*x31)), float(((0) if x2 else (x35) if x36 else (-1))), float(x17*(-h_01*x48 + h_11*x47)), float(x17*(h_00*x48 - h_10*x47)))
+
+
 def two_surface_resolution_2(m_00, m_01, m_11, h_00, h_01, h_10, h_11, v_0, v_1):
     """n = 2 closed form: M by its upper triangle, H = [[h_00, h_01], [h_10, h_11]], v = (v_0, v_1).
     Returns (count_a, v0_a, v1_a, count_b, v0_b, v1_b): counts and exit velocities of the branches
     starting with row 0 (a) and row 1 (b). Float, uncertified (see impactsym.laws.two_surface).
     """
+    if _scalars(m_00, m_01, m_11, h_00, h_01, h_10, h_11, v_0, v_1):  # plain Python: ~40-300x faster than NumPy on one point
+        try:
+            return _two_surface_resolution_2_python(m_00, m_01, m_11, h_00, h_01, h_10, h_11, v_0, v_1)
+        except (ValueError, ZeroDivisionError, OverflowError):
+            pass  # NaN / inf / overflow: NumPy's semantics below
     m_00 = numpy.asarray(m_00, dtype=float)
     m_01 = numpy.asarray(m_01, dtype=float)
     m_11 = numpy.asarray(m_11, dtype=float)
