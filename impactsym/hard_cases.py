@@ -1,7 +1,11 @@
 """The hard-case set of the generated float kernels, and uniform samples of their valid domains.
 
 One named, committed list (:data:`HARD_CASES`) reused by the tests (``tests/test_kernels_*.py``)
-and the benchmark (``impactsym bench``). Each case names the kernel, the category of difficulty
+and the benchmark (``impactsym bench``); a generator of every combination of each kernel's extreme
+corners (:func:`corner_cases`); a seeded adversarial hill-climb on ``error / (eps (1 + cond))``
+(:func:`adversarial_search`); and the check of every output of every implementation (NumPy, plain
+Python, C) against the bound (:func:`accuracy_check`), run by ``tests/test_accuracy_search.py``
+and ``benchmarks/accuracy.py`` (issue 15). Each case names the kernel, the category of difficulty
 (:data:`CATEGORIES`), and float inputs; the reference for a case is computed from the exact binary
 values of these floats (:mod:`impactsym.references`), never from decimal text.
 
@@ -191,9 +195,39 @@ def _domain_cases() -> list[HardCase]:
     return out
 
 
+def _found_cases() -> list[HardCase]:
+    """Corners that broke a kernel before issue 15's stable forms, and the search's worst finds,
+    pinned so that every test and the bench see them."""
+    out = [
+        HardCase("chain3_impulse_ratio", "issue 15: masses (1, 1e-12, 1), alpha = 1 - 1e-12", "corner",
+                 {"m1": 1.0, "m2": 1e-12, "m3": 1.0, "v1": 1.0, "v2": 0.0, "v3": 0.0, "e": 1.0, "alpha": 1 - 1e-12},
+                 "expanded m1 m3 (1 - alpha)^2 gave p1 = 0.999911 (true 1.0000000000005), w1 of the wrong sign"),
+        HardCase("chain3_impulse_ratio", "masses (1e-12, 1e-12, 1e12), e = 0, alpha = 1: no solution", "corner",
+                 {"m1": 1e-12, "m2": 1e-12, "m3": 1e12, "v1": 1.0, "v2": 0.0, "v3": 0.0, "e": 0.0, "alpha": 1.0},
+                 "exact D = -1e-24; the expanded B^2 - 4AC rounded to 0 and answered a number"),
+        HardCase("chain3_impulse_ratio", "masses (1e-12, 1e-12, 1e-12), e = 1, alpha = 1e12", "corner",
+                 {"m1": 1e-12, "m2": 1e-12, "m3": 1e-12, "v1": 1.0, "v2": 0.0, "v3": 0.0, "e": 1.0, "alpha": 1e12},
+                 "D = B^2 exactly at e = 1; a Lagrange-only form 2eA|y|^2 - |x^y|^2 cancelled to < 0"),
+        HardCase("pool_impulse_ratio", "theta = pi/2, tau = 1e-9, alpha = 1e-12", "corner",
+                 {"theta": math.pi / 2, "tau": 1e-9, "e": 1.0, "alpha": 1e-12},
+                 "cos(tau - theta) with the rounded angle difference: 1.9e8 eps of a well-conditioned w1x"),
+    ]
+    for k in ("reflect_2", "reflection_map_2"):
+        x = {"m_00": 1.0, "m_01": 0.0, "m_11": 1e-12, "u_0": -1.0, "u_1": 1.0, "e": 0.0}
+        if k == "reflect_2":
+            x.update(v_0=1.0, v_1=0.5)
+        out.append(HardCase(k, "M = diag(1, 1e-12), u = (-1, 1), e = 0", "corner", x,
+                            "diagonal 1 - (1+e) u_i w_i / s cancelled: 1e11 eps"))
+    out.append(HardCase("reflect_2", "search seed 1-2 worst (benchmarks/accuracy.py)", "search",
+                        {"m_00": 1.0000000001695335, "m_01": 0.0, "m_11": 9.999999999999984e-13,
+                         "u_0": -79.90654339251782, "u_1": 1.0000408260648348, "v_0": 1.0000000339631019,
+                         "v_1": 1.1159635333570988e-09, "e": 0.9999999999989999}))
+    return out
+
+
 #: every hard case, all kernels
 HARD_CASES: list[HardCase] = (_reflection_cases() + _root_cases() + _chain3_cases() + _two_surface_cases()
-                              + _pool_cases() + _domain_cases())
+                              + _pool_cases() + _domain_cases() + _found_cases())
 
 
 def hard_cases(kernel: str | None = None) -> list[HardCase]:
