@@ -458,8 +458,9 @@ def kernel_implementations(kernel: str, languages=("numpy", "python", "c")) -> d
     """``language -> f(inputs: dict) -> list[float]`` for one generated closed-form kernel.
 
     ``numpy`` is the committed NumPy kernel (called with 0-d arrays, so that it takes the NumPy path:
-    Python scalars are dispatched to the plain-Python form), ``python`` the plain-Python (``math``) form from the
-    catalog (a math-domain error or a division by zero is answered NaN, as NumPy does), ``c`` the
+    Python scalars are dispatched to the plain-Python form), ``python`` what a call with Python floats
+    runs: the module's plain-Python (``math``) form, and the NumPy path where that raises (a math-domain
+    error, a division by zero, an overflow), ``c`` the
     committed C kernel compiled with gcc (left out when no compiler is found).
 
     >>> f = kernel_implementations("impulse_ratio_root", ("numpy", "python"))
@@ -482,15 +483,20 @@ def kernel_implementations(kernel: str, languages=("numpy", "python", "c")) -> d
                     r = f(**{a: np.asarray(float(inputs[a])) for a in args})
                 return [float(x) for x in (r if isinstance(r, tuple) else (r,))]
         elif lang == "python":
-            ns: dict = {}
-            exec(compile(entry["code"]["python"], f"<python form of {kernel}>", "exec"), ns)  # noqa: S102
-            f = ns[kernel]
+            import sys
 
-            def call(inputs, f=f):
+            from . import kernels as K
+
+            fk = getattr(K, kernel)
+            fpy = getattr(sys.modules[fk.__module__], f"_{kernel}_python")
+
+            def call(inputs, fpy=fpy, fk=fk):
+                xs = [float(inputs[a]) for a in args]
                 try:
-                    r = f(*[float(inputs[a]) for a in args])
-                except (ValueError, ZeroDivisionError, OverflowError):
-                    return [float("nan")] * n_out
+                    r = fpy(*xs)
+                except (ValueError, ZeroDivisionError, OverflowError):  # what the kernel does: its NumPy path
+                    with np.errstate(all="ignore"):
+                        r = fk(*[np.asarray(x) for x in xs])
                 return [float(x) for x in (r if isinstance(r, tuple) else (r,))]
         elif lang == "c":
             from .benchmark import compile_c

@@ -28,11 +28,9 @@ LANGS = ("numpy", "python", "c") if (shutil.which("gcc") or shutil.which("cc")) 
 #: Each grid test is a strict xfail, run only with ``-m slow`` (their grids take 20-30 s each), so a
 #: fix makes it XPASS and fail until it is moved out of this dict.
 KNOWN_OPEN = {
-    "two_surface_resolution": "exit angles 2 beta - psi ~ 1e-12 formed from atan2 values ~ pi (absolute error "
-                              "eps pi) where the inputs hardly move beta (right-angle wedge, s_a = s_b = 1e-12): "
-                              "up to 1e15 eps (1 + cond); needs the angle products in complex form",
-    "two_surface_resolution_2": "v1_a/v1_b at M = diag(1e6, 1e-6) or diag(1e12, 1), right-angle wedge: up to "
-                                "6.9e5 eps (1 + cond) (same cause)",
+    "two_surface_resolution": "2 of 144 corners (s_a, s_b) = (1e-12, 1) or (1, 1e-12), right-angle wedge, "
+                              "c = (-1, -1e-12): psi/beta = 2 + 4e-17, so the float count is 2 (exact 3, "
+                              "accepted as within rounding) and the exit is the 2-reflection one: 2e15 eps",
 }
 
 

@@ -71,32 +71,43 @@ def _two_surface_resolution_python(s_a, s_b, g, c_a, c_b):
     x5 = math.atan2(-c_a*x1, c_b*s_a - x4)
     x6 = math.ceil(x3*x5)
     x7 = (c_a < 0)
-    x8 = math.sqrt(c_a**2*s_b + c_b**2*s_a - 2*c_b*x4)/x1
-    x9 = math.sqrt(s_a)*x8
-    x10 = x2*(x6 - 1) - x5
-    x11 = -math.sin(x10)
-    x12 = ((x6 % 2) == 1)
-    x13 = (1/2)*x2
-    x14 = (x5 <= x13*(2*x6 - 1))
-    x15 = x12 and x14
-    x16 = -x2*x6 + x5
-    x17 = math.sin(x2 - (-x16))
-    x18 = math.sin(x2 - (-x10))
-    x19 = -math.sin(x16)
-    x20 = math.sqrt(s_b)*x8
-    x21 = math.atan2(-c_b*x1, c_a*s_b - c_b*g)
-    x22 = math.ceil(x21*x3)
-    x23 = (c_b < 0)
-    x24 = x2*(x22 - 1) - x21
-    x25 = math.sin(x2 - (-x24))
-    x26 = ((x22 % 2) == 1)
-    x27 = (x21 <= x13*(2*x22 - 1))
-    x28 = x26 and x27
-    x29 = -x2*x22 + x21
-    x30 = -math.sin(x29)
-    x31 = -math.sin(x24)
-    x32 = math.sin(x2 - (-x29))
-    return (float(((0) if x0 else (x6) if x7 else (-1))), float(((c_a) if x0 else (x9*((x11) if x15 else (x17) if x12 else (x18) if x14 else (x19))) if x7 else (math.nan))), float(((c_b) if x0 else (x20*((x18) if x15 else (x19) if x12 else (x11) if x14 else (x17))) if x7 else (math.nan))), float(((0) if x0 else (x22) if x23 else (-1))), float(((c_a) if x0 else (x9*((x25) if x28 else (x30) if x26 else (x31) if x27 else (x32))) if x23 else (math.nan))), float(((c_b) if x0 else (x20*((x31) if x28 else (x32) if x26 else (x25) if x27 else (x30))) if x23 else (math.nan))))
+    x8 = (x6 == 1)
+    x9 = 1/s_b
+    x10 = -c_b
+    x11 = 1/s_a
+    x12 = 2*x4
+    x13 = x10 + x11*x12
+    x14 = (x6 == 2)
+    x15 = math.sqrt(c_a**2*s_b + c_b**2*s_a - c_b*x12)/x1
+    x16 = math.sqrt(s_a)*x15
+    x17 = x2*(x6 - 1) - x5
+    x18 = -math.sin(x17)
+    x19 = ((x6 % 2) == 1)
+    x20 = (1/2)*x2
+    x21 = (x5 <= x20*(2*x6 - 1))
+    x22 = x19 and x21
+    x23 = -x2*x6 + x5
+    x24 = math.sin(x2 - (-x23))
+    x25 = math.sin(x2 - (-x17))
+    x26 = -math.sin(x23)
+    x27 = math.sqrt(s_b)*x15
+    x28 = c_b*g
+    x29 = math.atan2(-c_b*x1, c_a*s_b - x28)
+    x30 = math.ceil(x29*x3)
+    x31 = (c_b < 0)
+    x32 = c_a - 2*x28*x9
+    x33 = (x30 == 1)
+    x34 = (x30 == 2)
+    x35 = x2*(x30 - 1) - x29
+    x36 = math.sin(x2 - (-x35))
+    x37 = ((x30 % 2) == 1)
+    x38 = (x29 <= x20*(2*x30 - 1))
+    x39 = x37 and x38
+    x40 = -x2*x30 + x29
+    x41 = -math.sin(x40)
+    x42 = -math.sin(x35)
+    x43 = math.sin(x2 - (-x40))
+    return (float(((0) if x0 else (x6) if x7 else (-1))), float(((c_a) if x0 else (((-c_a) if x8 else (-c_a + 2*g*x13*x9) if x14 else (x16*((x18) if x22 else (x24) if x19 else (x25) if x21 else (x26))))) if x7 else (math.nan))), float(((c_b) if x0 else (((-x13) if x8 else (x13) if x14 else (x27*((x25) if x22 else (x26) if x19 else (x18) if x21 else (x24))))) if x7 else (math.nan))), float(((0) if x0 else (x30) if x31 else (-1))), float(((c_a) if x0 else (((x32) if x33 else (-x32) if x34 else (x16*((x36) if x39 else (x41) if x37 else (x42) if x38 else (x43))))) if x31 else (math.nan))), float(((c_b) if x0 else (((x10) if x33 else (-c_b - 2*g*x11*x32) if x34 else (x27*((x42) if x39 else (x43) if x37 else (x36) if x38 else (x41))))) if x31 else (math.nan))))
 
 
 def two_surface_resolution(s_a, s_b, g, c_a, c_b):
@@ -123,37 +134,48 @@ def two_surface_resolution(s_a, s_b, g, c_a, c_b):
     x5 = numpy.arctan2(-c_a*x1, c_b*s_a - x4)
     x6 = numpy.ceil(x3*x5)
     x7 = numpy.less(c_a, 0)
-    x8 = numpy.sqrt(c_a**2*s_b + c_b**2*s_a - 2*c_b*x4)/x1
-    x9 = numpy.sqrt(s_a)*x8
-    x10 = x2*(x6 - 1) - x5
-    x11 = -numpy.sin(x10)
-    x12 = numpy.equal(numpy.mod(x6, 2), 1)
-    x13 = (1/2)*x2
-    x14 = numpy.less_equal(x5, x13*(2*x6 - 1))
-    x15 = numpy.logical_and.reduce((x12,x14))
-    x16 = -x2*x6 + x5
-    x17 = numpy.sin(x2 - (-x16))
-    x18 = numpy.sin(x2 - (-x10))
-    x19 = -numpy.sin(x16)
-    x20 = numpy.sqrt(s_b)*x8
-    x21 = numpy.arctan2(-c_b*x1, c_a*s_b - c_b*g)
-    x22 = numpy.ceil(x21*x3)
-    x23 = numpy.less(c_b, 0)
-    x24 = x2*(x22 - 1) - x21
-    x25 = numpy.sin(x2 - (-x24))
-    x26 = numpy.equal(numpy.mod(x22, 2), 1)
-    x27 = numpy.less_equal(x21, x13*(2*x22 - 1))
-    x28 = numpy.logical_and.reduce((x26,x27))
-    x29 = -x2*x22 + x21
-    x30 = -numpy.sin(x29)
-    x31 = -numpy.sin(x24)
-    x32 = numpy.sin(x2 - (-x29))
+    x8 = numpy.equal(x6, 1)
+    x9 = s_b**(-1.0)
+    x10 = -c_b
+    x11 = s_a**(-1.0)
+    x12 = 2*x4
+    x13 = x10 + x11*x12
+    x14 = numpy.equal(x6, 2)
+    x15 = numpy.sqrt(c_a**2*s_b + c_b**2*s_a - c_b*x12)/x1
+    x16 = numpy.sqrt(s_a)*x15
+    x17 = x2*(x6 - 1) - x5
+    x18 = -numpy.sin(x17)
+    x19 = numpy.equal(numpy.mod(x6, 2), 1)
+    x20 = (1/2)*x2
+    x21 = numpy.less_equal(x5, x20*(2*x6 - 1))
+    x22 = numpy.logical_and.reduce((x19,x21))
+    x23 = -x2*x6 + x5
+    x24 = numpy.sin(x2 - (-x23))
+    x25 = numpy.sin(x2 - (-x17))
+    x26 = -numpy.sin(x23)
+    x27 = numpy.sqrt(s_b)*x15
+    x28 = c_b*g
+    x29 = numpy.arctan2(-c_b*x1, c_a*s_b - x28)
+    x30 = numpy.ceil(x29*x3)
+    x31 = numpy.less(c_b, 0)
+    x32 = c_a - 2*x28*x9
+    x33 = numpy.equal(x30, 1)
+    x34 = numpy.equal(x30, 2)
+    x35 = x2*(x30 - 1) - x29
+    x36 = numpy.sin(x2 - (-x35))
+    x37 = numpy.equal(numpy.mod(x30, 2), 1)
+    x38 = numpy.less_equal(x29, x20*(2*x30 - 1))
+    x39 = numpy.logical_and.reduce((x37,x38))
+    x40 = -x2*x30 + x29
+    x41 = -numpy.sin(x40)
+    x42 = -numpy.sin(x35)
+    x43 = numpy.sin(x2 - (-x40))
     count_a = numpy.select([x0,x7,True], [0,x6,-1], default=numpy.nan)
-    ca_a = numpy.select([x0,x7,True], [c_a,x9*numpy.select([x15,x12,x14,True], [x11,x17,x18,x19], default=numpy.nan),numpy.nan], default=numpy.nan)
-    cb_a = numpy.select([x0,x7,True], [c_b,x20*numpy.select([x15,x12,x14,True], [x18,x19,x11,x17], default=numpy.nan),numpy.nan], default=numpy.nan)
-    count_b = numpy.select([x0,x23,True], [0,x22,-1], default=numpy.nan)
-    ca_b = numpy.select([x0,x23,True], [c_a,x9*numpy.select([x28,x26,x27,True], [x25,x30,x31,x32], default=numpy.nan),numpy.nan], default=numpy.nan)
-    cb_b = numpy.select([x0,x23,True], [c_b,x20*numpy.select([x28,x26,x27,True], [x31,x32,x25,x30], default=numpy.nan),numpy.nan], default=numpy.nan)
+    ca_a = numpy.select([x0,x7,True], [c_a,numpy.select([x8,x14,True], [-c_a,-c_a + 2*g*x13*x9,x16*numpy.select([x22,x19,x21,True], [x18,x24,x25,x26], default=numpy.nan)], default=numpy.nan),numpy.nan], default=numpy.nan)
+    cb_a = numpy.select([x0,x7,True], [c_b,numpy.select([x8,x14,True], [-x13,x13,x27*numpy.select([x22,x19,x21,True], [x25,x26,x18,x24], default=numpy.nan)], default=numpy.nan),numpy.nan], default=numpy.nan)
+    count_b = numpy.select([x0,x31,True], [0,x30,-1], default=numpy.nan)
+    ca_b = numpy.select([x0,x31,True], [c_a,numpy.select([x33,x34,True], [x32,-x32,x16*numpy.select([x39,x37,x38,True], [x36,x41,x42,x43], default=numpy.nan)], default=numpy.nan),numpy.nan], default=numpy.nan)
+    cb_b = numpy.select([x0,x31,True], [c_b,numpy.select([x33,x34,True], [x10,-c_b - 2*g*x11*x32,x27*numpy.select([x39,x37,x38,True], [x42,x43,x36,x41], default=numpy.nan)], default=numpy.nan),numpy.nan], default=numpy.nan)
     return (count_a, ca_a, cb_a, count_b, ca_b, cb_b)
 
 
@@ -189,47 +211,59 @@ def _two_surface_resolution_2_python(m_00, m_01, m_11, h_00, h_01, h_10, h_11, v
     x6 = x5*abs(x3)
     x7 = h_10*m_11 - h_11*m_01
     x8 = h_10*m_01 - h_11*m_00
-    x9 = math.atan2(x6, -x4*(h_00*x7 - h_01*x8))
-    x10 = 1/x9
-    x11 = h_00*m_01 - h_01*m_00
-    x12 = h_00*m_11 - h_01*m_01
-    x13 = x3*x4
-    x14 = math.atan2(-x0*x6, x13*(v_0*x11 + v_1*x12))
-    x15 = math.ceil(x10*x14)
-    x16 = (x0 < 0)
-    x17 = 1/x3
-    x18 = math.sqrt(x4*(v_0*(m_00*v_0 + m_01*v_1) + v_1*(m_01*v_0 + m_11*v_1)))/x5
-    x19 = x18*math.sqrt(x4*(h_00*x12 - h_01*x11))
-    x20 = -x14
-    x21 = x20 + x9*(x15 - 1)
-    x22 = -math.sin(x21)
-    x23 = ((x15 % 2) == 1)
-    x24 = (1/2)*x9
-    x25 = (x14 <= x24*(2*x15 - 1))
-    x26 = x23 and x25
-    x27 = x15*x9 + x20
-    x28 = math.sin(x9 - x27)
-    x29 = math.sin(x9 - (-x21))
-    x30 = math.sin(x27)
-    x31 = ((x0) if x2 else (x19*((x22) if x26 else (x28) if x23 else (x29) if x25 else (x30))) if x16 else (math.nan))
-    x32 = x18*math.sqrt(x4*(h_10*x7 - h_11*x8))
-    x33 = ((x1) if x2 else (x32*((x29) if x26 else (x30) if x23 else (x22) if x25 else (x28))) if x16 else (math.nan))
-    x34 = math.atan2(-x1*x6, -x13*(v_0*x8 + v_1*x7))
-    x35 = math.ceil(x10*x34)
-    x36 = (x1 < 0)
-    x37 = -x34
-    x38 = x37 + x9*(x35 - 1)
-    x39 = math.sin(x9 - (-x38))
-    x40 = ((x35 % 2) == 1)
-    x41 = (x34 <= x24*(2*x35 - 1))
-    x42 = x40 and x41
-    x43 = x35*x9 + x37
-    x44 = math.sin(x43)
-    x45 = -math.sin(x38)
-    x46 = math.sin(x9 - x43)
-    x47 = ((x0) if x2 else (x19*((x39) if x42 else (x44) if x40 else (x45) if x41 else (x46))) if x36 else (math.nan))
-    x48 = ((x1) if x2 else (x32*((x45) if x42 else (x46) if x40 else (x39) if x41 else (x44))) if x36 else (math.nan))
-    return (float(((0) if x2 else (x15) if x16 else (-1))), float(x17*(-h_01*x33 + h_11*x31)), float(x17*(h_00*x33 - h_10*x31)), float(((0) if x2 else (x35) if x36 else (-1))), float(x17*(-h_01*x48 + h_11*x47)), float(x17*(h_00*x48 - h_10*x47)))
+    x9 = h_00*x7 - h_01*x8
+    x10 = math.atan2(x6, -x4*x9)
+    x11 = 1/x10
+    x12 = h_00*m_01 - h_01*m_00
+    x13 = h_00*m_11 - h_01*m_01
+    x14 = x3*x4
+    x15 = math.atan2(-x0*x6, x14*(v_0*x12 + v_1*x13))
+    x16 = math.ceil(x11*x15)
+    x17 = (x0 < 0)
+    x18 = 1/x3
+    x19 = h_00*x13 - h_01*x12
+    x20 = 2*x9
+    x21 = x20/x19
+    x22 = -x0*x21 + x1
+    x23 = (x16 == 1)
+    x24 = (x16 == 2)
+    x25 = h_10*x7 - h_11*x8
+    x26 = math.sqrt(x4*(v_0*(m_00*v_0 + m_01*v_1) + v_1*(m_01*v_0 + m_11*v_1)))/x5
+    x27 = x26*math.sqrt(x25*x4)
+    x28 = -x15
+    x29 = x10*(x16 - 1) + x28
+    x30 = math.sin(x10 - (-x29))
+    x31 = ((x16 % 2) == 1)
+    x32 = (1/2)*x10
+    x33 = (x15 <= x32*(2*x16 - 1))
+    x34 = x31 and x33
+    x35 = x10*x16 + x28
+    x36 = math.sin(x35)
+    x37 = -math.sin(x29)
+    x38 = math.sin(x10 - x35)
+    x39 = ((x1) if x2 else (((x22) if x23 else (-x22) if x24 else (x27*((x30) if x34 else (x36) if x31 else (x37) if x33 else (x38))))) if x17 else (math.nan))
+    x40 = x20/x25
+    x41 = x26*math.sqrt(x19*x4)
+    x42 = ((x0) if x2 else (((-x0) if x23 else (-x0 - x22*x40) if x24 else (x41*((x37) if x34 else (x38) if x31 else (x30) if x33 else (x36))))) if x17 else (math.nan))
+    x43 = math.atan2(-x1*x6, -x14*(v_0*x8 + v_1*x7))
+    x44 = math.ceil(x11*x43)
+    x45 = (x1 < 0)
+    x46 = x0 - x1*x40
+    x47 = (x44 == 1)
+    x48 = (x44 == 2)
+    x49 = -x43
+    x50 = x10*(x44 - 1) + x49
+    x51 = math.sin(x10 - (-x50))
+    x52 = ((x44 % 2) == 1)
+    x53 = (x43 <= x32*(2*x44 - 1))
+    x54 = x52 and x53
+    x55 = x10*x44 + x49
+    x56 = math.sin(x55)
+    x57 = -math.sin(x50)
+    x58 = math.sin(x10 - x55)
+    x59 = ((x0) if x2 else (((x46) if x47 else (-x46) if x48 else (x41*((x51) if x54 else (x56) if x52 else (x57) if x53 else (x58))))) if x45 else (math.nan))
+    x60 = ((x1) if x2 else (((-x1) if x47 else (-x1 - x21*x46) if x48 else (x27*((x57) if x54 else (x58) if x52 else (x51) if x53 else (x56))))) if x45 else (math.nan))
+    return (float(((0) if x2 else (x16) if x17 else (-1))), float(x18*(-h_01*x39 + h_11*x42)), float(x18*(h_00*x39 - h_10*x42)), float(((0) if x2 else (x44) if x45 else (-1))), float(x18*(-h_01*x60 + h_11*x59)), float(x18*(h_00*x60 - h_10*x59)))
 
 
 def two_surface_resolution_2(m_00, m_01, m_11, h_00, h_01, h_10, h_11, v_0, v_1):
@@ -260,50 +294,62 @@ def two_surface_resolution_2(m_00, m_01, m_11, h_00, h_01, h_10, h_11, v_0, v_1)
     x6 = x5*abs(x3)
     x7 = h_10*m_11 - h_11*m_01
     x8 = h_10*m_01 - h_11*m_00
-    x9 = numpy.arctan2(x6, -x4*(h_00*x7 - h_01*x8))
-    x10 = x9**(-1.0)
-    x11 = h_00*m_01 - h_01*m_00
-    x12 = h_00*m_11 - h_01*m_01
-    x13 = x3*x4
-    x14 = numpy.arctan2(-x0*x6, x13*(v_0*x11 + v_1*x12))
-    x15 = numpy.ceil(x10*x14)
-    x16 = numpy.less(x0, 0)
-    x17 = x3**(-1.0)
-    x18 = numpy.sqrt(x4*(v_0*(m_00*v_0 + m_01*v_1) + v_1*(m_01*v_0 + m_11*v_1)))/x5
-    x19 = x18*numpy.sqrt(x4*(h_00*x12 - h_01*x11))
-    x20 = -x14
-    x21 = x20 + x9*(x15 - 1)
-    x22 = -numpy.sin(x21)
-    x23 = numpy.equal(numpy.mod(x15, 2), 1)
-    x24 = (1/2)*x9
-    x25 = numpy.less_equal(x14, x24*(2*x15 - 1))
-    x26 = numpy.logical_and.reduce((x23,x25))
-    x27 = x15*x9 + x20
-    x28 = numpy.sin(x9 - x27)
-    x29 = numpy.sin(x9 - (-x21))
-    x30 = numpy.sin(x27)
-    x31 = numpy.select([x2,x16,True], [x0,x19*numpy.select([x26,x23,x25,True], [x22,x28,x29,x30], default=numpy.nan),numpy.nan], default=numpy.nan)
-    x32 = x18*numpy.sqrt(x4*(h_10*x7 - h_11*x8))
-    x33 = numpy.select([x2,x16,True], [x1,x32*numpy.select([x26,x23,x25,True], [x29,x30,x22,x28], default=numpy.nan),numpy.nan], default=numpy.nan)
-    x34 = numpy.arctan2(-x1*x6, -x13*(v_0*x8 + v_1*x7))
-    x35 = numpy.ceil(x10*x34)
-    x36 = numpy.less(x1, 0)
-    x37 = -x34
-    x38 = x37 + x9*(x35 - 1)
-    x39 = numpy.sin(x9 - (-x38))
-    x40 = numpy.equal(numpy.mod(x35, 2), 1)
-    x41 = numpy.less_equal(x34, x24*(2*x35 - 1))
-    x42 = numpy.logical_and.reduce((x40,x41))
-    x43 = x35*x9 + x37
-    x44 = numpy.sin(x43)
-    x45 = -numpy.sin(x38)
-    x46 = numpy.sin(x9 - x43)
-    x47 = numpy.select([x2,x36,True], [x0,x19*numpy.select([x42,x40,x41,True], [x39,x44,x45,x46], default=numpy.nan),numpy.nan], default=numpy.nan)
-    x48 = numpy.select([x2,x36,True], [x1,x32*numpy.select([x42,x40,x41,True], [x45,x46,x39,x44], default=numpy.nan),numpy.nan], default=numpy.nan)
-    count_a = numpy.select([x2,x16,True], [0,x15,-1], default=numpy.nan)
-    v0_a = x17*(-h_01*x33 + h_11*x31)
-    v1_a = x17*(h_00*x33 - h_10*x31)
-    count_b = numpy.select([x2,x36,True], [0,x35,-1], default=numpy.nan)
-    v0_b = x17*(-h_01*x48 + h_11*x47)
-    v1_b = x17*(h_00*x48 - h_10*x47)
+    x9 = h_00*x7 - h_01*x8
+    x10 = numpy.arctan2(x6, -x4*x9)
+    x11 = x10**(-1.0)
+    x12 = h_00*m_01 - h_01*m_00
+    x13 = h_00*m_11 - h_01*m_01
+    x14 = x3*x4
+    x15 = numpy.arctan2(-x0*x6, x14*(v_0*x12 + v_1*x13))
+    x16 = numpy.ceil(x11*x15)
+    x17 = numpy.less(x0, 0)
+    x18 = x3**(-1.0)
+    x19 = h_00*x13 - h_01*x12
+    x20 = 2*x9
+    x21 = x20/x19
+    x22 = -x0*x21 + x1
+    x23 = numpy.equal(x16, 1)
+    x24 = numpy.equal(x16, 2)
+    x25 = h_10*x7 - h_11*x8
+    x26 = numpy.sqrt(x4*(v_0*(m_00*v_0 + m_01*v_1) + v_1*(m_01*v_0 + m_11*v_1)))/x5
+    x27 = x26*numpy.sqrt(x25*x4)
+    x28 = -x15
+    x29 = x10*(x16 - 1) + x28
+    x30 = numpy.sin(x10 - (-x29))
+    x31 = numpy.equal(numpy.mod(x16, 2), 1)
+    x32 = (1/2)*x10
+    x33 = numpy.less_equal(x15, x32*(2*x16 - 1))
+    x34 = numpy.logical_and.reduce((x31,x33))
+    x35 = x10*x16 + x28
+    x36 = numpy.sin(x35)
+    x37 = -numpy.sin(x29)
+    x38 = numpy.sin(x10 - x35)
+    x39 = numpy.select([x2,x17,True], [x1,numpy.select([x23,x24,True], [x22,-x22,x27*numpy.select([x34,x31,x33,True], [x30,x36,x37,x38], default=numpy.nan)], default=numpy.nan),numpy.nan], default=numpy.nan)
+    x40 = x20/x25
+    x41 = x26*numpy.sqrt(x19*x4)
+    x42 = numpy.select([x2,x17,True], [x0,numpy.select([x23,x24,True], [-x0,-x0 - x22*x40,x41*numpy.select([x34,x31,x33,True], [x37,x38,x30,x36], default=numpy.nan)], default=numpy.nan),numpy.nan], default=numpy.nan)
+    x43 = numpy.arctan2(-x1*x6, -x14*(v_0*x8 + v_1*x7))
+    x44 = numpy.ceil(x11*x43)
+    x45 = numpy.less(x1, 0)
+    x46 = x0 - x1*x40
+    x47 = numpy.equal(x44, 1)
+    x48 = numpy.equal(x44, 2)
+    x49 = -x43
+    x50 = x10*(x44 - 1) + x49
+    x51 = numpy.sin(x10 - (-x50))
+    x52 = numpy.equal(numpy.mod(x44, 2), 1)
+    x53 = numpy.less_equal(x43, x32*(2*x44 - 1))
+    x54 = numpy.logical_and.reduce((x52,x53))
+    x55 = x10*x44 + x49
+    x56 = numpy.sin(x55)
+    x57 = -numpy.sin(x50)
+    x58 = numpy.sin(x10 - x55)
+    x59 = numpy.select([x2,x45,True], [x0,numpy.select([x47,x48,True], [x46,-x46,x41*numpy.select([x54,x52,x53,True], [x51,x56,x57,x58], default=numpy.nan)], default=numpy.nan),numpy.nan], default=numpy.nan)
+    x60 = numpy.select([x2,x45,True], [x1,numpy.select([x47,x48,True], [-x1,-x1 - x21*x46,x27*numpy.select([x54,x52,x53,True], [x57,x58,x51,x56], default=numpy.nan)], default=numpy.nan),numpy.nan], default=numpy.nan)
+    count_a = numpy.select([x2,x17,True], [0,x16,-1], default=numpy.nan)
+    v0_a = x18*(-h_01*x39 + h_11*x42)
+    v1_a = x18*(h_00*x39 - h_10*x42)
+    count_b = numpy.select([x2,x45,True], [0,x44,-1], default=numpy.nan)
+    v0_b = x18*(-h_01*x60 + h_11*x59)
+    v1_b = x18*(h_00*x60 - h_10*x59)
     return (count_a, v0_a, v1_a, count_b, v0_b, v1_b)
