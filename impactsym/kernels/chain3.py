@@ -23,10 +23,32 @@ CODEGEN_NAMES = {'chain3-impulse-ratio': 'chain3_impulse_ratio', 'chain3-alpha-m
 
 _SCALAR_TYPES = (float, int, numpy.float64)
 
+#: batches larger than 2 * CHUNK points are evaluated CHUNK points at a time
+#: (benchmarks/results/scalar_dispatch.md)
+CHUNK = 65536
+
 
 def _scalars(*xs):
     """Every argument a Python or NumPy float or int: the call goes to the plain-Python form."""
     return all(type(x) in _SCALAR_TYPES for x in xs)
+
+
+def _large(*xs):
+    return max(numpy.size(x) for x in xs) > 2 * CHUNK and numpy.broadcast_shapes(*(numpy.shape(x) for x in xs))
+
+
+def _chunked(f, xs, n_out):
+    """``f(*xs)`` evaluated CHUNK broadcast points at a time (same values: the kernels are pointwise)."""
+    shape = numpy.broadcast_shapes(*(numpy.shape(x) for x in xs))
+    flat = [numpy.broadcast_to(numpy.asarray(x, dtype=float), shape).reshape(-1) for x in xs]
+    size = flat[0].size
+    outs = [numpy.empty(size) for _ in range(n_out)]
+    for start in range(0, size, CHUNK):
+        part = f(*(x[start:start + CHUNK] for x in flat))
+        for o, r in zip(outs, part if n_out > 1 else (part,)):
+            o[start:start + CHUNK] = r
+    outs = [o.reshape(shape) for o in outs]
+    return tuple(outs) if n_out > 1 else outs[0]
 
 
 def _chain3_impulse_ratio_python(m1, m2, m3, v1, v2, v3, e, alpha):
@@ -63,6 +85,8 @@ def chain3_impulse_ratio(m1, m2, m3, v1, v2, v3, e, alpha):
             return _chain3_impulse_ratio_python(m1, m2, m3, v1, v2, v3, e, alpha)
         except (ValueError, ZeroDivisionError, OverflowError):
             pass  # NaN / inf / overflow: NumPy's semantics below
+    elif _large(m1, m2, m3, v1, v2, v3, e, alpha):  # chunks of CHUNK points: measured up to 1.6x faster on 1e6 (cache)
+        return _chunked(chain3_impulse_ratio, (m1, m2, m3, v1, v2, v3, e, alpha,), 5)
     m1 = numpy.asarray(m1, dtype=float)
     m2 = numpy.asarray(m2, dtype=float)
     m3 = numpy.asarray(m3, dtype=float)
@@ -104,6 +128,8 @@ def chain3_alpha_max(e):
             return _chain3_alpha_max_python(e)
         except (ValueError, ZeroDivisionError, OverflowError):
             pass  # NaN / inf / overflow: NumPy's semantics below
+    elif _large(e):  # chunks of CHUNK points: measured up to 1.6x faster on 1e6 (cache)
+        return _chunked(chain3_alpha_max, (e,), 1)
     e = numpy.asarray(e, dtype=float)
     alpha_max = -(-2*e + numpy.sqrt(2)*numpy.sqrt(3*e - 1) + 2)/(e - 3)
     return alpha_max

@@ -23,10 +23,32 @@ CODEGEN_NAMES = {'reflection-map': 'reflection_map', 'reflect': 'reflect', 'refl
 
 _SCALAR_TYPES = (float, int, numpy.float64)
 
+#: batches larger than 2 * CHUNK points are evaluated CHUNK points at a time
+#: (benchmarks/results/scalar_dispatch.md)
+CHUNK = 65536
+
 
 def _scalars(*xs):
     """Every argument a Python or NumPy float or int: the call goes to the plain-Python form."""
     return all(type(x) in _SCALAR_TYPES for x in xs)
+
+
+def _large(*xs):
+    return max(numpy.size(x) for x in xs) > 2 * CHUNK and numpy.broadcast_shapes(*(numpy.shape(x) for x in xs))
+
+
+def _chunked(f, xs, n_out):
+    """``f(*xs)`` evaluated CHUNK broadcast points at a time (same values: the kernels are pointwise)."""
+    shape = numpy.broadcast_shapes(*(numpy.shape(x) for x in xs))
+    flat = [numpy.broadcast_to(numpy.asarray(x, dtype=float), shape).reshape(-1) for x in xs]
+    size = flat[0].size
+    outs = [numpy.empty(size) for _ in range(n_out)]
+    for start in range(0, size, CHUNK):
+        part = f(*(x[start:start + CHUNK] for x in flat))
+        for o, r in zip(outs, part if n_out > 1 else (part,)):
+            o[start:start + CHUNK] = r
+    outs = [o.reshape(shape) for o in outs]
+    return tuple(outs) if n_out > 1 else outs[0]
 
 
 def reflection_map(mass_matrix, gradient, restitution=1.0):
@@ -79,6 +101,8 @@ def reflection_map_2(m_00, m_01, m_11, u_0, u_1, e=1.0):
             return _reflection_map_2_python(m_00, m_01, m_11, u_0, u_1, e)
         except (ValueError, ZeroDivisionError, OverflowError):
             pass  # NaN / inf / overflow: NumPy's semantics below
+    elif _large(m_00, m_01, m_11, u_0, u_1, e):  # chunks of CHUNK points: measured up to 1.6x faster on 1e6 (cache)
+        return _chunked(reflection_map_2, (m_00, m_01, m_11, u_0, u_1, e,), 4)
     m_00 = numpy.asarray(m_00, dtype=float)
     m_01 = numpy.asarray(m_01, dtype=float)
     m_11 = numpy.asarray(m_11, dtype=float)
@@ -117,6 +141,8 @@ def reflect_2(m_00, m_01, m_11, u_0, u_1, v_0, v_1, e=1.0):
             return _reflect_2_python(m_00, m_01, m_11, u_0, u_1, v_0, v_1, e)
         except (ValueError, ZeroDivisionError, OverflowError):
             pass  # NaN / inf / overflow: NumPy's semantics below
+    elif _large(m_00, m_01, m_11, u_0, u_1, v_0, v_1, e):  # chunks of CHUNK points: measured up to 1.6x faster on 1e6 (cache)
+        return _chunked(reflect_2, (m_00, m_01, m_11, u_0, u_1, v_0, v_1, e,), 2)
     m_00 = numpy.asarray(m_00, dtype=float)
     m_01 = numpy.asarray(m_01, dtype=float)
     m_11 = numpy.asarray(m_11, dtype=float)
@@ -165,6 +191,8 @@ def reflection_map_3(m_00, m_01, m_02, m_11, m_12, m_22, u_0, u_1, u_2, e=1.0):
             return _reflection_map_3_python(m_00, m_01, m_02, m_11, m_12, m_22, u_0, u_1, u_2, e)
         except (ValueError, ZeroDivisionError, OverflowError):
             pass  # NaN / inf / overflow: NumPy's semantics below
+    elif _large(m_00, m_01, m_02, m_11, m_12, m_22, u_0, u_1, u_2, e):  # chunks of CHUNK points: measured up to 1.6x faster on 1e6 (cache)
+        return _chunked(reflection_map_3, (m_00, m_01, m_02, m_11, m_12, m_22, u_0, u_1, u_2, e,), 9)
     m_00 = numpy.asarray(m_00, dtype=float)
     m_01 = numpy.asarray(m_01, dtype=float)
     m_02 = numpy.asarray(m_02, dtype=float)
@@ -229,6 +257,8 @@ def reflect_3(m_00, m_01, m_02, m_11, m_12, m_22, u_0, u_1, u_2, v_0, v_1, v_2, 
             return _reflect_3_python(m_00, m_01, m_02, m_11, m_12, m_22, u_0, u_1, u_2, v_0, v_1, v_2, e)
         except (ValueError, ZeroDivisionError, OverflowError):
             pass  # NaN / inf / overflow: NumPy's semantics below
+    elif _large(m_00, m_01, m_02, m_11, m_12, m_22, u_0, u_1, u_2, v_0, v_1, v_2, e):  # chunks of CHUNK points: measured up to 1.6x faster on 1e6 (cache)
+        return _chunked(reflect_3, (m_00, m_01, m_02, m_11, m_12, m_22, u_0, u_1, u_2, v_0, v_1, v_2, e,), 3)
     m_00 = numpy.asarray(m_00, dtype=float)
     m_01 = numpy.asarray(m_01, dtype=float)
     m_02 = numpy.asarray(m_02, dtype=float)

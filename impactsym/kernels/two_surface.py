@@ -25,10 +25,32 @@ CODEGEN_NAMES = {'two-surface-reflection-count': 'two_surface_reflection_count',
 
 _SCALAR_TYPES = (float, int, numpy.float64)
 
+#: batches larger than 2 * CHUNK points are evaluated CHUNK points at a time
+#: (benchmarks/results/scalar_dispatch.md)
+CHUNK = 65536
+
 
 def _scalars(*xs):
     """Every argument a Python or NumPy float or int: the call goes to the plain-Python form."""
     return all(type(x) in _SCALAR_TYPES for x in xs)
+
+
+def _large(*xs):
+    return max(numpy.size(x) for x in xs) > 2 * CHUNK and numpy.broadcast_shapes(*(numpy.shape(x) for x in xs))
+
+
+def _chunked(f, xs, n_out):
+    """``f(*xs)`` evaluated CHUNK broadcast points at a time (same values: the kernels are pointwise)."""
+    shape = numpy.broadcast_shapes(*(numpy.shape(x) for x in xs))
+    flat = [numpy.broadcast_to(numpy.asarray(x, dtype=float), shape).reshape(-1) for x in xs]
+    size = flat[0].size
+    outs = [numpy.empty(size) for _ in range(n_out)]
+    for start in range(0, size, CHUNK):
+        part = f(*(x[start:start + CHUNK] for x in flat))
+        for o, r in zip(outs, part if n_out > 1 else (part,)):
+            o[start:start + CHUNK] = r
+    outs = [o.reshape(shape) for o in outs]
+    return tuple(outs) if n_out > 1 else outs[0]
 
 
 def _two_surface_reflection_count_python(s_a, s_b, g, c_a, c_b):
@@ -49,6 +71,8 @@ def two_surface_reflection_count(s_a, s_b, g, c_a, c_b):
             return _two_surface_reflection_count_python(s_a, s_b, g, c_a, c_b)
         except (ValueError, ZeroDivisionError, OverflowError):
             pass  # NaN / inf / overflow: NumPy's semantics below
+    elif _large(s_a, s_b, g, c_a, c_b):  # chunks of CHUNK points: measured up to 1.6x faster on 1e6 (cache)
+        return _chunked(two_surface_reflection_count, (s_a, s_b, g, c_a, c_b,), 2)
     s_a = numpy.asarray(s_a, dtype=float)
     s_b = numpy.asarray(s_b, dtype=float)
     g = numpy.asarray(g, dtype=float)
@@ -121,6 +145,8 @@ def two_surface_resolution(s_a, s_b, g, c_a, c_b):
             return _two_surface_resolution_python(s_a, s_b, g, c_a, c_b)
         except (ValueError, ZeroDivisionError, OverflowError):
             pass  # NaN / inf / overflow: NumPy's semantics below
+    elif _large(s_a, s_b, g, c_a, c_b):  # chunks of CHUNK points: measured up to 1.6x faster on 1e6 (cache)
+        return _chunked(two_surface_resolution, (s_a, s_b, g, c_a, c_b,), 6)
     s_a = numpy.asarray(s_a, dtype=float)
     s_b = numpy.asarray(s_b, dtype=float)
     g = numpy.asarray(g, dtype=float)
@@ -276,6 +302,8 @@ def two_surface_resolution_2(m_00, m_01, m_11, h_00, h_01, h_10, h_11, v_0, v_1)
             return _two_surface_resolution_2_python(m_00, m_01, m_11, h_00, h_01, h_10, h_11, v_0, v_1)
         except (ValueError, ZeroDivisionError, OverflowError):
             pass  # NaN / inf / overflow: NumPy's semantics below
+    elif _large(m_00, m_01, m_11, h_00, h_01, h_10, h_11, v_0, v_1):  # chunks of CHUNK points: measured up to 1.6x faster on 1e6 (cache)
+        return _chunked(two_surface_resolution_2, (m_00, m_01, m_11, h_00, h_01, h_10, h_11, v_0, v_1,), 6)
     m_00 = numpy.asarray(m_00, dtype=float)
     m_01 = numpy.asarray(m_01, dtype=float)
     m_11 = numpy.asarray(m_11, dtype=float)
