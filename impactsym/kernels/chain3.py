@@ -52,19 +52,30 @@ def _chunked(f, xs, n_out):
 
 
 def _chain3_impulse_ratio_python(m1, m2, m3, v1, v2, v3, e, alpha):
-    x0 = alpha - 1
-    x1 = m1*m3
-    x2 = alpha*(v2 - v3) + v1 - v2
-    x3 = e - 1
-    x4 = 1/m1
-    x5 = 1/m3
-    x6 = m3*v3
-    x7 = m1*v1
-    x8 = 1/m2
-    x9 = math.sqrt(e*x2**2 + x3*(x4*x5*(alpha*x7 + x6)**2 + x4*x8*(m2*v2 - x0*x7)**2 + x5*x8*(alpha*m2*v2 + x0*x6)**2)) + abs(x2)
-    x10 = ((m2*x1*x9/(m2*(alpha**2*m1 + m3) + x0**2*x1)) if (x2 >= 0) else (x3*(m1*v1**2 + m2*v2**2 + m3*v3**2)/x9))
-    x11 = alpha*x10
-    return (float(x10), float(x11), float(v1 - x10*x4), float(v2 - x0*x10*x8), float(v3 + x11*x5))
+    x0 = alpha*(v2 - v3) + v1 - v2
+    x1 = abs(x0)
+    x2 = e - 1
+    x3 = 1/m1
+    x4 = 1/m3
+    x5 = m3*v3
+    x6 = m1*v1
+    x7 = x3*x4*(alpha*x6 + x5)**2
+    x8 = alpha - 1
+    x9 = 1/m2
+    x10 = x3*x9
+    x11 = m2*v2
+    x12 = alpha*x11
+    x13 = x4*x9
+    x14 = math.sqrt(e*x0**2 + x2*(x10*(m2*v2 - x6*x8)**2 + x13*(x12 + x5*x8)**2 + x7))
+    x15 = x1 + x14
+    x16 = m1*m3
+    x17 = x8**2
+    x18 = m2/(m2*(alpha**2*m1 + m3) + x16*x17)
+    x19 = (x0 >= 0)
+    x20 = x2*(m1*v1**2 + m2*v2**2 + m3*v3**2)
+    x21 = ((x15*x16*x18) if x19 else (x20/x15))
+    x22 = -x8
+    return (float(x21), float(alpha*x21), float(v1 - x21*x3), float(v2 - x21*x8*x9), float(((m1*x18*(alpha*x14 + alpha*(v1 + v2*x8) + x5*(x17*x9 + x3))) if x19 else (alpha*x20*x4/(x1 + math.sqrt(e*x0**2 + x2*(x10*(x11 + x22*x6)**2 + x13*(x12 - x22*x5)**2 + x7))) + v3))))
 
 
 def chain3_impulse_ratio(m1, m2, m3, v1, v2, v3, e, alpha):
@@ -95,23 +106,34 @@ def chain3_impulse_ratio(m1, m2, m3, v1, v2, v3, e, alpha):
     v3 = numpy.asarray(v3, dtype=float)
     e = numpy.asarray(e, dtype=float)
     alpha = numpy.asarray(alpha, dtype=float)
-    x0 = alpha - 1
-    x1 = m1*m3
-    x2 = alpha*(v2 - v3) + v1 - v2
-    x3 = e - 1
-    x4 = m1**(-1.0)
-    x5 = m3**(-1.0)
-    x6 = m3*v3
-    x7 = m1*v1
-    x8 = m2**(-1.0)
-    x9 = numpy.sqrt(e*x2**2 + x3*(x4*x5*(alpha*x7 + x6)**2 + x4*x8*(m2*v2 - x0*x7)**2 + x5*x8*(alpha*m2*v2 + x0*x6)**2)) + abs(x2)
-    x10 = numpy.select([numpy.greater_equal(x2, 0),True], [m2*x1*x9/(m2*(alpha**2*m1 + m3) + x0**2*x1),x3*(m1*v1**2 + m2*v2**2 + m3*v3**2)/x9], default=numpy.nan)
-    x11 = alpha*x10
-    p1 = x10
-    p2 = x11
-    w1 = v1 - x10*x4
-    w2 = v2 - x0*x10*x8
-    w3 = v3 + x11*x5
+    x0 = alpha*(v2 - v3) + v1 - v2
+    x1 = abs(x0)
+    x2 = e - 1
+    x3 = m1**(-1.0)
+    x4 = m3**(-1.0)
+    x5 = m3*v3
+    x6 = m1*v1
+    x7 = x3*x4*(alpha*x6 + x5)**2
+    x8 = alpha - 1
+    x9 = m2**(-1.0)
+    x10 = x3*x9
+    x11 = m2*v2
+    x12 = alpha*x11
+    x13 = x4*x9
+    x14 = numpy.sqrt(e*x0**2 + x2*(x10*(m2*v2 - x6*x8)**2 + x13*(x12 + x5*x8)**2 + x7))
+    x15 = x1 + x14
+    x16 = m1*m3
+    x17 = x8**2
+    x18 = m2/(m2*(alpha**2*m1 + m3) + x16*x17)
+    x19 = numpy.greater_equal(x0, 0)
+    x20 = x2*(m1*v1**2 + m2*v2**2 + m3*v3**2)
+    x21 = numpy.select([x19,True], [x15*x16*x18,x20/x15], default=numpy.nan)
+    x22 = -x8
+    p1 = x21
+    p2 = alpha*x21
+    w1 = v1 - x21*x3
+    w2 = v2 - x21*x8*x9
+    w3 = numpy.select([x19,True], [m1*x18*(alpha*x14 + alpha*(v1 + v2*x8) + x5*(x17*x9 + x3)),alpha*x20*x4/(x1 + numpy.sqrt(e*x0**2 + x2*(x10*(x11 + x22*x6)**2 + x13*(x12 - x22*x5)**2 + x7))) + v3], default=numpy.nan)
     return (p1, p2, w1, w2, w3)
 
 
