@@ -78,13 +78,17 @@ def main() -> None:
             print(f"{k:30s} grid {row['grid_points']:6d} ({row['grid_seconds']}s) search {row['search_points']} "
                   f"problems {row['problems']:4d} worst {row['worst_ratio']:.3g} {row['worst_output']} "
                   f"at {row['worst_inputs']}", flush=True)
-    out = Path(args.out)
-    out.parent.mkdir(parents=True, exist_ok=True)
     meta = {"command": "python benchmarks/accuracy.py " + " ".join(sys.argv[1:]), "grid": args.grid,
             "budget": args.budget, "seeds": args.seeds, "bound": "64 eps (1 + cond)"}
+    write(rows, meta, Path(args.out))
+
+
+def write(rows, meta, out: Path) -> None:
+    """``out.json`` (every row) and ``out.md`` (the table)."""
+    out.parent.mkdir(parents=True, exist_ok=True)
     out.with_suffix(".json").write_text(json.dumps({**meta, "kernels": rows}, indent=1) + "\n")
-    md = [f"# Accuracy bench (issue 15)", "", f"Command: `{meta['command']}`. Grid: {args.grid} corner grid "
-          f"(`impactsym.hard_cases.corner_cases`); search: {args.seeds} seeds x {args.budget} points "
+    md = ["# Accuracy bench (issue 15)", "", f"Command: `{meta['command']}`. Grid: {meta['grid']} corner grid "
+          f"(`impactsym.hard_cases.corner_cases`); search: {meta['seeds']} seeds x {meta['budget']} points "
           "(`adversarial_search`). Implementations: NumPy, plain Python, C (gcc). Ratio = error / "
           "(eps (|f| + sum_j |x_j df/dx_j|)), the worst over outputs and implementations.", "",
           "| kernel | grid points | search points | problems | worst ratio | output | where |",

@@ -153,7 +153,9 @@ class Reference:
                     fu, fd, width = self._values(up), vals, delta
                 elif _ok(self, down):
                     fu, fd, width = vals, self._values(down), delta
-                else:
+                else:  # an isolated point of the domain along x_j (e.g. D = 0 exactly with D < 0 on
+                    # both sides): no derivative, the condition number is infinite (not 0)
+                    sens = [mpmath.inf] * len(vals)
                     continue
                 sens = [s + abs(a - b) / width for s, a, b in zip(sens, fu, fd)]
             return vals, sens
