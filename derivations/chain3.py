@@ -265,10 +265,10 @@ def momentum_energy_residuals(velocities: dict, masses=(m, m, m), vminus=(1, 0, 
     return {"momentum": sp.simplify(mom), "energy": sp.simplify(sp.expand(en))}
 
 
-def stable_root(A, B, C):
+def stable_root(A, B, C, D=None):
     """The physical root ``(−B + √D)/(2A)`` of ``A p² + B p + C``, in cancellation-free form.
 
-    ``D = B² − 4AC``. For ``B ≤ 0`` the two terms of ``−B + √D = |B| + √D`` have the same sign,
+    ``D = B² − 4AC`` (or the given form of it, checked equal). For ``B ≤ 0`` the two terms of ``−B + √D = |B| + √D`` have the same sign,
     so ``(|B| + √D)/(2A)`` loses nothing; for ``B > 0`` the same root is ``−2C/(|B| + √D)`` (the
     product of the roots is ``C/A``), again without cancellation. Writing ``|B|`` in both
     branches keeps the branch that is not selected free of ``0/0`` when a vectorized kernel
@@ -280,11 +280,88 @@ def stable_root(A, B, C):
     >>> stable_root(a, -b, c)
     (b + sqrt(-4*a*c + b**2))/(2*a)
     """
-    D = B**2 - 4 * A * C
+    if D is None:
+        D = B**2 - 4 * A * C
+    else:  # an emitted form of the discriminant: must be B^2 - 4AC
+        assert sp.cancel(D - (B**2 - 4 * A * C)) == 0, D
     return sp.Piecewise(
         ((sp.Abs(B) + sp.sqrt(D)) / (2 * A), B <= 0),
         (-2 * C / (sp.Abs(B) + sp.sqrt(D)), True),
     )
+
+
+def emitted_coefficients():
+    """``(A, B, C)`` of the chain's quadratic in the form the kernel evaluates, each proved equal
+    to the derived coefficient of :func:`chain3_general` (``cancel(emitted − derived) == 0``,
+    asserted here, every time).
+
+    The derived ``A`` expands ``m1 m3 (1 − α)²``; in floats that cancels as ``α → 1`` when
+    ``m2 ≪ m1, m3`` (issue 15: ``p1`` wrong in the 5th digit at masses ``(1, 1e-12, 1)``,
+    ``α = 1 − 1e-12``). The emitted ``A`` keeps a sum of non-negative terms,
+    ``(m1 m3 (1 − α)² + m2 (m3 + α² m1)) / (2 m1 m2 m3)``, with ``1 − α`` exact (Sterbenz) near 1;
+    ``B`` keeps the velocity differences, ``(v2 − v1) + α (v3 − v2)`` (the expanded
+    ``α v3 − α v2`` cancels at large ``α`` when ``v2 ≈ v3``); ``C = (1 − e)(m1 v1² + m2 v2² + m3 v3²)/2``.
+
+    Examples
+    --------
+    >>> A, B, C = emitted_coefficients()
+    >>> B
+    alpha*(-v2 + v3) - v1 + v2
+    """
+    g = chain3_general()
+    one_minus_alpha = 1 - alpha
+    A = (m1 * m3 * one_minus_alpha**2 + m2 * (m3 + alpha**2 * m1)) / (2 * m1 * m2 * m3)
+    B = (v2 - v1) + alpha * (v3 - v2)
+    C = (1 - e) * (m1 * v1**2 + m2 * v2**2 + m3 * v3**2) / 2
+    for emitted, derived in ((A, g["A"]), (B, g["B"]), (C, g["C"])):
+        assert sp.cancel(emitted - derived) == 0, (emitted, derived)
+    return A, B, C
+
+
+def emitted_discriminant():
+    """The discriminant ``D = B² − 4AC`` as the kernel evaluates it, proved equal (asserted).
+
+    With ``x = M^(−1/2) Hᵀ(1, α)ᵀ`` and ``y = M^(1/2) v``: ``2A = |x|²``, ``B = x·y`` and
+    ``2C = (1 − e)|y|²``, so by Lagrange's identity ``|x|²|y|² − (x·y)² = |x ∧ y|²``,
+    ``D = e B² − (1 − e) Σ_{i<j} (c_i m_j v_j − c_j m_i v_i)² / (m_i m_j)`` with ``c = (−1, 1 − α, α)``:
+    a non-negative term minus a sum of squares, exact in both corners (``D = B²`` at ``e = 1``,
+    ``D = −|x ∧ y|²`` at ``e = 0``). The expanded ``B² − 4AC`` cancels to
+    rounding noise when ``4AC ≈ B²`` although the exact ``D`` is of order ``B²`` relative to neither
+    (at ``e = 0``, masses ``(1e-12, 1e-12, 1e12)``, ``α = 1``: exact ``D = −1e-24``, float ``0``, a
+    number where no solution exists); here the sign of ``D`` is decided to within rounding of its
+    own terms, and ``D < 0`` identically at ``e = 0`` (unless ``x ∥ y``).
+
+    Examples
+    --------
+    >>> emitted_discriminant().subs({m1: 1, m2: 1, m3: 1, v1: 1, v2: 0, v3: 0, e: 0, alpha: 1})
+    -1
+    """
+    A, B, C = emitted_coefficients()
+    c = (-1, 1 - alpha, alpha)
+    ms, vs = (m1, m2, m3), (v1, v2, v3)
+    wedge = sum((c[i] * ms[j] * vs[j] - c[j] * ms[i] * vs[i]) ** 2 / (ms[i] * ms[j])
+                for i in range(3) for j in range(i + 1, 3))
+    D = e * B**2 - (1 - e) * wedge
+    assert sp.cancel(D - (B**2 - 4 * A * C)) == 0
+    return D
+
+
+def _emitted_w3(A, B, D, p1):
+    """``w3 = v3 + α p1 / m3`` as the kernel evaluates it (asserted equal on each branch).
+
+    On the approach branch (``B ≤ 0``, ``p1 = (|B| + √D)/(2A)``) the sum cancels when ball 3 is
+    light and bounces back slowly (found by the search: masses ``(1, 1e12, 1e-12)``, ``v3 = −1``,
+    ``e = 1.6e-4``: ``−1 + 1.012``, 78 eps against a condition number of 1.7). There
+    ``w3 = (N + α√D) / (2A m3)`` with ``N = 2A m3 v3 + α|B| = m3 v3 ((1 − α)²/m2 + 1/m1) + α(v1 − (1 − α) v2)``,
+    whose terms are products of the data (no ``v3 + α|B|/(2A m3)`` difference).
+    """
+    N = m3 * v3 * ((1 - alpha) ** 2 / m2 + 1 / m1) + alpha * (v1 - (1 - alpha) * v2)
+    r = sp.Symbol("r", positive=True)
+    assert sp.cancel(N - (2 * A * m3 * v3 - alpha * B)) == 0  # |B| = -B on this branch
+    approach = (N + alpha * sp.sqrt(D)) / (2 * A * m3)
+    assert sp.cancel((N + alpha * r) / (2 * A * m3) - (v3 + alpha * (-B + r) / (2 * A * m3))) == 0
+    (_, cond1), (leave, _) = p1.args
+    return sp.Piecewise((approach, cond1), (v3 + alpha * leave / m3, True))
 
 
 MODULE_DOC = """Impulse-ratio law for the 3-ball chain (Acary & Taha sec. 3.3, eqs. 13-18), general masses
@@ -303,8 +380,11 @@ def kernels():
     g = chain3_general()
     sc = chain3((m1, m2, m3), (v1, v2, v3))
     c = sc.M.LUsolve(sc.H.T * sp.Matrix([1, alpha]))
-    p1 = stable_root(g["A"], g["B"], g["C"])
+    A, B, C = emitted_coefficients()
+    D = emitted_discriminant()
+    p1 = stable_root(A, B, C, D)
     w = [vi + sp.factor(ci) * p1 for vi, ci in zip((v1, v2, v3), c)]
+    w[2] = _emitted_w3(A, B, D, p1)
     law_kernel = ScalarKernel(
         "chain3_impulse_ratio",
         [m1, m2, m3, v1, v2, v3, e, alpha],

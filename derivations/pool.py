@@ -507,6 +507,49 @@ def _velocity_direction(sc, ratios):
     return [sp.factor(sp.simplify(x)) for x in sc.M.LUsolve(sc.H.T * sp.Matrix([1, *ratios]))]
 
 
+def _trig_zero(expr) -> bool:
+    return sp.simplify(sp.expand_trig(sp.expand(expr))) == 0
+
+
+def _pool_emitted(th, ta, ee, a12, A, B, C, sc):
+    """The forms the pool kernel evaluates (issue 15), each asserted equal to the derived one.
+
+    * ``D = e cos²τ − (1 − e)((α − cos θ)² + α² + sin²θ + sin²τ)`` (Lagrange's identity, as for the
+      chain): the expanded ``cos²τ − 2A(1 − e)`` cancels where ``D ≪ 2A``.
+    * ``w1 = v1⁻ − p1 (cos θ, sin θ)`` with ``v1⁻ = (cos(θ − τ), sin(θ − τ))``: the angle ``θ − τ``
+      rounds (absolute error ``eps·|θ|``), which at ``θ ≈ π/2``, ``τ → 0`` is 1e8 eps of a
+      well-conditioned ``w1x ≈ sin θ sin τ``. Emitted with the angle addition expanded and the
+      impact branch's ``q = cos τ − p1`` in closed form,
+      ``q = (2α(α − cos θ) cos²τ + (1 − e)) / ((1 + 2α(α − cos θ)) cos τ + √D)`` (the denominator is
+      positive: ``1 + 2α(α − cos θ) = 2A − 1 ≥ 1/2``): ``w1 = (cos θ q + sin θ sin τ, sin θ q − cos θ sin τ)``.
+
+    Returns ``(p1, w)``; the proofs (per branch, ``√D`` replaced by a symbol ``r`` and the
+    numerator reduced modulo ``r² − D``) are asserted here.
+    """
+    c, s_, ct, st = sp.cos(th), sp.sin(th), sp.cos(ta), sp.sin(ta)
+    D = ee * ct**2 - (1 - ee) * ((a12 - c) ** 2 + a12**2 + s_**2 + st**2)
+    assert _trig_zero(D - (B**2 - 4 * A * C))
+    Ae = a12 * (a12 - c) + 1
+    assert sp.simplify(Ae - A) == 0
+    r = sp.Symbol("r", positive=True)
+    root_impact = (ct + r) / (2 * Ae)
+    q_impact = (2 * a12 * (a12 - c) * ct**2 + (1 - ee)) / ((1 + 2 * a12 * (a12 - c)) * ct + r)
+    direction = _velocity_direction(sc, (a12,))
+    naive = [vi + ci * root_impact for vi, ci in zip(sc.v, direction)]
+    emitted = [c * q_impact + s_ * st, s_ * q_impact - c * st] + [ci * root_impact for ci in direction[2:]]
+    assert all(vi == 0 for vi in sc.v[2:])
+    for a, b in zip(emitted, naive):  # impact branch: equal modulo r^2 = D
+        n_ = sp.expand(sp.numer(sp.together(a - b)))
+        assert _trig_zero(sp.rem(n_, sp.expand(r**2 - D), r)), a
+    for a, b in zip((c * ct + s_ * st, s_ * ct - c * st), sc.v[:2]):  # no impact: q = cos(tau), w1 = v1-
+        assert _trig_zero(a - b)
+    rD = sp.sqrt(D)
+    p1 = sp.Piecewise((root_impact.subs(r, rD), ct > 0), (0, True))
+    q = sp.Piecewise((q_impact.subs(r, rD), ct > 0), (ct, True))
+    w = [c * q + s_ * st, s_ * q - c * st] + [ci * p1 for ci in direction[2:]]
+    return p1, w
+
+
 def kernels():
     """The pool family: ``pool_impulse_ratio(theta, tau, e, alpha)`` and
     ``bernoulli_impulse_ratio(tau, e, alpha12, alpha13)``.
@@ -527,8 +570,7 @@ def kernels():
     # contact 1–2 approaches iff H₁q̇⁻ = −cos τ < 0; contact 2–3 has H₂q̇⁻ = 0 (balls 2, 3 at rest)
     hv = (sc.H * sc.v).applyfunc(lambda x: sp.simplify(sp.expand_trig(x)))
     assert sp.simplify(hv[0] + sp.cos(ta)) == 0 and hv[1] == 0
-    p1 = sp.Piecewise(((sp.cos(ta) + sp.sqrt(B**2 - 4 * A * C)) / (2 * A), sp.cos(ta) > 0), (0, True))
-    w = [vi + ci * p1 for vi, ci in zip(sc.v, _velocity_direction(sc, (a12,)))]
+    p1, w = _pool_emitted(th, ta, ee, a12, A, B, C, sc)
     pool_k = ScalarKernel(
         "pool_impulse_ratio", [th, ta, ee, a12], [p1, a12 * p1, *w], ["p1", "p2", *names],
         """The impulse-ratio law on the pool with two closed contacts (1-2, 2-3), any theta and tau

@@ -590,7 +590,8 @@ int reflect(size_t n, const double *mass_matrix, const double *gradient, const d
         assert _matrix_is_zero(G - derive_restitution(n).G.subs(sp.Symbol("e", nonnegative=True), esym))
         margs = [M[i, j] for i in range(n) for j in range(i, n)]
         args = margs + list(u) + [esym]
-        Gv = G * v
+        G, Gv = stable_G(M, u, v, esym)
+        assert _matrix_is_zero(G - printed_G(M, u, esym)) and _matrix_is_zero(Gv - printed_G(M, u, esym) * v)
         out.append(ScalarKernel(
             f"reflection_map_{n}", args, list(G), [f"g{i}{j}" for i in range(n) for j in range(n)],
             f"Closed-form G_u(e) for n = {n} (entries row-major), M given by its upper triangle.\n"
@@ -603,6 +604,38 @@ int reflect(size_t n, const double *mass_matrix, const double *gradient, const d
             defaults={"e": 1.0},
         ))
     return out
+
+
+def stable_G(M: sp.Matrix, u: sp.Matrix, v: sp.Matrix, e):
+    """The emitted forms of ``G_u(e)`` and ``G_u(e) v`` (issue 15), each proved equal to the
+    printed map where the kernels are built (``_matrix_is_zero`` of the difference).
+
+    With ``w = adj(M) uᵀ`` and ``s = u w = Σ_k u_k w_k``, the diagonal ``1 − (1+e) u_i w_i / s``
+    cancels when ``(1+e) u_i w_i ≈ s`` (at ``e = 0`` with ``u_i w_i`` carrying nearly all of ``s``,
+    e.g. ``M = diag(1, 1e-12)``, ``u = (−1, 1)``: 1e11 eps against a condition number of 1);
+    it is emitted as ``(Σ_{k≠i} u_k w_k − e u_i w_i) / s``. Likewise
+    ``(G v)_i = ((Σ_{k≠i} u_k w_k − e u_i w_i) v_i − (1+e) w_i Σ_{k≠i} u_k v_k) / s``.
+
+    Examples
+    --------
+    >>> M = sp.Matrix([[1, 0], [0, 2]]); u = sp.Matrix([[1, 1]]); v = sp.Matrix([1, 0])
+    >>> G, Gv = stable_G(M, u, v, 0)
+    >>> list(G), list(Gv)
+    ([1/3, -2/3, -1/3, 2/3], [1/3, -1/3])
+    """
+    n = M.rows
+    w = M.adjugate() * u.T
+    terms = [u[k] * w[k] for k in range(n)]
+    s = sum(terms)
+    G = sp.zeros(n, n)
+    Gv = sp.zeros(n, 1)
+    for i in range(n):
+        rest = sum(terms[k] for k in range(n) if k != i)
+        diag = rest - e * terms[i]
+        for j in range(n):
+            G[i, j] = diag / s if i == j else -(1 + e) * w[i] * u[j] / s
+        Gv[i] = (diag * v[i] - (1 + e) * w[i] * sum(u[k] * v[k] for k in range(n) if k != i)) / s
+    return G, Gv
 
 
 def _ccode(expr) -> str:

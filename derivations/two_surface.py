@@ -594,6 +594,72 @@ def paper_example_counts() -> dict:
 _ARGS = sp.symbols("s_a s_b g c_a c_b", real=True)
 
 
+def _emitted_exit(mm):
+    """``(c_A', c_B')`` as the kernels evaluate them (issue 15), proved equal to
+    :func:`exit_relative_velocity` for even and odd ``m`` (asserted).
+
+    ``θ_f`` and ``β − θ_f`` are ``a = ψ − (m − 1)β`` and ``b = mβ − ψ`` (``(a, b)`` for odd ``m``,
+    ``(b, a)`` for even), the smaller of the two as one difference and the other as ``β`` minus
+    it, instead of the expanded
+    ``σ(mβ − ψ) + (1 − σ)β/2`` whose terms (``mβ − 2mβ·(m mod 2) + ...``) lose ``eps·mβ`` around
+    angles that can be ``1e-12`` (one reflection: ``θ_f = ψ`` exactly, was ``−(β − ψ) + β``).
+    """
+    odd = sp.Eq(sp.Mod(mm, 2), 1)
+    a_d, b_d = psi - (mm - 1) * beta, mm * beta - psi
+    assert sp.expand(beta - b_d - a_d) == 0
+    # the smaller one directly (its relative precision), the other as beta minus it (so that
+    # a + b = beta to one rounding: independent roundings of both break the exit vector of a thin
+    # wedge, whose H^-1 amplifies an inconsistency by 1/beta)
+    small_a = 2 * psi <= (2 * mm - 1) * beta  # a_d <= b_d
+    sa_, sb_ = sp.sin(a_d), sp.sin(b_d)
+    # the same sines through the smaller angle: beta minus it, held unevaluated (SymPy would flatten
+    # beta - (m beta - psi) back into psi - (m - 1) beta)
+    sa2, sb2 = sp.sin(beta - sp.UnevaluatedExpr(b_d)), sp.sin(beta - sp.UnevaluatedExpr(a_d))
+    p2 = (s_B * c_A**2 - 2 * g * c_A * c_B + s_A * c_B**2) / Delta
+    pn = sp.sqrt(p2)
+    ca = sp.sqrt(s_A) * pn * sp.Piecewise((sa_, sp.And(odd, small_a)), (sa2, odd), (sb2, small_a), (sb_, True))
+    cb = sp.sqrt(s_B) * pn * sp.Piecewise((sb2, sp.And(odd, small_a)), (sb_, odd), (sa_, small_a), (sa2, True))
+    # one and two reflections (every wedge with beta >= pi/2 needs at most two) as the reflections
+    # themselves, rational in the data: no angle, no pi (a right-angle wedge put 2 beta - psi ~ 1e-12 next to
+    # atan2 values ~ pi, 1e15 eps); equal to the trigonometric form (asserted in _check_few_reflections)
+    one = (-c_A, c_B - 2 * g * c_A / s_A)
+    two = (one[0] - 2 * g * one[1] / s_B, -one[1])
+    _check_few_reflections(one, two)
+    ca = sp.Piecewise((one[0], sp.Eq(mm, 1)), (two[0], sp.Eq(mm, 2)), (ca, True))
+    cb = sp.Piecewise((one[1], sp.Eq(mm, 1)), (two[1], sp.Eq(mm, 2)), (cb, True))
+    k = sp.Symbol("k", integer=True)
+    ca_t, cb_t = ca.args[-1].expr, cb.args[-1].expr  # the general (trigonometric) branch
+    ca, cb = ca_t, cb_t
+    for m_val in (2 * k, 2 * k + 1):
+        old_a, old_b = exit_relative_velocity(m_val)
+        # every branch of m's parity (small or not: the same sine through a_d + b_d = beta)
+        for pick in ((0, 1) if m_val == 2 * k + 1 else (2, 3)):
+            new_a = (ca / ca.args[-1] * ca.args[-1].args[pick].expr).subs(mm, m_val)
+            new_b = (cb / cb.args[-1] * cb.args[-1].args[pick].expr).subs(mm, m_val)
+            new_a, new_b = (x.doit() for x in (new_a, new_b))  # UnevaluatedExpr: its value
+            assert sp.simplify(sp.expand_trig(sp.expand(new_a - old_a))) == 0, (m_val, pick)
+            assert sp.simplify(sp.expand_trig(sp.expand(new_b - old_b))) == 0, (m_val, pick)
+    return (sp.Piecewise((one[0], sp.Eq(mm, 1)), (two[0], sp.Eq(mm, 2)), (ca_t, True)),
+            sp.Piecewise((one[1], sp.Eq(mm, 1)), (two[1], sp.Eq(mm, 2)), (cb_t, True)))
+
+
+def _check_few_reflections(one, two):
+    """The trigonometric exit (:func:`exit_relative_velocity`) after one and two reflections equals
+    the rational ``one``, ``two``: with ``cos β = −g/√(s_A s_B)``, ``sin β = √Δ/√(s_A s_B)`` and
+    ``cos ψ = x/r``, ``sin ψ = y/r`` (``ψ = atan2(y, x)``, ``y = −c_A √Δ``, ``x = s_A c_B − g c_A``,
+    ``r² = x² + y² = s_A (s_B c_A² − 2g c_A c_B + s_A c_B²)``), after ``Δ = s_A s_B − g²``."""
+    y, x = -c_A * sp.sqrt(Delta), s_A * c_B - g * c_A
+    r = sp.sqrt(s_A * (s_B * c_A**2 - 2 * g * c_A * c_B + s_A * c_B**2))
+    sub = {sp.cos(beta): -g / sp.sqrt(s_A * s_B), sp.sin(beta): sp.sqrt(Delta) / sp.sqrt(s_A * s_B),
+           sp.cos(psi): x / r, sp.sin(psi): y / r}
+    for m_val, want in ((1, one), (2, two)):
+        got = exit_relative_velocity(m_val)
+        for gexpr, w in zip(got, want):
+            d = sp.expand_trig(gexpr).subs(sub) - w
+            d = sp.simplify(d.subs(Delta, s_A * s_B - g**2))
+            assert d == 0, (m_val, d)
+
+
 def _branch_expressions(first_is_a: bool):
     """Count and exit (c_A', c_B') of one branch in the kernel's arguments (float closed form)."""
     sa, sb, gg, ca, cb = _ARGS
@@ -606,7 +672,7 @@ def _branch_expressions(first_is_a: bool):
     beta_e = der["beta"].subs(sub)
     count = sp.ceiling(psi_e / beta_e)
     mm = sp.Symbol("m_count", real=True)
-    ea, eb = exit_relative_velocity(mm)
+    ea, eb = _emitted_exit(mm)
     ea = ea.subs({psi: sp.Symbol("psi_x"), beta: sp.Symbol("beta_x")})
     eb = eb.subs({psi: sp.Symbol("psi_x"), beta: sp.Symbol("beta_x")})
     ea, eb = (e.subs(sub).subs({sp.Symbol("psi_x"): psi_e, sp.Symbol("beta_x"): beta_e}) for e in (ea, eb))

@@ -6,7 +6,7 @@ derivation emitted* (not from the generated code), in mpmath at ``dps ≥ 50`` d
 * inputs enter as the exact binary values of the float inputs (``mpmath.mpf(float)`` is exact;
   no decimal text is ever re-read);
 * a precision ladder checks every reference: it is recomputed at twice the digits and must agree
-  with itself to ``dps − GUARD_DIGITS`` digits; if not, the ladder climbs (``dps → 2·dps``) until
+  with itself to ``TARGET_DPS − GUARD_DIGITS`` (40) digits; if not, the ladder climbs (``dps → 2·dps``) until
   two rungs agree, up to ``MAX_DPS`` (then :class:`ReferenceUnstable` is raised, never a guess);
 * the componentwise relative condition number of output ``f_i`` with respect to the inputs,
   ``κ_i = Σ_j |x_j ∂f_i/∂x_j| / |f_i|``, comes from central differences of the exact formula in
@@ -51,6 +51,10 @@ EPS = float(np.finfo(float).eps)
 GUARD_DIGITS = 10
 #: the highest precision the ladder climbs to
 MAX_DPS = 800
+#: two rungs must agree to ``TARGET_DPS - GUARD_DIGITS`` digits (40): a cancellation of k digits
+#: costs k digits at every rung, so asking for ``dps - GUARD_DIGITS`` at the higher rungs would make a
+#: reference that loses more than 10 digits (e.g. ``1 - (1 - 1e-24)``) unreachable at any precision
+TARGET_DPS = 50
 
 
 class _MpmathPrinter(MpmathPrinter):
@@ -119,6 +123,10 @@ class Reference:
             raw = self._f(*xs)
         except ZeroDivisionError:
             raise OutsideDomain("the exact value divides by zero at these inputs (degenerate input)") from None
+        except (AttributeError, TypeError):  # a real-only mpmath function (atan2, ceil) given a complex value
+            err = OutsideDomain("the exact value is not real at these inputs (a real function of a complex value)")
+            err.nonreal = list(range(len(self.outputs)))
+            raise err from None
         nonreal = [i for i, v in enumerate(raw) if isinstance(v, mpmath.mpc) and v.imag != 0]
         if nonreal:
             err = OutsideDomain(f"the exact value is not real at these inputs (e.g. D < 0): {raw}")
@@ -145,10 +153,40 @@ class Reference:
                     fu, fd, width = self._values(up), vals, delta
                 elif _ok(self, down):
                     fu, fd, width = vals, self._values(down), delta
-                else:
+                else:  # an isolated point of the domain along x_j (e.g. D = 0 exactly with D < 0 on
+                    # both sides): no derivative, the condition number is infinite (not 0)
+                    sens = [mpmath.inf] * len(vals)
                     continue
                 sens = [s + abs(a - b) / width for s, a, b in zip(sens, fu, fd)]
             return vals, sens
+
+    def values(self, inputs: Mapping[str, float], dps: int = 50) -> tuple[list, int]:
+        """Values only (no condition numbers), checked by the same ladder: ``(values, dps_used)``.
+
+        Cheap screening for large grids: where a float result is within ``c · eps · |f|`` of these
+        values its error ratio is at most ``c`` whatever the condition number, so
+        :meth:`evaluate` (``2n + 1`` evaluations per rung) is needed only at the other points.
+
+        >>> x, y = sp.symbols("x y")
+        >>> vals, d = Reference([x, y], [x - y]).values({"x": 1.0, "y": 0.5})
+        >>> vals[0] == mpmath.mpf(0.5), d
+        (True, 100)
+        """
+        xs = [mpmath.mpf(float(inputs[n])) for n in self.names]
+        lo = dps
+        with mpmath.workdps(lo):
+            vals = self._values(xs)
+        while True:
+            hi = 2 * lo
+            with mpmath.workdps(hi):
+                vals2 = self._values(xs)
+            agreed = _digits_agreed(vals, vals2, hi, [mpmath.mpf(0)] * len(vals))
+            if agreed >= min(lo, TARGET_DPS) - GUARD_DIGITS:
+                return vals2, hi
+            if hi >= MAX_DPS:
+                raise ReferenceUnstable(
+                    f"reference at {lo} and {hi} digits agrees to only {agreed:.1f} digits (inputs {dict(inputs)})")
+            lo, vals = hi, vals2
 
     def evaluate(self, inputs: Mapping[str, float], dps: int = 50) -> ReferenceValue:
         """Evaluate at the exact binary values of ``inputs`` (floats), checked by the ladder."""
@@ -161,7 +199,7 @@ class Reference:
             hi = 2 * lo
             vals2, sens2 = self._at(xs, hi)
             agreed = _digits_agreed(vals, vals2, hi, sens2)
-            if agreed >= lo - GUARD_DIGITS:
+            if agreed >= min(lo, TARGET_DPS) - GUARD_DIGITS:
                 break
             if hi >= MAX_DPS:
                 raise ReferenceUnstable(

@@ -9,6 +9,8 @@ B <= 0, -2C/(|B| + sqrt(D)) for B > 0).
 """
 
 
+import math
+
 import numpy
 
 
@@ -17,6 +19,63 @@ __all__ = ['chain3_impulse_ratio', 'chain3_alpha_max']
 
 #: kebab-case codegen name -> kernel name
 CODEGEN_NAMES = {'chain3-impulse-ratio': 'chain3_impulse_ratio', 'chain3-alpha-max': 'chain3_alpha_max'}
+
+
+_SCALAR_TYPES = (float, int, numpy.float64)
+
+#: batches larger than 2 * CHUNK points are evaluated CHUNK points at a time
+#: (benchmarks/results/scalar_dispatch.md)
+CHUNK = 65536
+
+
+def _scalars(*xs):
+    """Every argument a Python or NumPy float or int: the call goes to the plain-Python form."""
+    return all(type(x) in _SCALAR_TYPES for x in xs)
+
+
+def _large(*xs):
+    return max(numpy.size(x) for x in xs) > 2 * CHUNK and numpy.broadcast_shapes(*(numpy.shape(x) for x in xs))
+
+
+def _chunked(f, xs, n_out):
+    """``f(*xs)`` evaluated CHUNK broadcast points at a time (same values: the kernels are pointwise)."""
+    shape = numpy.broadcast_shapes(*(numpy.shape(x) for x in xs))
+    flat = [numpy.broadcast_to(numpy.asarray(x, dtype=float), shape).reshape(-1) for x in xs]
+    size = flat[0].size
+    outs = [numpy.empty(size) for _ in range(n_out)]
+    for start in range(0, size, CHUNK):
+        part = f(*(x[start:start + CHUNK] for x in flat))
+        for o, r in zip(outs, part if n_out > 1 else (part,)):
+            o[start:start + CHUNK] = r
+    outs = [o.reshape(shape) for o in outs]
+    return tuple(outs) if n_out > 1 else outs[0]
+
+
+def _chain3_impulse_ratio_python(m1, m2, m3, v1, v2, v3, e, alpha):
+    x0 = alpha*(v2 - v3) + v1 - v2
+    x1 = abs(x0)
+    x2 = e - 1
+    x3 = 1/m1
+    x4 = 1/m3
+    x5 = m3*v3
+    x6 = m1*v1
+    x7 = x3*x4*(alpha*x6 + x5)**2
+    x8 = alpha - 1
+    x9 = 1/m2
+    x10 = x3*x9
+    x11 = m2*v2
+    x12 = alpha*x11
+    x13 = x4*x9
+    x14 = math.sqrt(e*x0**2 + x2*(x10*(m2*v2 - x6*x8)**2 + x13*(x12 + x5*x8)**2 + x7))
+    x15 = x1 + x14
+    x16 = m1*m3
+    x17 = x8**2
+    x18 = m2/(m2*(alpha**2*m1 + m3) + x16*x17)
+    x19 = (x0 >= 0)
+    x20 = x2*(m1*v1**2 + m2*v2**2 + m3*v3**2)
+    x21 = ((x15*x16*x18) if x19 else (x20/x15))
+    x22 = -x8
+    return (float(x21), float(alpha*x21), float(v1 - x21*x3), float(v2 - x21*x8*x9), float(((m1*x18*(alpha*x14 + alpha*(v1 + v2*x8) + x5*(x17*x9 + x3))) if x19 else (alpha*x20*x4/(x1 + math.sqrt(e*x0**2 + x2*(x10*(x11 + x22*x6)**2 + x13*(x12 - x22*x5)**2 + x7))) + v3))))
 
 
 def chain3_impulse_ratio(m1, m2, m3, v1, v2, v3, e, alpha):
@@ -32,6 +91,13 @@ def chain3_impulse_ratio(m1, m2, m3, v1, v2, v3, e, alpha):
     negative (found by Hypothesis with v3 = 6.8e-272, alpha = 0). The law is homogeneous of degree 1
     in the velocities, so rescale them first when they are that extreme.
     """
+    if _scalars(m1, m2, m3, v1, v2, v3, e, alpha):  # plain Python: ~40-300x faster than NumPy on one point
+        try:
+            return _chain3_impulse_ratio_python(m1, m2, m3, v1, v2, v3, e, alpha)
+        except (ValueError, ZeroDivisionError, OverflowError):
+            pass  # NaN / inf / overflow: NumPy's semantics below
+    elif _large(m1, m2, m3, v1, v2, v3, e, alpha):  # chunks of CHUNK points: measured up to 1.6x faster on 1e6 (cache)
+        return _chunked(chain3_impulse_ratio, (m1, m2, m3, v1, v2, v3, e, alpha,), 5)
     m1 = numpy.asarray(m1, dtype=float)
     m2 = numpy.asarray(m2, dtype=float)
     m3 = numpy.asarray(m3, dtype=float)
@@ -40,29 +106,52 @@ def chain3_impulse_ratio(m1, m2, m3, v1, v2, v3, e, alpha):
     v3 = numpy.asarray(v3, dtype=float)
     e = numpy.asarray(e, dtype=float)
     alpha = numpy.asarray(alpha, dtype=float)
-    x0 = m1*m3
-    x1 = alpha**2
-    x2 = -2*alpha*x0 + m1*m2*x1 + m2*m3 + x0*x1 + x0
-    x3 = alpha*v2 - alpha*v3 + v1 - v2
-    x4 = m1**(-1.0)
-    x5 = m2**(-1.0)
-    x6 = m3**(-1.0)
-    x7 = (e - 1)*(m1*v1**2 + m2*v2**2 + m3*v3**2)
-    x8 = numpy.sqrt(x2*x4*x5*x6*x7 + x3**2) + abs(x3)
-    x9 = numpy.select([numpy.greater_equal(x3, 0),True], [m2*x0*x8/x2,x7/x8], default=numpy.nan)
-    x10 = alpha*x9
-    p1 = x9
-    p2 = x10
-    w1 = v1 - x4*x9
-    w2 = v2 - x5*x9*(alpha - 1)
-    w3 = v3 + x10*x6
+    x0 = alpha*(v2 - v3) + v1 - v2
+    x1 = abs(x0)
+    x2 = e - 1
+    x3 = m1**(-1.0)
+    x4 = m3**(-1.0)
+    x5 = m3*v3
+    x6 = m1*v1
+    x7 = x3*x4*(alpha*x6 + x5)**2
+    x8 = alpha - 1
+    x9 = m2**(-1.0)
+    x10 = x3*x9
+    x11 = m2*v2
+    x12 = alpha*x11
+    x13 = x4*x9
+    x14 = numpy.sqrt(e*x0**2 + x2*(x10*(m2*v2 - x6*x8)**2 + x13*(x12 + x5*x8)**2 + x7))
+    x15 = x1 + x14
+    x16 = m1*m3
+    x17 = x8**2
+    x18 = m2/(m2*(alpha**2*m1 + m3) + x16*x17)
+    x19 = numpy.greater_equal(x0, 0)
+    x20 = x2*(m1*v1**2 + m2*v2**2 + m3*v3**2)
+    x21 = numpy.select([x19,True], [x15*x16*x18,x20/x15], default=numpy.nan)
+    x22 = -x8
+    p1 = x21
+    p2 = alpha*x21
+    w1 = v1 - x21*x3
+    w2 = v2 - x21*x8*x9
+    w3 = numpy.select([x19,True], [m1*x18*(alpha*x14 + alpha*(v1 + v2*x8) + x5*(x17*x9 + x3)),alpha*x20*x4/(x1 + numpy.sqrt(e*x0**2 + x2*(x10*(x11 + x22*x6)**2 + x13*(x12 - x22*x5)**2 + x7))) + v3], default=numpy.nan)
     return (p1, p2, w1, w2, w3)
+
+
+def _chain3_alpha_max_python(e):
+    return float(-(-2*e + math.sqrt(2)*math.sqrt(3*e - 1) + 2)/(e - 3))
 
 
 def chain3_alpha_max(e):
     """Upper end of the chain's admissible impulse ratios at energetic coefficient e
     (eq. 19, 1/3 <= e <= 1): alpha_max(e) = (2e - 2 - sqrt(6e - 2))/(e - 3).
     """
+    if _scalars(e):  # plain Python: ~40-300x faster than NumPy on one point
+        try:
+            return _chain3_alpha_max_python(e)
+        except (ValueError, ZeroDivisionError, OverflowError):
+            pass  # NaN / inf / overflow: NumPy's semantics below
+    elif _large(e):  # chunks of CHUNK points: measured up to 1.6x faster on 1e6 (cache)
+        return _chunked(chain3_alpha_max, (e,), 1)
     e = numpy.asarray(e, dtype=float)
     alpha_max = -(-2*e + numpy.sqrt(2)*numpy.sqrt(3*e - 1) + 2)/(e - 3)
     return alpha_max

@@ -8,6 +8,8 @@ chain3_alpha_max(e), and the pool's g (v1+ = 0) and h (Delta = 0) as functions o
 """
 
 
+import math
+
 import numpy
 
 
@@ -18,9 +20,53 @@ __all__ = ['pool_g', 'pool_h']
 CODEGEN_NAMES = {'pool-g': 'pool_g', 'pool-h': 'pool_h'}
 
 
+_SCALAR_TYPES = (float, int, numpy.float64)
+
+#: batches larger than 2 * CHUNK points are evaluated CHUNK points at a time
+#: (benchmarks/results/scalar_dispatch.md)
+CHUNK = 65536
+
+
+def _scalars(*xs):
+    """Every argument a Python or NumPy float or int: the call goes to the plain-Python form."""
+    return all(type(x) in _SCALAR_TYPES for x in xs)
+
+
+def _large(*xs):
+    return max(numpy.size(x) for x in xs) > 2 * CHUNK and numpy.broadcast_shapes(*(numpy.shape(x) for x in xs))
+
+
+def _chunked(f, xs, n_out):
+    """``f(*xs)`` evaluated CHUNK broadcast points at a time (same values: the kernels are pointwise)."""
+    shape = numpy.broadcast_shapes(*(numpy.shape(x) for x in xs))
+    flat = [numpy.broadcast_to(numpy.asarray(x, dtype=float), shape).reshape(-1) for x in xs]
+    size = flat[0].size
+    outs = [numpy.empty(size) for _ in range(n_out)]
+    for start in range(0, size, CHUNK):
+        part = f(*(x[start:start + CHUNK] for x in flat))
+        for o, r in zip(outs, part if n_out > 1 else (part,)):
+            o[start:start + CHUNK] = r
+    outs = [o.reshape(shape) for o in outs]
+    return tuple(outs) if n_out > 1 else outs[0]
+
+
+def _pool_g_python(theta, alpha):
+    x0 = alpha**2
+    x1 = math.cos(theta)
+    x2 = -4*alpha*x1 + x0*x1**2
+    return float((2*x0 + x2 + 2)/(x2 + 4))
+
+
 def pool_g(theta, alpha):
     """Pool (tau = 0): e = g(alpha) is where v1+ = 0 (eq. 29); valid e >= g(alpha).
     """
+    if _scalars(theta, alpha):  # plain Python: ~40-300x faster than NumPy on one point
+        try:
+            return _pool_g_python(theta, alpha)
+        except (ValueError, ZeroDivisionError, OverflowError):
+            pass  # NaN / inf / overflow: NumPy's semantics below
+    elif _large(theta, alpha):  # chunks of CHUNK points: measured up to 1.6x faster on 1e6 (cache)
+        return _chunked(pool_g, (theta, alpha,), 1)
     theta = numpy.asarray(theta, dtype=float)
     alpha = numpy.asarray(alpha, dtype=float)
     x0 = alpha**2
@@ -30,9 +76,22 @@ def pool_g(theta, alpha):
     return g
 
 
+def _pool_h_python(theta, alpha):
+    x0 = alpha**2
+    x1 = alpha*math.cos(theta)
+    return float((1/2)*(2*x0 - 2*x1 + 1)/(x0 - x1 + 1))
+
+
 def pool_h(theta, alpha):
     """Pool (tau = 0): e = h(alpha) is where Delta = 0 (eq. 31, corrected: -2 alpha cos(theta)).
     """
+    if _scalars(theta, alpha):  # plain Python: ~40-300x faster than NumPy on one point
+        try:
+            return _pool_h_python(theta, alpha)
+        except (ValueError, ZeroDivisionError, OverflowError):
+            pass  # NaN / inf / overflow: NumPy's semantics below
+    elif _large(theta, alpha):  # chunks of CHUNK points: measured up to 1.6x faster on 1e6 (cache)
+        return _chunked(pool_h, (theta, alpha,), 1)
     theta = numpy.asarray(theta, dtype=float)
     alpha = numpy.asarray(alpha, dtype=float)
     x0 = alpha**2

@@ -8,6 +8,8 @@ stable (product-of-roots) and naive (quadratic formula) forms.
 """
 
 
+import math
+
 import numpy
 
 
@@ -18,11 +20,56 @@ __all__ = ['impulse_ratio_root', 'impulse_ratio_root_naive']
 CODEGEN_NAMES = {'impulse-ratio-root': 'impulse_ratio_root', 'impulse-ratio-root-naive': 'impulse_ratio_root_naive'}
 
 
+_SCALAR_TYPES = (float, int, numpy.float64)
+
+#: batches larger than 2 * CHUNK points are evaluated CHUNK points at a time
+#: (benchmarks/results/scalar_dispatch.md)
+CHUNK = 65536
+
+
+def _scalars(*xs):
+    """Every argument a Python or NumPy float or int: the call goes to the plain-Python form."""
+    return all(type(x) in _SCALAR_TYPES for x in xs)
+
+
+def _large(*xs):
+    return max(numpy.size(x) for x in xs) > 2 * CHUNK and numpy.broadcast_shapes(*(numpy.shape(x) for x in xs))
+
+
+def _chunked(f, xs, n_out):
+    """``f(*xs)`` evaluated CHUNK broadcast points at a time (same values: the kernels are pointwise)."""
+    shape = numpy.broadcast_shapes(*(numpy.shape(x) for x in xs))
+    flat = [numpy.broadcast_to(numpy.asarray(x, dtype=float), shape).reshape(-1) for x in xs]
+    size = flat[0].size
+    outs = [numpy.empty(size) for _ in range(n_out)]
+    for start in range(0, size, CHUNK):
+        part = f(*(x[start:start + CHUNK] for x in flat))
+        for o, r in zip(outs, part if n_out > 1 else (part,)):
+            o[start:start + CHUNK] = r
+    outs = [o.reshape(shape) for o in outs]
+    return tuple(outs) if n_out > 1 else outs[0]
+
+
+def _impulse_ratio_root_python(A, B, C):
+    x0 = (B < 0)
+    x1 = B - math.sqrt(-4*A*C + B**2)*((1) if x0 else (-1))
+    x2 = -1/2*x1/A
+    x3 = -2*C/x1
+    return (float(((x2) if x0 else (x3))), float(((x3) if x0 else (x2))))
+
+
 def impulse_ratio_root(A, B, C):
     """Roots of A p^2 + B p + C = 0 for the impulse-ratio law (Acary & Taha eq. 38): the physical
     p1 = (-B + sqrt(D))/(2A) and its partner (-B - sqrt(D))/(2A), D = B^2 - 4AC.
     Stable form: q = (-B + s sqrt(D))/2, s = 1 if B < 0 else -1; roots q/A and C/q (no cancellation).
     """
+    if _scalars(A, B, C):  # plain Python: ~40-300x faster than NumPy on one point
+        try:
+            return _impulse_ratio_root_python(A, B, C)
+        except (ValueError, ZeroDivisionError, OverflowError):
+            pass  # NaN / inf / overflow: NumPy's semantics below
+    elif _large(A, B, C):  # chunks of CHUNK points: measured up to 1.6x faster on 1e6 (cache)
+        return _chunked(impulse_ratio_root, (A, B, C,), 2)
     A = numpy.asarray(A, dtype=float)
     B = numpy.asarray(B, dtype=float)
     C = numpy.asarray(C, dtype=float)
@@ -35,11 +82,24 @@ def impulse_ratio_root(A, B, C):
     return (p1, p1_partner)
 
 
+def _impulse_ratio_root_naive_python(A, B, C):
+    x0 = math.sqrt(-4*A*C + B**2)
+    x1 = (1/2)/A
+    return (float(-x1*(B - x0)), float(-x1*(B + x0)))
+
+
 def impulse_ratio_root_naive(A, B, C):
     """Roots of A p^2 + B p + C = 0 for the impulse-ratio law (Acary & Taha eq. 38): the physical
     p1 = (-B + sqrt(D))/(2A) and its partner (-B - sqrt(D))/(2A), D = B^2 - 4AC.
     Naive form (the quadratic formula), kept for comparison with impulse_ratio_root.
     """
+    if _scalars(A, B, C):  # plain Python: ~40-300x faster than NumPy on one point
+        try:
+            return _impulse_ratio_root_naive_python(A, B, C)
+        except (ValueError, ZeroDivisionError, OverflowError):
+            pass  # NaN / inf / overflow: NumPy's semantics below
+    elif _large(A, B, C):  # chunks of CHUNK points: measured up to 1.6x faster on 1e6 (cache)
+        return _chunked(impulse_ratio_root_naive, (A, B, C,), 2)
     A = numpy.asarray(A, dtype=float)
     B = numpy.asarray(B, dtype=float)
     C = numpy.asarray(C, dtype=float)

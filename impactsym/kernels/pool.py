@@ -10,6 +10,8 @@ no closed contact approaches (criterion 41; at e = 1 this is the epsilon = sign(
 """
 
 
+import math
+
 import numpy
 
 
@@ -20,6 +22,53 @@ __all__ = ['pool_impulse_ratio', 'bernoulli_impulse_ratio']
 CODEGEN_NAMES = {'pool-impulse-ratio': 'pool_impulse_ratio', 'bernoulli-impulse-ratio': 'bernoulli_impulse_ratio'}
 
 
+_SCALAR_TYPES = (float, int, numpy.float64)
+
+#: batches larger than 2 * CHUNK points are evaluated CHUNK points at a time
+#: (benchmarks/results/scalar_dispatch.md)
+CHUNK = 65536
+
+
+def _scalars(*xs):
+    """Every argument a Python or NumPy float or int: the call goes to the plain-Python form."""
+    return all(type(x) in _SCALAR_TYPES for x in xs)
+
+
+def _large(*xs):
+    return max(numpy.size(x) for x in xs) > 2 * CHUNK and numpy.broadcast_shapes(*(numpy.shape(x) for x in xs))
+
+
+def _chunked(f, xs, n_out):
+    """``f(*xs)`` evaluated CHUNK broadcast points at a time (same values: the kernels are pointwise)."""
+    shape = numpy.broadcast_shapes(*(numpy.shape(x) for x in xs))
+    flat = [numpy.broadcast_to(numpy.asarray(x, dtype=float), shape).reshape(-1) for x in xs]
+    size = flat[0].size
+    outs = [numpy.empty(size) for _ in range(n_out)]
+    for start in range(0, size, CHUNK):
+        part = f(*(x[start:start + CHUNK] for x in flat))
+        for o, r in zip(outs, part if n_out > 1 else (part,)):
+            o[start:start + CHUNK] = r
+    outs = [o.reshape(shape) for o in outs]
+    return tuple(outs) if n_out > 1 else outs[0]
+
+
+def _pool_impulse_ratio_python(theta, tau, e, alpha):
+    x0 = math.cos(theta)
+    x1 = alpha - x0
+    x2 = alpha*x1
+    x3 = math.cos(tau)
+    x4 = x3**2
+    x5 = math.sin(tau)
+    x6 = math.sin(theta)
+    x7 = math.sqrt(e*x4 + (e - 1)*(alpha**2 + x1**2 + x5**2 + x6**2))
+    x8 = (x3 > 0)
+    x9 = (((1/2)*(x3 + x7)/(x2 + 1)) if x8 else (0))
+    x10 = alpha*x9
+    x11 = 2*x2
+    x12 = (((-e + x11*x4 + 1)/(x3*(x11 + 1) + x7)) if x8 else (x3))
+    return (float(x9), float(x10), float(x0*x12 + x5*x6), float(-x0*x5 + x12*x6), float(-x1*x9), float(x6*x9), float(x10), float(0))
+
+
 def pool_impulse_ratio(theta, tau, e, alpha):
     """The impulse-ratio law on the pool with two closed contacts (1-2, 2-3), any theta and tau
     (Acary & Taha eqs. 27, 35, 36; incidence qdot1- = (cos(theta - tau), sin(theta - tau))).
@@ -28,26 +77,56 @@ def pool_impulse_ratio(theta, tau, e, alpha):
     D = cos(tau)^2 - 2A(1 - e)); p1 = 0 (no impact) for cos(tau) <= 0. Returns
     (p1, p2, w1x, w1y, w2x, w2y, w3x, w3y). No admissibility check (see impactsym.domains).
     """
+    if _scalars(theta, tau, e, alpha):  # plain Python: ~40-300x faster than NumPy on one point
+        try:
+            return _pool_impulse_ratio_python(theta, tau, e, alpha)
+        except (ValueError, ZeroDivisionError, OverflowError):
+            pass  # NaN / inf / overflow: NumPy's semantics below
+    elif _large(theta, tau, e, alpha):  # chunks of CHUNK points: measured up to 1.6x faster on 1e6 (cache)
+        return _chunked(pool_impulse_ratio, (theta, tau, e, alpha,), 8)
     theta = numpy.asarray(theta, dtype=float)
     tau = numpy.asarray(tau, dtype=float)
     e = numpy.asarray(e, dtype=float)
     alpha = numpy.asarray(alpha, dtype=float)
     x0 = numpy.cos(theta)
-    x1 = alpha**2 - alpha*x0 + 1
-    x2 = numpy.cos(tau)
-    x3 = numpy.select([numpy.greater(x2, 0),True], [(1/2)*(x2 + numpy.sqrt(2*x1*(e - 1) + x2**2))/x1,0], default=numpy.nan)
-    x4 = alpha*x3
-    x5 = tau - theta
-    x6 = x3*numpy.sin(theta)
-    p1 = x3
-    p2 = x4
-    w1x = -x0*x3 + numpy.cos(x5)
-    w1y = -x6 - numpy.sin(x5)
-    w2x = -x3*(alpha - x0)
-    w2y = x6
-    w3x = x4
+    x1 = alpha - x0
+    x2 = alpha*x1
+    x3 = numpy.cos(tau)
+    x4 = x3**2
+    x5 = numpy.sin(tau)
+    x6 = numpy.sin(theta)
+    x7 = numpy.sqrt(e*x4 + (e - 1)*(alpha**2 + x1**2 + x5**2 + x6**2))
+    x8 = numpy.greater(x3, 0)
+    x9 = numpy.select([x8,True], [(1/2)*(x3 + x7)/(x2 + 1),0], default=numpy.nan)
+    x10 = alpha*x9
+    x11 = 2*x2
+    x12 = numpy.select([x8,True], [(-e + x11*x4 + 1)/(x3*(x11 + 1) + x7),x3], default=numpy.nan)
+    p1 = x9
+    p2 = x10
+    w1x = x0*x12 + x5*x6
+    w1y = -x0*x5 + x12*x6
+    w2x = -x1*x9
+    w2y = x6*x9
+    w3x = x10
     w3y = 0
     return (p1, p2, w1x, w1y, w2x, w2y, w3x, w3y)
+
+
+def _bernoulli_impulse_ratio_python(tau, e, alpha, alpha13):
+    x0 = math.cos(tau)
+    x1 = math.sin(tau + (1/6)*math.pi)
+    x2 = 2*alpha**2 + alpha*alpha13 + alpha + 2*alpha13**2 + alpha13 + 2
+    x3 = alpha13*x1 + x0
+    x4 = e - 1
+    x5 = math.sqrt(x2*x4 + x3**2) + abs(x3)
+    x6 = ((0) if (x0 <= 0) and (x1 <= 0) else (x5/x2) if (x3 >= 0) else (x4/x5))
+    x7 = alpha13*x6
+    x8 = tau + (1/3)*math.pi
+    x9 = (1/2)*x6
+    x10 = math.sqrt(3)
+    x11 = x10*x9
+    x12 = 2*alpha
+    return (float(x6), float(alpha*x6), float(x7), float(-x9*(alpha13 - 1) - math.cos(x8)), float(-x11*(alpha13 + 1) + math.sin(x8)), float(-x9*(x12 + 1)), float(x11), float(x9*(alpha13 + x12)), float((1/2)*x10*x7))
 
 
 def bernoulli_impulse_ratio(tau, e, alpha, alpha13):
@@ -57,6 +136,13 @@ def bernoulli_impulse_ratio(tau, e, alpha, alpha13):
     No impact (p = 0) when neither 1-2 nor 1-3 approaches; otherwise the physical root
     (-B + sqrt(D))/(2A) in cancellation-free form. Returns (p1, p2, p3, w1x, w1y, w2x, w2y, w3x, w3y).
     """
+    if _scalars(tau, e, alpha, alpha13):  # plain Python: ~40-300x faster than NumPy on one point
+        try:
+            return _bernoulli_impulse_ratio_python(tau, e, alpha, alpha13)
+        except (ValueError, ZeroDivisionError, OverflowError):
+            pass  # NaN / inf / overflow: NumPy's semantics below
+    elif _large(tau, e, alpha, alpha13):  # chunks of CHUNK points: measured up to 1.6x faster on 1e6 (cache)
+        return _chunked(bernoulli_impulse_ratio, (tau, e, alpha, alpha13,), 9)
     tau = numpy.asarray(tau, dtype=float)
     e = numpy.asarray(e, dtype=float)
     alpha = numpy.asarray(alpha, dtype=float)

@@ -9,6 +9,8 @@ G_u(e) = I - (1+e) M^-1 u^T u / (u M^-1 u^T); e = 1 is the elastic reflection G_
 """
 
 
+import math
+
 import numpy
 
 
@@ -17,6 +19,36 @@ __all__ = ['reflection_map', 'reflect', 'reflection_map_2', 'reflect_2', 'reflec
 
 #: kebab-case codegen name -> kernel name
 CODEGEN_NAMES = {'reflection-map': 'reflection_map', 'reflect': 'reflect', 'reflection-map-2': 'reflection_map_2', 'reflect-2': 'reflect_2', 'reflection-map-3': 'reflection_map_3', 'reflect-3': 'reflect_3'}
+
+
+_SCALAR_TYPES = (float, int, numpy.float64)
+
+#: batches larger than 2 * CHUNK points are evaluated CHUNK points at a time
+#: (benchmarks/results/scalar_dispatch.md)
+CHUNK = 65536
+
+
+def _scalars(*xs):
+    """Every argument a Python or NumPy float or int: the call goes to the plain-Python form."""
+    return all(type(x) in _SCALAR_TYPES for x in xs)
+
+
+def _large(*xs):
+    return max(numpy.size(x) for x in xs) > 2 * CHUNK and numpy.broadcast_shapes(*(numpy.shape(x) for x in xs))
+
+
+def _chunked(f, xs, n_out):
+    """``f(*xs)`` evaluated CHUNK broadcast points at a time (same values: the kernels are pointwise)."""
+    shape = numpy.broadcast_shapes(*(numpy.shape(x) for x in xs))
+    flat = [numpy.broadcast_to(numpy.asarray(x, dtype=float), shape).reshape(-1) for x in xs]
+    size = flat[0].size
+    outs = [numpy.empty(size) for _ in range(n_out)]
+    for start in range(0, size, CHUNK):
+        part = f(*(x[start:start + CHUNK] for x in flat))
+        for o, r in zip(outs, part if n_out > 1 else (part,)):
+            o[start:start + CHUNK] = r
+    outs = [o.reshape(shape) for o in outs]
+    return tuple(outs) if n_out > 1 else outs[0]
 
 
 def reflection_map(mass_matrix, gradient, restitution=1.0):
@@ -50,33 +82,67 @@ def reflect(mass_matrix, gradient, velocity, restitution=1.0):
     return velocity - (c * numpy.einsum("...i,...i->...", gradient, velocity))[..., None] * w
 
 
+def _reflection_map_2_python(m_00, m_01, m_11, u_0, u_1, e):
+    x0 = m_00*u_1 - m_01*u_0
+    x1 = u_1*x0
+    x2 = m_01*u_1 - m_11*u_0
+    x3 = u_0*x2
+    x4 = 1/(-x1 + x3)
+    x5 = x4*(e + 1)
+    return (float(-x4*(e*x3 + x1)), float(-u_1*x2*x5), float(u_0*x0*x5), float(x4*(e*x1 + x3)))
+
+
 def reflection_map_2(m_00, m_01, m_11, u_0, u_1, e=1.0):
     """Closed-form G_u(e) for n = 2 (entries row-major), M given by its upper triangle.
     Uses adj(M): det(M) cancels from M^-1 u^T / (u M^-1 u^T).
     """
+    if _scalars(m_00, m_01, m_11, u_0, u_1, e):  # plain Python: ~40-300x faster than NumPy on one point
+        try:
+            return _reflection_map_2_python(m_00, m_01, m_11, u_0, u_1, e)
+        except (ValueError, ZeroDivisionError, OverflowError):
+            pass  # NaN / inf / overflow: NumPy's semantics below
+    elif _large(m_00, m_01, m_11, u_0, u_1, e):  # chunks of CHUNK points: measured up to 1.6x faster on 1e6 (cache)
+        return _chunked(reflection_map_2, (m_00, m_01, m_11, u_0, u_1, e,), 4)
     m_00 = numpy.asarray(m_00, dtype=float)
     m_01 = numpy.asarray(m_01, dtype=float)
     m_11 = numpy.asarray(m_11, dtype=float)
     u_0 = numpy.asarray(u_0, dtype=float)
     u_1 = numpy.asarray(u_1, dtype=float)
     e = numpy.asarray(e, dtype=float)
-    x0 = m_01*u_1 - m_11*u_0
-    x1 = u_0*x0
-    x2 = m_00*u_1 - m_01*u_0
-    x3 = -u_1*x2 + x1
-    x4 = e + 1
-    x5 = -x4/x3
-    x6 = x4/x3
-    g00 = x1*x5 + 1
-    g01 = -u_1*x0*x6
-    g10 = u_0*x2*x6
-    g11 = -u_1*x2*x5 + 1
+    x0 = m_00*u_1 - m_01*u_0
+    x1 = u_1*x0
+    x2 = m_01*u_1 - m_11*u_0
+    x3 = u_0*x2
+    x4 = (-x1 + x3)**(-1.0)
+    x5 = x4*(e + 1)
+    g00 = -x4*(e*x3 + x1)
+    g01 = -u_1*x2*x5
+    g10 = u_0*x0*x5
+    g11 = x4*(e*x1 + x3)
     return (g00, g01, g10, g11)
+
+
+def _reflect_2_python(m_00, m_01, m_11, u_0, u_1, v_0, v_1, e):
+    x0 = m_01*u_1 - m_11*u_0
+    x1 = m_00*u_1 - m_01*u_0
+    x2 = u_1*x1
+    x3 = -x2
+    x4 = 1/(u_0*x0 + x3)
+    x5 = e + 1
+    x6 = -u_0*x0
+    return (float(x4*(-u_1*v_1*x0*x5 + v_0*(e*x6 + x3))), float(x4*(u_0*v_0*x1*x5 + v_1*(e*x2 - x6))))
 
 
 def reflect_2(m_00, m_01, m_11, u_0, u_1, v_0, v_1, e=1.0):
     """Closed-form G_u(e) v for n = 2, M given by its upper triangle.
     """
+    if _scalars(m_00, m_01, m_11, u_0, u_1, v_0, v_1, e):  # plain Python: ~40-300x faster than NumPy on one point
+        try:
+            return _reflect_2_python(m_00, m_01, m_11, u_0, u_1, v_0, v_1, e)
+        except (ValueError, ZeroDivisionError, OverflowError):
+            pass  # NaN / inf / overflow: NumPy's semantics below
+    elif _large(m_00, m_01, m_11, u_0, u_1, v_0, v_1, e):  # chunks of CHUNK points: measured up to 1.6x faster on 1e6 (cache)
+        return _chunked(reflect_2, (m_00, m_01, m_11, u_0, u_1, v_0, v_1, e,), 2)
     m_00 = numpy.asarray(m_00, dtype=float)
     m_01 = numpy.asarray(m_01, dtype=float)
     m_11 = numpy.asarray(m_11, dtype=float)
@@ -86,21 +152,47 @@ def reflect_2(m_00, m_01, m_11, u_0, u_1, v_0, v_1, e=1.0):
     v_1 = numpy.asarray(v_1, dtype=float)
     e = numpy.asarray(e, dtype=float)
     x0 = m_01*u_1 - m_11*u_0
-    x1 = e + 1
-    x2 = m_00*u_1 - m_01*u_0
-    x3 = x1/(-u_0*x0 + u_1*x2)
-    x4 = -u_0*x0
-    x5 = u_1*x2
-    x6 = x1/(x4 + x5)
-    w0 = u_1*v_1*x0*x3 - v_0*(x4*x6 - 1)
-    w1 = -u_0*v_0*x2*x3 - v_1*(x5*x6 - 1)
+    x1 = m_00*u_1 - m_01*u_0
+    x2 = u_1*x1
+    x3 = -x2
+    x4 = (u_0*x0 + x3)**(-1.0)
+    x5 = e + 1
+    x6 = -u_0*x0
+    w0 = x4*(-u_1*v_1*x0*x5 + v_0*(e*x6 + x3))
+    w1 = x4*(u_0*v_0*x1*x5 + v_1*(e*x2 - x6))
     return (w0, w1)
+
+
+def _reflection_map_3_python(m_00, m_01, m_02, m_11, m_12, m_22, u_0, u_1, u_2, e):
+    x0 = m_01*m_22 - m_02*m_12
+    x1 = m_00*m_12 - m_01*m_02
+    x2 = u_0*x0 - u_1*(m_00*m_22 - m_02**2) + u_2*x1
+    x3 = u_1*x2
+    x4 = m_01*m_12 - m_02*m_11
+    x5 = u_0*(m_11*m_22 - m_12**2) - u_1*x0 + u_2*x4
+    x6 = u_0*x5
+    x7 = u_0*x4 - u_1*x1 + u_2*(m_00*m_11 - m_01**2)
+    x8 = u_2*x7
+    x9 = x6 + x8
+    x10 = 1/(-x3 + x9)
+    x11 = x10*(e + 1)
+    x12 = x11*x5
+    x13 = x11*x2
+    x14 = x11*x7
+    return (float(x10*(-e*x6 + u_2*x7 - x3)), float(-u_1*x12), float(-u_2*x12), float(u_0*x13), float(x10*(e*x3 + x9)), float(u_2*x13), float(-u_0*x14), float(-u_1*x14), float(x10*(-e*x8 + u_0*x5 - x3)))
 
 
 def reflection_map_3(m_00, m_01, m_02, m_11, m_12, m_22, u_0, u_1, u_2, e=1.0):
     """Closed-form G_u(e) for n = 3 (entries row-major), M given by its upper triangle.
     Uses adj(M): det(M) cancels from M^-1 u^T / (u M^-1 u^T).
     """
+    if _scalars(m_00, m_01, m_02, m_11, m_12, m_22, u_0, u_1, u_2, e):  # plain Python: ~40-300x faster than NumPy on one point
+        try:
+            return _reflection_map_3_python(m_00, m_01, m_02, m_11, m_12, m_22, u_0, u_1, u_2, e)
+        except (ValueError, ZeroDivisionError, OverflowError):
+            pass  # NaN / inf / overflow: NumPy's semantics below
+    elif _large(m_00, m_01, m_02, m_11, m_12, m_22, u_0, u_1, u_2, e):  # chunks of CHUNK points: measured up to 1.6x faster on 1e6 (cache)
+        return _chunked(reflection_map_3, (m_00, m_01, m_02, m_11, m_12, m_22, u_0, u_1, u_2, e,), 9)
     m_00 = numpy.asarray(m_00, dtype=float)
     m_01 = numpy.asarray(m_01, dtype=float)
     m_02 = numpy.asarray(m_02, dtype=float)
@@ -111,37 +203,62 @@ def reflection_map_3(m_00, m_01, m_02, m_11, m_12, m_22, u_0, u_1, u_2, e=1.0):
     u_1 = numpy.asarray(u_1, dtype=float)
     u_2 = numpy.asarray(u_2, dtype=float)
     e = numpy.asarray(e, dtype=float)
-    x0 = m_01*m_12 - m_02*m_11
-    x1 = m_01*m_22 - m_02*m_12
-    x2 = u_0*(m_11*m_22 - m_12**2) - u_1*x1 + u_2*x0
-    x3 = u_0*x2
-    x4 = m_00*m_12 - m_01*m_02
-    x5 = u_0*x1 - u_1*(m_00*m_22 - m_02**2) + u_2*x4
-    x6 = -u_1*x5
-    x7 = u_0*x0 - u_1*x4 + u_2*(m_00*m_11 - m_01**2)
+    x0 = m_01*m_22 - m_02*m_12
+    x1 = m_00*m_12 - m_01*m_02
+    x2 = u_0*x0 - u_1*(m_00*m_22 - m_02**2) + u_2*x1
+    x3 = u_1*x2
+    x4 = m_01*m_12 - m_02*m_11
+    x5 = u_0*(m_11*m_22 - m_12**2) - u_1*x0 + u_2*x4
+    x6 = u_0*x5
+    x7 = u_0*x4 - u_1*x1 + u_2*(m_00*m_11 - m_01**2)
     x8 = u_2*x7
-    x9 = x3 + x8
-    x10 = e + 1
-    x11 = x10/(x6 + x9)
-    x12 = x10/(-u_1*x5 + x9)
-    x13 = x12*x2
-    x14 = x12*x5
-    x15 = x12*x7
-    g00 = -x11*x3 + 1
-    g01 = -u_1*x13
-    g02 = -u_2*x13
-    g10 = u_0*x14
-    g11 = -x11*x6 + 1
-    g12 = u_2*x14
-    g20 = -u_0*x15
-    g21 = -u_1*x15
-    g22 = -x11*x8 + 1
+    x9 = x6 + x8
+    x10 = (-x3 + x9)**(-1.0)
+    x11 = x10*(e + 1)
+    x12 = x11*x5
+    x13 = x11*x2
+    x14 = x11*x7
+    g00 = x10*(-e*x6 + u_2*x7 - x3)
+    g01 = -u_1*x12
+    g02 = -u_2*x12
+    g10 = u_0*x13
+    g11 = x10*(e*x3 + x9)
+    g12 = u_2*x13
+    g20 = -u_0*x14
+    g21 = -u_1*x14
+    g22 = x10*(-e*x8 + u_0*x5 - x3)
     return (g00, g01, g02, g10, g11, g12, g20, g21, g22)
+
+
+def _reflect_3_python(m_00, m_01, m_02, m_11, m_12, m_22, u_0, u_1, u_2, v_0, v_1, v_2, e):
+    x0 = m_01*m_22 - m_02*m_12
+    x1 = m_00*m_12 - m_01*m_02
+    x2 = u_0*x0 - u_1*(m_00*m_22 - m_02**2) + u_2*x1
+    x3 = u_1*x2
+    x4 = m_01*m_12 - m_02*m_11
+    x5 = u_0*(m_11*m_22 - m_12**2) - u_1*x0 + u_2*x4
+    x6 = u_0*x5
+    x7 = u_0*x4 - u_1*x1 + u_2*(m_00*m_11 - m_01**2)
+    x8 = u_2*x7
+    x9 = x6 + x8
+    x10 = 1/(-x3 + x9)
+    x11 = e + 1
+    x12 = u_1*v_1
+    x13 = u_2*v_2
+    x14 = u_0*v_0
+    return (float(x10*(v_0*(-e*x6 + u_2*x7 - x3) - x11*x5*(x12 + x13))), float(x10*(v_1*(e*x3 + x9) + x11*x2*(x13 + x14))), float(x10*(v_2*(-e*x8 + u_0*x5 - x3) - x11*x7*(x12 + x14))))
 
 
 def reflect_3(m_00, m_01, m_02, m_11, m_12, m_22, u_0, u_1, u_2, v_0, v_1, v_2, e=1.0):
     """Closed-form G_u(e) v for n = 3, M given by its upper triangle.
     """
+    if _scalars(m_00, m_01, m_02, m_11, m_12, m_22, u_0, u_1, u_2, v_0, v_1, v_2, e):  # plain Python: ~40-300x faster than NumPy on one point
+        try:
+            return _reflect_3_python(m_00, m_01, m_02, m_11, m_12, m_22, u_0, u_1, u_2, v_0, v_1, v_2, e)
+        except (ValueError, ZeroDivisionError, OverflowError):
+            pass  # NaN / inf / overflow: NumPy's semantics below
+    elif _large(m_00, m_01, m_02, m_11, m_12, m_22, u_0, u_1, u_2, v_0, v_1, v_2, e):  # chunks of CHUNK points: measured up to 1.6x faster on 1e6 (cache)
+        return _chunked(reflect_3, (m_00, m_01, m_02, m_11, m_12, m_22, u_0, u_1, u_2, v_0, v_1, v_2, e,), 3)
     m_00 = numpy.asarray(m_00, dtype=float)
     m_01 = numpy.asarray(m_01, dtype=float)
     m_02 = numpy.asarray(m_02, dtype=float)
@@ -156,29 +273,21 @@ def reflect_3(m_00, m_01, m_02, m_11, m_12, m_22, u_0, u_1, u_2, v_0, v_1, v_2, 
     v_2 = numpy.asarray(v_2, dtype=float)
     e = numpy.asarray(e, dtype=float)
     x0 = m_01*m_22 - m_02*m_12
-    x1 = -x0
-    x2 = m_01*m_12 - m_02*m_11
-    x3 = u_0*(m_11*m_22 - m_12**2) + u_2*x2
-    x4 = u_0*(u_1*x1 + x3)
-    x5 = m_00*m_12 - m_01*m_02
-    x6 = -x5
-    x7 = m_00*m_22 - m_02**2
-    x8 = u_1*(u_0*x1 + u_1*x7 + u_2*x6)
-    x9 = u_0*x2 + u_2*(m_00*m_11 - m_01**2)
-    x10 = u_2*(u_1*x6 + x9)
+    x1 = m_00*m_12 - m_01*m_02
+    x2 = u_0*x0 - u_1*(m_00*m_22 - m_02**2) + u_2*x1
+    x3 = u_1*x2
+    x4 = m_01*m_12 - m_02*m_11
+    x5 = u_0*(m_11*m_22 - m_12**2) - u_1*x0 + u_2*x4
+    x6 = u_0*x5
+    x7 = u_0*x4 - u_1*x1 + u_2*(m_00*m_11 - m_01**2)
+    x8 = u_2*x7
+    x9 = x6 + x8
+    x10 = (-x3 + x9)**(-1.0)
     x11 = e + 1
-    x12 = x11/(x10 + x4 + x8)
-    x13 = -u_1*x0 + x3
-    x14 = -u_1*x5 + x9
-    x15 = -u_0*x0 + u_1*x7 - u_2*x5
-    x16 = x11/(u_0*x13 + u_1*x15 + u_2*x14)
-    x17 = x13*x16
-    x18 = u_1*v_1
-    x19 = u_2*v_2
-    x20 = x15*x16
-    x21 = u_0*v_0
-    x22 = x14*x16
-    w0 = -v_0*(x12*x4 - 1) - x17*x18 - x17*x19
-    w1 = -v_1*(x12*x8 - 1) - x19*x20 - x20*x21
-    w2 = -v_2*(x10*x12 - 1) - x18*x22 - x21*x22
+    x12 = u_1*v_1
+    x13 = u_2*v_2
+    x14 = u_0*v_0
+    w0 = x10*(v_0*(-e*x6 + u_2*x7 - x3) - x11*x5*(x12 + x13))
+    w1 = x10*(v_1*(e*x3 + x9) + x11*x2*(x13 + x14))
+    w2 = x10*(v_2*(-e*x8 + u_0*x5 - x3) - x11*x7*(x12 + x14))
     return (w0, w1, w2)

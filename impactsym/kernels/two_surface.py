@@ -11,6 +11,8 @@ ceil(psi_i / beta) reflections. Float kernels, uncertified; impactsym.laws.two_s
 """
 
 
+import math
+
 import numpy
 
 
@@ -21,12 +23,56 @@ __all__ = ['two_surface_reflection_count', 'two_surface_resolution', 'two_surfac
 CODEGEN_NAMES = {'two-surface-reflection-count': 'two_surface_reflection_count', 'two-surface-resolution': 'two_surface_resolution', 'two-surface-exit-velocity': 'two_surface_exit_velocity', 'two-surface-resolution-2': 'two_surface_resolution_2'}
 
 
+_SCALAR_TYPES = (float, int, numpy.float64)
+
+#: batches larger than 2 * CHUNK points are evaluated CHUNK points at a time
+#: (benchmarks/results/scalar_dispatch.md)
+CHUNK = 65536
+
+
+def _scalars(*xs):
+    """Every argument a Python or NumPy float or int: the call goes to the plain-Python form."""
+    return all(type(x) in _SCALAR_TYPES for x in xs)
+
+
+def _large(*xs):
+    return max(numpy.size(x) for x in xs) > 2 * CHUNK and numpy.broadcast_shapes(*(numpy.shape(x) for x in xs))
+
+
+def _chunked(f, xs, n_out):
+    """``f(*xs)`` evaluated CHUNK broadcast points at a time (same values: the kernels are pointwise)."""
+    shape = numpy.broadcast_shapes(*(numpy.shape(x) for x in xs))
+    flat = [numpy.broadcast_to(numpy.asarray(x, dtype=float), shape).reshape(-1) for x in xs]
+    size = flat[0].size
+    outs = [numpy.empty(size) for _ in range(n_out)]
+    for start in range(0, size, CHUNK):
+        part = f(*(x[start:start + CHUNK] for x in flat))
+        for o, r in zip(outs, part if n_out > 1 else (part,)):
+            o[start:start + CHUNK] = r
+    outs = [o.reshape(shape) for o in outs]
+    return tuple(outs) if n_out > 1 else outs[0]
+
+
+def _two_surface_reflection_count_python(s_a, s_b, g, c_a, c_b):
+    x0 = (c_a >= 0) and (c_b >= 0)
+    x1 = math.sqrt(-g**2 + s_a*s_b)
+    x2 = 1/math.atan2(x1, -g)
+    return (float(((0) if x0 else (math.ceil(x2*math.atan2(-c_a*x1, -c_a*g + c_b*s_a))) if (c_a < 0) else (-1))), float(((0) if x0 else (math.ceil(x2*math.atan2(-c_b*x1, c_a*s_b - c_b*g))) if (c_b < 0) else (-1))))
+
+
 def two_surface_reflection_count(s_a, s_b, g, c_a, c_b):
     """Reflection counts (count_a, count_b) of the branches that start with surface A, B
     (Seghete & Murphey sec. III-B/C): ceil(psi/beta), psi = atan2(-c_i sqrt(Delta), s_i c_j - g c_i),
     beta = atan2(sqrt(Delta), -g), Delta = s_a s_b - g^2; 0 when c >= 0 (valid), -1 when the branch
     does not exist. Float arithmetic, uncertified: impactsym.laws.two_surface certifies the count.
     """
+    if _scalars(s_a, s_b, g, c_a, c_b):  # plain Python: ~40-300x faster than NumPy on one point
+        try:
+            return _two_surface_reflection_count_python(s_a, s_b, g, c_a, c_b)
+        except (ValueError, ZeroDivisionError, OverflowError):
+            pass  # NaN / inf / overflow: NumPy's semantics below
+    elif _large(s_a, s_b, g, c_a, c_b):  # chunks of CHUNK points: measured up to 1.6x faster on 1e6 (cache)
+        return _chunked(two_surface_reflection_count, (s_a, s_b, g, c_a, c_b,), 2)
     s_a = numpy.asarray(s_a, dtype=float)
     s_b = numpy.asarray(s_b, dtype=float)
     g = numpy.asarray(g, dtype=float)
@@ -40,12 +86,67 @@ def two_surface_reflection_count(s_a, s_b, g, c_a, c_b):
     return (count_a, count_b)
 
 
+def _two_surface_resolution_python(s_a, s_b, g, c_a, c_b):
+    x0 = (c_a >= 0) and (c_b >= 0)
+    x1 = math.sqrt(-g**2 + s_a*s_b)
+    x2 = math.atan2(x1, -g)
+    x3 = 1/x2
+    x4 = c_a*g
+    x5 = math.atan2(-c_a*x1, c_b*s_a - x4)
+    x6 = math.ceil(x3*x5)
+    x7 = (c_a < 0)
+    x8 = (x6 == 1)
+    x9 = 1/s_b
+    x10 = -c_b
+    x11 = 1/s_a
+    x12 = 2*x4
+    x13 = x10 + x11*x12
+    x14 = (x6 == 2)
+    x15 = math.sqrt(c_a**2*s_b + c_b**2*s_a - c_b*x12)/x1
+    x16 = math.sqrt(s_a)*x15
+    x17 = x2*(x6 - 1) - x5
+    x18 = -math.sin(x17)
+    x19 = ((x6 % 2) == 1)
+    x20 = (1/2)*x2
+    x21 = (x5 <= x20*(2*x6 - 1))
+    x22 = x19 and x21
+    x23 = -x2*x6 + x5
+    x24 = math.sin(x2 - (-x23))
+    x25 = math.sin(x2 - (-x17))
+    x26 = -math.sin(x23)
+    x27 = math.sqrt(s_b)*x15
+    x28 = c_b*g
+    x29 = math.atan2(-c_b*x1, c_a*s_b - x28)
+    x30 = math.ceil(x29*x3)
+    x31 = (c_b < 0)
+    x32 = c_a - 2*x28*x9
+    x33 = (x30 == 1)
+    x34 = (x30 == 2)
+    x35 = x2*(x30 - 1) - x29
+    x36 = math.sin(x2 - (-x35))
+    x37 = ((x30 % 2) == 1)
+    x38 = (x29 <= x20*(2*x30 - 1))
+    x39 = x37 and x38
+    x40 = -x2*x30 + x29
+    x41 = -math.sin(x40)
+    x42 = -math.sin(x35)
+    x43 = math.sin(x2 - (-x40))
+    return (float(((0) if x0 else (x6) if x7 else (-1))), float(((c_a) if x0 else (((-c_a) if x8 else (-c_a + 2*g*x13*x9) if x14 else (x16*((x18) if x22 else (x24) if x19 else (x25) if x21 else (x26))))) if x7 else (math.nan))), float(((c_b) if x0 else (((-x13) if x8 else (x13) if x14 else (x27*((x25) if x22 else (x26) if x19 else (x18) if x21 else (x24))))) if x7 else (math.nan))), float(((0) if x0 else (x30) if x31 else (-1))), float(((c_a) if x0 else (((x32) if x33 else (-x32) if x34 else (x16*((x36) if x39 else (x41) if x37 else (x42) if x38 else (x43))))) if x31 else (math.nan))), float(((c_b) if x0 else (((x10) if x33 else (-c_b - 2*g*x11*x32) if x34 else (x27*((x42) if x39 else (x43) if x37 else (x36) if x38 else (x41))))) if x31 else (math.nan))))
+
+
 def two_surface_resolution(s_a, s_b, g, c_a, c_b):
     """Counts and exit relative velocities (H v+) of both branches: (count_a, ca_a, cb_a,
     count_b, ca_b, cb_b). c' = (sqrt(s_a)|p| sin th, sqrt(s_b)|p| sin(beta - th)),
     th = sigma (m beta - psi) + (1 - sigma) beta / 2, sigma = (-1)^m (A-first frame).
     Float: the angle error grows like m * eps; the law gives certified values.
     """
+    if _scalars(s_a, s_b, g, c_a, c_b):  # plain Python: ~40-300x faster than NumPy on one point
+        try:
+            return _two_surface_resolution_python(s_a, s_b, g, c_a, c_b)
+        except (ValueError, ZeroDivisionError, OverflowError):
+            pass  # NaN / inf / overflow: NumPy's semantics below
+    elif _large(s_a, s_b, g, c_a, c_b):  # chunks of CHUNK points: measured up to 1.6x faster on 1e6 (cache)
+        return _chunked(two_surface_resolution, (s_a, s_b, g, c_a, c_b,), 6)
     s_a = numpy.asarray(s_a, dtype=float)
     s_b = numpy.asarray(s_b, dtype=float)
     g = numpy.asarray(g, dtype=float)
@@ -59,25 +160,48 @@ def two_surface_resolution(s_a, s_b, g, c_a, c_b):
     x5 = numpy.arctan2(-c_a*x1, c_b*s_a - x4)
     x6 = numpy.ceil(x3*x5)
     x7 = numpy.less(c_a, 0)
-    x8 = numpy.mod(x6, 2)
-    x9 = x2*x8
-    x10 = x2*x6 + 2*x5*x8 - x5 - 2*x6*x9 + x9
-    x11 = numpy.sqrt(c_a**2*s_b + c_b**2*s_a - 2*c_b*x4)/x1
-    x12 = numpy.sqrt(s_a)*x11
-    x13 = -x2
-    x14 = numpy.sqrt(s_b)*x11
-    x15 = numpy.arctan2(-c_b*x1, c_a*s_b - c_b*g)
-    x16 = numpy.ceil(x15*x3)
-    x17 = numpy.less(c_b, 0)
-    x18 = numpy.mod(x16, 2)
-    x19 = x18*x2
-    x20 = 2*x15*x18 - x15 - 2*x16*x19 + x16*x2 + x19
+    x8 = numpy.equal(x6, 1)
+    x9 = s_b**(-1.0)
+    x10 = -c_b
+    x11 = s_a**(-1.0)
+    x12 = 2*x4
+    x13 = x10 + x11*x12
+    x14 = numpy.equal(x6, 2)
+    x15 = numpy.sqrt(c_a**2*s_b + c_b**2*s_a - c_b*x12)/x1
+    x16 = numpy.sqrt(s_a)*x15
+    x17 = x2*(x6 - 1) - x5
+    x18 = -numpy.sin(x17)
+    x19 = numpy.equal(numpy.mod(x6, 2), 1)
+    x20 = (1/2)*x2
+    x21 = numpy.less_equal(x5, x20*(2*x6 - 1))
+    x22 = numpy.logical_and.reduce((x19,x21))
+    x23 = -x2*x6 + x5
+    x24 = numpy.sin(x2 - (-x23))
+    x25 = numpy.sin(x2 - (-x17))
+    x26 = -numpy.sin(x23)
+    x27 = numpy.sqrt(s_b)*x15
+    x28 = c_b*g
+    x29 = numpy.arctan2(-c_b*x1, c_a*s_b - x28)
+    x30 = numpy.ceil(x29*x3)
+    x31 = numpy.less(c_b, 0)
+    x32 = c_a - 2*x28*x9
+    x33 = numpy.equal(x30, 1)
+    x34 = numpy.equal(x30, 2)
+    x35 = x2*(x30 - 1) - x29
+    x36 = numpy.sin(x2 - (-x35))
+    x37 = numpy.equal(numpy.mod(x30, 2), 1)
+    x38 = numpy.less_equal(x29, x20*(2*x30 - 1))
+    x39 = numpy.logical_and.reduce((x37,x38))
+    x40 = -x2*x30 + x29
+    x41 = -numpy.sin(x40)
+    x42 = -numpy.sin(x35)
+    x43 = numpy.sin(x2 - (-x40))
     count_a = numpy.select([x0,x7,True], [0,x6,-1], default=numpy.nan)
-    ca_a = numpy.select([x0,x7,True], [c_a,x12*numpy.sin(x10),numpy.nan], default=numpy.nan)
-    cb_a = numpy.select([x0,x7,True], [c_b,-x14*numpy.sin(x10 + x13),numpy.nan], default=numpy.nan)
-    count_b = numpy.select([x0,x17,True], [0,x16,-1], default=numpy.nan)
-    ca_b = numpy.select([x0,x17,True], [c_a,-x12*numpy.sin(x13 + x20),numpy.nan], default=numpy.nan)
-    cb_b = numpy.select([x0,x17,True], [c_b,x14*numpy.sin(x20),numpy.nan], default=numpy.nan)
+    ca_a = numpy.select([x0,x7,True], [c_a,numpy.select([x8,x14,True], [-c_a,-c_a + 2*g*x13*x9,x16*numpy.select([x22,x19,x21,True], [x18,x24,x25,x26], default=numpy.nan)], default=numpy.nan),numpy.nan], default=numpy.nan)
+    cb_a = numpy.select([x0,x7,True], [c_b,numpy.select([x8,x14,True], [-x13,x13,x27*numpy.select([x22,x19,x21,True], [x25,x26,x18,x24], default=numpy.nan)], default=numpy.nan),numpy.nan], default=numpy.nan)
+    count_b = numpy.select([x0,x31,True], [0,x30,-1], default=numpy.nan)
+    ca_b = numpy.select([x0,x31,True], [c_a,numpy.select([x33,x34,True], [x32,-x32,x16*numpy.select([x39,x37,x38,True], [x36,x41,x42,x43], default=numpy.nan)], default=numpy.nan),numpy.nan], default=numpy.nan)
+    cb_b = numpy.select([x0,x31,True], [c_b,numpy.select([x33,x34,True], [x10,-c_b - 2*g*x11*x32,x27*numpy.select([x39,x37,x38,True], [x42,x43,x36,x41], default=numpy.nan)], default=numpy.nan),numpy.nan], default=numpy.nan)
     return (count_a, ca_a, cb_a, count_b, ca_b, cb_b)
 
 
@@ -103,11 +227,83 @@ def two_surface_exit_velocity(mass_matrix, gradients, velocity):
     return counts, exits
 
 
+def _two_surface_resolution_2_python(m_00, m_01, m_11, h_00, h_01, h_10, h_11, v_0, v_1):
+    x0 = h_00*v_0 + h_01*v_1
+    x1 = h_10*v_0 + h_11*v_1
+    x2 = (x0 >= 0) and (x1 >= 0)
+    x3 = h_00*h_11 - h_01*h_10
+    x4 = 1/(m_00*m_11 - m_01**2)
+    x5 = math.sqrt(x4)
+    x6 = x5*abs(x3)
+    x7 = h_10*m_11 - h_11*m_01
+    x8 = h_10*m_01 - h_11*m_00
+    x9 = h_00*x7 - h_01*x8
+    x10 = math.atan2(x6, -x4*x9)
+    x11 = 1/x10
+    x12 = h_00*m_01 - h_01*m_00
+    x13 = h_00*m_11 - h_01*m_01
+    x14 = x3*x4
+    x15 = math.atan2(-x0*x6, x14*(v_0*x12 + v_1*x13))
+    x16 = math.ceil(x11*x15)
+    x17 = (x0 < 0)
+    x18 = 1/x3
+    x19 = h_00*x13 - h_01*x12
+    x20 = 2*x9
+    x21 = x20/x19
+    x22 = -x0*x21 + x1
+    x23 = (x16 == 1)
+    x24 = (x16 == 2)
+    x25 = h_10*x7 - h_11*x8
+    x26 = math.sqrt(x4*(v_0*(m_00*v_0 + m_01*v_1) + v_1*(m_01*v_0 + m_11*v_1)))/x5
+    x27 = x26*math.sqrt(x25*x4)
+    x28 = -x15
+    x29 = x10*(x16 - 1) + x28
+    x30 = math.sin(x10 - (-x29))
+    x31 = ((x16 % 2) == 1)
+    x32 = (1/2)*x10
+    x33 = (x15 <= x32*(2*x16 - 1))
+    x34 = x31 and x33
+    x35 = x10*x16 + x28
+    x36 = math.sin(x35)
+    x37 = -math.sin(x29)
+    x38 = math.sin(x10 - x35)
+    x39 = ((x1) if x2 else (((x22) if x23 else (-x22) if x24 else (x27*((x30) if x34 else (x36) if x31 else (x37) if x33 else (x38))))) if x17 else (math.nan))
+    x40 = x20/x25
+    x41 = x26*math.sqrt(x19*x4)
+    x42 = ((x0) if x2 else (((-x0) if x23 else (-x0 - x22*x40) if x24 else (x41*((x37) if x34 else (x38) if x31 else (x30) if x33 else (x36))))) if x17 else (math.nan))
+    x43 = math.atan2(-x1*x6, -x14*(v_0*x8 + v_1*x7))
+    x44 = math.ceil(x11*x43)
+    x45 = (x1 < 0)
+    x46 = x0 - x1*x40
+    x47 = (x44 == 1)
+    x48 = (x44 == 2)
+    x49 = -x43
+    x50 = x10*(x44 - 1) + x49
+    x51 = math.sin(x10 - (-x50))
+    x52 = ((x44 % 2) == 1)
+    x53 = (x43 <= x32*(2*x44 - 1))
+    x54 = x52 and x53
+    x55 = x10*x44 + x49
+    x56 = math.sin(x55)
+    x57 = -math.sin(x50)
+    x58 = math.sin(x10 - x55)
+    x59 = ((x0) if x2 else (((x46) if x47 else (-x46) if x48 else (x41*((x51) if x54 else (x56) if x52 else (x57) if x53 else (x58))))) if x45 else (math.nan))
+    x60 = ((x1) if x2 else (((-x1) if x47 else (-x1 - x21*x46) if x48 else (x27*((x57) if x54 else (x58) if x52 else (x51) if x53 else (x56))))) if x45 else (math.nan))
+    return (float(((0) if x2 else (x16) if x17 else (-1))), float(x18*(-h_01*x39 + h_11*x42)), float(x18*(h_00*x39 - h_10*x42)), float(((0) if x2 else (x44) if x45 else (-1))), float(x18*(-h_01*x60 + h_11*x59)), float(x18*(h_00*x60 - h_10*x59)))
+
+
 def two_surface_resolution_2(m_00, m_01, m_11, h_00, h_01, h_10, h_11, v_0, v_1):
     """n = 2 closed form: M by its upper triangle, H = [[h_00, h_01], [h_10, h_11]], v = (v_0, v_1).
     Returns (count_a, v0_a, v1_a, count_b, v0_b, v1_b): counts and exit velocities of the branches
     starting with row 0 (a) and row 1 (b). Float, uncertified (see impactsym.laws.two_surface).
     """
+    if _scalars(m_00, m_01, m_11, h_00, h_01, h_10, h_11, v_0, v_1):  # plain Python: ~40-300x faster than NumPy on one point
+        try:
+            return _two_surface_resolution_2_python(m_00, m_01, m_11, h_00, h_01, h_10, h_11, v_0, v_1)
+        except (ValueError, ZeroDivisionError, OverflowError):
+            pass  # NaN / inf / overflow: NumPy's semantics below
+    elif _large(m_00, m_01, m_11, h_00, h_01, h_10, h_11, v_0, v_1):  # chunks of CHUNK points: measured up to 1.6x faster on 1e6 (cache)
+        return _chunked(two_surface_resolution_2, (m_00, m_01, m_11, h_00, h_01, h_10, h_11, v_0, v_1,), 6)
     m_00 = numpy.asarray(m_00, dtype=float)
     m_01 = numpy.asarray(m_01, dtype=float)
     m_11 = numpy.asarray(m_11, dtype=float)
@@ -126,39 +322,62 @@ def two_surface_resolution_2(m_00, m_01, m_11, h_00, h_01, h_10, h_11, v_0, v_1)
     x6 = x5*abs(x3)
     x7 = h_10*m_11 - h_11*m_01
     x8 = h_10*m_01 - h_11*m_00
-    x9 = numpy.arctan2(x6, -x4*(h_00*x7 - h_01*x8))
-    x10 = x9**(-1.0)
-    x11 = h_00*m_01 - h_01*m_00
-    x12 = h_00*m_11 - h_01*m_01
-    x13 = x3*x4
-    x14 = numpy.arctan2(-x0*x6, x13*(v_0*x11 + v_1*x12))
-    x15 = numpy.ceil(x10*x14)
-    x16 = numpy.less(x0, 0)
-    x17 = x3**(-1.0)
-    x18 = x15*x9
-    x19 = numpy.mod(x15, 2)
-    x20 = x19*x9
-    x21 = 2*x14*x19
-    x22 = 2*x15*x20
-    x23 = numpy.sqrt(x4*(v_0*(m_00*v_0 + m_01*v_1) + v_1*(m_01*v_0 + m_11*v_1)))/x5
-    x24 = x23*numpy.sqrt(x4*(h_00*x12 - h_01*x11))
-    x25 = numpy.select([x2,x16,True], [x0,x24*numpy.sin(-x14 + x18 + x20 + x21 - x22),numpy.nan], default=numpy.nan)
-    x26 = x23*numpy.sqrt(x4*(h_10*x7 - h_11*x8))
-    x27 = numpy.select([x2,x16,True], [x1,x26*numpy.sin(x14 - x18 - x20 - x21 + x22 + x9),numpy.nan], default=numpy.nan)
-    x28 = numpy.arctan2(-x1*x6, -x13*(v_0*x8 + v_1*x7))
-    x29 = numpy.ceil(x10*x28)
-    x30 = numpy.less(x1, 0)
-    x31 = x29*x9
-    x32 = numpy.mod(x29, 2)
-    x33 = x32*x9
-    x34 = 2*x28*x32
-    x35 = 2*x29*x33
-    x36 = numpy.select([x2,x30,True], [x1,x26*numpy.sin(-x28 + x31 + x33 + x34 - x35),numpy.nan], default=numpy.nan)
-    x37 = numpy.select([x2,x30,True], [x0,x24*numpy.sin(x28 - x31 - x33 - x34 + x35 + x9),numpy.nan], default=numpy.nan)
-    count_a = numpy.select([x2,x16,True], [0,x15,-1], default=numpy.nan)
-    v0_a = -x17*(h_01*x27 - h_11*x25)
-    v1_a = x17*(h_00*x27 - h_10*x25)
-    count_b = numpy.select([x2,x30,True], [0,x29,-1], default=numpy.nan)
-    v0_b = -x17*(h_01*x36 - h_11*x37)
-    v1_b = x17*(h_00*x36 - h_10*x37)
+    x9 = h_00*x7 - h_01*x8
+    x10 = numpy.arctan2(x6, -x4*x9)
+    x11 = x10**(-1.0)
+    x12 = h_00*m_01 - h_01*m_00
+    x13 = h_00*m_11 - h_01*m_01
+    x14 = x3*x4
+    x15 = numpy.arctan2(-x0*x6, x14*(v_0*x12 + v_1*x13))
+    x16 = numpy.ceil(x11*x15)
+    x17 = numpy.less(x0, 0)
+    x18 = x3**(-1.0)
+    x19 = h_00*x13 - h_01*x12
+    x20 = 2*x9
+    x21 = x20/x19
+    x22 = -x0*x21 + x1
+    x23 = numpy.equal(x16, 1)
+    x24 = numpy.equal(x16, 2)
+    x25 = h_10*x7 - h_11*x8
+    x26 = numpy.sqrt(x4*(v_0*(m_00*v_0 + m_01*v_1) + v_1*(m_01*v_0 + m_11*v_1)))/x5
+    x27 = x26*numpy.sqrt(x25*x4)
+    x28 = -x15
+    x29 = x10*(x16 - 1) + x28
+    x30 = numpy.sin(x10 - (-x29))
+    x31 = numpy.equal(numpy.mod(x16, 2), 1)
+    x32 = (1/2)*x10
+    x33 = numpy.less_equal(x15, x32*(2*x16 - 1))
+    x34 = numpy.logical_and.reduce((x31,x33))
+    x35 = x10*x16 + x28
+    x36 = numpy.sin(x35)
+    x37 = -numpy.sin(x29)
+    x38 = numpy.sin(x10 - x35)
+    x39 = numpy.select([x2,x17,True], [x1,numpy.select([x23,x24,True], [x22,-x22,x27*numpy.select([x34,x31,x33,True], [x30,x36,x37,x38], default=numpy.nan)], default=numpy.nan),numpy.nan], default=numpy.nan)
+    x40 = x20/x25
+    x41 = x26*numpy.sqrt(x19*x4)
+    x42 = numpy.select([x2,x17,True], [x0,numpy.select([x23,x24,True], [-x0,-x0 - x22*x40,x41*numpy.select([x34,x31,x33,True], [x37,x38,x30,x36], default=numpy.nan)], default=numpy.nan),numpy.nan], default=numpy.nan)
+    x43 = numpy.arctan2(-x1*x6, -x14*(v_0*x8 + v_1*x7))
+    x44 = numpy.ceil(x11*x43)
+    x45 = numpy.less(x1, 0)
+    x46 = x0 - x1*x40
+    x47 = numpy.equal(x44, 1)
+    x48 = numpy.equal(x44, 2)
+    x49 = -x43
+    x50 = x10*(x44 - 1) + x49
+    x51 = numpy.sin(x10 - (-x50))
+    x52 = numpy.equal(numpy.mod(x44, 2), 1)
+    x53 = numpy.less_equal(x43, x32*(2*x44 - 1))
+    x54 = numpy.logical_and.reduce((x52,x53))
+    x55 = x10*x44 + x49
+    x56 = numpy.sin(x55)
+    x57 = -numpy.sin(x50)
+    x58 = numpy.sin(x10 - x55)
+    x59 = numpy.select([x2,x45,True], [x0,numpy.select([x47,x48,True], [x46,-x46,x41*numpy.select([x54,x52,x53,True], [x51,x56,x57,x58], default=numpy.nan)], default=numpy.nan),numpy.nan], default=numpy.nan)
+    x60 = numpy.select([x2,x45,True], [x1,numpy.select([x47,x48,True], [-x1,-x1 - x21*x46,x27*numpy.select([x54,x52,x53,True], [x57,x58,x51,x56], default=numpy.nan)], default=numpy.nan),numpy.nan], default=numpy.nan)
+    count_a = numpy.select([x2,x17,True], [0,x16,-1], default=numpy.nan)
+    v0_a = x18*(-h_01*x39 + h_11*x42)
+    v1_a = x18*(h_00*x39 - h_10*x42)
+    count_b = numpy.select([x2,x45,True], [0,x44,-1], default=numpy.nan)
+    v0_b = x18*(-h_01*x60 + h_11*x59)
+    v1_b = x18*(h_00*x60 - h_10*x59)
     return (count_a, v0_a, v1_a, count_b, v0_b, v1_b)

@@ -26,22 +26,34 @@
 /* in the velocities, so rescale them first when they are that extreme. */
 void chain3_impulse_ratio(double m1, double m2, double m3, double v1, double v2, double v3, double e, double alpha, double *p1, double *p2, double *w1, double *w2, double *w3)
 {
-    const double x0 = m1*m3;
-    const double x1 = pow(alpha, 2);
-    const double x2 = -2*alpha*x0 + m1*m2*x1 + m2*m3 + x0*x1 + x0;
-    const double x3 = alpha*v2 - alpha*v3 + v1 - v2;
-    const double x4 = 1.0/m1;
-    const double x5 = 1.0/m2;
-    const double x6 = 1.0/m3;
-    const double x7 = (e - 1)*(m1*pow(v1, 2) + m2*pow(v2, 2) + m3*pow(v3, 2));
-    const double x8 = sqrt(x2*x4*x5*x6*x7 + pow(x3, 2)) + fabs(x3);
-    const double x9 = ((x3 >= 0) ? ( m2*x0*x8/x2 ) : ( x7/x8 ));
-    const double x10 = alpha*x9;
-    *p1 = x9;
-    *p2 = x10;
-    *w1 = v1 - x4*x9;
-    *w2 = v2 - x5*x9*(alpha - 1);
-    *w3 = v3 + x10*x6;
+    const double x0 = alpha*(v2 - v3) + v1 - v2;
+    const double x1 = fabs(x0);
+    const double x2 = e - 1;
+    const double x3 = 1.0/m1;
+    const double x4 = 1.0/m3;
+    const double x5 = m3*v3;
+    const double x6 = m1*v1;
+    const double x7 = x3*x4*pow(alpha*x6 + x5, 2);
+    const double x8 = alpha - 1;
+    const double x9 = 1.0/m2;
+    const double x10 = x3*x9;
+    const double x11 = m2*v2;
+    const double x12 = alpha*x11;
+    const double x13 = x4*x9;
+    const double x14 = sqrt(e*pow(x0, 2) + x2*(x10*pow(m2*v2 - x6*x8, 2) + x13*pow(x12 + x5*x8, 2) + x7));
+    const double x15 = x1 + x14;
+    const double x16 = m1*m3;
+    const double x17 = pow(x8, 2);
+    const double x18 = m2/(m2*(pow(alpha, 2)*m1 + m3) + x16*x17);
+    const int x19 = x0 >= 0;
+    const double x20 = x2*(m1*pow(v1, 2) + m2*pow(v2, 2) + m3*pow(v3, 2));
+    const double x21 = ((x19) ? ( x15*x16*x18 ) : ( x20/x15 ));
+    const double x22 = -x8;
+    *p1 = x21;
+    *p2 = alpha*x21;
+    *w1 = v1 - x21*x3;
+    *w2 = v2 - x21*x8*x9;
+    *w3 = ((x19) ? ( m1*x18*(alpha*x14 + alpha*(v1 + v2*x8) + x5*(x17*x9 + x3)) ) : ( alpha*x20*x4/(x1 + sqrt(e*pow(x0, 2) + x2*(x10*pow(x11 + x22*x6, 2) + x13*pow(x12 - x22*x5, 2) + x7))) + v3 ));
 }
 
 void chain3_impulse_ratio_batch(size_t n, const double *m1, const double *m2, const double *m3, const double *v1, const double *v2, const double *v3, const double *e, const double *alpha, double *p1, double *p2, double *w1, double *w2, double *w3)

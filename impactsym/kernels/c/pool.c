@@ -23,19 +23,25 @@
 void pool_impulse_ratio(double theta, double tau, double e, double alpha, double *p1, double *p2, double *w1x, double *w1y, double *w2x, double *w2y, double *w3x, double *w3y)
 {
     const double x0 = cos(theta);
-    const double x1 = pow(alpha, 2) - alpha*x0 + 1;
-    const double x2 = cos(tau);
-    const double x3 = ((x2 > 0) ? ( (1.0/2.0)*(x2 + sqrt(2*x1*(e - 1) + pow(x2, 2)))/x1 ) : ( 0 ));
-    const double x4 = alpha*x3;
-    const double x5 = tau - theta;
-    const double x6 = x3*sin(theta);
-    *p1 = x3;
-    *p2 = x4;
-    *w1x = -x0*x3 + cos(x5);
-    *w1y = -x6 - sin(x5);
-    *w2x = -x3*(alpha - x0);
-    *w2y = x6;
-    *w3x = x4;
+    const double x1 = alpha - x0;
+    const double x2 = alpha*x1;
+    const double x3 = cos(tau);
+    const double x4 = pow(x3, 2);
+    const double x5 = sin(tau);
+    const double x6 = sin(theta);
+    const double x7 = sqrt(e*x4 + (e - 1)*(pow(alpha, 2) + pow(x1, 2) + pow(x5, 2) + pow(x6, 2)));
+    const int x8 = x3 > 0;
+    const double x9 = ((x8) ? ( (1.0/2.0)*(x3 + x7)/(x2 + 1) ) : ( 0 ));
+    const double x10 = alpha*x9;
+    const double x11 = 2*x2;
+    const double x12 = ((x8) ? ( (-e + x11*x4 + 1)/(x3*(x11 + 1) + x7) ) : ( x3 ));
+    *p1 = x9;
+    *p2 = x10;
+    *w1x = x0*x12 + x5*x6;
+    *w1y = -x0*x5 + x12*x6;
+    *w2x = -x1*x9;
+    *w2y = x6*x9;
+    *w3x = x10;
     *w3y = 0;
 }
 

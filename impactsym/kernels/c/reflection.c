@@ -102,17 +102,16 @@ int reflect(size_t n, const double *mass_matrix, const double *gradient, const d
 /* Uses adj(M): det(M) cancels from M^-1 u^T / (u M^-1 u^T). */
 void reflection_map_2(double m_00, double m_01, double m_11, double u_0, double u_1, double e, double *g00, double *g01, double *g10, double *g11)
 {
-    const double x0 = m_01*u_1 - m_11*u_0;
-    const double x1 = u_0*x0;
-    const double x2 = m_00*u_1 - m_01*u_0;
-    const double x3 = -u_1*x2 + x1;
-    const double x4 = e + 1;
-    const double x5 = -x4/x3;
-    const double x6 = x4/x3;
-    *g00 = x1*x5 + 1;
-    *g01 = -u_1*x0*x6;
-    *g10 = u_0*x2*x6;
-    *g11 = -u_1*x2*x5 + 1;
+    const double x0 = m_00*u_1 - m_01*u_0;
+    const double x1 = u_1*x0;
+    const double x2 = m_01*u_1 - m_11*u_0;
+    const double x3 = u_0*x2;
+    const double x4 = 1.0/(-x1 + x3);
+    const double x5 = x4*(e + 1);
+    *g00 = -x4*(e*x3 + x1);
+    *g01 = -u_1*x2*x5;
+    *g10 = u_0*x0*x5;
+    *g11 = x4*(e*x1 + x3);
 }
 
 void reflection_map_2_batch(size_t n, const double *m_00, const double *m_01, const double *m_11, const double *u_0, const double *u_1, const double *e, double *g00, double *g01, double *g10, double *g11)
@@ -126,14 +125,14 @@ void reflection_map_2_batch(size_t n, const double *m_00, const double *m_01, co
 void reflect_2(double m_00, double m_01, double m_11, double u_0, double u_1, double v_0, double v_1, double e, double *w0, double *w1)
 {
     const double x0 = m_01*u_1 - m_11*u_0;
-    const double x1 = e + 1;
-    const double x2 = m_00*u_1 - m_01*u_0;
-    const double x3 = x1/(-u_0*x0 + u_1*x2);
-    const double x4 = -u_0*x0;
-    const double x5 = u_1*x2;
-    const double x6 = x1/(x4 + x5);
-    *w0 = u_1*v_1*x0*x3 - v_0*(x4*x6 - 1);
-    *w1 = -u_0*v_0*x2*x3 - v_1*(x5*x6 - 1);
+    const double x1 = m_00*u_1 - m_01*u_0;
+    const double x2 = u_1*x1;
+    const double x3 = -x2;
+    const double x4 = 1.0/(u_0*x0 + x3);
+    const double x5 = e + 1;
+    const double x6 = -u_0*x0;
+    *w0 = x4*(-u_1*v_1*x0*x5 + v_0*(e*x6 + x3));
+    *w1 = x4*(u_0*v_0*x1*x5 + v_1*(e*x2 - x6));
 }
 
 void reflect_2_batch(size_t n, const double *m_00, const double *m_01, const double *m_11, const double *u_0, const double *u_1, const double *v_0, const double *v_1, const double *e, double *w0, double *w1)
@@ -147,31 +146,30 @@ void reflect_2_batch(size_t n, const double *m_00, const double *m_01, const dou
 /* Uses adj(M): det(M) cancels from M^-1 u^T / (u M^-1 u^T). */
 void reflection_map_3(double m_00, double m_01, double m_02, double m_11, double m_12, double m_22, double u_0, double u_1, double u_2, double e, double *g00, double *g01, double *g02, double *g10, double *g11, double *g12, double *g20, double *g21, double *g22)
 {
-    const double x0 = m_01*m_12 - m_02*m_11;
-    const double x1 = m_01*m_22 - m_02*m_12;
-    const double x2 = u_0*(m_11*m_22 - pow(m_12, 2)) - u_1*x1 + u_2*x0;
-    const double x3 = u_0*x2;
-    const double x4 = m_00*m_12 - m_01*m_02;
-    const double x5 = u_0*x1 - u_1*(m_00*m_22 - pow(m_02, 2)) + u_2*x4;
-    const double x6 = -u_1*x5;
-    const double x7 = u_0*x0 - u_1*x4 + u_2*(m_00*m_11 - pow(m_01, 2));
+    const double x0 = m_01*m_22 - m_02*m_12;
+    const double x1 = m_00*m_12 - m_01*m_02;
+    const double x2 = u_0*x0 - u_1*(m_00*m_22 - pow(m_02, 2)) + u_2*x1;
+    const double x3 = u_1*x2;
+    const double x4 = m_01*m_12 - m_02*m_11;
+    const double x5 = u_0*(m_11*m_22 - pow(m_12, 2)) - u_1*x0 + u_2*x4;
+    const double x6 = u_0*x5;
+    const double x7 = u_0*x4 - u_1*x1 + u_2*(m_00*m_11 - pow(m_01, 2));
     const double x8 = u_2*x7;
-    const double x9 = x3 + x8;
-    const double x10 = e + 1;
-    const double x11 = x10/(x6 + x9);
-    const double x12 = x10/(-u_1*x5 + x9);
-    const double x13 = x12*x2;
-    const double x14 = x12*x5;
-    const double x15 = x12*x7;
-    *g00 = -x11*x3 + 1;
-    *g01 = -u_1*x13;
-    *g02 = -u_2*x13;
-    *g10 = u_0*x14;
-    *g11 = -x11*x6 + 1;
-    *g12 = u_2*x14;
-    *g20 = -u_0*x15;
-    *g21 = -u_1*x15;
-    *g22 = -x11*x8 + 1;
+    const double x9 = x6 + x8;
+    const double x10 = 1.0/(-x3 + x9);
+    const double x11 = x10*(e + 1);
+    const double x12 = x11*x5;
+    const double x13 = x11*x2;
+    const double x14 = x11*x7;
+    *g00 = x10*(-e*x6 + u_2*x7 - x3);
+    *g01 = -u_1*x12;
+    *g02 = -u_2*x12;
+    *g10 = u_0*x13;
+    *g11 = x10*(e*x3 + x9);
+    *g12 = u_2*x13;
+    *g20 = -u_0*x14;
+    *g21 = -u_1*x14;
+    *g22 = x10*(-e*x8 + u_0*x5 - x3);
 }
 
 void reflection_map_3_batch(size_t n, const double *m_00, const double *m_01, const double *m_02, const double *m_11, const double *m_12, const double *m_22, const double *u_0, const double *u_1, const double *u_2, const double *e, double *g00, double *g01, double *g02, double *g10, double *g11, double *g12, double *g20, double *g21, double *g22)
@@ -185,31 +183,23 @@ void reflection_map_3_batch(size_t n, const double *m_00, const double *m_01, co
 void reflect_3(double m_00, double m_01, double m_02, double m_11, double m_12, double m_22, double u_0, double u_1, double u_2, double v_0, double v_1, double v_2, double e, double *w0, double *w1, double *w2)
 {
     const double x0 = m_01*m_22 - m_02*m_12;
-    const double x1 = -x0;
-    const double x2 = m_01*m_12 - m_02*m_11;
-    const double x3 = u_0*(m_11*m_22 - pow(m_12, 2)) + u_2*x2;
-    const double x4 = u_0*(u_1*x1 + x3);
-    const double x5 = m_00*m_12 - m_01*m_02;
-    const double x6 = -x5;
-    const double x7 = m_00*m_22 - pow(m_02, 2);
-    const double x8 = u_1*(u_0*x1 + u_1*x7 + u_2*x6);
-    const double x9 = u_0*x2 + u_2*(m_00*m_11 - pow(m_01, 2));
-    const double x10 = u_2*(u_1*x6 + x9);
+    const double x1 = m_00*m_12 - m_01*m_02;
+    const double x2 = u_0*x0 - u_1*(m_00*m_22 - pow(m_02, 2)) + u_2*x1;
+    const double x3 = u_1*x2;
+    const double x4 = m_01*m_12 - m_02*m_11;
+    const double x5 = u_0*(m_11*m_22 - pow(m_12, 2)) - u_1*x0 + u_2*x4;
+    const double x6 = u_0*x5;
+    const double x7 = u_0*x4 - u_1*x1 + u_2*(m_00*m_11 - pow(m_01, 2));
+    const double x8 = u_2*x7;
+    const double x9 = x6 + x8;
+    const double x10 = 1.0/(-x3 + x9);
     const double x11 = e + 1;
-    const double x12 = x11/(x10 + x4 + x8);
-    const double x13 = -u_1*x0 + x3;
-    const double x14 = -u_1*x5 + x9;
-    const double x15 = -u_0*x0 + u_1*x7 - u_2*x5;
-    const double x16 = x11/(u_0*x13 + u_1*x15 + u_2*x14);
-    const double x17 = x13*x16;
-    const double x18 = u_1*v_1;
-    const double x19 = u_2*v_2;
-    const double x20 = x15*x16;
-    const double x21 = u_0*v_0;
-    const double x22 = x14*x16;
-    *w0 = -v_0*(x12*x4 - 1) - x17*x18 - x17*x19;
-    *w1 = -v_1*(x12*x8 - 1) - x19*x20 - x20*x21;
-    *w2 = -v_2*(x10*x12 - 1) - x18*x22 - x21*x22;
+    const double x12 = u_1*v_1;
+    const double x13 = u_2*v_2;
+    const double x14 = u_0*v_0;
+    *w0 = x10*(v_0*(-e*x6 + u_2*x7 - x3) - x11*x5*(x12 + x13));
+    *w1 = x10*(v_1*(e*x3 + x9) + x11*x2*(x13 + x14));
+    *w2 = x10*(v_2*(-e*x8 + u_0*x5 - x3) - x11*x7*(x12 + x14));
 }
 
 void reflect_3_batch(size_t n, const double *m_00, const double *m_01, const double *m_02, const double *m_11, const double *m_12, const double *m_22, const double *u_0, const double *u_1, const double *u_2, const double *v_0, const double *v_1, const double *v_2, const double *e, double *w0, double *w1, double *w2)

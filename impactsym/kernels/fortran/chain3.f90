@@ -26,23 +26,39 @@ pure subroutine chain3_impulse_ratio(m1, m2, m3, v1, v2, v3, e, alpha, p1, p2, w
     name="f_chain3_impulse_ratio")
     real(c_double), value, intent(in) :: m1, m2, m3, v1, v2, v3, e, alpha
     real(c_double), intent(out) :: p1, p2, w1, w2, w3
-    real(c_double) :: x0, x1, x2, x3, x4, x5, x6, x7, x8, x9, x10
-    x0 = m1*m3
-    x1 = alpha**2
-    x2 = -2*alpha*x0 + m1*m2*x1 + m2*m3 + x0*x1 + x0
-    x3 = alpha*v2 - alpha*v3 + v1 - v2
-    x4 = 1d0/m1
-    x5 = 1d0/m2
-    x6 = 1d0/m3
-    x7 = (e - 1)*(m1*v1**2 + m2*v2**2 + m3*v3**2)
-    x8 = sqrt(x2*x4*x5*x6*x7 + x3**2) + abs(x3)
-    x9 = merge(real(m2*x0*x8/x2, c_double), real(x7/x8, c_double), x3 >= 0)
-    x10 = alpha*x9
-    p1 = x9
-    p2 = x10
-    w1 = v1 - x4*x9
-    w2 = v2 - x5*x9*(alpha - 1)
-    w3 = v3 + x10*x6
+    real(c_double) :: x0, x1, x2, x3, x4, x5, x6, x7, x8, x9, x10, x11, x12, x13, x14, x15, x16, &
+        x17, x18, x20, x21, x22
+    logical :: x19
+    x0 = alpha*(v2 - v3) + v1 - v2
+    x1 = abs(x0)
+    x2 = e - 1
+    x3 = 1d0/m1
+    x4 = 1d0/m3
+    x5 = m3*v3
+    x6 = m1*v1
+    x7 = x3*x4*(alpha*x6 + x5)**2
+    x8 = alpha - 1
+    x9 = 1d0/m2
+    x10 = x3*x9
+    x11 = m2*v2
+    x12 = alpha*x11
+    x13 = x4*x9
+    x14 = sqrt(e*x0**2 + x2*(x10*(m2*v2 - x6*x8)**2 + x13*(x12 + x5*x8)**2 + x7))
+    x15 = x1 + x14
+    x16 = m1*m3
+    x17 = x8**2
+    x18 = m2/(m2*(alpha**2*m1 + m3) + x16*x17)
+    x19 = x0 >= 0
+    x20 = x2*(m1*v1**2 + m2*v2**2 + m3*v3**2)
+    x21 = merge(real(x15*x16*x18, c_double), real(x20/x15, c_double), x19)
+    x22 = -x8
+    p1 = x21
+    p2 = alpha*x21
+    w1 = v1 - x21*x3
+    w2 = v2 - x21*x8*x9
+    w3 = merge(real(m1*x18*(alpha*x14 + alpha*(v1 + v2*x8) + x5*(x17*x9 + x3)), c_double), &
+        real(alpha*x20*x4/(x1 + sqrt(e*x0**2 + x2*(x10*(x11 + x22*x6)**2 + x13*(x12 - x22*x5)**2 + &
+        x7))) + v3, c_double), x19)
 end subroutine chain3_impulse_ratio
 
 ! Upper end of the chain's admissible impulse ratios at energetic coefficient e

@@ -22,22 +22,28 @@ pure subroutine pool_impulse_ratio(theta, tau, e, alpha, p1, p2, w1x, w1y, w2x, 
     bind(C, name="f_pool_impulse_ratio")
     real(c_double), value, intent(in) :: theta, tau, e, alpha
     real(c_double), intent(out) :: p1, p2, w1x, w1y, w2x, w2y, w3x, w3y
-    real(c_double) :: x0, x1, x2, x3, x4, x5, x6
+    real(c_double) :: x0, x1, x2, x3, x4, x5, x6, x7, x9, x10, x11, x12
+    logical :: x8
     x0 = cos(theta)
-    x1 = alpha**2 - alpha*x0 + 1
-    x2 = cos(tau)
-    x3 = merge(real((1.0d0/2.0d0)*(x2 + sqrt(2*x1*(e - 1) + x2**2))/x1, c_double) , real(0, &
-        c_double), x2 > 0)
-    x4 = alpha*x3
-    x5 = tau - theta
-    x6 = x3*sin(theta)
-    p1 = x3
-    p2 = x4
-    w1x = -x0*x3 + cos(x5)
-    w1y = -x6 - sin(x5)
-    w2x = -x3*(alpha - x0)
-    w2y = x6
-    w3x = x4
+    x1 = alpha - x0
+    x2 = alpha*x1
+    x3 = cos(tau)
+    x4 = x3**2
+    x5 = sin(tau)
+    x6 = sin(theta)
+    x7 = sqrt(e*x4 + (e - 1)*(alpha**2 + x1**2 + x5**2 + x6**2))
+    x8 = x3 > 0
+    x9 = merge(real((1.0d0/2.0d0)*(x3 + x7)/(x2 + 1), c_double), real(0, c_double ), x8)
+    x10 = alpha*x9
+    x11 = 2*x2
+    x12 = merge(real((-e + x11*x4 + 1)/(x3*(x11 + 1) + x7), c_double), real(x3, c_double), x8)
+    p1 = x9
+    p2 = x10
+    w1x = x0*x12 + x5*x6
+    w1y = -x0*x5 + x12*x6
+    w2x = -x1*x9
+    w2y = x6*x9
+    w3x = x10
     w3y = 0
 end subroutine pool_impulse_ratio
 

@@ -17,18 +17,17 @@ pure subroutine reflection_map_2(m_00, m_01, m_11, u_0, u_1, e, g00, g01, g10, g
     name="f_reflection_map_2")
     real(c_double), value, intent(in) :: m_00, m_01, m_11, u_0, u_1, e
     real(c_double), intent(out) :: g00, g01, g10, g11
-    real(c_double) :: x0, x1, x2, x3, x4, x5, x6
-    x0 = m_01*u_1 - m_11*u_0
-    x1 = u_0*x0
-    x2 = m_00*u_1 - m_01*u_0
-    x3 = -u_1*x2 + x1
-    x4 = e + 1
-    x5 = -x4/x3
-    x6 = x4/x3
-    g00 = x1*x5 + 1
-    g01 = -u_1*x0*x6
-    g10 = u_0*x2*x6
-    g11 = -u_1*x2*x5 + 1
+    real(c_double) :: x0, x1, x2, x3, x4, x5
+    x0 = m_00*u_1 - m_01*u_0
+    x1 = u_1*x0
+    x2 = m_01*u_1 - m_11*u_0
+    x3 = u_0*x2
+    x4 = 1d0/(-x1 + x3)
+    x5 = x4*(e + 1)
+    g00 = -x4*(e*x3 + x1)
+    g01 = -u_1*x2*x5
+    g10 = u_0*x0*x5
+    g11 = x4*(e*x1 + x3)
 end subroutine reflection_map_2
 
 ! Closed-form G_u(e) v for n = 2, M given by its upper triangle.
@@ -38,14 +37,14 @@ pure subroutine reflect_2(m_00, m_01, m_11, u_0, u_1, v_0, v_1, e, w0, w1) bind(
     real(c_double), intent(out) :: w0, w1
     real(c_double) :: x0, x1, x2, x3, x4, x5, x6
     x0 = m_01*u_1 - m_11*u_0
-    x1 = e + 1
-    x2 = m_00*u_1 - m_01*u_0
-    x3 = x1/(-u_0*x0 + u_1*x2)
-    x4 = -u_0*x0
-    x5 = u_1*x2
-    x6 = x1/(x4 + x5)
-    w0 = u_1*v_1*x0*x3 - v_0*(x4*x6 - 1)
-    w1 = -u_0*v_0*x2*x3 - v_1*(x5*x6 - 1)
+    x1 = m_00*u_1 - m_01*u_0
+    x2 = u_1*x1
+    x3 = -x2
+    x4 = 1d0/(u_0*x0 + x3)
+    x5 = e + 1
+    x6 = -u_0*x0
+    w0 = x4*(-u_1*v_1*x0*x5 + v_0*(e*x6 + x3))
+    w1 = x4*(u_0*v_0*x1*x5 + v_1*(e*x2 - x6))
 end subroutine reflect_2
 
 ! Closed-form G_u(e) for n = 3 (entries row-major), M given by its upper triangle.
@@ -54,32 +53,31 @@ pure subroutine reflection_map_3(m_00, m_01, m_02, m_11, m_12, m_22, u_0, u_1, u
     g02, g10, g11, g12, g20, g21, g22) bind(C, name="f_reflection_map_3")
     real(c_double), value, intent(in) :: m_00, m_01, m_02, m_11, m_12, m_22, u_0, u_1, u_2, e
     real(c_double), intent(out) :: g00, g01, g02, g10, g11, g12, g20, g21, g22
-    real(c_double) :: x0, x1, x2, x3, x4, x5, x6, x7, x8, x9, x10, x11, x12, x13, x14, x15
-    x0 = m_01*m_12 - m_02*m_11
-    x1 = m_01*m_22 - m_02*m_12
-    x2 = u_0*(m_11*m_22 - m_12**2) - u_1*x1 + u_2*x0
-    x3 = u_0*x2
-    x4 = m_00*m_12 - m_01*m_02
-    x5 = u_0*x1 - u_1*(m_00*m_22 - m_02**2) + u_2*x4
-    x6 = -u_1*x5
-    x7 = u_0*x0 - u_1*x4 + u_2*(m_00*m_11 - m_01**2)
+    real(c_double) :: x0, x1, x2, x3, x4, x5, x6, x7, x8, x9, x10, x11, x12, x13, x14
+    x0 = m_01*m_22 - m_02*m_12
+    x1 = m_00*m_12 - m_01*m_02
+    x2 = u_0*x0 - u_1*(m_00*m_22 - m_02**2) + u_2*x1
+    x3 = u_1*x2
+    x4 = m_01*m_12 - m_02*m_11
+    x5 = u_0*(m_11*m_22 - m_12**2) - u_1*x0 + u_2*x4
+    x6 = u_0*x5
+    x7 = u_0*x4 - u_1*x1 + u_2*(m_00*m_11 - m_01**2)
     x8 = u_2*x7
-    x9 = x3 + x8
-    x10 = e + 1
-    x11 = x10/(x6 + x9)
-    x12 = x10/(-u_1*x5 + x9)
-    x13 = x12*x2
-    x14 = x12*x5
-    x15 = x12*x7
-    g00 = -x11*x3 + 1
-    g01 = -u_1*x13
-    g02 = -u_2*x13
-    g10 = u_0*x14
-    g11 = -x11*x6 + 1
-    g12 = u_2*x14
-    g20 = -u_0*x15
-    g21 = -u_1*x15
-    g22 = -x11*x8 + 1
+    x9 = x6 + x8
+    x10 = 1d0/(-x3 + x9)
+    x11 = x10*(e + 1)
+    x12 = x11*x5
+    x13 = x11*x2
+    x14 = x11*x7
+    g00 = x10*(-e*x6 + u_2*x7 - x3)
+    g01 = -u_1*x12
+    g02 = -u_2*x12
+    g10 = u_0*x13
+    g11 = x10*(e*x3 + x9)
+    g12 = u_2*x13
+    g20 = -u_0*x14
+    g21 = -u_1*x14
+    g22 = x10*(-e*x8 + u_0*x5 - x3)
 end subroutine reflection_map_3
 
 ! Closed-form G_u(e) v for n = 3, M given by its upper triangle.
@@ -88,33 +86,24 @@ pure subroutine reflect_3(m_00, m_01, m_02, m_11, m_12, m_22, u_0, u_1, u_2, v_0
     real(c_double), value, intent(in) :: m_00, m_01, m_02, m_11, m_12, m_22, u_0, u_1, u_2, v_0, &
         v_1, v_2, e
     real(c_double), intent(out) :: w0, w1, w2
-    real(c_double) :: x0, x1, x2, x3, x4, x5, x6, x7, x8, x9, x10, x11, x12, x13, x14, x15, x16, &
-        x17, x18, x19, x20, x21, x22
+    real(c_double) :: x0, x1, x2, x3, x4, x5, x6, x7, x8, x9, x10, x11, x12, x13, x14
     x0 = m_01*m_22 - m_02*m_12
-    x1 = -x0
-    x2 = m_01*m_12 - m_02*m_11
-    x3 = u_0*(m_11*m_22 - m_12**2) + u_2*x2
-    x4 = u_0*(u_1*x1 + x3)
-    x5 = m_00*m_12 - m_01*m_02
-    x6 = -x5
-    x7 = m_00*m_22 - m_02**2
-    x8 = u_1*(u_0*x1 + u_1*x7 + u_2*x6)
-    x9 = u_0*x2 + u_2*(m_00*m_11 - m_01**2)
-    x10 = u_2*(u_1*x6 + x9)
+    x1 = m_00*m_12 - m_01*m_02
+    x2 = u_0*x0 - u_1*(m_00*m_22 - m_02**2) + u_2*x1
+    x3 = u_1*x2
+    x4 = m_01*m_12 - m_02*m_11
+    x5 = u_0*(m_11*m_22 - m_12**2) - u_1*x0 + u_2*x4
+    x6 = u_0*x5
+    x7 = u_0*x4 - u_1*x1 + u_2*(m_00*m_11 - m_01**2)
+    x8 = u_2*x7
+    x9 = x6 + x8
+    x10 = 1d0/(-x3 + x9)
     x11 = e + 1
-    x12 = x11/(x10 + x4 + x8)
-    x13 = -u_1*x0 + x3
-    x14 = -u_1*x5 + x9
-    x15 = -u_0*x0 + u_1*x7 - u_2*x5
-    x16 = x11/(u_0*x13 + u_1*x15 + u_2*x14)
-    x17 = x13*x16
-    x18 = u_1*v_1
-    x19 = u_2*v_2
-    x20 = x15*x16
-    x21 = u_0*v_0
-    x22 = x14*x16
-    w0 = -v_0*(x12*x4 - 1) - x17*x18 - x17*x19
-    w1 = -v_1*(x12*x8 - 1) - x19*x20 - x20*x21
-    w2 = -v_2*(x10*x12 - 1) - x18*x22 - x21*x22
+    x12 = u_1*v_1
+    x13 = u_2*v_2
+    x14 = u_0*v_0
+    w0 = x10*(v_0*(-e*x6 + u_2*x7 - x3) - x11*x5*(x12 + x13))
+    w1 = x10*(v_1*(e*x3 + x9) + x11*x2*(x13 + x14))
+    w2 = x10*(v_2*(-e*x8 + u_0*x5 - x3) - x11*x7*(x12 + x14))
 end subroutine reflect_3
 end module impactsym_reflection

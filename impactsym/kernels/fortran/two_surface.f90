@@ -42,9 +42,9 @@ pure subroutine two_surface_resolution(s_a, s_b, g, c_a, c_b, count_a, ca_a, cb_
     cb_b) bind(C, name="f_two_surface_resolution")
     real(c_double), value, intent(in) :: s_a, s_b, g, c_a, c_b
     real(c_double), intent(out) :: count_a, ca_a, cb_a, count_b, ca_b, cb_b
-    real(c_double) :: x1, x2, x3, x4, x5, x6, x8, x9, x10, x11, x12, x13, x14, x15, x16, x18, x19, &
-        x20
-    logical :: x0, x7, x17
+    real(c_double) :: x1, x2, x3, x4, x5, x6, x9, x10, x11, x12, x13, x15, x16, x17, x18, x20, x23, &
+        x24, x25, x26, x27, x28, x29, x30, x32, x35, x36, x40, x41, x42, x43
+    logical :: x0, x7, x8, x14, x19, x21, x22, x31, x33, x34, x37, x38, x39
     x0 = c_a >= 0 .and. c_b >= 0
     x1 = sqrt(-g**2 + s_a*s_b)
     x2 = atan2(x1, -g)
@@ -53,29 +53,60 @@ pure subroutine two_surface_resolution(s_a, s_b, g, c_a, c_b, count_a, ca_a, cb_
     x5 = atan2(-c_a*x1, c_b*s_a - x4)
     x6 = merge(aint(x3*x5) + 1d0, aint(x3*x5), aint(x3*x5) < x3*x5)
     x7 = c_a < 0
-    x8 = modulo(real(x6, c_double), real(2, c_double))
-    x9 = x2*x8
-    x10 = x2*x6 + 2*x5*x8 - x5 - 2*x6*x9 + x9
-    x11 = sqrt(c_a**2*s_b + c_b**2*s_a - 2*c_b*x4)/x1
-    x12 = sqrt(s_a)*x11
-    x13 = -x2
-    x14 = sqrt(s_b)*x11
-    x15 = atan2(-c_b*x1, c_a*s_b - c_b*g)
-    x16 = merge(aint(x15*x3) + 1d0, aint(x15*x3), aint(x15*x3) < x15*x3)
-    x17 = c_b < 0
-    x18 = modulo(real(x16, c_double), real(2, c_double))
-    x19 = x18*x2
-    x20 = 2*x15*x18 - x15 - 2*x16*x19 + x16*x2 + x19
+    x8 = x6 == 1
+    x9 = 1d0/s_b
+    x10 = -c_b
+    x11 = 1d0/s_a
+    x12 = 2*x4
+    x13 = x10 + x11*x12
+    x14 = x6 == 2
+    x15 = sqrt(c_a**2*s_b + c_b**2*s_a - c_b*x12)/x1
+    x16 = sqrt(s_a)*x15
+    x17 = x2*(x6 - 1) - x5
+    x18 = -sin(x17)
+    x19 = modulo(real(x6, c_double), real(2, c_double)) == 1
+    x20 = (1.0d0/2.0d0)*x2
+    x21 = x5 <= x20*(2*x6 - 1)
+    x22 = x19 .and. x21
+    x23 = -x2*x6 + x5
+    x24 = sin(x2 - (-x23))
+    x25 = sin(x2 - (-x17))
+    x26 = -sin(x23)
+    x27 = sqrt(s_b)*x15
+    x28 = c_b*g
+    x29 = atan2(-c_b*x1, c_a*s_b - x28)
+    x30 = merge(aint(x29*x3) + 1d0, aint(x29*x3), aint(x29*x3) < x29*x3)
+    x31 = c_b < 0
+    x32 = c_a - 2*x28*x9
+    x33 = x30 == 1
+    x34 = x30 == 2
+    x35 = x2*(x30 - 1) - x29
+    x36 = sin(x2 - (-x35))
+    x37 = modulo(real(x30, c_double), real(2, c_double)) == 1
+    x38 = x29 <= x20*(2*x30 - 1)
+    x39 = x37 .and. x38
+    x40 = -x2*x30 + x29
+    x41 = -sin(x40)
+    x42 = -sin(x35)
+    x43 = sin(x2 - (-x40))
     count_a = merge(real(0, c_double), merge(real(x6, c_double), real(-1, c_double), x7), x0)
-    ca_a = merge(real(c_a, c_double), merge(real(x12*sin(x10), c_double), real( &
-        ieee_value(0.0_c_double, ieee_quiet_nan), c_double), x7), x0)
-    cb_a = merge(real(c_b, c_double), merge(real(-x14*sin(x10 + x13), c_double), &
+    ca_a = merge(real(c_a, c_double), merge(real(merge(real(-c_a, c_double), merge( real(-c_a + &
+        2*g*x13*x9, c_double), real(x16*merge(real(x18, c_double), merge(real(x24, c_double), &
+        merge(real(x25, c_double), real(x26, c_double), x21), x19), x22), c_double), x14), x8), &
+        c_double), real(ieee_value(0.0_c_double, ieee_quiet_nan), c_double), x7), x0)
+    cb_a = merge(real(c_b, c_double), merge(real(merge(real(-x13, c_double), merge( real(x13, &
+        c_double), real(x27*merge(real(x25, c_double), merge( real(x26, c_double), merge(real(x18, &
+        c_double), real(x24, c_double), x21), x19), x22), c_double), x14), x8), c_double), &
         real(ieee_value(0.0_c_double, ieee_quiet_nan), c_double), x7), x0 )
-    count_b = merge(real(0, c_double), merge(real(x16, c_double), real(-1, c_double), x17), x0)
-    ca_b = merge(real(c_a, c_double), merge(real(-x12*sin(x13 + x20), c_double), &
-        real(ieee_value(0.0_c_double, ieee_quiet_nan), c_double), x17), x0)
-    cb_b = merge(real(c_b, c_double), merge(real(x14*sin(x20), c_double), real( &
-        ieee_value(0.0_c_double, ieee_quiet_nan), c_double), x17), x0)
+    count_b = merge(real(0, c_double), merge(real(x30, c_double), real(-1, c_double), x31), x0)
+    ca_b = merge(real(c_a, c_double), merge(real(merge(real(x32, c_double), merge( real(-x32, &
+        c_double), real(x16*merge(real(x36, c_double), merge( real(x41, c_double), merge(real(x42, &
+        c_double), real(x43, c_double), x38), x37), x39), c_double), x34), x33), c_double), &
+        real(ieee_value(0.0_c_double, ieee_quiet_nan), c_double), x31), x0)
+    cb_b = merge(real(c_b, c_double), merge(real(merge(real(x10, c_double), merge( real(-c_b - &
+        2*g*x11*x32, c_double), real(x27*merge(real(x42, c_double), merge(real(x43, c_double), &
+        merge(real(x36, c_double), real(x41, c_double), x38), x37), x39), c_double), x34), x33), &
+        c_double), real(ieee_value(0.0_c_double, ieee_quiet_nan), c_double), x31), x0)
 end subroutine two_surface_resolution
 
 ! n = 2 closed form: M by its upper triangle, H = [[h_00, h_01], [h_10, h_11]], v = (v_0, v_1).
@@ -85,9 +116,10 @@ pure subroutine two_surface_resolution_2(m_00, m_01, m_11, h_00, h_01, h_10, h_1
     count_a, v0_a, v1_a, count_b, v0_b, v1_b) bind(C, name="f_two_surface_resolution_2")
     real(c_double), value, intent(in) :: m_00, m_01, m_11, h_00, h_01, h_10, h_11, v_0, v_1
     real(c_double), intent(out) :: count_a, v0_a, v1_a, count_b, v0_b, v1_b
-    real(c_double) :: x0, x1, x3, x4, x5, x6, x7, x8, x9, x10, x11, x12, x13, x14, x15, x17, x18, &
-        x19, x20, x21, x22, x23, x24, x25, x26, x27, x28, x29, x31, x32, x33, x34, x35, x36, x37
-    logical :: x2, x16, x30
+    real(c_double) :: x0, x1, x3, x4, x5, x6, x7, x8, x9, x10, x11, x12, x13, x14, x15, x16, x18, &
+        x19, x20, x21, x22, x25, x26, x27, x28, x29, x30, x32, x35, x36, x37, x38, x39, x40, x41, &
+        x42, x43, x44, x46, x49, x50, x51, x55, x56, x57, x58, x59, x60
+    logical :: x2, x17, x23, x24, x31, x33, x34, x45, x47, x48, x52, x53, x54
     x0 = h_00*v_0 + h_01*v_1
     x1 = h_10*v_0 + h_11*v_1
     x2 = x0 >= 0 .and. x1 >= 0
@@ -97,44 +129,75 @@ pure subroutine two_surface_resolution_2(m_00, m_01, m_11, h_00, h_01, h_10, h_1
     x6 = x5*abs(x3)
     x7 = h_10*m_11 - h_11*m_01
     x8 = h_10*m_01 - h_11*m_00
-    x9 = atan2(x6, -x4*(h_00*x7 - h_01*x8))
-    x10 = 1d0/x9
-    x11 = h_00*m_01 - h_01*m_00
-    x12 = h_00*m_11 - h_01*m_01
-    x13 = x3*x4
-    x14 = atan2(-x0*x6, x13*(v_0*x11 + v_1*x12))
-    x15 = merge(aint(x10*x14) + 1d0, aint(x10*x14), aint(x10*x14) < x10*x14)
-    x16 = x0 < 0
-    x17 = 1d0/x3
-    x18 = x15*x9
-    x19 = modulo(real(x15, c_double), real(2, c_double))
-    x20 = x19*x9
-    x21 = 2*x14*x19
-    x22 = 2*x15*x20
-    x23 = sqrt(x4*(v_0*(m_00*v_0 + m_01*v_1) + v_1*(m_01*v_0 + m_11*v_1)))/x5
-    x24 = x23*sqrt(x4*(h_00*x12 - h_01*x11))
-    x25 = merge(real(x0, c_double), merge(real(x24*sin(-x14 + x18 + x20 + x21 - x22), c_double), &
-        real(ieee_value(0.0_c_double, ieee_quiet_nan), c_double), x16), x2)
-    x26 = x23*sqrt(x4*(h_10*x7 - h_11*x8))
-    x27 = merge(real(x1, c_double), merge(real(x26*sin(x14 - x18 - x20 - x21 + x22 + x9), &
-        c_double), real(ieee_value(0.0_c_double, ieee_quiet_nan), c_double), x16), x2)
-    x28 = atan2(-x1*x6, -x13*(v_0*x8 + v_1*x7))
-    x29 = merge(aint(x10*x28) + 1d0, aint(x10*x28), aint(x10*x28) < x10*x28)
-    x30 = x1 < 0
-    x31 = x29*x9
-    x32 = modulo(real(x29, c_double), real(2, c_double))
-    x33 = x32*x9
-    x34 = 2*x28*x32
-    x35 = 2*x29*x33
-    x36 = merge(real(x1, c_double), merge(real(x26*sin(-x28 + x31 + x33 + x34 - x35), c_double), &
-        real(ieee_value(0.0_c_double, ieee_quiet_nan), c_double), x30), x2)
-    x37 = merge(real(x0, c_double), merge(real(x24*sin(x28 - x31 - x33 - x34 + x35 + x9), &
-        c_double), real(ieee_value(0.0_c_double, ieee_quiet_nan), c_double), x30), x2)
-    count_a = merge(real(0, c_double), merge(real(x15, c_double), real(-1, c_double), x16), x2)
-    v0_a = -x17*(h_01*x27 - h_11*x25)
-    v1_a = x17*(h_00*x27 - h_10*x25)
-    count_b = merge(real(0, c_double), merge(real(x29, c_double), real(-1, c_double), x30), x2)
-    v0_b = -x17*(h_01*x36 - h_11*x37)
-    v1_b = x17*(h_00*x36 - h_10*x37)
+    x9 = h_00*x7 - h_01*x8
+    x10 = atan2(x6, -x4*x9)
+    x11 = 1d0/x10
+    x12 = h_00*m_01 - h_01*m_00
+    x13 = h_00*m_11 - h_01*m_01
+    x14 = x3*x4
+    x15 = atan2(-x0*x6, x14*(v_0*x12 + v_1*x13))
+    x16 = merge(aint(x11*x15) + 1d0, aint(x11*x15), aint(x11*x15) < x11*x15)
+    x17 = x0 < 0
+    x18 = 1d0/x3
+    x19 = h_00*x13 - h_01*x12
+    x20 = 2*x9
+    x21 = x20/x19
+    x22 = -x0*x21 + x1
+    x23 = x16 == 1
+    x24 = x16 == 2
+    x25 = h_10*x7 - h_11*x8
+    x26 = sqrt(x4*(v_0*(m_00*v_0 + m_01*v_1) + v_1*(m_01*v_0 + m_11*v_1)))/x5
+    x27 = x26*sqrt(x25*x4)
+    x28 = -x15
+    x29 = x10*(x16 - 1) + x28
+    x30 = sin(x10 - (-x29))
+    x31 = modulo(real(x16, c_double), real(2, c_double)) == 1
+    x32 = (1.0d0/2.0d0)*x10
+    x33 = x15 <= x32*(2*x16 - 1)
+    x34 = x31 .and. x33
+    x35 = x10*x16 + x28
+    x36 = sin(x35)
+    x37 = -sin(x29)
+    x38 = sin(x10 - x35)
+    x39 = merge(real(x1, c_double), merge(real(merge(real(x22, c_double), merge( real(-x22, &
+        c_double), real(x27*merge(real(x30, c_double), merge( real(x36, c_double), merge(real(x37, &
+        c_double), real(x38, c_double), x33), x31), x34), c_double), x24), x23), c_double), &
+        real(ieee_value(0.0_c_double, ieee_quiet_nan), c_double), x17), x2)
+    x40 = x20/x25
+    x41 = x26*sqrt(x19*x4)
+    x42 = merge(real(x0, c_double), merge(real(merge(real(-x0, c_double), merge( real(-x0 - &
+        x22*x40, c_double), real(x41*merge(real(x37, c_double) , merge(real(x38, c_double), &
+        merge(real(x30, c_double), real(x36, c_double), x33), x31), x34), c_double), x24), x23), &
+        c_double), real(ieee_value(0.0_c_double, ieee_quiet_nan), c_double), x17), x2)
+    x43 = atan2(-x1*x6, -x14*(v_0*x8 + v_1*x7))
+    x44 = merge(aint(x11*x43) + 1d0, aint(x11*x43), aint(x11*x43) < x11*x43)
+    x45 = x1 < 0
+    x46 = x0 - x1*x40
+    x47 = x44 == 1
+    x48 = x44 == 2
+    x49 = -x43
+    x50 = x10*(x44 - 1) + x49
+    x51 = sin(x10 - (-x50))
+    x52 = modulo(real(x44, c_double), real(2, c_double)) == 1
+    x53 = x43 <= x32*(2*x44 - 1)
+    x54 = x52 .and. x53
+    x55 = x10*x44 + x49
+    x56 = sin(x55)
+    x57 = -sin(x50)
+    x58 = sin(x10 - x55)
+    x59 = merge(real(x0, c_double), merge(real(merge(real(x46, c_double), merge( real(-x46, &
+        c_double), real(x41*merge(real(x51, c_double), merge( real(x56, c_double), merge(real(x57, &
+        c_double), real(x58, c_double), x53), x52), x54), c_double), x48), x47), c_double), &
+        real(ieee_value(0.0_c_double, ieee_quiet_nan), c_double), x45), x2)
+    x60 = merge(real(x1, c_double), merge(real(merge(real(-x1, c_double), merge( real(-x1 - &
+        x21*x46, c_double), real(x27*merge(real(x57, c_double) , merge(real(x58, c_double), &
+        merge(real(x51, c_double), real(x56, c_double), x53), x52), x54), c_double), x48), x47), &
+        c_double), real(ieee_value(0.0_c_double, ieee_quiet_nan), c_double), x45), x2)
+    count_a = merge(real(0, c_double), merge(real(x16, c_double), real(-1, c_double), x17), x2)
+    v0_a = x18*(-h_01*x39 + h_11*x42)
+    v1_a = x18*(h_00*x39 - h_10*x42)
+    count_b = merge(real(0, c_double), merge(real(x44, c_double), real(-1, c_double), x45), x2)
+    v0_b = x18*(-h_01*x60 + h_11*x59)
+    v1_b = x18*(h_00*x60 - h_10*x59)
 end subroutine two_surface_resolution_2
 end module impactsym_two_surface

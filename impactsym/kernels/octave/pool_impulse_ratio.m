@@ -9,18 +9,24 @@ function [p1, p2, w1x, w1y, w2x, w2y, w3x, w3y] = pool_impulse_ratio(theta, tau,
   % D = cos(tau)^2 - 2A(1 - e)); p1 = 0 (no impact) for cos(tau) <= 0. Returns
   % (p1, p2, w1x, w1y, w2x, w2y, w3x, w3y). No admissibility check (see impactsym.domains).
   x0 = cos(theta);
-  x1 = alpha.^2 - alpha.*x0 + 1;
-  x2 = cos(tau);
-  x3 = ((x2 > 0).*((x2 + sqrt(2*x1.*(e - 1) + x2.^2))./(2*x1)) + (~(x2 > 0)).*(0));
-  x4 = alpha.*x3;
-  x5 = tau - theta;
-  x6 = x3.*sin(theta);
-  p1 = x3;
-  p2 = x4;
-  w1x = -x0.*x3 + cos(x5);
-  w1y = -x6 - sin(x5);
-  w2x = -x3.*(alpha - x0);
-  w2y = x6;
-  w3x = x4;
+  x1 = alpha - x0;
+  x2 = alpha.*x1;
+  x3 = cos(tau);
+  x4 = x3.^2;
+  x5 = sin(tau);
+  x6 = sin(theta);
+  x7 = sqrt(e.*x4 + (e - 1).*(alpha.^2 + x1.^2 + x5.^2 + x6.^2));
+  x8 = x3 > 0;
+  x9 = ((x8).*((x3 + x7)./(2*(x2 + 1))) + (~(x8)).*(0));
+  x10 = alpha.*x9;
+  x11 = 2*x2;
+  x12 = ((x8).*((-e + x11.*x4 + 1)./(x3.*(x11 + 1) + x7)) + (~(x8)).*(x3));
+  p1 = x9;
+  p2 = x10;
+  w1x = x0.*x12 + x5.*x6;
+  w1y = -x0.*x5 + x12.*x6;
+  w2x = -x1.*x9;
+  w2y = x6.*x9;
+  w3x = x10;
   w3y = 0;
 end

@@ -5,15 +5,14 @@ function [g00, g01, g10, g11] = reflection_map_2(m_00, m_01, m_11, u_0, u_1, e)
   % Closed-form G_u(e) for n = 2 (entries row-major), M given by its upper triangle.
   % Uses adj(M): det(M) cancels from M^-1 u^T / (u M^-1 u^T).
   if nargin < 6, e = 1.0; end
-  x0 = m_01.*u_1 - m_11.*u_0;
-  x1 = u_0.*x0;
-  x2 = m_00.*u_1 - m_01.*u_0;
-  x3 = -u_1.*x2 + x1;
-  x4 = e + 1;
-  x5 = -x4./x3;
-  x6 = x4./x3;
-  g00 = x1.*x5 + 1;
-  g01 = -u_1.*x0.*x6;
-  g10 = u_0.*x2.*x6;
-  g11 = -u_1.*x2.*x5 + 1;
+  x0 = m_00.*u_1 - m_01.*u_0;
+  x1 = u_1.*x0;
+  x2 = m_01.*u_1 - m_11.*u_0;
+  x3 = u_0.*x2;
+  x4 = 1./(-x1 + x3);
+  x5 = x4.*(e + 1);
+  g00 = -x4.*(e.*x3 + x1);
+  g01 = -u_1.*x2.*x5;
+  g10 = u_0.*x0.*x5;
+  g11 = x4.*(e.*x1 + x3);
 end

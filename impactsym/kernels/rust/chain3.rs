@@ -19,22 +19,34 @@
 /// in the velocities, so rescale them first when they are that extreme.
 #[allow(non_snake_case, unused_parens, clippy::all)]
 pub fn chain3_impulse_ratio(m1: f64, m2: f64, m3: f64, v1: f64, v2: f64, v3: f64, e: f64, alpha: f64) -> (f64, f64, f64, f64, f64) {
-    let x0 = m1*m3;
-    let x1 = (alpha).powi(2);
-    let x2 = -2_f64*alpha*x0 + m1*m2*x1 + m2*m3 + x0*x1 + x0;
-    let x3 = alpha*v2 - alpha*v3 + v1 - v2;
-    let x4 = (m1).recip();
-    let x5 = (m2).recip();
-    let x6 = (m3).recip();
-    let x7 = (e - 1_f64)*(m1*(v1).powi(2) + m2*(v2).powi(2) + m3*(v3).powi(2));
-    let x8 = (x2*x4*x5*x6*x7 + (x3).powi(2)).sqrt() + x3.abs();
-    let x9 = (if (x3 >= 0.0_f64) { m2*x0*x8/x2 } else { x7/x8 });
-    let x10 = alpha*x9;
-    let p1 = x9;
-    let p2 = x10;
-    let w1 = v1 - x4*x9;
-    let w2 = v2 - x5*x9*(alpha - 1_f64);
-    let w3 = v3 + x10*x6;
+    let x0 = alpha*(v2 - v3) + v1 - v2;
+    let x1 = x0.abs();
+    let x2 = e - 1_f64;
+    let x3 = (m1).recip();
+    let x4 = (m3).recip();
+    let x5 = m3*v3;
+    let x6 = m1*v1;
+    let x7 = x3*x4*(alpha*x6 + x5).powi(2);
+    let x8 = alpha - 1_f64;
+    let x9 = (m2).recip();
+    let x10 = x3*x9;
+    let x11 = m2*v2;
+    let x12 = alpha*x11;
+    let x13 = x4*x9;
+    let x14 = (e*(x0).powi(2) + x2*(x10*(m2*v2 - x6*x8).powi(2) + x13*(x12 + x5*x8).powi(2) + x7)).sqrt();
+    let x15 = x1 + x14;
+    let x16 = m1*m3;
+    let x17 = (x8).powi(2);
+    let x18 = m2/(m2*((alpha).powi(2)*m1 + m3) + x16*x17);
+    let x19 = x0 >= 0.0_f64;
+    let x20 = x2*(m1*(v1).powi(2) + m2*(v2).powi(2) + m3*(v3).powi(2));
+    let x21 = (if (x19) { x15*x16*x18 } else { x20/x15 });
+    let x22 = -x8;
+    let p1 = x21;
+    let p2 = alpha*x21;
+    let w1 = v1 - x21*x3;
+    let w2 = v2 - x21*x8*x9;
+    let w3 = (if (x19) { m1*x18*(alpha*x14 + alpha*(v1 + v2*x8) + x5*(x17*x9 + x3)) } else { alpha*x20*x4/(x1 + (e*(x0).powi(2) + x2*(x10*(x11 + x22*x6).powi(2) + x13*(x12 - x22*x5).powi(2) + x7)).sqrt()) + v3 });
     (p1, p2, w1, w2, w3)
 }
 

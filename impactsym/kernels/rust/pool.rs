@@ -16,19 +16,25 @@
 #[allow(non_snake_case, unused_parens, clippy::all)]
 pub fn pool_impulse_ratio(theta: f64, tau: f64, e: f64, alpha: f64) -> (f64, f64, f64, f64, f64, f64, f64, f64) {
     let x0 = theta.cos();
-    let x1 = (alpha).powi(2) - alpha*x0 + 1_f64;
-    let x2 = tau.cos();
-    let x3 = (if (x2 > 0.0_f64) { ((1_f64/2_f64))*(x2 + (2_f64*x1*(e - 1_f64) + (x2).powi(2)).sqrt())/x1 } else { 0_f64 });
-    let x4 = alpha*x3;
-    let x5 = tau - theta;
-    let x6 = x3*theta.sin();
-    let p1 = x3;
-    let p2 = x4;
-    let w1x = -x0*x3 + x5.cos();
-    let w1y = -x6 - x5.sin();
-    let w2x = -x3*(alpha - x0);
-    let w2y = x6;
-    let w3x = x4;
+    let x1 = alpha - x0;
+    let x2 = alpha*x1;
+    let x3 = tau.cos();
+    let x4 = (x3).powi(2);
+    let x5 = tau.sin();
+    let x6 = theta.sin();
+    let x7 = (e*x4 + (e - 1_f64)*((alpha).powi(2) + (x1).powi(2) + (x5).powi(2) + (x6).powi(2))).sqrt();
+    let x8 = x3 > 0.0_f64;
+    let x9 = (if (x8) { ((1_f64/2_f64))*(x3 + x7)/(x2 + 1_f64) } else { 0_f64 });
+    let x10 = alpha*x9;
+    let x11 = 2_f64*x2;
+    let x12 = (if (x8) { (-e + x11*x4 + 1_f64)/(x3*(x11 + 1_f64) + x7) } else { x3 });
+    let p1 = x9;
+    let p2 = x10;
+    let w1x = x0*x12 + x5*x6;
+    let w1y = -x0*x5 + x12*x6;
+    let w2x = -x1*x9;
+    let w2y = x6*x9;
+    let w3x = x10;
     let w3y = 0_f64;
     (p1, p2, w1x, w1y, w2x, w2y, w3x, w3y)
 }

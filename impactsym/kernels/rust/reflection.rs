@@ -10,17 +10,16 @@
 /// Uses adj(M): det(M) cancels from M^-1 u^T / (u M^-1 u^T).
 #[allow(non_snake_case, unused_parens, clippy::all)]
 pub fn reflection_map_2(m_00: f64, m_01: f64, m_11: f64, u_0: f64, u_1: f64, e: f64) -> (f64, f64, f64, f64) {
-    let x0 = m_01*u_1 - m_11*u_0;
-    let x1 = u_0*x0;
-    let x2 = m_00*u_1 - m_01*u_0;
-    let x3 = -u_1*x2 + x1;
-    let x4 = e + 1_f64;
-    let x5 = -x4/x3;
-    let x6 = x4/x3;
-    let g00 = x1*x5 + 1_f64;
-    let g01 = -u_1*x0*x6;
-    let g10 = u_0*x2*x6;
-    let g11 = -u_1*x2*x5 + 1_f64;
+    let x0 = m_00*u_1 - m_01*u_0;
+    let x1 = u_1*x0;
+    let x2 = m_01*u_1 - m_11*u_0;
+    let x3 = u_0*x2;
+    let x4 = (-x1 + x3).recip();
+    let x5 = x4*(e + 1_f64);
+    let g00 = -x4*(e*x3 + x1);
+    let g01 = -u_1*x2*x5;
+    let g10 = u_0*x0*x5;
+    let g11 = x4*(e*x1 + x3);
     (g00, g01, g10, g11)
 }
 
@@ -28,14 +27,14 @@ pub fn reflection_map_2(m_00: f64, m_01: f64, m_11: f64, u_0: f64, u_1: f64, e: 
 #[allow(non_snake_case, unused_parens, clippy::all)]
 pub fn reflect_2(m_00: f64, m_01: f64, m_11: f64, u_0: f64, u_1: f64, v_0: f64, v_1: f64, e: f64) -> (f64, f64) {
     let x0 = m_01*u_1 - m_11*u_0;
-    let x1 = e + 1_f64;
-    let x2 = m_00*u_1 - m_01*u_0;
-    let x3 = x1/(-u_0*x0 + u_1*x2);
-    let x4 = -u_0*x0;
-    let x5 = u_1*x2;
-    let x6 = x1/(x4 + x5);
-    let w0 = u_1*v_1*x0*x3 - v_0*(x4*x6 - 1_f64);
-    let w1 = -u_0*v_0*x2*x3 - v_1*(x5*x6 - 1_f64);
+    let x1 = m_00*u_1 - m_01*u_0;
+    let x2 = u_1*x1;
+    let x3 = -x2;
+    let x4 = (u_0*x0 + x3).recip();
+    let x5 = e + 1_f64;
+    let x6 = -u_0*x0;
+    let w0 = x4*(-u_1*v_1*x0*x5 + v_0*(e*x6 + x3));
+    let w1 = x4*(u_0*v_0*x1*x5 + v_1*(e*x2 - x6));
     (w0, w1)
 }
 
@@ -43,31 +42,30 @@ pub fn reflect_2(m_00: f64, m_01: f64, m_11: f64, u_0: f64, u_1: f64, v_0: f64, 
 /// Uses adj(M): det(M) cancels from M^-1 u^T / (u M^-1 u^T).
 #[allow(non_snake_case, unused_parens, clippy::all)]
 pub fn reflection_map_3(m_00: f64, m_01: f64, m_02: f64, m_11: f64, m_12: f64, m_22: f64, u_0: f64, u_1: f64, u_2: f64, e: f64) -> (f64, f64, f64, f64, f64, f64, f64, f64, f64) {
-    let x0 = m_01*m_12 - m_02*m_11;
-    let x1 = m_01*m_22 - m_02*m_12;
-    let x2 = u_0*(m_11*m_22 - (m_12).powi(2)) - u_1*x1 + u_2*x0;
-    let x3 = u_0*x2;
-    let x4 = m_00*m_12 - m_01*m_02;
-    let x5 = u_0*x1 - u_1*(m_00*m_22 - (m_02).powi(2)) + u_2*x4;
-    let x6 = -u_1*x5;
-    let x7 = u_0*x0 - u_1*x4 + u_2*(m_00*m_11 - (m_01).powi(2));
+    let x0 = m_01*m_22 - m_02*m_12;
+    let x1 = m_00*m_12 - m_01*m_02;
+    let x2 = u_0*x0 - u_1*(m_00*m_22 - (m_02).powi(2)) + u_2*x1;
+    let x3 = u_1*x2;
+    let x4 = m_01*m_12 - m_02*m_11;
+    let x5 = u_0*(m_11*m_22 - (m_12).powi(2)) - u_1*x0 + u_2*x4;
+    let x6 = u_0*x5;
+    let x7 = u_0*x4 - u_1*x1 + u_2*(m_00*m_11 - (m_01).powi(2));
     let x8 = u_2*x7;
-    let x9 = x3 + x8;
-    let x10 = e + 1_f64;
-    let x11 = x10/(x6 + x9);
-    let x12 = x10/(-u_1*x5 + x9);
-    let x13 = x12*x2;
-    let x14 = x12*x5;
-    let x15 = x12*x7;
-    let g00 = -x11*x3 + 1_f64;
-    let g01 = -u_1*x13;
-    let g02 = -u_2*x13;
-    let g10 = u_0*x14;
-    let g11 = -x11*x6 + 1_f64;
-    let g12 = u_2*x14;
-    let g20 = -u_0*x15;
-    let g21 = -u_1*x15;
-    let g22 = -x11*x8 + 1_f64;
+    let x9 = x6 + x8;
+    let x10 = (-x3 + x9).recip();
+    let x11 = x10*(e + 1_f64);
+    let x12 = x11*x5;
+    let x13 = x11*x2;
+    let x14 = x11*x7;
+    let g00 = x10*(-e*x6 + u_2*x7 - x3);
+    let g01 = -u_1*x12;
+    let g02 = -u_2*x12;
+    let g10 = u_0*x13;
+    let g11 = x10*(e*x3 + x9);
+    let g12 = u_2*x13;
+    let g20 = -u_0*x14;
+    let g21 = -u_1*x14;
+    let g22 = x10*(-e*x8 + u_0*x5 - x3);
     (g00, g01, g02, g10, g11, g12, g20, g21, g22)
 }
 
@@ -75,30 +73,22 @@ pub fn reflection_map_3(m_00: f64, m_01: f64, m_02: f64, m_11: f64, m_12: f64, m
 #[allow(non_snake_case, unused_parens, clippy::all)]
 pub fn reflect_3(m_00: f64, m_01: f64, m_02: f64, m_11: f64, m_12: f64, m_22: f64, u_0: f64, u_1: f64, u_2: f64, v_0: f64, v_1: f64, v_2: f64, e: f64) -> (f64, f64, f64) {
     let x0 = m_01*m_22 - m_02*m_12;
-    let x1 = -x0;
-    let x2 = m_01*m_12 - m_02*m_11;
-    let x3 = u_0*(m_11*m_22 - (m_12).powi(2)) + u_2*x2;
-    let x4 = u_0*(u_1*x1 + x3);
-    let x5 = m_00*m_12 - m_01*m_02;
-    let x6 = -x5;
-    let x7 = m_00*m_22 - (m_02).powi(2);
-    let x8 = u_1*(u_0*x1 + u_1*x7 + u_2*x6);
-    let x9 = u_0*x2 + u_2*(m_00*m_11 - (m_01).powi(2));
-    let x10 = u_2*(u_1*x6 + x9);
+    let x1 = m_00*m_12 - m_01*m_02;
+    let x2 = u_0*x0 - u_1*(m_00*m_22 - (m_02).powi(2)) + u_2*x1;
+    let x3 = u_1*x2;
+    let x4 = m_01*m_12 - m_02*m_11;
+    let x5 = u_0*(m_11*m_22 - (m_12).powi(2)) - u_1*x0 + u_2*x4;
+    let x6 = u_0*x5;
+    let x7 = u_0*x4 - u_1*x1 + u_2*(m_00*m_11 - (m_01).powi(2));
+    let x8 = u_2*x7;
+    let x9 = x6 + x8;
+    let x10 = (-x3 + x9).recip();
     let x11 = e + 1_f64;
-    let x12 = x11/(x10 + x4 + x8);
-    let x13 = -u_1*x0 + x3;
-    let x14 = -u_1*x5 + x9;
-    let x15 = -u_0*x0 + u_1*x7 - u_2*x5;
-    let x16 = x11/(u_0*x13 + u_1*x15 + u_2*x14);
-    let x17 = x13*x16;
-    let x18 = u_1*v_1;
-    let x19 = u_2*v_2;
-    let x20 = x15*x16;
-    let x21 = u_0*v_0;
-    let x22 = x14*x16;
-    let w0 = -v_0*(x12*x4 - 1_f64) - x17*x18 - x17*x19;
-    let w1 = -v_1*(x12*x8 - 1_f64) - x19*x20 - x20*x21;
-    let w2 = -v_2*(x10*x12 - 1_f64) - x18*x22 - x21*x22;
+    let x12 = u_1*v_1;
+    let x13 = u_2*v_2;
+    let x14 = u_0*v_0;
+    let w0 = x10*(v_0*(-e*x6 + u_2*x7 - x3) - x11*x5*(x12 + x13));
+    let w1 = x10*(v_1*(e*x3 + x9) + x11*x2*(x13 + x14));
+    let w2 = x10*(v_2*(-e*x8 + u_0*x5 - x3) - x11*x7*(x12 + x14));
     (w0, w1, w2)
 }
