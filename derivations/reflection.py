@@ -44,6 +44,8 @@ from .codegen import ArrayKernel, ScalarKernel, numpy_code, render_family
 __all__ = [
     "symbolic_mass_matrix",
     "symbolic_covector",
+    "G_matrix",
+    "scaled_G",
     "printed_G",
     "printed_lambda",
     "derive_single_impact",
@@ -85,13 +87,37 @@ def symbolic_vector(n: int, name: str) -> sp.Matrix:
     return sp.Matrix([sp.Symbol(f"{name}_{i}", real=True) for i in range(n)])
 
 
+def G_matrix(w, u, s, e=1, identity=None):
+    """``G_u(e) = I − (1+e) w u / s``: the one statement of the map in the derivations, which every
+    proof, the two-surface derivation and :func:`printed_G` call (``CONVENTIONS.md``).
+
+    ``w`` is ``M⁻¹uᵀ`` or any multiple of it (``adj(M) uᵀ`` keeps entries polynomial) and ``s = u w``
+    the matching multiple of ``u M⁻¹ uᵀ``. Works on SymPy matrices (``identity`` defaults to
+    ``I_n``) and on the non-commutative symbols of the general-``n`` proofs (``identity=1``).
+
+    >>> G_matrix(sp.Matrix([1, 0]), sp.Matrix([[1, 0]]), 1)
+    Matrix([
+    [-1, 0],
+    [ 0, 1]])
+    """
+    if identity is None:
+        identity = sp.eye(w.rows)
+    return identity - (1 + e) * w * u / s
+
+
+def scaled_G(w, u, s, e=1):
+    """``s G_u(e) = s I − (1+e) w u``: :func:`G_matrix` with its denominator cleared (polynomial
+    entries for ``w = adj(M) uᵀ``), for the direct proofs."""
+    return s * sp.eye(w.rows) - (1 + e) * w * u
+
+
 def printed_G(M: sp.Matrix, u: sp.Matrix, e=1) -> sp.Matrix:
     """The paper's printed map, transcribed: ``I − (1+e) M⁻¹uᵀu / (u M⁻¹ uᵀ)`` (e = 1: ``G_u``).
 
     Computed with the adjugate (``M⁻¹ = adj M / det M``; the determinant cancels).
     """
     w = M.adjugate() * u.T
-    return sp.eye(M.rows) - (1 + e) * (w * u) / (u * w)[0, 0]
+    return G_matrix(w, u, (u * w)[0, 0], e)
 
 
 def printed_lambda(M: sp.Matrix, u: sp.Matrix, qm: sp.Matrix) -> sp.Expr:
@@ -226,18 +252,19 @@ def derive_general(restitution: bool = False) -> Derivation:
     assert momentum_residual == 0, momentum_residual
     if restitution:
         condition = rewrite(U * qplus + e_ * U * Q, RULES)  # u q+ = -e u q-
-        coeff = 1 + e_
+        e_val = e_
     else:
         qplus_t = Qt - lam * Wt
         condition = rewrite(qplus_t * MM * qplus - Qt * MM * Q, RULES)  # energy jump
-        coeff = 2
+        e_val = 1
     roots = sp.solve(condition, lam)
     discarded = [(r, TRIVIAL_ROOT_REASON) for r in roots if r == 0]
     kept = [r for r in roots if r != 0]
     assert len(kept) == 1
     lam_star = sp.factor(kept[0])
     # q+ = Q - lam* W with lam* = coeff*c/s = coeff*(U Q)/s  ->  G = 1 - coeff W U / s
-    G = 1 - coeff * W * U / s_
+    coeff = 1 + e_val
+    G = G_matrix(W, U, s_, e_val, identity=1)
     check = rewrite(G * Q - (Q - lam_star * W), RULES)
     assert check == 0, check
     d = Derivation("n", MM, U, Q, lam_star, Q - lam_star * W, G, roots,
@@ -280,7 +307,7 @@ def _direct_G_equals_derived(n: int) -> tuple[bool, float]:
     w = adj(M)u^T (cached; returns the verdict and the seconds the derivation and check took)."""
     t0 = time.perf_counter()
     M, u, w, s = _adjugate_G(n)
-    ok = _matrix_is_zero(derive_single_impact(n).G - (sp.eye(n) - 2 * w * u / s))
+    ok = _matrix_is_zero(derive_single_impact(n).G - G_matrix(w, u, s))
     return ok, time.perf_counter() - t0
 
 
@@ -292,7 +319,7 @@ def _step0(n: int) -> tuple[bool, str]:
 
 def _direct_square(n: int):
     M, u, w, s = _adjugate_G(n)
-    N = s * sp.eye(n) - 2 * w * u  # N = s G
+    N = scaled_G(w, u, s)  # N = s G
     residual = (N * N - s**2 * sp.eye(n)).applyfunc(sp.expand)
     return residual == sp.zeros(n, n), [
         "cleared denominators: (sG)^2 - s^2 I expands to the zero polynomial matrix",
@@ -301,7 +328,7 @@ def _direct_square(n: int):
 
 def _direct_metric(n: int):
     M, u, w, s = _adjugate_G(n)
-    N = s * sp.eye(n) - 2 * w * u
+    N = scaled_G(w, u, s)
     residual = (N.T * M * N - s**2 * M).applyfunc(sp.expand)
     return residual == sp.zeros(n, n), [
         "cleared denominators: (sG)^T M (sG) - s^2 M expands to the zero polynomial matrix"
@@ -310,7 +337,7 @@ def _direct_metric(n: int):
 
 def _direct_det(n: int):
     M, u, w, s = _adjugate_G(n)
-    N = s * sp.eye(n) - 2 * w * u
+    N = scaled_G(w, u, s)
     det_N = N.det(method="bareiss")  # fraction-free elimination of a polynomial matrix
     ok = sp.expand(det_N + s**n) == 0
     return ok, [
@@ -323,7 +350,7 @@ def _direct_det(n: int):
 def _direct_scale(n: int):
     M, u, w, s = _adjugate_G(n)
     a = sp.Symbol("alpha", real=True, nonzero=True)
-    G = sp.eye(n) - 2 * w * u / s
+    G = G_matrix(w, u, s)
     Ga = printed_G(M, a * u)
     return _matrix_is_zero(Ga - G), ["G_{alpha u} - G_u cancels to the zero matrix (alpha != 0)"]
 
@@ -331,14 +358,14 @@ def _direct_scale(n: int):
 def _direct_flip(n: int):
     M, u, w, s = _adjugate_G(n)
     v = symbolic_vector(n, "v")
-    G = sp.eye(n) - 2 * w * u / s
+    G = G_matrix(w, u, s)
     return _is_zero_rational((u * G * v)[0, 0] + (u * v)[0, 0]), ["u (G v) + u v cancels to 0"]
 
 
 def _direct_fixes(n: int):
     M, u, w, s = _adjugate_G(n)
     x = symbolic_vector(n, "x")
-    G = sp.eye(n) - 2 * w * u / s
+    G = G_matrix(w, u, s)
     # G x - x = -2 w (u x)/s identically, so G x = x exactly when u x = 0.
     residual = G * x - x + 2 * w * (u * x)[0, 0] / s
     # and a basis of ker u: u_0 != 0, x_k = u_0 e_k - u_k e_0, k = 1..n-1
@@ -377,7 +404,7 @@ def _general_square():
 
 def _general_metric():
     G = derive_general().G
-    Gt = 1 - 2 * Ut * Wt / s_
+    Gt = G_matrix(Ut, Wt, s_, identity=1)  # G^T: the transposed factors
     r = rewrite(Gt * MM * G, RULES)
     return r == MM, ["G^T = 1 - 2 Ut Wt / s", f"G^T M G rewrites (M*W -> Ut, Wt*M -> U, Wt*Ut -> s) to {r}"]
 
@@ -403,7 +430,7 @@ def _general_det():
 def _general_scale():
     a = alpha_
     # G_{a u}: w -> a w, u -> a u, s -> a^2 s
-    Ga = 1 - 2 * (a * W) * (a * U) / (a**2 * s_)
+    Ga = G_matrix(a * W, a * U, a**2 * s_, identity=1)
     r = sp.expand(Ga - derive_general().G)
     return r == 0, ["w_{a u} = a w, s_{a u} = a^2 s", f"G_(a u) - G_u expands to {r}"]
 
@@ -421,7 +448,7 @@ def _general_fixes():
 def _general_restitution():
     e = e_
     G = derive_general(restitution=True).G
-    Gt = 1 - (1 + e) * Ut * Wt / s_
+    Gt = G_matrix(Ut, Wt, s_, e, identity=1)
     dT = rewrite((Qt * Gt * MM * G * Q - Qt * MM * Q) / 2, RULES)
     target = -(1 - e**2) * c_**2 / (2 * s_)
     return sp.simplify(dT - target) == 0, [

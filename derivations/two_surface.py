@@ -64,6 +64,7 @@ import sympy as sp
 
 from .algebra import nc_symbols, rewrite
 from .codegen import ArrayKernel, ScalarKernel, numpy_code, render_family
+from .reflection import G_matrix
 
 __all__ = [
     "plane_reduction",
@@ -102,8 +103,8 @@ RULE_REASONS = {
     "UA*X -> 0, UB*X -> 0": "X is any vector of ker H_A ∩ ker H_B",
     "Xt*UAt -> 0, Xt*UBt -> 0": "transposes of the previous rule",
 }
-G_A = 1 - 2 * WA * UA / s_A
-G_B = 1 - 2 * WB * UB / s_B
+G_A = G_matrix(WA, UA, s_A, identity=1)
+G_B = G_matrix(WB, UB, s_B, identity=1)
 
 
 def _coeffs(expr) -> tuple:
@@ -573,7 +574,7 @@ def paper_example_counts() -> dict:
 
     def G(h):
         w = M.inv() * h.T
-        return sp.eye(2) - 2 * w * h / (h * w)[0, 0]
+        return G_matrix(w, h, (h * w)[0, 0])
 
     Gu, Gv = G(Hu), G(Hv)
     lu = Hv * Gu * Gv * Gu
