@@ -23,7 +23,7 @@ sys.path.insert(0, str(HERE.parent))
 
 from impactsym.hard_cases import (CORNER_KERNELS, accuracy_check, adversarial_search, corner_cases,  # noqa: E402
                                   kernel_implementations)
-from impactsym.references import ReferenceUnstable, kernel_reference  # noqa: E402
+from impactsym.reference_values import ReferenceUnstable, kernel_reference  # noqa: E402
 
 
 def run_kernel(kernel, grid_full: bool, budget: int, seeds, bound=64.0) -> dict:

@@ -23,7 +23,7 @@ sys.path.insert(0, str(HERE))
 import numpy as np  # noqa: E402
 import sympy as sp  # noqa: E402
 
-from impactsym import benchmark  # noqa: E402
+from impactsym import bench as benchmark  # noqa: E402
 import scaling  # noqa: E402
 
 

@@ -42,7 +42,7 @@ def chain_derivation(n: int) -> dict:
 
 def batch_scaling(sizes) -> list[dict]:
     """Seconds per evaluation of the chain3 kernel, NumPy and C loop, against batch size."""
-    from impactsym import benchmark, kernels as K
+    from impactsym import bench as benchmark, kernels as K
     from impactsym.hard_cases import domain_sample
 
     lib = benchmark.compile_c()

@@ -432,7 +432,7 @@ def generate(outdir) -> list[Path]:
 NAIVE_FILE = "chain3_naive.py"
 NAIVE_DOC = """The 3-ball chain's impulse-ratio law in its naive form: the quadratic formula
 p1 = (-B + sqrt(B^2 - 4AC))/(2A) with the derived coefficients, no stable form, no CSE. Read by
-impactsym.benchmark (its lambdify-naive backend), never by a law."""
+impactsym.bench (its lambdify-naive backend), never by a law."""
 
 
 def naive_impulse_ratio() -> dict:

@@ -1366,7 +1366,7 @@ def resolve_figure(law: str, M, H, v, result: dict):
 def speed_against_error(result):
     """The benchmark's plot: throughput against max relative error, per formula and backend.
 
-    ``result`` is the dict of :func:`impactsym.benchmark.run` (or the committed
+    ``result`` is the dict of :func:`impactsym.bench.run` (or the committed
     ``benchmarks/results/bench.json``, a path or the parsed dict). Read it right to left for speed
     and bottom to top for accuracy: each backend's markers form a band.
 

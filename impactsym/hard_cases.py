@@ -7,7 +7,7 @@ corners (:func:`corner_cases`); a seeded adversarial hill-climb on ``error / (ep
 Python, C) against the bound (:func:`accuracy_check`), run by ``tests/test_accuracy_search.py``
 and ``benchmarks/accuracy.py`` (issue 15). Each case names the kernel, the category of difficulty
 (:data:`CATEGORIES`), and float inputs; the reference for a case is computed from the exact binary
-values of these floats (:mod:`impactsym.references`), never from decimal text.
+values of these floats (:mod:`impactsym.reference_values`), never from decimal text.
 
 Examples
 --------
@@ -467,7 +467,7 @@ def kernel_implementations(kernel: str, languages=("numpy", "python", "c")) -> d
     >>> f["numpy"]({"A": 1.0, "B": -3.0, "C": 2.0}) == f["python"]({"A": 1.0, "B": -3.0, "C": 2.0}) == [2.0, 1.0]
     True
     """
-    from .benchmark import _catalog
+    from .bench import _catalog
 
     entry = _catalog()[kernel]
     args, n_out = entry["args"], len(entry["outputs"])
@@ -499,7 +499,7 @@ def kernel_implementations(kernel: str, languages=("numpy", "python", "c")) -> d
                         r = fk(*[np.asarray(x) for x in xs])
                 return [float(x) for x in (r if isinstance(r, tuple) else (r,))]
         elif lang == "c":
-            from .benchmark import compile_c
+            from .bench import compile_c
 
             lib = compile_c()
             if lib is None or not entry["code"].get("c"):
@@ -523,7 +523,7 @@ def kernel_implementations(kernel: str, languages=("numpy", "python", "c")) -> d
 class Verdict:
     """The accuracy of every implementation of one kernel at one input.
 
-    ``ratio[lang]`` is the largest error ratio (:func:`impactsym.references.error_ratio`) over the
+    ``ratio[lang]`` is the largest error ratio (:func:`impactsym.reference_values.error_ratio`) over the
     continuous outputs (with ``screen``, an upper bound, ``|f̂ − f| / (eps |f|)``, where that bound
     already shows the point within ``bound``); ``output[lang]`` names the output where it occurs. ``problems`` lists
     every violation: a ratio above the bound, a number where the exact value is not real, or a
@@ -544,7 +544,7 @@ class Verdict:
 
 def _perturbed_counts(ref, inputs, idx, bound, seed=0) -> set:
     """Reflection counts of the exact formula at inputs moved by ``± bound · eps`` relative."""
-    from .references import EPS, OutsideDomain
+    from .reference_values import EPS, OutsideDomain
 
     rng = np.random.default_rng(seed)
     names = ref.names
@@ -562,7 +562,7 @@ def _perturbed_counts(ref, inputs, idx, bound, seed=0) -> set:
 
 def _near_domain(ref, inputs, bound, seed=0) -> bool:
     """Whether the exact formula is real at some input moved by ``± bound · eps`` (relative)."""
-    from .references import EPS, OutsideDomain
+    from .reference_values import EPS, OutsideDomain
 
     rng = np.random.default_rng(seed)
     names = ref.names
@@ -584,7 +584,7 @@ def _count_within_rounding(ref, inputs, i, got, bound) -> bool:
     import mpmath
     import sympy as sp
 
-    from .references import EPS, _mpmath_printer
+    from .reference_values import EPS, _mpmath_printer
 
     ceilings = sorted(sp.sympify(ref.outputs[i]).atoms(sp.ceiling), key=sp.default_sort_key)
     if len(ceilings) == 0 or math.isnan(got):
@@ -634,10 +634,10 @@ def accuracy_check(kernel: str, inputs: dict, impls: dict, bound: float = 64.0, 
     """
     import mpmath
 
-    from .references import EPS, OutsideDomain, ReferenceUnstable, error_ratio, kernel_reference
+    from .reference_values import EPS, OutsideDomain, ReferenceUnstable, error_ratio, kernel_reference
 
     ref = ref or kernel_reference(kernel)
-    from .benchmark import _catalog
+    from .bench import _catalog
 
     names = _catalog()[kernel]["outputs"]
     jumps = [i for i, n in enumerate(names) if n in DISCONTINUOUS.get(kernel, ())]
@@ -788,7 +788,7 @@ def adversarial_search(kernel: str, budget: int = 100, seed: int = 0, starts=Non
     >>> r.evaluations, r.failures
     (20, [])
     """
-    from .references import ReferenceUnstable, kernel_reference
+    from .reference_values import ReferenceUnstable, kernel_reference
 
     rng = np.random.default_rng(seed)
     impls = impls if impls is not None else kernel_implementations(kernel)

@@ -3,7 +3,7 @@ combination of extreme corners and at the points a seeded adversarial search cli
 plain Python and C (the C kernels compiled with gcc where it exists).
 
 The references are the ladder-checked mpmath values of the emitted formulas
-(:mod:`impactsym.references`); ``cond`` is the componentwise condition number over every input.
+(:mod:`impactsym.reference_values`); ``cond`` is the componentwise condition number over every input.
 The bench runs the full grid and a larger search (``python benchmarks/accuracy.py``).
 """
 
@@ -18,7 +18,7 @@ import pytest
 from impactsym import kernels as K
 from impactsym.hard_cases import (CORNER_KERNELS, accuracy_check, adversarial_search, corner_cases,
                                   kernel_implementations)
-from impactsym.references import kernel_reference
+from impactsym.reference_values import kernel_reference
 
 BOUND = 64.0
 LANGS = ("numpy", "python", "c") if (shutil.which("gcc") or shutil.which("cc")) else ("numpy", "python")

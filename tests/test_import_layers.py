@@ -108,7 +108,7 @@ def test_each_allowed_import_is_still_there():
     ("def render(r):\n    from paper_checks import run_audit\n", "impactsym/cli/reproduce.py"),
     ("from paper_checks import run_audit\n", "impactsym/cli/reproduce.py"),
     ("def run(args):\n    from derivations.reflection import prove_all\n", "impactsym/cli/reproduce.py"),
-    ("import importlib\nm = importlib.import_module('derivations.chain3')\n", "impactsym/benchmark.py"),
+    ("import importlib\nm = importlib.import_module('derivations.chain3')\n", "impactsym/bench.py"),
     ("m = __import__('paper_checks')\n", "impactsym/x.py"),
     ("from paper_checks.framework import identical\n", "derivations/domains.py"),
 ])
@@ -139,7 +139,7 @@ class Refuse:
 
 
 sys.meta_path.insert(0, Refuse())
-from impactsym.benchmark import naive_outputs
+from impactsym.bench import naive_outputs
 from impactsym.domains import validity_domain
 
 print(validity_domain("chain3").region["e"], validity_domain("pool").region["alpha"][0],

@@ -1,5 +1,5 @@
 """The generated C kernels: they compile cleanly as C99 with -Wall -Wextra -Werror, and, called through
-ctypes, match the 50-digit mpmath references (impactsym.references) on the hard-case set and on
+ctypes, match the 50-digit mpmath references (impactsym.reference_values) on the hard-case set and on
 uniform samples of the valid domain, within a small multiple of eps times the condition number.
 
 The general-n C routines (reflect, reflection_map) are checked against exact rational arithmetic
@@ -18,18 +18,18 @@ from pathlib import Path
 
 import numpy as np
 
-from impactsym.benchmark import c_batch
+from impactsym.bench import c_batch
 import pytest
 
 from derivations.codegen import KERNEL_DIR
 from impactsym import kernels as K
 from impactsym.hard_cases import HARD_CASES, domain_sample
-from impactsym.references import OutsideDomain, error_ratio, kernel_reference
+from impactsym.reference_values import OutsideDomain, error_ratio, kernel_reference
 
 CC = shutil.which("gcc") or shutil.which("cc")
 pytestmark = pytest.mark.skipif(CC is None, reason="no C compiler (gcc/cc) on PATH")
 
-#: error bound, in units of eps * (|f| + sum_j |x_j df/dx_j|) (see impactsym.references.error_ratio);
+#: error bound, in units of eps * (|f| + sum_j |x_j df/dx_j|) (see impactsym.reference_values.error_ratio);
 #: observed maximum 34 (two_surface_resolution_2, nearly parallel rows with cond(M) = 1e12), others <= 8
 ERROR_BOUND = 64.0
 

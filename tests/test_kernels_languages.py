@@ -12,7 +12,7 @@ import pytest
 
 from derivations.codegen import KERNEL_DIR
 from impactsym.cli import main
-from impactsym.references import error_ratio, kernel_reference
+from impactsym.reference_values import error_ratio, kernel_reference
 
 CASE = {"A": 0.75, "B": -1.0, "C": 1e-13}  # partner root cancels in the naive form
 

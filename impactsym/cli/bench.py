@@ -1,4 +1,4 @@
-"""``impactsym bench``: speed versus error of every evaluation path (see :mod:`impactsym.benchmark`).
+"""``impactsym bench``: speed versus error of every evaluation path (see :mod:`impactsym.bench`).
 
 ``--quick`` measures chain3, the impulse-ratio root and reflect_2 with smaller batches (about a
 minute); the full run (all formulas, batches of 10⁶) is what ``benchmarks/run.py`` commits under
@@ -28,7 +28,7 @@ def register(sub) -> None:
 def run(args) -> dict:
     import warnings
 
-    from .. import benchmark
+    from .. import bench as benchmark
 
     path = plot_path(args)  # checked before the (long) work
     formulas = None
@@ -48,6 +48,6 @@ def run(args) -> dict:
 
 
 def render(result: dict) -> str:
-    from ..benchmark import table
+    from ..bench import table
 
     return table(result)

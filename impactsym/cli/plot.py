@@ -4,7 +4,7 @@ The path is checked before any work by the CLI's one output-path check
 (:func:`impactsym.cli.common.writable_file`: its directory must exist and be writable, the suffix
 must be one matplotlib writes): a bad path is exit 2 naming ``plot``, and nothing is computed. The figure
 itself comes from :mod:`impactsym.figures` (``resolve``: :func:`~impactsym.figures.resolve_figure`;
-``domain``: :func:`~impactsym.figures.domain_figure`) or :func:`impactsym.benchmark.plot` (``bench``).
+``domain``: :func:`~impactsym.figures.domain_figure`) or :func:`impactsym.bench.plot` (``bench``).
 """
 
 from __future__ import annotations

@@ -4,7 +4,7 @@
 
 """The 3-ball chain's impulse-ratio law in its naive form: the quadratic formula
 p1 = (-B + sqrt(B^2 - 4AC))/(2A) with the derived coefficients, no stable form, no CSE. Read by
-impactsym.benchmark (its lambdify-naive backend), never by a law.
+impactsym.bench (its lambdify-naive backend), never by a law.
 """
 
 #: name -> srepr of the exact expression (a list of them for a list)

@@ -11,7 +11,7 @@ For each formula (a generated closed-form kernel) and each backend
 * ``c-loop``         — the generated C kernel's ``_batch`` loop (gcc -O2), one call over the batch;
 
 it measures the throughput (evaluations per second) and the median and maximum relative error
-against the checked mpmath reference (:mod:`impactsym.references`), on a uniform sample of the
+against the checked mpmath reference (:mod:`impactsym.reference_values`), on a uniform sample of the
 valid domain and on the hard-case set (:mod:`impactsym.hard_cases`). The relative error of one
 evaluation is the largest over its output components of ``|f̂ − f| / |f|`` (``|f̂ − f|`` where
 ``f = 0``). ``max_error_ratio`` is the largest error in units of ``eps · (|f| + Σ|x ∂f|)``,
@@ -38,7 +38,7 @@ import sympy as sp
 
 from . import kernels as K
 from .hard_cases import domain_sample, hard_cases
-from .references import OutsideDomain, error_ratio, kernel_reference
+from .reference_values import OutsideDomain, error_ratio, kernel_reference
 
 __all__ = ["FORMULAS", "BACKENDS", "run", "naive_outputs", "compile_c", "check_targets", "table", "plot"]
 
@@ -212,7 +212,7 @@ def _measure(name, backend, inp: _Inputs, min_time: float, slow_n: int):
         rate = len(sub) / (time.perf_counter() - t0)
         return rate, [[float(x) for x in _as_tuple(f(**p))] for p in pts]
     if backend == "mpmath-50":
-        from .references import _mpmath_printer
+        from .reference_values import _mpmath_printer
 
         fm = sp.lambdify(args, outs, modules="mpmath", printer=_mpmath_printer())
         t0 = time.perf_counter()
