@@ -403,13 +403,17 @@ def compliant_impact(M, H, v, stiffness, exponent=1.5, damping=None, *, hunt_cro
         count += int(np.count_nonzero(c_all[:, 1:] != c_all[:, :-1]))
         closed = c_steps[:, -1]
         if count > max_events:
-            raise NonTermination(f"compliant impact: more than max_events = {max_events} contact events")
+            raise NonTermination(f"compliant impact: more than max_events = {max_events} contact events (a body "
+                                 "confined by its contacts never separates: give damping and rest_tol)")
         if sol.status == 1:
             for which, name in ((0, "separated"), (1, "rest")):
                 if which < len(sol.t_events) and len(sol.t_events[which]):
                     t, y = float(sol.t_events[which][-1]), sol.y_events[which][-1]
                     outcome = name
                     break
+            if outcome == "separated":
+                # the stop is the root of min g_i: a contact that opens there may still read δ = +1e-17
+                count += int(np.count_nonzero(closed))
         else:
             t, y = float(sol.t[-1]), sol.y[:, -1]
     P = y[2 * n:]
