@@ -47,7 +47,13 @@ contacts that admit no separating velocity (a ball between two walls: ``H v ≥ 
 ``rest_tol`` stops the run once ``T + V_elastic ≤ rest_tol · T⁻`` (``outcome = "rest"``).
 
 Events counted: a contact event is a change of ``δ_i > 0`` between consecutive accepted steps
-(an opening or a closing). ``steps`` and ``nfev`` report the integrator's work.
+(an opening or a closing; one that opens and closes again inside a single step is not seen).
+``steps`` and ``nfev`` report the integrator's work. No general bound on the number of events is
+proved here (for elastic chains the number of re-contacts depends on the mass ratios); what is
+guaranteed is that every run ends, either with the proved stopping condition or with
+``NonTermination`` at a stated cap. Measured counts: ``benchmarks/results/compliant.md`` (a
+monodisperse Hertz chain of ``n ≤ 50`` balls struck at one end: exactly ``2(n − 1)`` events, each
+contact closes and opens once; 100 balls: 442 events, the tail re-contacting slowly).
 
 Scaling (dimensional analysis; tested in ``tests/test_compliant.py``). With ``x = V T x̃``,
 ``t = T t̃`` and a speed scale ``V``, the Hertz chain is dimensionless for

@@ -29,8 +29,10 @@ and ``w_j ≥ 0`` stays inactive (no gaps exist in LZB: bodies do not move durin
 primary's own energy is integrated directly, ``dE_p/dP_p = −c_p w_p``, which stays regular as
 ``E_p → 0``. The ODE in ``P_p`` is solved by DOP853 in segments: a segment ends when another
 contact's energy exceeds ``1.5 E_p`` (the primary is switched) or when ``E_p`` falls below
-``ENERGY_EPS · T⁻`` (then every energy is below ``1.5 ENERGY_EPS · T⁻`` and is set to zero; the
-process restarts from the fastest approaching contact if one approaches, else it is over). The
+``ENERGY_EPS · E⁰`` (then every energy is below ``1.5 ENERGY_EPS · E⁰`` and is set to zero; the
+process restarts from the fastest approaching contact if one approaches, else it is over), where
+``E⁰ = max_j ½ μ_j w_j²`` over the contacts approaching at the latest (re)start, ``μ_j`` the
+effective mass ``1/(H_j M⁻¹ H_jᵀ)``. The
 first increment ``P_p ∈ [0, P₀]`` of every start is taken in closed form (``E_p = −w_p P``,
 ``s_j ∝ P^{1/(η_p+1)}``), ``P₀ = 1e-10 μ_p |w_p|``.
 
@@ -74,7 +76,7 @@ from .errors import ImpactInputError, NonTermination
 
 __all__ = ["LZBResult", "lzb_impact", "lzb_chain"]
 
-#: an energy below ENERGY_EPS · T⁻ at the primary contact ends the primary's segment
+#: an energy below ENERGY_EPS · E⁰ at the primary contact ends the primary's segment
 ENERGY_EPS = 1e-13
 #: relative approach speed (in units of the largest initial one) treated as zero at the end
 SEPARATION_EPS = 1e-12
@@ -94,7 +96,7 @@ class LZBResult:
     energy_ratio : ``T⁺ / T⁻``
     duration : elapsed time of the equivalent compliant process, ``∫ dP_p / f_p`` (NaN unless
         ``track_time``)
-    segments : integration segments (primary switches + restarts + 1)
+    segments : integration segments plus (re)starts
     steps, nfev : integrator work
     """
 
@@ -183,7 +185,7 @@ def lzb_impact(M, H, v, stiffness, exponent=1.5, restitution=1.0, *, rtol: float
     inv_e2 = 1.0 / e**2
     V = float(np.max(-w0[w0 < 0]))
     T0 = 0.5 * float(v0 @ Mf @ v0)
-    Eeps = ENERGY_EPS * T0
+    Eeps = ENERGY_EPS * T0  # set again at every (re)start
     Pscale = float(np.max(mu)) * V
     Tsc = float(np.min((mu / (K * V ** (eta - 1))) ** (1 / (eta + 1))))  # contact time scale
 
@@ -204,6 +206,14 @@ def lzb_impact(M, H, v, stiffness, exponent=1.5, restitution=1.0, *, rtol: float
             # a (re)start: all energies are zero; the fastest approaching contact leads
             s[:] = 0.0
             pp = int(np.argmin(w))
+            # the energy threshold is relative to this (sub-)impact: late re-contacts in long chains
+            # approach at speeds ~1e-8 and carry energies far below ENERGY_EPS · T⁻ (a fixed threshold
+            # would end them at once and restart them for ever)
+            appr = w < 0
+            Eeps = ENERGY_EPS * float(np.max(0.5 * mu[appr] * w[appr] ** 2))
+            segments += 1
+            if segments > max_segments:
+                raise NonTermination(f"LZB: more than max_segments = {max_segments} segments")
             P0 = 1e-10 * mu[pp] * (-w[pp])
             Ep = -w[pp] * P0
             fp = a[pp] * Ep ** (eta[pp] / (eta[pp] + 1))
@@ -224,6 +234,11 @@ def lzb_impact(M, H, v, stiffness, exponent=1.5, restitution=1.0, *, rtol: float
             continue
         pp = primary
         Ep = float(E[pp])
+        if Ep <= SWITCH_FACTOR * Eeps:
+            # the largest energy left is below the end-of-segment level: it is zero (see above)
+            s[:] = 0.0
+            primary = None
+            continue
         others = np.arange(k) != pp
 
         def rhs(_P, y, pp=pp, others=others):
@@ -282,7 +297,7 @@ def lzb_impact(M, H, v, stiffness, exponent=1.5, restitution=1.0, *, rtol: float
         v, s, Ep, P, t_equiv = y[:n].copy(), y[n:n + k].copy(), float(y[n + k]), y[n + k + 1:n + 2 * k + 1].copy(), float(y[-1])
         s[pp] = max(Ep, 0.0) ** (1 / (eta[pp] + 1))
         if ended:
-            # every energy is below SWITCH_FACTOR · ENERGY_EPS · T⁻: set to zero
+            # every energy is below SWITCH_FACTOR · ENERGY_EPS · E⁰: set to zero
             s[:] = 0.0
             primary = None
         else:
