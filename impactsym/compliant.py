@@ -78,6 +78,15 @@ small motion (sec. 3.3's point) and the ratio is ``α ≈ 0.9287``:
 >>> chain_impact([1, 1, 1], [1, 0, 0], [1, 1], model="linear").ratios.round(5).tolist()
 [1.0, 0.86708]
 
+A planar scene goes in through its ``M``, ``H`` and ``v`` (SymPy matrices are accepted): the pool
+of sec. 4 at ``θ = π/3``, ``τ = π/12`` with equal Hertz contacts:
+
+>>> import sympy as sp
+>>> from impactsym.models.acary_taha import pool
+>>> sc = pool(sp.pi / 3, sp.pi / 12)
+>>> compliant_impact(sc.M, sc.H, sc.v, 1.0).ratios.round(5).tolist()
+[1.0, 0.47903]
+
 References
 ----------
 Acary & Taha, sec. 3.4, eqs. 20–23; claims 2(b) and 3.
