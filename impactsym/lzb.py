@@ -31,10 +31,14 @@ primary's own energy is integrated directly, ``dE_p/dP_p = −c_p w_p``, which s
 contact's energy exceeds ``1.5 E_p`` (the primary is switched) or when ``E_p`` falls below
 ``ENERGY_EPS · E⁰`` (then every energy is below ``1.5 ENERGY_EPS · E⁰`` and is set to zero; the
 process restarts from the fastest approaching contact if one approaches, else it is over), where
-``E⁰ = max_j ½ μ_j w_j²`` over the contacts approaching at the latest (re)start, ``μ_j`` the
-effective mass ``1/(H_j M⁻¹ H_jᵀ)``. The
+``E⁰ = ½ μ_p w_p²`` at the latest (re)start (the primary's approach energy, ``μ_p`` its effective
+mass ``1/(H_p M⁻¹ H_pᵀ)``). The
 first increment ``P_p ∈ [0, P₀]`` of every start is taken in closed form (``E_p = −w_p P``,
 ``s_j ∝ P^{1/(η_p+1)}``), ``P₀ = 1e-10 μ_p |w_p|``.
+
+Limitation (measured): with mass ratios up to 10⁶ *and* stiffness ratios up to 10⁴ together in
+one chain, 1 of 7 random 5–7-ball cases made DOP853's step size underflow in one segment
+(``NonTermination`` "integrator failed"); the time-domain compliant model resolved all of them.
 
 With every ``e_i = 1`` this is the time-domain compliant model of :mod:`impactsym.compliant`
 re-parametrized by ``P_p`` (``dt = dP_p / f_p``), except that contacts that open during the
@@ -209,8 +213,9 @@ def lzb_impact(M, H, v, stiffness, exponent=1.5, restitution=1.0, *, rtol: float
             # the energy threshold is relative to this (sub-)impact: late re-contacts in long chains
             # approach at speeds ~1e-8 and carry energies far below ENERGY_EPS · T⁻ (a fixed threshold
             # would end them at once and restart them for ever)
-            appr = w < 0
-            Eeps = ENERGY_EPS * float(np.max(0.5 * mu[appr] * w[appr] ** 2))
+            # (and to the primary's own approach energy: with a 1e-3 mass between heavy ones, the
+            # heavy contacts' energies would otherwise swamp the light primary's first increment)
+            Eeps = ENERGY_EPS * 0.5 * mu[pp] * w[pp] ** 2
             segments += 1
             if segments > max_segments:
                 raise NonTermination(f"LZB: more than max_segments = {max_segments} segments")
@@ -281,8 +286,10 @@ def lzb_impact(M, H, v, stiffness, exponent=1.5, restitution=1.0, *, rtol: float
         segments += 1
         steps += len(sol.t) - 1
         nfev += sol.nfev
-        if sol.status == -1:  # pragma: no cover
-            raise NonTermination(f"LZB: integrator failed ({sol.message})")
+        if sol.status == -1:
+            raise NonTermination(f"LZB: integrator failed in segment {segments} ({sol.message}); contact time "
+                                 "scales that differ by orders of magnitude make the impulse-domain ODE stiff "
+                                 "(impactsym.compliant.compliant_impact resolves such cases)")
         if segments > max_segments:
             raise NonTermination(f"LZB: more than max_segments = {max_segments} segments")
         if sol.status == 1 and len(sol.t_events[0]):

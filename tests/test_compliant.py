@@ -333,3 +333,10 @@ def test_hundred_ball_chain_finishes():
     r = chain_impact([1] * n, v0, 1.0)
     _, H, _ = chain_matrices([1] * n)
     assert r.outcome == "separated" and _final(H, r) and _conserves([1] * n, v0, r, 1e-7)
+
+
+def test_a_contact_that_never_acts_does_not_block_the_stop():
+    # body 3 rests against a wall (g = 0, w = 0 throughout): the stop function is 0 there, not > 0
+    r = compliant_impact(np.eye(3), [[-1.0, 1, 0], [0, 0, 1.0]], [1.0, 0, 0], 1.0)
+    assert r.outcome == "separated" and r.events == 2
+    assert close(r.velocity, [0, 1, 0], 1e-10)

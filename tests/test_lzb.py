@@ -146,3 +146,13 @@ def test_lzb_ball_between_two_walls_comes_to_rest_geometrically():
     assert abs(r.velocity[0]) < 1e-12 and 40 <= r.segments <= 2 * 41
     with pytest.raises(NonTermination, match="max_segments = 50"):
         lzb_chain([1], [1], 1.0, restitution=1.0, walls=("left", "right"), max_segments=50)
+
+
+def test_lzb_light_primary_among_heavy_contacts_resolves():
+    # the fastest approach (the primary at the start) is a 1e-3 ball's, while a heavy pair also
+    # approaches with 1e4 times its energy: a threshold relative to the largest energy looped for ever
+    m, v0 = [40, 40, 0.001, 25], [0.5, -0.5, 1, -1]
+    r = lzb_chain(m, v0, 1.0)
+    _, H, _ = chain_matrices(m)
+    assert abs(r.energy_ratio - 1) < 1e-9 and np.all(H @ r.velocity >= -1e-12)
+    assert abs(np.dot(m, r.velocity) - np.dot(m, v0)) < 1e-9
