@@ -225,7 +225,8 @@ def lzb_impact(M, H, v, stiffness, exponent=1.5, restitution=1.0, *, rtol: float
             act = w < 0
             act[pp] = False
             # s_j = −w_j b_j (η_p+1) P0^{1/(η_p+1)} / (a_p (−w_p)^{η_p/(η_p+1)})
-            s[act] = -w[act] * b[act] * (eta[pp] + 1) * P0 ** (1 / (eta[pp] + 1)) / (a[pp] * (-w[pp]) ** (eta[pp] / (eta[pp] + 1)))
+            ep = eta[pp]
+            s[act] = -w[act] * b[act] * (ep + 1) * P0 ** (1 / (ep + 1)) / (a[pp] * (-w[pp]) ** (ep / (ep + 1)))
             fj = a * np.maximum(s, 0.0) ** eta
             dP = np.zeros(k)
             dP[pp] = P0
@@ -246,7 +247,7 @@ def lzb_impact(M, H, v, stiffness, exponent=1.5, restitution=1.0, *, rtol: float
             continue
         others = np.arange(k) != pp
 
-        def rhs(_P, y, pp=pp, others=others):
+        def rhs(_P, y, pp=pp):
             vv, ss, Epp = y[:n], y[n:n + k], y[n + k]
             ww = Hf @ vv
             # below the end-of-segment energy the force is held at its value there (a step may
@@ -301,7 +302,8 @@ def lzb_impact(M, H, v, stiffness, exponent=1.5, restitution=1.0, *, rtol: float
         else:
             y = sol.y[:, -1]
             ended = False
-        v, s, Ep, P, t_equiv = y[:n].copy(), y[n:n + k].copy(), float(y[n + k]), y[n + k + 1:n + 2 * k + 1].copy(), float(y[-1])
+        v, s, Ep = y[:n].copy(), y[n:n + k].copy(), float(y[n + k])
+        P, t_equiv = y[n + k + 1:n + 2 * k + 1].copy(), float(y[-1])
         s[pp] = max(Ep, 0.0) ** (1 / (eta[pp] + 1))
         if ended:
             # every energy is below SWITCH_FACTOR · ENERGY_EPS · E⁰: set to zero
