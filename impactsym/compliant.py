@@ -143,6 +143,39 @@ class CompliantResult:
     outcome: str = "separated"
 
 
+def float_system(M, H, v):
+    """``M`` (symmetric positive definite), ``H`` (k×n, no zero row) and ``v`` (n) as checked
+    float arrays, for the integrating laws (compliant and LZB); errors name the argument.
+
+    >>> float_system([[1, 0], [0, 2]], [0, 1], [1, 0])[1].tolist()
+    [[0.0, 1.0]]
+    """
+    try:
+        Mf = np.array(M, dtype=float)
+        Hf = np.array(H, dtype=float)
+    except (TypeError, ValueError) as exc:
+        raise ImpactInputError("M/H", f"must be numeric matrices ({exc})") from None
+    if Mf.ndim != 2 or Mf.shape[0] != Mf.shape[1]:
+        raise ImpactInputError("M", f"must be square, got shape {Mf.shape}")
+    n = Mf.shape[0]
+    if Hf.ndim == 1:
+        Hf = Hf.reshape(1, -1)
+    if Hf.ndim != 2 or Hf.shape[1] != n:
+        raise ImpactInputError("H", f"must have {n} columns, got shape {Hf.shape}")
+    if not (np.all(np.isfinite(Mf)) and np.all(np.isfinite(Hf))):
+        raise ImpactInputError("M/H", "contain NaN or inf")
+    if not np.allclose(Mf, Mf.T, rtol=1e-12, atol=0):
+        raise ImpactInputError("M", "must be symmetric")
+    try:
+        np.linalg.cholesky(Mf)
+    except np.linalg.LinAlgError:
+        raise ImpactInputError("M", "must be positive definite") from None
+    if np.any(np.all(Hf == 0, axis=1)):
+        raise ImpactInputError("H", "has a zero row")
+    v0 = _vec(v, n, "v")
+    return Mf, Hf, v0
+
+
 def _vec(x, n, name):
     try:
         arr = np.asarray(x, dtype=float).reshape(-1)
@@ -299,30 +332,8 @@ def compliant_impact(M, H, v, stiffness, exponent=1.5, damping=None, *, hunt_cro
     >>> r.velocity.round(9).tolist(), round(float(r.impulses[0]), 9), r.outcome
     ([-1.0], 4.0, 'separated')
     """
-    try:
-        Mf = np.array(M, dtype=float)
-        Hf = np.array(H, dtype=float)
-    except (TypeError, ValueError) as exc:
-        raise ImpactInputError("M/H", f"must be numeric matrices ({exc})") from None
-    if Mf.ndim != 2 or Mf.shape[0] != Mf.shape[1]:
-        raise ImpactInputError("M", f"must be square, got shape {Mf.shape}")
-    n = Mf.shape[0]
-    if Hf.ndim == 1:
-        Hf = Hf.reshape(1, -1)
-    if Hf.ndim != 2 or Hf.shape[1] != n:
-        raise ImpactInputError("H", f"must have {n} columns, got shape {Hf.shape}")
-    if not (np.all(np.isfinite(Mf)) and np.all(np.isfinite(Hf))):
-        raise ImpactInputError("M/H", "contain NaN or inf")
-    if not np.allclose(Mf, Mf.T, rtol=1e-12, atol=0):
-        raise ImpactInputError("M", "must be symmetric")
-    try:
-        np.linalg.cholesky(Mf)
-    except np.linalg.LinAlgError:
-        raise ImpactInputError("M", "must be positive definite") from None
-    k = Hf.shape[0]
-    if np.any(np.all(Hf == 0, axis=1)):
-        raise ImpactInputError("H", "has a zero row")
-    v0 = _vec(v, n, "v")
+    Mf, Hf, v0 = float_system(M, H, v)
+    n, k = Mf.shape[0], Hf.shape[0]
     K = _per_contact(stiffness, k, "stiffness")
     p = _per_contact(exponent, k, "exponent")
     if np.any(K <= 0):

@@ -75,7 +75,7 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.integrate import solve_ivp
 
-from .compliant import _per_contact, _vec, chain_matrices
+from .compliant import _per_contact, _vec, chain_matrices, float_system
 from .errors import ImpactInputError, NonTermination
 
 __all__ = ["LZBResult", "lzb_impact", "lzb_chain"]
@@ -145,30 +145,8 @@ def lzb_impact(M, H, v, stiffness, exponent=1.5, restitution=1.0, *, rtol: float
     >>> r.velocity.round(4).tolist(), round(r.energy_ratio, 9)
     ([0.4287, 0.9035], 1.0)
     """
-    try:
-        Mf = np.array(M, dtype=float)
-        Hf = np.array(H, dtype=float)
-    except (TypeError, ValueError) as exc:
-        raise ImpactInputError("M/H", f"must be numeric matrices ({exc})") from None
-    if Mf.ndim != 2 or Mf.shape[0] != Mf.shape[1]:
-        raise ImpactInputError("M", f"must be square, got shape {Mf.shape}")
-    n = Mf.shape[0]
-    if Hf.ndim == 1:
-        Hf = Hf.reshape(1, -1)
-    if Hf.ndim != 2 or Hf.shape[1] != n:
-        raise ImpactInputError("H", f"must have {n} columns, got shape {Hf.shape}")
-    if not (np.all(np.isfinite(Mf)) and np.all(np.isfinite(Hf))):
-        raise ImpactInputError("M/H", "contain NaN or inf")
-    if not np.allclose(Mf, Mf.T, rtol=1e-12, atol=0):
-        raise ImpactInputError("M", "must be symmetric")
-    try:
-        np.linalg.cholesky(Mf)
-    except np.linalg.LinAlgError:
-        raise ImpactInputError("M", "must be positive definite") from None
-    k = Hf.shape[0]
-    if np.any(np.all(Hf == 0, axis=1)):
-        raise ImpactInputError("H", "has a zero row")
-    v0 = _vec(v, n, "v")
+    Mf, Hf, v0 = float_system(M, H, v)
+    n, k = Mf.shape[0], Hf.shape[0]
     K = _per_contact(stiffness, k, "stiffness")
     eta = _per_contact(exponent, k, "exponent")
     e = _per_contact(restitution, k, "restitution")
