@@ -173,9 +173,9 @@ def _render_scalar(k: ScalarKernel, dispatch: bool = False) -> str:
     return "\n".join(lines) + "\n"
 
 
-#: the generated NumPy modules share one hand-written dispatcher (impactsym/kernels/_dispatch.py):
+#: the generated NumPy modules share one hand-written dispatcher (impactsym/kernel_dispatch.py):
 #: scalars go to the plain-Python form, large batches are chunked
-_SCALARS_HELPER = "from ._dispatch import _chunked, _large, _scalars\n"
+_SCALARS_HELPER = "from ..kernel_dispatch import _chunked, _large, _scalars\n"
 
 
 def render_family(derivation: str, family: str, module_doc: str, kernels: Sequence) -> str:

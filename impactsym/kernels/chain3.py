@@ -21,7 +21,7 @@ __all__ = ['chain3_impulse_ratio', 'chain3_alpha_max']
 CODEGEN_NAMES = {'chain3-impulse-ratio': 'chain3_impulse_ratio', 'chain3-alpha-max': 'chain3_alpha_max'}
 
 
-from ._dispatch import _chunked, _large, _scalars
+from ..kernel_dispatch import _chunked, _large, _scalars
 
 
 def _chain3_impulse_ratio_python(m1, m2, m3, v1, v2, v3, e, alpha):

@@ -20,7 +20,7 @@ __all__ = ['pool_g', 'pool_h']
 CODEGEN_NAMES = {'pool-g': 'pool_g', 'pool-h': 'pool_h'}
 
 
-from ._dispatch import _chunked, _large, _scalars
+from ..kernel_dispatch import _chunked, _large, _scalars
 
 
 def _pool_g_python(theta, alpha):

@@ -20,7 +20,7 @@ __all__ = ['impulse_ratio_root', 'impulse_ratio_root_naive']
 CODEGEN_NAMES = {'impulse-ratio-root': 'impulse_ratio_root', 'impulse-ratio-root-naive': 'impulse_ratio_root_naive'}
 
 
-from ._dispatch import _chunked, _large, _scalars
+from ..kernel_dispatch import _chunked, _large, _scalars
 
 
 def _impulse_ratio_root_python(A, B, C):

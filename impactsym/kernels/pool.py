@@ -22,7 +22,7 @@ __all__ = ['pool_impulse_ratio', 'bernoulli_impulse_ratio']
 CODEGEN_NAMES = {'pool-impulse-ratio': 'pool_impulse_ratio', 'bernoulli-impulse-ratio': 'bernoulli_impulse_ratio'}
 
 
-from ._dispatch import _chunked, _large, _scalars
+from ..kernel_dispatch import _chunked, _large, _scalars
 
 
 def _pool_impulse_ratio_python(theta, tau, e, alpha):

@@ -21,7 +21,7 @@ __all__ = ['reflection_map', 'reflect', 'reflection_map_2', 'reflect_2', 'reflec
 CODEGEN_NAMES = {'reflection-map': 'reflection_map', 'reflect': 'reflect', 'reflection-map-2': 'reflection_map_2', 'reflect-2': 'reflect_2', 'reflection-map-3': 'reflection_map_3', 'reflect-3': 'reflect_3'}
 
 
-from ._dispatch import _chunked, _large, _scalars
+from ..kernel_dispatch import _chunked, _large, _scalars
 
 
 def reflection_map(mass_matrix, gradient, restitution=1.0):

@@ -23,7 +23,7 @@ __all__ = ['two_surface_reflection_count', 'two_surface_resolution', 'two_surfac
 CODEGEN_NAMES = {'two-surface-reflection-count': 'two_surface_reflection_count', 'two-surface-resolution': 'two_surface_resolution', 'two-surface-exit-velocity': 'two_surface_exit_velocity', 'two-surface-resolution-2': 'two_surface_resolution_2'}
 
 
-from ._dispatch import _chunked, _large, _scalars
+from ..kernel_dispatch import _chunked, _large, _scalars
 
 
 def _two_surface_reflection_count_python(s_a, s_b, g, c_a, c_b):

@@ -1,5 +1,6 @@
 """Dispatch for the generated NumPy kernels (hand-written, not generated; imported by every
-generated module in this folder that has a plain-Python form).
+generated NumPy module in impactsym/kernels/ that has a plain-Python form; that folder holds
+generated files only).
 
 A call whose arguments are all Python or NumPy scalars goes to the kernel's plain-Python form
 (38-640x faster on one point); a batch larger than ``2 * CHUNK`` points is evaluated ``CHUNK``
