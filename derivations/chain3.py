@@ -53,6 +53,8 @@ from impactsym.models.acary_taha import chain3
 from .codegen import ScalarKernel, render_family
 from .impulse_ratio import QuadraticLaw, general_quadratic
 
+from impactsym.errors import DerivationError
+
 __all__ = [
     "SYMBOLS",
     "chain3_law",
@@ -283,7 +285,8 @@ def stable_root(A, B, C, D=None):
     if D is None:
         D = B**2 - 4 * A * C
     else:  # an emitted form of the discriminant: must be B^2 - 4AC
-        assert sp.cancel(D - (B**2 - 4 * A * C)) == 0, D
+        if not (sp.cancel(D - (B**2 - 4 * A * C)) == 0):
+            raise DerivationError(D)
     return sp.Piecewise(
         ((sp.Abs(B) + sp.sqrt(D)) / (2 * A), B <= 0),
         (-2 * C / (sp.Abs(B) + sp.sqrt(D)), True),
@@ -314,7 +317,8 @@ def emitted_coefficients():
     B = (v2 - v1) + alpha * (v3 - v2)
     C = (1 - e) * (m1 * v1**2 + m2 * v2**2 + m3 * v3**2) / 2
     for emitted, derived in ((A, g["A"]), (B, g["B"]), (C, g["C"])):
-        assert sp.cancel(emitted - derived) == 0, (emitted, derived)
+        if not (sp.cancel(emitted - derived) == 0):
+            raise DerivationError((emitted, derived))
     return A, B, C
 
 
@@ -342,7 +346,8 @@ def emitted_discriminant():
     wedge = sum((c[i] * ms[j] * vs[j] - c[j] * ms[i] * vs[i]) ** 2 / (ms[i] * ms[j])
                 for i in range(3) for j in range(i + 1, 3))
     D = e * B**2 - (1 - e) * wedge
-    assert sp.cancel(D - (B**2 - 4 * A * C)) == 0
+    if not (sp.cancel(D - (B**2 - 4 * A * C)) == 0):
+        raise DerivationError('derivation check failed: sp.cancel(D - (B**2 - 4 * A * C)) == 0')
     return D
 
 
@@ -357,9 +362,11 @@ def _emitted_w3(A, B, D, p1):
     """
     N = m3 * v3 * ((1 - alpha) ** 2 / m2 + 1 / m1) + alpha * (v1 - (1 - alpha) * v2)
     r = sp.Symbol("r", positive=True)
-    assert sp.cancel(N - (2 * A * m3 * v3 - alpha * B)) == 0  # |B| = -B on this branch
+    if not (sp.cancel(N - (2 * A * m3 * v3 - alpha * B)) == 0):  # |B| = -B on this branch
+        raise DerivationError('derivation check failed: sp.cancel(N - (2 * A * m3 * v3 - alpha * B)) == 0')
     approach = (N + alpha * sp.sqrt(D)) / (2 * A * m3)
-    assert sp.cancel((N + alpha * r) / (2 * A * m3) - (v3 + alpha * (-B + r) / (2 * A * m3))) == 0
+    if not (sp.cancel((N + alpha * r) / (2 * A * m3) - (v3 + alpha * (-B + r) / (2 * A * m3))) == 0):
+        raise DerivationError('derivation check failed: sp.cancel((N + alpha * r) / (2 * A * m3) - (v3 + alpha * (-B + r) / (2 * A * m3))) == 0')
     (_, cond1), (leave, _) = p1.args
     return sp.Piecewise((approach, cond1), (v3 + alpha * leave / m3, True))
 

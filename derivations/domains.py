@@ -52,6 +52,8 @@ from impactsym.models.acary_taha import chain3, pool
 from .codegen import ScalarKernel, render_expressions, render_family
 from .impulse_ratio import general_quadratic
 
+from impactsym.errors import DerivationError
+
 __all__ = [
     "admissibility_conditions",
     "chain3_domain",
@@ -103,7 +105,8 @@ def admissibility_conditions(scene, ratios, restitution=e) -> dict:
     law = general_quadratic(scene.M, scene.H, scene.v, restitution, list(ratios))
     T = sp.simplify((scene.v.T * scene.M * scene.v)[0, 0] / 2)
     # Δ is linear in e: Δ = B² − 4A(1 − e)T⁻ (checked, not assumed)
-    assert sp.simplify(law.D - (law.B**2 - 4 * law.A * (1 - restitution) * T)) == 0
+    if not (sp.simplify(law.D - (law.B**2 - 4 * law.A * (1 - restitution) * T)) == 0):
+        raise DerivationError('derivation check failed: sp.simplify(law.D - (law.B**2 - 4 * law.A * (1 - restitution) * T)) == 0')
     h = _tidy(1 - law.B**2 / (4 * law.A * T))
     b = scene.H * scene.v
     cvec = scene.H * scene.M.LUsolve(scene.H.T * law.ratios)
@@ -145,7 +148,8 @@ def chain3_domain() -> dict:
     """
     cond = admissibility_conditions(chain3(), [alpha])
     c1, c2 = cond["contacts"]
-    assert c2["b"] == 0 and sp.expand(c2["c"] - (2 * alpha - 1)) == 0
+    if not (c2["b"] == 0 and sp.expand(c2["c"] - (2 * alpha - 1)) == 0):
+        raise DerivationError('derivation check failed: c2["b"] == 0 and sp.expand(c2["c"] - (2 * alpha - 1)) == 0')
     g, h = c1["g"], cond["h"]
     alpha_min = sp.solve(c2["c"], alpha)[0]
     dg = sp.factor(sp.diff(g, alpha))
@@ -194,7 +198,8 @@ def chain3_alpha_max_expr():
     roots = sp.solve(sp.numer(sp.together(g.subs(alpha, a) - e)), a)
     # choose the root that is 1 at e = 1 and 1/2 at e = 1/3 (the branch inside [1/2, 1])
     picked = [r for r in roots if sp.simplify(r.subs(e, 1) - 1) == 0 and sp.simplify(r.subs(e, sp.Rational(1, 3)) - sp.Rational(1, 2)) == 0]
-    assert len(picked) == 1, roots
+    if not (len(picked) == 1):
+        raise DerivationError(roots)
     r = picked[0]
     return sp.simplify(r) if sp.count_ops(sp.simplify(r)) <= sp.count_ops(r) else r
 
@@ -338,7 +343,8 @@ def bernoulli_tau0_domain() -> dict:
     k1, k2, k3 = cond["contacts"]
     g1, g3 = k1["g"], k3["g"]
     cross = [r for r in sp.Poly(sp.numer(sp.together(g1 - g3)), alpha).real_roots() if 0 < r < sp.Rational(2, 5)]
-    assert len(cross) == 1
+    if not (len(cross) == 1):
+        raise DerivationError('derivation check failed: len(cross) == 1')
     a_star = cross[0]
     e_min = g1.subs(alpha, a_star)
     return {"g1": g1, "g3": g3, "R3": k3["R"], "h": cond["h"], "c2": k2["c"], "alpha_range": (sp.Integer(0), sp.Integer(1)),
@@ -371,9 +377,12 @@ def pool_tau_conditions() -> dict:
     s2, c2 = sp.sin(tau) ** 2, sp.cos(tau) ** 2
     mapped_g = s2 + c2 * pool_g(sp.cos(theta))
     mapped_h = s2 + c2 * pool_h(sp.cos(theta))
-    assert sp.simplify(k1["g"] - mapped_g) == 0, k1["g"]
-    assert sp.simplify(cond["h"] - mapped_h) == 0, cond["h"]
-    assert k2["b"] == 0 and sp.expand(k2["c"] - (2 * alpha - sp.cos(theta))) == 0, k2
+    if not (sp.simplify(k1["g"] - mapped_g) == 0):
+        raise DerivationError(k1["g"])
+    if not (sp.simplify(cond["h"] - mapped_h) == 0):
+        raise DerivationError(cond["h"])
+    if not (k2["b"] == 0 and sp.expand(k2["c"] - (2 * alpha - sp.cos(theta))) == 0):
+        raise DerivationError(k2)
     return {"g1": k1["g"], "h": cond["h"], "b2": k2["b"], "c2": k2["c"]}
 
 

@@ -32,6 +32,8 @@ from dataclasses import dataclass
 
 import sympy as sp
 
+from impactsym.errors import DerivationError
+
 __all__ = ["QuadraticLaw", "general_quadratic", "physical_root_proof", "general_coefficients_proof", "moreau_energy_proof", "poisson_energy_proof"]
 
 
@@ -72,9 +74,12 @@ def general_quadratic(M, H, v, e, alphas) -> QuadraticLaw:
     poly = sp.Poly(balance, p1)
     A, B, C = (sp.simplify(poly.coeff_monomial(p1**k)) for k in (2, 1, 0))
     # identification with the closed forms stated in the docstring (checked, not assumed)
-    assert sp.simplify(A - (r.T * w)[0, 0] / 2) == 0
-    assert sp.simplify(B - (a.T * H * v)[0, 0]) == 0
-    assert sp.simplify(C - (1 - e) * T_minus) == 0
+    if not (sp.simplify(A - (r.T * w)[0, 0] / 2) == 0):
+        raise DerivationError('derivation check failed: sp.simplify(A - (r.T * w)[0, 0] / 2) == 0')
+    if not (sp.simplify(B - (a.T * H * v)[0, 0]) == 0):
+        raise DerivationError('derivation check failed: sp.simplify(B - (a.T * H * v)[0, 0]) == 0')
+    if not (sp.simplify(C - (1 - e) * T_minus) == 0):
+        raise DerivationError('derivation check failed: sp.simplify(C - (1 - e) * T_minus) == 0')
     D = sp.expand(B**2 - 4 * A * C)
     root = (-B + sp.sqrt(D)) / (2 * A)
     other = (-B - sp.sqrt(D)) / (2 * A)

@@ -37,6 +37,8 @@ import sympy as sp
 
 from .codegen import ScalarKernel, render_family
 
+from impactsym.errors import DerivationError
+
 __all__ = ["coefficients", "naive_roots", "stable_roots", "stable_form_proofs", "kernels", "generate"]
 
 
@@ -53,7 +55,8 @@ def naive_roots():
     D = B**2 - 4 * A * C
     plus = [r for r in roots if sp.simplify(r - (-B + sp.sqrt(D)) / (2 * A)) == 0]
     minus = [r for r in roots if sp.simplify(r - (-B - sp.sqrt(D)) / (2 * A)) == 0]
-    assert len(plus) == 1 and len(minus) == 1, roots
+    if not (len(plus) == 1 and len(minus) == 1):
+        raise DerivationError(roots)
     return plus[0], minus[0]
 
 
@@ -104,7 +107,8 @@ p1 = (-B + sqrt(D))/(2A) and its partner (-B - sqrt(D))/(2A), D = B^2 - 4AC.
 def kernels() -> list:
     A, B, C = coefficients()
     for p in stable_form_proofs():
-        assert p["proven"], p
+        if not (p["proven"]):
+            raise DerivationError(p)
     stable = ScalarKernel(
         "impulse_ratio_root", [A, B, C], list(stable_roots()), ["p1", "p1_partner"],
         _DOC + "Stable form: q = (-B + s sqrt(D))/2, s = 1 if B < 0 else -1; roots q/A and C/q (no cancellation).",

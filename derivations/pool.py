@@ -56,6 +56,8 @@ from .chain3 import closed_form, stable_root
 from .codegen import ScalarKernel, render_family
 from .impulse_ratio import general_quadratic
 
+from impactsym.errors import DerivationError
+
 __all__ = [
     "SYMBOLS",
     "VELOCITY_NAMES",
@@ -413,7 +415,8 @@ def eq33_theta() -> dict:
     at_e1 = pool_tau0()
     for k, v in derived.items():
         gen = at_e1[k].subs(e, 1).subs({sp.cos(theta): c, sp.sin(theta): s})
-        assert sp.simplify(gen - v) == 0, k
+        if not (sp.simplify(gen - v) == 0):
+            raise DerivationError(k)
     printed = printed_eq33()
     eqs = []
     for k, v in derived.items():
@@ -528,21 +531,26 @@ def _pool_emitted(th, ta, ee, a12, A, B, C, sc):
     """
     c, s_, ct, st = sp.cos(th), sp.sin(th), sp.cos(ta), sp.sin(ta)
     D = ee * ct**2 - (1 - ee) * ((a12 - c) ** 2 + a12**2 + s_**2 + st**2)
-    assert _trig_zero(D - (B**2 - 4 * A * C))
+    if not (_trig_zero(D - (B**2 - 4 * A * C))):
+        raise DerivationError('derivation check failed: _trig_zero(D - (B**2 - 4 * A * C))')
     Ae = a12 * (a12 - c) + 1
-    assert sp.simplify(Ae - A) == 0
+    if not (sp.simplify(Ae - A) == 0):
+        raise DerivationError('derivation check failed: sp.simplify(Ae - A) == 0')
     r = sp.Symbol("r", positive=True)
     root_impact = (ct + r) / (2 * Ae)
     q_impact = (2 * a12 * (a12 - c) * ct**2 + (1 - ee)) / ((1 + 2 * a12 * (a12 - c)) * ct + r)
     direction = _velocity_direction(sc, (a12,))
     naive = [vi + ci * root_impact for vi, ci in zip(sc.v, direction)]
     emitted = [c * q_impact + s_ * st, s_ * q_impact - c * st] + [ci * root_impact for ci in direction[2:]]
-    assert all(vi == 0 for vi in sc.v[2:])
+    if not (all(vi == 0 for vi in sc.v[2:])):
+        raise DerivationError('derivation check failed: all(vi == 0 for vi in sc.v[2:])')
     for a, b in zip(emitted, naive):  # impact branch: equal modulo r^2 = D
         n_ = sp.expand(sp.numer(sp.together(a - b)))
-        assert _trig_zero(sp.rem(n_, sp.expand(r**2 - D), r)), a
+        if not (_trig_zero(sp.rem(n_, sp.expand(r**2 - D), r))):
+            raise DerivationError(a)
     for a, b in zip((c * ct + s_ * st, s_ * ct - c * st), sc.v[:2]):  # no impact: q = cos(tau), w1 = v1-
-        assert _trig_zero(a - b)
+        if not (_trig_zero(a - b)):
+            raise DerivationError('derivation check failed: _trig_zero(a - b)')
     rD = sp.sqrt(D)
     p1 = sp.Piecewise((root_impact.subs(r, rD), ct > 0), (0, True))
     q = sp.Piecewise((q_impact.subs(r, rD), ct > 0), (ct, True))
@@ -566,10 +574,12 @@ def kernels():
     # two contacts, any θ, τ
     sc, law = pool_law(th, ta, ee, (a12,))
     A, B, C = sp.factor(law.A), sp.simplify(law.B), sp.factor(law.C)
-    assert sp.simplify(B + sp.cos(ta)) == 0
+    if not (sp.simplify(B + sp.cos(ta)) == 0):
+        raise DerivationError('derivation check failed: sp.simplify(B + sp.cos(ta)) == 0')
     # contact 1–2 approaches iff H₁q̇⁻ = −cos τ < 0; contact 2–3 has H₂q̇⁻ = 0 (balls 2, 3 at rest)
     hv = (sc.H * sc.v).applyfunc(lambda x: sp.simplify(sp.expand_trig(x)))
-    assert sp.simplify(hv[0] + sp.cos(ta)) == 0 and hv[1] == 0
+    if not (sp.simplify(hv[0] + sp.cos(ta)) == 0 and hv[1] == 0):
+        raise DerivationError('derivation check failed: sp.simplify(hv[0] + sp.cos(ta)) == 0 and hv[1] == 0')
     p1, w = _pool_emitted(th, ta, ee, a12, A, B, C, sc)
     pool_k = ScalarKernel(
         "pool_impulse_ratio", [th, ta, ee, a12], [p1, a12 * p1, *w], ["p1", "p2", *names],

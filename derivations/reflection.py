@@ -41,6 +41,8 @@ import sympy as sp
 from .algebra import block_determinant_lemma, nc_symbols, rewrite
 from .codegen import ArrayKernel, ScalarKernel, numpy_code, render_family
 
+from impactsym.errors import DerivationError
+
 __all__ = [
     "symbolic_mass_matrix",
     "symbolic_covector",
@@ -173,14 +175,16 @@ def derive_single_impact(n: int) -> Derivation:
     lam = sp.Symbol("lambda", real=True)
     momentum = M * qp_syms - M * qm + lam * u.T  # eq. 1a, as the jump of dL/dqdot
     sol = sp.solve(list(momentum), list(qp_syms), dict=True)
-    assert len(sol) == 1, "the momentum equation is linear in qdot+ with an invertible M"
+    if not (len(sol) == 1):
+        raise DerivationError("the momentum equation is linear in qdot+ with an invertible M")
     qp_of_lam = qp_syms.subs(sol[0])
     energy = (qp_of_lam.T * M * qp_of_lam)[0, 0] - (qm.T * M * qm)[0, 0]  # eq. 1b
     energy_num = sp.factor(sp.numer(sp.together(energy)))
     roots = sp.solve(energy_num, lam)
     discarded = [(r, TRIVIAL_ROOT_REASON) for r in roots if sp.simplify(r) == 0]
     kept = [r for r in roots if sp.simplify(r) != 0]
-    assert len(kept) == 1, f"expected one non-trivial root, got {kept}"
+    if not (len(kept) == 1):
+        raise DerivationError(f"expected one non-trivial root, got {kept}")
     lam_star = sp.factor(kept[0])
     qplus = qp_of_lam.subs(lam, lam_star).applyfunc(sp.cancel)
     G = qplus.jacobian(qm).applyfunc(sp.cancel)
@@ -207,7 +211,8 @@ def derive_restitution(n: int) -> Derivation:
     qp_of_lam = qp_syms.subs(sol[0])
     restitution = (u * qp_of_lam)[0, 0] + e * (u * qm)[0, 0]
     roots = sp.solve(sp.numer(sp.together(restitution)), lam)
-    assert len(roots) == 1
+    if not (len(roots) == 1):
+        raise DerivationError('derivation check failed: len(roots) == 1')
     lam_star = sp.factor(roots[0])
     qplus = qp_of_lam.subs(lam, lam_star).applyfunc(sp.cancel)
     G = qplus.jacobian(qm).applyfunc(sp.cancel)
@@ -249,7 +254,8 @@ def derive_general(restitution: bool = False) -> Derivation:
     lam = sp.Symbol("lambda", real=True)
     qplus = Q - lam * W
     momentum_residual = rewrite(MM * qplus - MM * Q + lam * Ut, RULES)
-    assert momentum_residual == 0, momentum_residual
+    if not (momentum_residual == 0):
+        raise DerivationError(momentum_residual)
     if restitution:
         condition = rewrite(U * qplus + e_ * U * Q, RULES)  # u q+ = -e u q-
         e_val = e_
@@ -260,13 +266,15 @@ def derive_general(restitution: bool = False) -> Derivation:
     roots = sp.solve(condition, lam)
     discarded = [(r, TRIVIAL_ROOT_REASON) for r in roots if r == 0]
     kept = [r for r in roots if r != 0]
-    assert len(kept) == 1
+    if not (len(kept) == 1):
+        raise DerivationError('derivation check failed: len(kept) == 1')
     lam_star = sp.factor(kept[0])
     # q+ = Q - lam* W with lam* = coeff*c/s = coeff*(U Q)/s  ->  G = 1 - coeff W U / s
     coeff = 1 + e_val
     G = G_matrix(W, U, s_, e_val, identity=1)
     check = rewrite(G * Q - (Q - lam_star * W), RULES)
-    assert check == 0, check
+    if not (check == 0):
+        raise DerivationError(check)
     d = Derivation("n", MM, U, Q, lam_star, Q - lam_star * W, G, roots,
                    [(r, _short(reason)) for r, reason in discarded])
     d.matches_printed_lambda = sp.simplify(lam_star - coeff * c_ / s_) == 0
@@ -527,7 +535,8 @@ def kernels() -> list:
     """The kernels this derivation emits (general n, and closed forms for n = 2 and 3)."""
     e, s = e_, s_
     coeff = _coefficient()  # (e + 1)/s
-    assert sp.simplify(coeff - (1 + e) / s) == 0
+    if not (sp.simplify(coeff - (1 + e) / s) == 0):
+        raise DerivationError('derivation check failed: sp.simplify(coeff - (1 + e) / s) == 0')
     cs = numpy_code(coeff.subs({e: sp.Symbol("restitution"), s: sp.Symbol("s")}))
     general_map = ArrayKernel(
         "reflection_map",
@@ -614,11 +623,13 @@ int reflect(size_t n, const double *mass_matrix, const double *gradient, const d
         esym = sp.Symbol("e")
         G = printed_G(M, u, esym)
         # the printed map equals the derived one (restitution derivation), checked exactly:
-        assert _matrix_is_zero(G - derive_restitution(n).G.subs(sp.Symbol("e", nonnegative=True), esym))
+        if not (_matrix_is_zero(G - derive_restitution(n).G.subs(sp.Symbol("e", nonnegative=True), esym))):
+            raise DerivationError('derivation check failed: _matrix_is_zero(G - derive_restitution(n).G.subs(sp.Symbol("e", nonnegative=True), esym))')
         margs = [M[i, j] for i in range(n) for j in range(i, n)]
         args = margs + list(u) + [esym]
         G, Gv = stable_G(M, u, v, esym)
-        assert _matrix_is_zero(G - printed_G(M, u, esym)) and _matrix_is_zero(Gv - printed_G(M, u, esym) * v)
+        if not (_matrix_is_zero(G - printed_G(M, u, esym)) and _matrix_is_zero(Gv - printed_G(M, u, esym) * v)):
+            raise DerivationError('derivation check failed: _matrix_is_zero(G - printed_G(M, u, esym)) and _matrix_is_zero(Gv - printed_G(M, u, esym) * v)')
         out.append(ScalarKernel(
             f"reflection_map_{n}", args, list(G), [f"g{i}{j}" for i in range(n) for j in range(n)],
             f"Closed-form G_u(e) for n = {n} (entries row-major), M given by its upper triangle.\n"

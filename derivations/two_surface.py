@@ -66,6 +66,9 @@ from .algebra import nc_symbols, rewrite
 from .codegen import ArrayKernel, ScalarKernel, numpy_code, render_family
 from .reflection import G_matrix
 
+from impactsym.errors import DerivationError
+from impactsym.exact import certified_sign
+
 __all__ = [
     "plane_reduction",
     "plane_frame",
@@ -110,7 +113,8 @@ G_B = G_matrix(WB, UB, s_B, identity=1)
 def _coeffs(expr) -> tuple:
     """Coordinates of an element of span(WA, WB) (checked to have no other part)."""
     a, b = expr.coeff(WA), expr.coeff(WB)
-    assert sp.expand(expr - a * WA - b * WB) == 0, expr
+    if not (sp.expand(expr - a * WA - b * WB) == 0):
+        raise DerivationError(expr)
     return sp.simplify(a), sp.simplify(b)
 
 
@@ -343,7 +347,8 @@ def exit_relative_velocity(m=m_):
     gram = sp.Matrix([[s_A, g], [g, s_B]])
     c = sp.Matrix([c_A, c_B])
     p2 = (s_B * c_A**2 - 2 * g * c_A * c_B + s_A * c_B**2) / Delta
-    assert sp.simplify((p2 - (c.T * gram.inv() * c)[0, 0]).subs(s_B, S_B_OF_DELTA)) == 0
+    if not (sp.simplify((p2 - (c.T * gram.inv() * c)[0, 0]).subs(s_B, S_B_OF_DELTA)) == 0):
+        raise DerivationError('derivation check failed: sp.simplify((p2 - (c.T * gram.inv() * c)[0, 0]).subs(s_B, S_B_OF_DELTA)) == 0')
     th = exit_angle(m)
     pn = sp.sqrt(p2)
     return sp.sqrt(s_A) * pn * sp.sin(th), sp.sqrt(s_B) * pn * sp.sin(beta - th)
@@ -428,7 +433,8 @@ def lune_fraction(n) -> sp.Expr:
     elif n == "n":
         dens = sp.exp(-r**2 / 2) * r / (2 * sp.pi)
         total = sp.integrate(dens, (r, 0, sp.oo), (lam, 0, 2 * sp.pi))
-        assert sp.simplify(total - 1) == 0
+        if not (sp.simplify(total - 1) == 0):
+            raise DerivationError('derivation check failed: sp.simplify(total - 1) == 0')
         out = sp.integrate(dens, (r, 0, sp.oo), (lam, 0, b))
     else:
         raise ValueError("n must be 2, 3 or 'n'")
@@ -515,14 +521,17 @@ def reachable_arc_lengths(beta_over_pi, iterations: int) -> list:
             continue
         # the reflected arc [2a - hi, 2a - lo]; the arc contains the mirror point a (it always
         # does: it contains [0, beta]), so the union is [min, max]
-        assert lo <= a <= hi
+        if not (lo <= a <= hi):
+            raise DerivationError('derivation check failed: lo <= a <= hi')
         nlo, nhi = sp.Min(lo, 2 * a - hi), sp.Max(hi, 2 * a - lo)
         plus, minus = hi - a, a - lo  # the two sides of the mirror inside the arc
-        assert sp.simplify((nhi - nlo) - 2 * sp.Max(plus, minus)) == 0  # S_u = 2 max(S+, S-)
+        if not (sp.simplify((nhi - nlo) - 2 * sp.Max(plus, minus)) == 0):  # S_u = 2 max(S+, S-)
+            raise DerivationError('derivation check failed: sp.simplify((nhi - nlo) - 2 * sp.Max(plus, minus)) == 0')
         if k >= 1:  # the paper's S_u^+ = S_v + S_0, S_u^- = S_v - S_0 (S_v = S/2, S_0 = beta)
             half = (hi - lo) / 2
             big, small = sp.Max(plus, minus), sp.Min(plus, minus)
-            assert sp.simplify(big - (half + b)) == 0 and sp.simplify(small - (half - b)) == 0
+            if not (sp.simplify(big - (half + b)) == 0 and sp.simplify(small - (half - b)) == 0):
+                raise DerivationError('derivation check failed: sp.simplify(big - (half + b)) == 0 and sp.simplify(small - (half - b)) == 0')
         lo, hi = nlo, nhi
         out.append(sp.Min(hi - lo, 2 * sp.pi))
     return out
@@ -548,12 +557,13 @@ def area_step_counterexample() -> dict:
     Gu = sp.diag(1, 1, -1)
     centres = [a, b, Gu * a, Gu * b]
     dists = [sp.acos((centres[i].T * centres[j])[0]) for i in range(4) for j in range(i + 1, 4)]
-    disjoint = all(sp.N(d - 2 * r, 30) > 0 for d in dists)
+    # every sign certified (rigorous enclosures, impactsym.exact), never a 30-digit comparison
+    disjoint = all(certified_sign(d - 2 * r) > 0 for d in dists)
     # caps are within one hemisphere each: |z| of the centre exceeds sin(r)
-    inside = all(sp.N(abs(c[2]) - sp.sin(r), 30) > 0 for c in (a, b))
+    inside = all(certified_sign(abs(c[2]) - sp.sin(r)) > 0 for c in (a, b))
     union = 4 * cap if disjoint else None
     two_max = 2 * cap
-    return {"fails": bool(disjoint and inside and sp.N(union - two_max) > 0),
+    return {"fails": bool(disjoint and inside and certified_sign(union - two_max) > 0),
             "union_area": union, "two_max": two_max}
 
 
@@ -607,7 +617,8 @@ def _emitted_exit(mm):
     """
     odd = sp.Eq(sp.Mod(mm, 2), 1)
     a_d, b_d = psi - (mm - 1) * beta, mm * beta - psi
-    assert sp.expand(beta - b_d - a_d) == 0
+    if not (sp.expand(beta - b_d - a_d) == 0):
+        raise DerivationError('derivation check failed: sp.expand(beta - b_d - a_d) == 0')
     # the smaller one directly (its relative precision), the other as beta minus it (so that
     # a + b = beta to one rounding: independent roundings of both break the exit vector of a thin
     # wedge, whose H^-1 amplifies an inconsistency by 1/beta)
@@ -638,8 +649,10 @@ def _emitted_exit(mm):
             new_a = (ca / ca.args[-1] * ca.args[-1].args[pick].expr).subs(mm, m_val)
             new_b = (cb / cb.args[-1] * cb.args[-1].args[pick].expr).subs(mm, m_val)
             new_a, new_b = (x.doit() for x in (new_a, new_b))  # UnevaluatedExpr: its value
-            assert sp.simplify(sp.expand_trig(sp.expand(new_a - old_a))) == 0, (m_val, pick)
-            assert sp.simplify(sp.expand_trig(sp.expand(new_b - old_b))) == 0, (m_val, pick)
+            if not (sp.simplify(sp.expand_trig(sp.expand(new_a - old_a))) == 0):
+                raise DerivationError((m_val, pick))
+            if not (sp.simplify(sp.expand_trig(sp.expand(new_b - old_b))) == 0):
+                raise DerivationError((m_val, pick))
     return (sp.Piecewise((one[0], sp.Eq(mm, 1)), (two[0], sp.Eq(mm, 2)), (ca_t, True)),
             sp.Piecewise((one[1], sp.Eq(mm, 1)), (two[1], sp.Eq(mm, 2)), (cb_t, True)))
 
@@ -658,7 +671,8 @@ def _check_few_reflections(one, two):
         for gexpr, w in zip(got, want):
             d = sp.expand_trig(gexpr).subs(sub) - w
             d = sp.simplify(d.subs(Delta, s_A * s_B - g**2))
-            assert d == 0, (m_val, d)
+            if not (d == 0):
+                raise DerivationError((m_val, d))
 
 
 def _branch_expressions(first_is_a: bool):
@@ -764,10 +778,12 @@ def kernels() -> list:
     # det(Gamma) = det(H)^2 / det(M) (product of determinants), whose only cancellation is det(H)'s,
     # ~eps/beta, the conditioning of the wedge angle w.r.t. H itself. Gamma^-1 = adj(Gamma)/Delta.
     delta_f = H.det() ** 2 / det
-    assert sp.simplify(gram[0, 0] * gram[1, 1] - gram[0, 1] ** 2 - delta_f) == 0
+    if not (sp.simplify(gram[0, 0] * gram[1, 1] - gram[0, 1] ** 2 - delta_f) == 0):
+        raise DerivationError('derivation check failed: sp.simplify(gram[0, 0] * gram[1, 1] - gram[0, 1] ** 2 - delta_f) == 0')
     dsym = sp.Symbol("Delta_f", positive=True)
     ginv = sp.Matrix([[gram[1, 1], -gram[0, 1]], [-gram[0, 1], gram[0, 0]]]) / delta_f
-    assert (W * ginv - H.adjugate() / H.det()).applyfunc(sp.simplify) == sp.zeros(2, 2)
+    if not ((W * ginv - H.adjugate() / H.det()).applyfunc(sp.simplify) == sp.zeros(2, 2)):
+        raise DerivationError('derivation check failed: (W * ginv - H.adjugate() / H.det()).applyfunc(sp.simplify) == sp.zeros(2, 2)')
 
     # and c^T adj(Gamma) c = c_a^2 s_b - 2 c_a c_b g + c_b^2 s_a (the squared wedge-plane speed times
     # Delta) equals Delta * v^T M v for n = 2 (c = H v, H square): a sum of squares instead of a
@@ -775,7 +791,8 @@ def kernels() -> list:
     quad = ca**2 * sb - 2 * ca * cb * gg + cb**2 * sa
     qsym = sp.Symbol("Q_f", positive=True)
     quad_f = delta_f * (v.T * M * v)[0, 0]
-    assert sp.simplify(quad.subs(sub) - quad_f) == 0
+    if not (sp.simplify(quad.subs(sub) - quad_f) == 0):
+        raise DerivationError('derivation check failed: sp.simplify(quad.subs(sub) - quad_f) == 0')
 
     # and adj(Gamma) c = Delta Gamma^-1 c = det(H)/det(M) adj(H)^T M v (the second argument of psi's
     # atan2, which otherwise cancels as c_b s_a - g c_a with both terms O(1) and the result O(beta^2))
@@ -783,11 +800,13 @@ def kernels() -> list:
     lin = [sb * ca - gg * cb, sa * cb - gg * ca]
     lsym = sp.symbols("L0_f L1_f", real=True)
     for i in range(2):
-        assert sp.simplify(lin[i].subs(sub) - adjc[i]) == 0
+        if not (sp.simplify(lin[i].subs(sub) - adjc[i]) == 0):
+            raise DerivationError('derivation check failed: sp.simplify(lin[i].subs(sub) - adjc[i]) == 0')
 
     def _factored(expr):
         expr = expr.subs(quad, qsym).subs({lin[0]: lsym[0], lin[1]: lsym[1]}).subs(sa * sb - gg**2, dsym)
-        assert not expr.has(sa * sb - gg**2) and not expr.has(quad)
+        if not (not expr.has(sa * sb - gg**2) and not expr.has(quad)):
+            raise DerivationError('derivation check failed: not expr.has(sa * sb - gg**2) and not expr.has(quad)')
         return expr.subs(sub).subs({dsym: delta_f, qsym: quad_f, lsym[0]: adjc[0], lsym[1]: adjc[1]})
 
     for k, tag in ((0, "a"), (3, "b")):

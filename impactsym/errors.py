@@ -11,7 +11,7 @@ True
 from __future__ import annotations
 
 __all__ = ["ImpactError", "ImpactInputError", "DomainError", "NonTermination", "UndecidableSign",
-           "VerificationError", "TimeLimitExceeded"]
+           "VerificationError", "DerivationError", "TimeLimitExceeded"]
 
 
 class ImpactError(Exception):
@@ -65,6 +65,16 @@ class VerificationError(AssertionError):
         self.condition = condition
         super().__init__(f"{law}: verification of the outcome failed: {condition} (a bug in impactsym; "
                          "the outcome was not returned)")
+
+
+class DerivationError(AssertionError):
+    """A step of a SymPy derivation that must hold (an identity, a branch equality, a proof
+    obligation) does not: a bug in the derivation, raised explicitly so that ``python -O``
+    cannot skip the check (``assert`` statements vanish under ``-O``).
+
+    >>> issubclass(DerivationError, ImpactError)
+    False
+    """
 
 
 class TimeLimitExceeded(ImpactError, TimeoutError):

@@ -825,7 +825,7 @@ def at_fig3_domain(theta="pi/4", *, printed_h=None, alpha_max=1.5):
     pts = []
     lo = dom.region["alpha"][0]
     for a in (lo, (lo + 1) / 2, sp.Integer(1)):
-        a = sp.nsimplify(a)
+        a = sp.expand(a)  # exact: no rounding
         pts.append([_s(a), _s(sp.radsimp(sp.simplify(g.subs(A, a))))])
     src["boundary_points"] = pts
     if printed_h is not None:

@@ -30,6 +30,8 @@ import mpmath
 import numpy as np
 import sympy as sp
 
+from impactsym.errors import DerivationError
+
 __all__ = ["KERNEL_ERROR_FACTOR", "run_crosschecks"]
 
 #: interim bound constant for closed-form kernels and float laws: |x_float − x| ≤ C · eps · max(1, |x|)
@@ -166,7 +168,8 @@ def _domain_example():
     from derivations.domains import pool_g
     c = sp.cos(sp.pi / 4)
     ref = sp.simplify(pool_g(c).subs(sp.Symbol("alpha", nonnegative=True), c / 2))
-    assert ref == exact
+    if not (ref == exact):
+        raise DerivationError('derivation check failed: ref == exact')
     got = float(kernels.pool_g(float(sp.N(sp.pi / 4, 20)), float(sp.N(c / 2, 20))))
     err = _err(got, ref)
     bound = KERNEL_ERROR_FACTOR * EPS

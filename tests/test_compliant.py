@@ -169,3 +169,176 @@ def test_linear_matches_50_digit_reference(masses, K):
 def test_bad_input(kw, match):
     with pytest.raises(ImpactInputError, match=match):
         chain_impact(**kw)
+
+
+# ------------------------------------------ issue 13: scale, strikers, walls, planar scenes, laws
+
+from impactsym.compliant import (chain_matrices, compliant_impact, hunt_crossley_damping,  # noqa: E402
+                                 hunt_crossley_restitution)
+from impactsym.errors import NonTermination  # noqa: E402
+
+
+def _conserves(masses, v0, r, tol=1e-8):
+    m = np.asarray(masses, float)
+    return abs(m @ r.velocity - m @ np.asarray(v0, float)) < tol and abs(r.energy_ratio - 1) < tol
+
+
+def _final(H, r, V=1.0):
+    # the stopping test's guarantee: every contact separates or grazes (within 1e-12 V)
+    return np.all(np.asarray(H, float) @ r.velocity >= -1e-12 * V)
+
+
+@pytest.mark.parametrize("n", [8, 10, 20])
+def test_monodisperse_hertz_chain_struck_at_one_end_finishes(n):
+    # raised NonTermination before issue 13 (n >= 8); each contact now closes and opens once
+    v0 = np.zeros(n)
+    v0[0] = 1
+    r = chain_impact([1] * n, v0, 1.0)
+    _, H, _ = chain_matrices([1] * n)
+    assert r.outcome == "separated" and _final(H, r) and _conserves([1] * n, v0, r)
+    assert r.events == 2 * (n - 1)
+    assert r.velocity[-1] > 0.98 and np.all(np.abs(r.velocity[:-2]) < 0.08)  # the wave leaves with the last ball
+
+
+def test_cradle_with_two_comoving_strikers():
+    # raised NonTermination before issue 13: contact 1-2 touches with zero relative speed at t = 0
+    v0 = [1, 1, 0, 0, 0]
+    r = chain_impact([1] * 5, v0, 1.0)
+    _, H, _ = chain_matrices([1] * 5)
+    assert r.outcome == "separated" and _final(H, r) and _conserves([1] * 5, v0, r)
+    # Hertz is not the ideal cradle (0, 0, 0, 1, 1): two balls leave, with dispersion
+    assert r.velocity[-1] > 1.1 and 0.7 < r.velocity[-2] < 0.9
+
+
+@pytest.mark.parametrize("walls, v0", [(("right",), [1, 0, 0]), (("left",), [0, 0, -1]),
+                                       (("right",), [1, 1, 0, 0])])
+def test_walls_reflect_and_conserve_energy(walls, v0):
+    # (balls between walls at both ends are confined: see the next test)
+    n = len(v0)
+    r = chain_impact([2, 1, 1, 1][:n], v0, 1.0, walls=walls)
+    _, H, _ = chain_matrices([1] * n, walls)
+    assert r.outcome == "separated" and _final(H, r) and abs(r.energy_ratio - 1) < 1e-8
+
+
+def test_ball_between_two_walls_never_separates_unless_it_comes_to_rest():
+    # H v >= 0 on both walls forces v = 0: an elastic ball bounces in its well for ever
+    with pytest.raises(NonTermination, match="max_events = 100"):
+        chain_impact([1], [1], 1.0, walls=("left", "right"), max_events=100)
+    r = chain_impact([1], [1], 1.0, [0.3, 0.3], walls=("left", "right"), model="linear", rest_tol=1e-6)
+    assert r.outcome == "rest" and r.energy_ratio <= 1e-6 and r.events > 10
+
+
+@pytest.mark.parametrize("p", [1.0, 1.5, 2.5])
+def test_hunt_crossley_two_body_restitution_is_the_closed_form(p):
+    # the restitution of one HC contact depends only on D u: x - ln(1+x) = -e x - ln(1 - e x)
+    u, e = 2.0, 0.7
+    D = hunt_crossley_damping(e, u)
+    r = compliant_impact(np.diag([1.0, 3.0]), [[-1.0, 1.0]], [u, 0.0], 7.0, p, hunt_crossley=D)
+    assert abs((r.velocity[1] - r.velocity[0]) / u - e) < 1e-8
+    # the root, checked at 50 digits: the float D makes the residual vanish to ~1e-16
+    with mpmath.workdps(50):
+        x = mpmath.mpf(D) * u
+        res = x - mpmath.log1p(x) - (-e * x - mpmath.log1p(-mpmath.mpf(e) * x))
+        assert abs(res) < 1e-15
+
+
+def test_hunt_crossley_restitution_limits():
+    assert hunt_crossley_restitution(0) == 1.0
+    es = [hunt_crossley_restitution(x) for x in (1e-3, 0.1, 1, 10)]
+    assert all(a > b for a, b in zip(es, es[1:])) and abs(1 - es[0] - 2e-3 / 3) < 1e-6  # 1 − e ≈ 2x/3
+
+
+def test_hunt_crossley_ratios_independent_of_stiffness_and_mass_scale():
+    # D u is dimensionless: with D fixed, K -> lam K and m -> mu m leave the ratios unchanged
+    a = chain_impact([1, 2, 1], [1, 0, 0], [1, 1.5], hunt_crossley=0.3)
+    b = chain_impact([7, 14, 7], [1, 0, 0], [1000, 1500], hunt_crossley=0.3)
+    assert close(a.ratios, b.ratios) and a.energy_ratio < 0.99
+
+
+def test_per_contact_exponent_and_stiffness():
+    r = chain_impact([1, 1, 1], [1, 0, 0], [1, 2], exponent=[1.5, 1.0])
+    assert _conserves([1, 1, 1], [1, 0, 0], r)
+    # different from all-Hertz and all-linear
+    assert abs(r.ratios[1] - chain_impact([1, 1, 1], [1, 0, 0], [1, 2]).ratios[1]) > 1e-2
+    assert abs(r.ratios[1] - chain_impact([1, 1, 1], [1, 0, 0], [1, 2], model="linear").ratios[1]) > 1e-2
+
+
+def test_linear_power_law_matches_the_50_digit_reference_through_compliant_impact():
+    # the general entry point with exponent 1 is the linear chain of the reference above
+    vel, P = linear_reference([1, 2, 1], [1, 0, 0], [1, 1.5])
+    M, H, _ = chain_matrices([1, 2, 1])
+    r = compliant_impact(M, H, [1, 0, 0], [1, 1.5], exponent=1)
+    assert max(abs(mpmath.mpf(float(a)) - b) for a, b in zip(r.velocity, vel)) < 1e-10
+
+
+@pytest.mark.parametrize("scene", ["pool", "bernoulli"])
+def test_planar_scenes_conserve_momentum_energy_and_separate(scene):
+    from impactsym.models.acary_taha import bernoulli, pool
+    sc = pool(sp.pi / 3, sp.pi / 12) if scene == "pool" else bernoulli()
+    M, H, v = (np.array(x, dtype=float) for x in (sc.M, sc.H, sc.v))
+    v = v.ravel()
+    r = compliant_impact(M, H, v, 1.0)
+    assert r.outcome == "separated" and _final(H, r) and abs(r.energy_ratio - 1) < 1e-8
+    for axis in (0, 1):  # linear momentum of the three unit balls, x and y
+        assert abs(r.velocity[axis::2].sum() - v[axis::2].sum()) < 1e-8
+
+
+def test_general_mass_matrix_is_frame_invariant():
+    # q = R q' with R invertible: M' = RᵀMR, H' = HR, v' = R⁻¹v give the same impulses
+    M, H, _ = chain_matrices([1, 2, 1])
+    R = np.array([[1.0, 0.3, 0], [0, 1, 0.2], [0.1, 0, 1]])
+    v = np.array([1.0, 0, 0])
+    a = compliant_impact(M, H, v, [1, 1.5])
+    b = compliant_impact(R.T @ M @ R, H @ R, np.linalg.solve(R, v), [1, 1.5])
+    assert close(a.impulses, b.impulses) and close(R @ b.velocity, a.velocity)
+
+
+def test_gaps_delay_the_impact_but_not_its_outcome():
+    M, H, _ = chain_matrices([1, 1])
+    a = compliant_impact(M, H, [1, 0], 1.0)
+    b = compliant_impact(M, H, [1, 0], 1.0, gaps=0.5)
+    assert close(a.velocity, b.velocity) and abs(b.duration - a.duration - 0.5) < 1e-8
+
+
+@pytest.mark.parametrize(
+    "kw, match",
+    [
+        (dict(M=[[1.0]], H=[[-1.0]], v=[1.0], stiffness=1.0, exponent=0.5), "exponent: must be >= 1"),
+        (dict(M=[[1.0]], H=[[-1.0]], v=[1.0], stiffness=1.0, damping=0.1, hunt_crossley=0.1), "not both"),
+        (dict(M=[[1.0]], H=[[-1.0]], v=[1.0], stiffness=1.0, gaps=-1.0), "gaps: must be non-negative"),
+        (dict(M=[[-1.0]], H=[[-1.0]], v=[1.0], stiffness=1.0), "M: must be positive definite"),
+        (dict(M=[[1.0]], H=[[0.0]], v=[1.0], stiffness=1.0), "H: has a zero row"),
+        (dict(M=[[1.0]], H=[[-1.0]], v=[-1.0], stiffness=1.0), "no contact approaches"),
+        (dict(M=[[1.0]], H=[[-1.0, 1.0]], v=[1.0], stiffness=1.0), "H: must have 1 columns"),
+        (dict(M=[[1.0]], H=[[-1.0]], v=[1.0], stiffness=1.0, rest_tol=0.0), "rest_tol"),
+    ],
+)
+def test_compliant_impact_bad_input(kw, match):
+    with pytest.raises(ImpactInputError, match=match):
+        compliant_impact(**kw)
+
+
+def test_hunt_crossley_bad_input():
+    with pytest.raises(ImpactInputError, match="e: must satisfy"):
+        hunt_crossley_damping(1.5, 1.0)
+    with pytest.raises(ImpactInputError, match="impact_speed"):
+        hunt_crossley_damping(0.5, 0.0)
+    with pytest.raises(ImpactInputError, match="walls"):
+        chain_matrices([1, 1], walls=("top",))
+
+
+@pytest.mark.slow
+def test_hundred_ball_chain_finishes():
+    n = 100
+    v0 = np.zeros(n)
+    v0[:3] = 1  # three strikers
+    r = chain_impact([1] * n, v0, 1.0)
+    _, H, _ = chain_matrices([1] * n)
+    assert r.outcome == "separated" and _final(H, r) and _conserves([1] * n, v0, r, 1e-7)
+
+
+def test_a_contact_that_never_acts_does_not_block_the_stop():
+    # body 3 rests against a wall (g = 0, w = 0 throughout): the stop function is 0 there, not > 0
+    r = compliant_impact(np.eye(3), [[-1.0, 1, 0], [0, 0, 1.0]], [1.0, 0, 0], 1.0)
+    assert r.outcome == "separated" and r.events == 2
+    assert close(r.velocity, [0, 1, 0], 1e-10)
