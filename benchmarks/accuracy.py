@@ -5,7 +5,7 @@ for every closed-form kernel in NumPy, plain Python and C; writes the worst case
     python benchmarks/accuracy.py --budget 100 --grid default --kernel chain3_impulse_ratio
 
 Results: ``benchmarks/results/accuracy.{md,json}``. The bound checked is 64 eps (1 + cond) on
-every output (:func:`impactsym.hard_cases.accuracy_check`); the tests run the default grid and a
+every output (:func:`impactsym.accuracy.accuracy_check`); the tests run the default grid and a
 24-point search with seed 15 (``tests/test_accuracy_search.py``).
 """
 
@@ -21,8 +21,8 @@ from pathlib import Path
 HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE.parent))
 
-from impactsym.hard_cases import (CORNER_KERNELS, accuracy_check, adversarial_search, corner_cases,  # noqa: E402
-                                  kernel_implementations)
+from impactsym.accuracy import (CORNER_KERNELS, accuracy_check, adversarial_search, corner_cases,  # noqa: E402
+                                kernel_implementations)
 from impactsym.reference_values import ReferenceUnstable, kernel_reference  # noqa: E402
 
 
@@ -88,7 +88,7 @@ def write(rows, meta, out: Path) -> None:
     out.parent.mkdir(parents=True, exist_ok=True)
     out.with_suffix(".json").write_text(json.dumps({**meta, "kernels": rows}, indent=1) + "\n")
     md = ["# Accuracy bench (issue 15)", "", f"Command: `{meta['command']}`. Grid: {meta['grid']} corner grid "
-          f"(`impactsym.hard_cases.corner_cases`); search: {meta['seeds']} seeds x {meta['budget']} points "
+          f"(`impactsym.accuracy.corner_cases`); search: {meta['seeds']} seeds x {meta['budget']} points "
           "(`adversarial_search`). Implementations: NumPy, plain Python, C (gcc). Ratio = error / "
           "(eps (|f| + sum_j |x_j df/dx_j|)), the worst over outputs and implementations.", "",
           "| kernel | grid points | search points | problems | worst ratio | output | where |",

@@ -16,8 +16,8 @@ import numpy as np
 import pytest
 
 from impactsym import kernels as K
-from impactsym.hard_cases import (CORNER_KERNELS, accuracy_check, adversarial_search, corner_cases,
-                                  kernel_implementations)
+from impactsym.accuracy import (CORNER_KERNELS, accuracy_check, adversarial_search, corner_cases,
+                                kernel_implementations)
 from impactsym.reference_values import kernel_reference
 
 BOUND = 64.0

@@ -1,0 +1,554 @@
+"""The accuracy check of the generated kernels against the high-precision reference: corner grid
+and adversarial search (issue 15).
+
+A generator of every combination of each kernel's extreme corners (:func:`corner_cases`); the
+implementations of one kernel in every language (:func:`kernel_implementations`: NumPy, plain
+Python, C); the check of every output of every implementation against the bound
+``|f̂ − f| ≤ bound · eps · (|f| + Σ_j |x_j ∂f/∂x_j|)`` (:func:`accuracy_check`); and a seeded
+adversarial hill-climb on that ratio (:func:`adversarial_search`). Run by
+``tests/test_accuracy_search.py`` and ``benchmarks/accuracy.py``. The fixed hard-case list the
+grid complements is :mod:`impactsym.hard_cases`.
+
+Examples
+--------
+>>> sorted({c.category for c in corner_cases("impulse_ratio_root")})
+['corner']
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from .hard_cases import HardCase, _spd
+
+__all__ = ["corner_cases", "CORNER_KERNELS", "DISCONTINUOUS", "kernel_implementations", "Verdict", "accuracy_check",
+           "SearchResult", "SEARCH_DOMAIN", "adversarial_search"]
+
+
+# Issue 15: a fixed list never combined the corners that break a form (masses (1, 1e-12, 1) with
+# alpha = 1 - 1e-12 broke chain3 by 1e11 eps). The grid below is every combination of each
+# argument's extreme values (kernel by kernel, arguments that only make sense together, such as a
+# mass matrix or a wedge, vary as one axis); the search climbs from the worst grid points.
+
+#: outputs that are integers and jump (reflection counts): no condition number bounds their error;
+#: they are checked by :func:`count_consistent` instead of the ratio
+DISCONTINUOUS = {"two_surface_reflection_count": ("count_a", "count_b"),
+                 "two_surface_resolution": ("count_a", "count_b"),
+                 "two_surface_resolution_2": ("count_a", "count_b")}
+
+_TINY, _BIG = 1e-12, 1e12
+_NEAR1 = (1 - 1e-12, 1.0, 1 + 1e-12)
+_PI = math.pi
+
+
+def _axis(name, values):
+    return [{name: float(v)} for v in values]
+
+
+def _m2(M) -> dict:
+    return {"m_00": float(M[0][0]), "m_01": float(M[0][1]), "m_11": float(M[1][1])}
+
+
+def _m3(M) -> dict:
+    return {f"m_{i}{j}": float(M[i][j]) for i in range(3) for j in range(i, 3)}
+
+
+def _mass_axis(n, full):
+    rs = (_TINY, 1e-6, 1.0, 1e6, _BIG) if full else (_TINY, 1.0, _BIG)
+    out = []
+    pick = _m2 if n == 2 else _m3
+    import itertools
+
+    for diag in itertools.product(rs, repeat=n - 1):
+        out.append(pick(np.diag([1.0, *diag])))
+    out.append(pick(np.diag([1.0, 1.0 + 2.0**-30] + [1.0] * (n - 2))))
+    for kappa in ((1e6, 1e12) if full else (1e12,)):
+        out.append(pick(_spd(n, kappa, 5)))
+    return out
+
+
+def _vec_axis(prefix, vecs):
+    return [{f"{prefix}_{i}": float(x) for i, x in enumerate(v)} for v in vecs]
+
+
+def _corner_axes(kernel: str, full: bool) -> list[list[dict]]:
+    """The axes of ``kernel``'s corner grid; the grid is their product (dicts merged)."""
+    e_axis = _axis("e", (0.0, 1e-12, 0.5, 1 - 1e-12, 1.0) if full else (0.0, 1 - 1e-12, 1.0))
+    ratio = (0.0, _TINY, 1e-6, 0.5, *_NEAR1, 1e6, _BIG) if full else (_TINY, 0.5, *_NEAR1, _BIG)
+    if kernel in ("reflect_2", "reflection_map_2", "reflect_3", "reflection_map_3"):
+        n = int(kernel[-1])
+        us = [[-1.0, 1.0] + [0.0] * (n - 2), [1.0] + [0.0] * (n - 1), [1.0, _TINY] + [0.0] * (n - 2),
+              [_TINY, 1.0] + [1.0] * (n - 2), [1.0, -1.0 + 2.0**-40] + [_BIG] * (n - 2)]
+        axes = [_mass_axis(n, full), _vec_axis("u", us)]
+        if kernel.startswith("reflect_"):
+            vs = [[1.0] + [0.0] * (n - 1), [1.0, 1.0 + 1e-12] + [0.0] * (n - 2), [0.0, 1.0] + [-1.0] * (n - 2),
+                  [_BIG, _TINY] + [1.0] * (n - 2)]
+            axes.append(_vec_axis("v", vs))
+        return axes + [e_axis]
+    if kernel == "impulse_ratio_root":
+        out = []
+        for A in (_TINY, 1.0, _BIG):
+            for B in (-_BIG, -1.0, -_TINY, _TINY, 1.0):
+                for d in (1.0, 1 - 1e-12, 0.5, 1e-6, 1e-12, 0.0, -1e-12):  # D/B^2 = d: C = (1 - d) B^2/(4A)
+                    out.append({"A": A, "B": B, "C": (1 - d) * B * B / (4 * A)})
+        return [out]
+    if kernel == "chain3_impulse_ratio":
+        import itertools
+
+        # the law is homogeneous in the masses: the default grid fixes m1 = 1 (ratios m2/m1, m3/m1
+        # and m3/m2 still reach 1e-12 ... 1e12, 1e24), the full grid varies all three
+        ms = (_TINY, 1e-6, 1.0, 1e6, _BIG) if full else (_TINY, 1.0, _BIG)
+        masses = [{"m1": a, "m2": b, "m3": c} for a, b, c in itertools.product(ms if full else (1.0,), ms, ms)]
+        vels = [(1.0, 0.0, 0.0), (1.0, 1 - 1e-9, 1 - 2e-9), (0.0, 0.0, -1.0), (1.0, 0.0, -1.0),
+                (1.0, 1.0, 1 - 2.0**-40)]
+        vel_axis = [{"v1": a, "v2": b, "v3": c} for a, b, c in (vels if full else vels[:3])]
+        return [masses, vel_axis, _axis("e", (0.0, 1 / 3, 1 - 1e-12, 1.0) if full else (0.0, 1 - 1e-12, 1.0)),
+                _axis("alpha", ratio)]
+    if kernel == "chain3_alpha_max":
+        return [_axis("e", (math.nextafter(1 / 3, 1.0), 1 / 3 + 1e-12, 1 / 3 + 1e-6, 0.5, 1 - 1e-12, 1.0))]
+    thetas = (0.0, 1e-9, _PI / 4, _PI / 2 - 1e-9, _PI / 2, _PI - 1e-9)
+    taus = (0.0, 1e-9, _PI / 2 - 1e-9, -(_PI / 2 - 1e-9), _PI / 2 + 1e-9, -1.0)
+    if kernel == "pool_impulse_ratio":
+        return [_axis("theta", thetas if full else thetas[1:5]), _axis("tau", taus if full else taus[:4]), e_axis,
+                _axis("alpha", ratio)]
+    if kernel == "bernoulli_impulse_ratio":
+        r = (0.0, _TINY, 0.5, 1.0, _BIG)
+        return [_axis("tau", taus), e_axis, _axis("alpha", r), _axis("alpha13", r if full else (0.0, 0.5, _BIG))]
+    if kernel in ("pool_g", "pool_h"):
+        return [_axis("theta", thetas), _axis("alpha", ratio)]
+    if kernel in ("two_surface_reflection_count", "two_surface_resolution"):
+        out = []
+        ss = (_TINY, 1.0, _BIG) if full else (_TINY, 1.0)
+        for sa in ss:
+            for sb in ss:
+                for beta in (1e-6, 1e-3, _PI / 2, _PI - 1e-6):
+                    out.append({"s_a": sa, "s_b": sb, "g": -math.cos(beta) * math.sqrt(sa * sb)})
+        cs = (-1.0, -_TINY, 0.0, 1.0) if full else (-1.0, -_TINY, 1.0)
+        return [out, _axis("c_a", cs), _axis("c_b", cs)]
+    if kernel == "two_surface_resolution_2":
+        Ms = [_m2(np.eye(2)), _m2(np.diag([1e6, 1e-6])), _m2(np.diag([_BIG, 1.0])), _m2(_spd(2, 1e12, 5))]
+        Hs = []
+        for beta in ((1e-9, 1e-6, 1e-3, _PI / 2, _PI - 1e-6) if full else (1e-9, 1e-3, _PI / 2)):
+            for phi in (0.0, 0.3):
+                Hs.append({"h_00": math.cos(phi), "h_01": math.sin(phi),
+                           "h_10": -math.cos(phi + beta), "h_11": -math.sin(phi + beta)})
+        vs = _vec_axis("v", [(-1.0, 0.5), (-1.0, -0.5), (_TINY, -1.0), (1.0, 1.0)])
+        return [Ms if full else Ms[:3], Hs, vs]
+    raise KeyError(f"no corner grid for kernel {kernel!r}; known: {', '.join(CORNER_KERNELS)}")
+
+
+#: kernels with a corner grid (every closed-form kernel whose accuracy is claimed; the naive
+#: root ``impulse_ratio_root_naive`` is the bench's comparison and is not held to the bound)
+CORNER_KERNELS = ("reflect_2", "reflection_map_2", "reflect_3", "reflection_map_3", "impulse_ratio_root",
+                  "chain3_impulse_ratio", "chain3_alpha_max", "pool_impulse_ratio", "bernoulli_impulse_ratio",
+                  "pool_g", "pool_h", "two_surface_reflection_count", "two_surface_resolution",
+                  "two_surface_resolution_2")
+
+
+def corner_cases(kernel: str, full: bool = False):
+    """Every combination of ``kernel``'s extreme corners, as :class:`HardCase` (a generator).
+
+    ``full=False`` is the grid the default tests run (each axis at its most extreme values);
+    ``full=True`` adds the intermediate corners (1e-6, 1e6, ...) for the bench.
+
+    Examples
+    --------
+    >>> cases = list(corner_cases("chain3_impulse_ratio"))
+    >>> len(cases), cases[0].category
+    (486, 'corner')
+    >>> len(list(corner_cases("chain3_impulse_ratio", full=True)))
+    22500
+    """
+    import itertools
+
+    axes = _corner_axes(kernel, full)
+    for combo in itertools.product(*axes):
+        inputs: dict = {}
+        for part in combo:
+            inputs.update(part)
+        name = ", ".join(f"{k}={v:.17g}" for k, v in inputs.items())
+        yield HardCase(kernel, name, "corner", inputs)
+
+
+def kernel_implementations(kernel: str, languages=("numpy", "python", "c")) -> dict:
+    """``language -> f(inputs: dict) -> list[float]`` for one generated closed-form kernel.
+
+    ``numpy`` is the committed NumPy kernel (called with 0-d arrays, so that it takes the NumPy path:
+    Python scalars are dispatched to the plain-Python form), ``python`` what a call with Python floats
+    runs: the module's plain-Python (``math``) form, and the NumPy path where that raises (a math-domain
+    error, a division by zero, an overflow), ``c`` the
+    committed C kernel compiled with gcc (left out when no compiler is found).
+
+    >>> f = kernel_implementations("impulse_ratio_root", ("numpy", "python"))
+    >>> f["numpy"]({"A": 1.0, "B": -3.0, "C": 2.0}) == f["python"]({"A": 1.0, "B": -3.0, "C": 2.0}) == [2.0, 1.0]
+    True
+    """
+    from .bench import _catalog
+
+    entry = _catalog()[kernel]
+    args, n_out = entry["args"], len(entry["outputs"])
+    out = {}
+    for lang in languages:
+        if lang == "numpy":
+            from . import kernels as K
+
+            f = getattr(K, kernel)
+
+            def call(inputs, f=f):  # 0-d arrays: the NumPy path (Python scalars go to the Python form)
+                with np.errstate(all="ignore"):
+                    r = f(**{a: np.asarray(float(inputs[a])) for a in args})
+                return [float(x) for x in (r if isinstance(r, tuple) else (r,))]
+        elif lang == "python":
+            import sys
+
+            from . import kernels as K
+
+            fk = getattr(K, kernel)
+            fpy = getattr(sys.modules[fk.__module__], f"_{kernel}_python")
+
+            def call(inputs, fpy=fpy, fk=fk):
+                xs = [float(inputs[a]) for a in args]
+                try:
+                    r = fpy(*xs)
+                except (ValueError, ZeroDivisionError, OverflowError):  # what the kernel does: its NumPy path
+                    with np.errstate(all="ignore"):
+                        r = fk(*[np.asarray(x) for x in xs])
+                return [float(x) for x in (r if isinstance(r, tuple) else (r,))]
+        elif lang == "c":
+            from .bench import compile_c
+
+            lib = compile_c()
+            if lib is None or not entry["code"].get("c"):
+                continue
+            import ctypes
+
+            f = getattr(lib, kernel)
+            f.restype = None
+
+            def call(inputs, f=f):
+                outs = [ctypes.c_double() for _ in range(n_out)]
+                f(*[ctypes.c_double(float(inputs[a])) for a in args], *[ctypes.byref(o) for o in outs])
+                return [o.value for o in outs]
+        else:
+            raise ValueError(f"languages: unknown language {lang!r} (numpy, python, c)")
+        out[lang] = call
+    return out
+
+
+@dataclass
+class Verdict:
+    """The accuracy of every implementation of one kernel at one input.
+
+    ``ratio[lang]`` is the largest error ratio (:func:`impactsym.reference_values.error_ratio`) over the
+    continuous outputs (with ``screen``, an upper bound, ``|f̂ − f| / (eps |f|)``, where that bound
+    already shows the point within ``bound``); ``output[lang]`` names the output where it occurs. ``problems`` lists
+    every violation: a ratio above the bound, a number where the exact value is not real, or a
+    reflection count that no input within ``bound · eps`` (relative) has.
+    """
+
+    kernel: str
+    inputs: dict
+    ratio: dict
+    output: dict
+    problems: list
+    outside_domain: bool = False
+
+    @property
+    def worst(self) -> float:
+        return max(self.ratio.values(), default=0.0)
+
+
+def _perturbed_counts(ref, inputs, idx, bound, seed=0) -> set:
+    """Reflection counts of the exact formula at inputs moved by ``± bound · eps`` relative."""
+    from .reference_values import EPS, OutsideDomain
+
+    rng = np.random.default_rng(seed)
+    names = ref.names
+    patterns = [np.ones(len(names)), -np.ones(len(names))] + [rng.choice([-1.0, 1.0], len(names)) for _ in range(8)]
+    seen = set()
+    for pat in patterns:
+        moved = {n: float(inputs[n]) * (1 + s * bound * EPS) for n, s in zip(names, pat)}
+        try:
+            vals, _ = ref.values(moved)
+        except OutsideDomain:
+            continue
+        seen |= {float(vals[i]) for i in idx}
+    return seen
+
+
+def _near_domain(ref, inputs, bound, seed=0) -> bool:
+    """Whether the exact formula is real at some input moved by ``± bound · eps`` (relative)."""
+    from .reference_values import EPS, OutsideDomain
+
+    rng = np.random.default_rng(seed)
+    names = ref.names
+    patterns = [np.ones(len(names)), -np.ones(len(names))] + [rng.choice([-1.0, 1.0], len(names)) for _ in range(16)]
+    for pat in patterns:
+        try:
+            ref.values({n: float(inputs[n]) * (1 + s * bound * EPS) for n, s in zip(names, pat)})
+            return True
+        except OutsideDomain:
+            continue
+    return False
+
+
+def _count_within_rounding(ref, inputs, i, got, bound) -> bool:
+    """Whether ``got`` is ``ceil`` of a value within ``bound · eps`` (relative) of the exact
+    argument ``X`` of the output's ceiling (``ψ/β`` for a reflection count): a float kernel
+    computes ``X`` to a few ulps and no evaluation can round a ceiling better than that
+    (``X = 2 + 4e-17`` is 3 exactly and 2 in every float evaluation)."""
+    import mpmath
+    import sympy as sp
+
+    from .reference_values import EPS, _mpmath_printer
+
+    ceilings = sorted(sp.sympify(ref.outputs[i]).atoms(sp.ceiling), key=sp.default_sort_key)
+    if len(ceilings) == 0 or math.isnan(got):
+        return False
+    xs = [mpmath.mpf(float(inputs[n])) for n in ref.names]
+    for c in ceilings:
+        f = sp.lambdify(ref.args, c.args[0], modules="mpmath", printer=_mpmath_printer())
+        with mpmath.workdps(60):
+            try:
+                x = f(*xs)
+            except (ZeroDivisionError, ValueError):
+                continue
+            if isinstance(x, mpmath.mpc):
+                if x.imag != 0:
+                    continue
+                x = x.real
+            lo, hi = x - abs(x) * bound * EPS, x + abs(x) * bound * EPS
+            if int(mpmath.ceil(lo)) <= got <= int(mpmath.ceil(hi)):
+                return True
+    return False
+
+
+def _count_attained(got: float, exact: float, seen: set) -> bool:
+    """Whether a count between the counts at the corners of the ``± bound · eps`` box is attained
+    in it: ``ceil(ψ/β)`` along a segment inside the (convex) box takes every integer between its
+    ends, so every integer in ``[min, max]`` of the counts seen is some input's count."""
+    vals = [x for x in seen | {exact} if not math.isnan(x)]
+    return not math.isnan(got) and bool(vals) and min(vals) <= got <= max(vals) and got == int(got)
+
+
+def accuracy_check(kernel: str, inputs: dict, impls: dict, bound: float = 64.0, ref=None,
+                   screen: bool = True) -> Verdict:
+    """Check every output of every implementation of ``kernel`` at ``inputs`` against the
+    ladder-checked mpmath reference: ``|f̂ − f| ≤ bound · eps · (|f| + Σ_j |x_j ∂f/∂x_j|)``.
+
+    With ``screen`` (the default), the condition numbers (``2n + 1`` reference evaluations per
+    rung) are computed only where the relative error exceeds ``bound · eps``; the ratio reported
+    there is the upper bound ``|f̂ − f| / (eps |f|)``. ``screen=False`` gives the exact ratio.
+
+    Examples
+    --------
+    >>> impls = kernel_implementations("chain3_impulse_ratio", ("numpy",))
+    >>> v = accuracy_check("chain3_impulse_ratio", dict(m1=1.0, m2=1e-12, m3=1.0, v1=1.0, v2=0.0, v3=0.0,
+    ...                                                 e=1.0, alpha=1 - 1e-12), impls)
+    >>> v.problems, v.worst < 1
+    ([], True)
+    """
+    import mpmath
+
+    from .reference_values import EPS, OutsideDomain, ReferenceUnstable, error_ratio, kernel_reference
+
+    ref = ref or kernel_reference(kernel)
+    from .bench import _catalog
+
+    names = _catalog()[kernel]["outputs"]
+    jumps = [i for i, n in enumerate(names) if n in DISCONTINUOUS.get(kernel, ())]
+    smooth = [i for i in range(len(names)) if i not in jumps]
+    got = {lang: f(inputs) for lang, f in impls.items()}
+    problems: list = []
+    try:
+        vals, dps = ref.values(inputs)
+    except OutsideDomain as exc:
+        near = None  # a number is acceptable where an input within bound * eps has a real value
+        for lang, g in got.items():
+            bad = [names[i] for i in exc.nonreal if not math.isnan(g[i])]
+            if bad:
+                near = _near_domain(ref, inputs, bound) if near is None else near
+                if not near:
+                    problems.append(f"{lang}: a number where the exact value is not real ({', '.join(bad)}), "
+                                    f"and at every input within {bound:g} eps")
+        return Verdict(kernel, dict(inputs), {}, {}, problems, outside_domain=True)
+    except ReferenceUnstable:
+        vals, dps = None, None
+    ratios: dict = {}
+    full = None
+    for lang, g in got.items():
+        screened = None
+        if vals is not None:
+            with mpmath.workdps(dps):
+                screened = []
+                for i in smooth:
+                    v, c = vals[i], g[i]
+                    if mpmath.isnan(v) and math.isnan(c):
+                        screened.append(0.0)
+                    elif not math.isfinite(c) or v == 0:
+                        screened = None
+                        break
+                    else:
+                        screened.append(float(abs(mpmath.mpf(c) - v) / (EPS * abs(v))))
+        if screen and screened is not None and max(screened, default=0.0) <= bound:
+            r = screened
+        else:
+            if full is None:
+                full = ref.evaluate(inputs)
+                vals, dps = full.values, full.dps
+            er = error_ratio(full, g)
+            r = [er[i] for i in smooth]
+        k = int(np.argmax(r)) if r else 0
+        ratios[lang] = (float(r[k]) if r else 0.0, names[smooth[k]] if r else None)
+        if r and r[k] > bound:
+            problems.append(f"{lang}: {names[smooth[k]]} off by {r[k]:.3g} eps (1 + cond) > {bound:g}")
+    if jumps and vals is not None:
+        with mpmath.workdps(dps or 50):
+            exact = {i: float(vals[i]) for i in jumps}
+        for lang, g in got.items():
+            wrong = [i for i in jumps if not (g[i] == exact[i] or (math.isnan(g[i]) and math.isnan(exact[i])))]
+            if wrong and not all(_count_within_rounding(ref, inputs, i, g[i], bound)
+                                 or _count_attained(g[i], exact[i], _perturbed_counts(ref, inputs, [i], bound))
+                                 for i in wrong):
+                problems.append(f"{lang}: count {', '.join(names[i] for i in wrong)} is no input's within "
+                                f"{bound:g} eps: {[g[i] for i in wrong]} vs exact {[exact[i] for i in wrong]}")
+    return Verdict(kernel, dict(inputs), {k: v[0] for k, v in ratios.items()}, {k: v[1] for k, v in ratios.items()},
+                   problems)
+
+
+@dataclass
+class SearchResult:
+    """What :func:`adversarial_search` found: the worst verdict, every verdict with a problem,
+    and how many points it evaluated."""
+
+    kernel: str
+    worst: Verdict
+    failures: list
+    evaluations: int
+
+
+_CORNER_VALUES = (0.0, 1.0, -1.0, 1e-12, 1e12, 0.5, 1 / 3, _PI / 2)
+
+#: where the search may go: argument -> (low, high), closed (the laws' domains: e in [0, 1],
+#: masses, ratios and Gram diagonals positive; points outside are not the kernels' inputs)
+SEARCH_DOMAIN = {"e": (0.0, 1.0), "alpha": (0.0, math.inf), "alpha13": (0.0, math.inf),
+                 "m1": (1e-300, math.inf), "m2": (1e-300, math.inf), "m3": (1e-300, math.inf),
+                 "m_00": (1e-300, math.inf), "m_11": (1e-300, math.inf), "m_22": (1e-300, math.inf),
+                 "A": (1e-300, math.inf), "s_a": (1e-300, math.inf), "s_b": (1e-300, math.inf)}
+
+
+def _in_search_domain(kernel: str, x: dict) -> bool:
+    """Inside :data:`SEARCH_DOMAIN`, with a positive definite Gram matrix ``(s_a, g; g, s_b)``
+    and mass matrix (leading minors of the upper triangle ``m_ij``)."""
+    if "s_a" in x and not x["s_a"] * x["s_b"] - x["g"] ** 2 > 0:
+        return False
+    if "m_00" in x:
+        n = 3 if "m_22" in x else 2
+        M = np.array([[x[f"m_{min(i, j)}{max(i, j)}"] for j in range(n)] for i in range(n)])
+        if not all(np.linalg.det(M[:k, :k]) > 0 for k in range(1, n + 1)):
+            return False
+    lo_e = 1 / 3 if kernel == "chain3_alpha_max" else 0.0
+    for k, v in x.items():
+        lo, hi = SEARCH_DOMAIN.get(k, (-math.inf, math.inf))
+        if k == "e":
+            lo = lo_e
+        if not (math.isfinite(v) and lo <= v <= hi):
+            return False
+    return True
+
+
+def _mutate(x: dict, rng, frozen=()) -> dict:
+    y = dict(x)
+    keys = [k for k in y if k not in frozen]
+    k = keys[rng.integers(len(keys))]
+    move = rng.integers(4)
+    if move == 0 or y[k] == 0.0 and move != 3:  # relative nudge, tiny to large
+        y[k] = y[k] * (1 + rng.choice([-1, 1]) * 10.0 ** -rng.uniform(1, 16)) if y[k] != 0 else \
+            rng.choice([-1, 1]) * 10.0 ** -rng.uniform(0, 14)
+    elif move == 1:  # change of scale
+        y[k] = y[k] * 10.0 ** rng.uniform(-4, 4)
+    elif move == 2:  # a few ulps
+        for _ in range(int(rng.integers(1, 64))):
+            y[k] = math.nextafter(y[k], rng.choice([-math.inf, math.inf]))
+    else:  # jump to a corner value, nudged
+        c = float(rng.choice(_CORNER_VALUES))
+        y[k] = c * (1 + rng.choice([-1, 1]) * 10.0 ** -rng.uniform(6, 16)) if c != 0 else 0.0
+    return {a: float(b) for a, b in y.items()}
+
+
+def adversarial_search(kernel: str, budget: int = 100, seed: int = 0, starts=None, impls=None,
+                       bound: float = 64.0, frozen=()) -> SearchResult:
+    """Hill-climb on the error ratio of every implementation of ``kernel``, from ``starts``.
+
+    Each point is judged with exact ratios (``accuracy_check(..., screen=False)``). Each step
+    mutates one argument of the current point (a relative nudge ``1 ± 10^-k``, a change
+    of scale, a few ulps, or a jump to a corner value) and keeps the new point when its worst ratio
+    (over implementations and outputs, see :func:`accuracy_check`) does not decrease; every point
+    with a problem is kept in ``failures``. Deterministic for a given ``seed``. Points outside the
+    formula's domain must give NaN (a problem otherwise) and score 0.
+
+    Parameters
+    ----------
+    kernel : name of a closed-form kernel in :data:`CORNER_KERNELS`
+    budget : number of points evaluated (each one reference evaluation, ~2-250 ms)
+    seed : the random seed (the tests fix it; the bench runs more)
+    starts : starting inputs (default: the corner grid's points, best first after screening
+        ``budget // 4`` of them)
+    impls : :func:`kernel_implementations` of the kernel (default NumPy, Python and C)
+    frozen : arguments never mutated
+
+    Examples
+    --------
+    >>> r = adversarial_search("impulse_ratio_root", budget=20, seed=0,
+    ...                        impls=kernel_implementations("impulse_ratio_root", ("numpy",)))
+    >>> r.evaluations, r.failures
+    (20, [])
+    """
+    from .reference_values import ReferenceUnstable, kernel_reference
+
+    rng = np.random.default_rng(seed)
+    impls = impls if impls is not None else kernel_implementations(kernel)
+    ref = kernel_reference(kernel)
+    pool = [c.inputs for c in corner_cases(kernel)] if starts is None else [dict(s) for s in starts]
+    order = rng.permutation(len(pool))
+    failures: list = []
+    evaluations = 0
+
+    def check(x):
+        nonlocal evaluations
+        evaluations += 1
+        try:
+            v = accuracy_check(kernel, x, impls, bound, ref, screen=False)
+        except (ReferenceUnstable, OverflowError, ValueError):
+            return None
+        if v.problems:
+            failures.append(v)
+        return v
+
+    scored = []
+    for i in order[: max(1, min(len(pool), budget // 4))]:
+        v = check(pool[i])
+        if v is not None:
+            scored.append(v)
+    if not scored:
+        raise ValueError(f"starts: no point of {kernel!r} could be evaluated")
+    scored.sort(key=lambda v: -v.worst)
+    worst = scored[0]
+    climbers = scored[: max(1, min(4, len(scored)))]
+    ci = 0
+    while evaluations < budget:
+        cur = climbers[ci % len(climbers)]
+        cand = _mutate(cur.inputs, rng, frozen)
+        if not _in_search_domain(kernel, cand):
+            evaluations += 1
+            continue
+        v = check(cand)
+        if v is not None and not v.outside_domain and v.worst >= cur.worst:
+            climbers[ci % len(climbers)] = v
+            if v.worst > worst.worst:
+                worst = v
+        ci += 1
+    return SearchResult(kernel, worst, failures, evaluations)
