@@ -29,8 +29,8 @@ from pathlib import Path
 import numpy as np
 import sympy as sp
 
-from .errors import ImpactInputError
-from .numbers import exact_str
+from ..errors import ImpactInputError
+from ..numbers import exact_str
 
 __all__ = [
     "sm_fig1_convex_corner", "sm_fig2_concave_corner", "sm_fig4_configuration_space", "ordering_regions",
@@ -131,7 +131,7 @@ def _normal_cone_arc(M, H, v0, samples=61):
     """The energy-preserving exits with the momentum jump in the normal cone, ``{v0 + M⁻¹Hᵀp : p ≥ 0,
     ‖v‖_M = ‖v0‖_M}``: for ``p = (cos s, sin s)`` this is the single reflection across the covector
     ``pᵀH`` (:func:`impactsym.laws.reflection.reflect`). Floats, for drawing."""
-    from .laws.reflection import reflect
+    from ..laws.reflection import reflect
 
     Hf = np.array(sp.Matrix(H).evalf(17).tolist(), dtype=float)
     Mf = np.array(sp.Matrix(M).evalf(17).tolist(), dtype=float)
@@ -144,9 +144,9 @@ def _normal_cone_arc(M, H, v0, samples=61):
 
 
 def _corner(kind, M, H, v0):
-    from .laws.reflection import reflect
-    from .laws.sequential import resolve_sequential
-    from .mechanics import check_gradients, check_mass_matrix, check_velocity, kinetic_energy
+    from ..laws.reflection import reflect
+    from ..laws.sequential import resolve_sequential
+    from ..mechanics import check_gradients, check_mass_matrix, check_velocity, kinetic_energy
 
     Mx = check_mass_matrix(M, exact=True)
     Hx = check_gradients(H, Mx.shape[0], exact=True)
@@ -280,10 +280,10 @@ def ordering_regions(M, H, depth: int | None = None) -> list[dict]:
     >>> [(r["from"], r["to"], {k: len(v) for k, v in r["orders"].items()}) for r in regs if all(r["approaching"])]
     [(['-1', '-1'], ['-19', '-23'], {0: 3, 1: 4}), (['-19', '-23'], ['-40', '-439'], {0: 4, 1: 4}), (['-40', '-439'], ['0', '-1'], {0: 4, 1: 3})]
     """
-    from .laws.reflection import reflection_map
-    from .laws.sequential import termination_bound
-    from .laws.two_surface import resolve_two_surfaces
-    from .mechanics import check_gradients, check_mass_matrix
+    from ..laws.reflection import reflection_map
+    from ..laws.sequential import termination_bound
+    from ..laws.two_surface import resolve_two_surfaces
+    from ..mechanics import check_gradients, check_mass_matrix
 
     Mx = check_mass_matrix(M, exact=True)
     Hx = check_gradients(H, Mx.shape[0], exact=True)
@@ -346,10 +346,10 @@ def sm_fig4_configuration_space(masses=("11/10", 1), v0=(-1, -2), *, gap_scale="
     (Figure, dict) : ``v4a``, ``v4b`` (the resolver's outcomes, exact), ``orders``,
     ``trajectories`` (event times and contacts), ``regions`` and ``claim_sector_t``.
     """
-    from .laws.reflection import reflect
-    from .laws.sequential import resolve_sequential
-    from .models.seghete_murphey import two_balls_wall
-    from .simulate import perturbed_scene_positions, realize_ordering, simulate_line
+    from ..laws.reflection import reflect
+    from ..laws.sequential import resolve_sequential
+    from ..models.seghete_murphey import two_balls_wall
+    from ..simulate import perturbed_scene_positions, realize_ordering, simulate_line
 
     plt = _plt()
     sc = two_balls_wall(masses=masses, velocities=v0)
@@ -477,7 +477,7 @@ def sm_fig4_configuration_space(masses=("11/10", 1), v0=(-1, -2), *, gap_scale="
 def _plane_basis(M, H):
     """An M-orthonormal basis ``(e₁, e₂)`` of ``span(M⁻¹H₁ᵀ, M⁻¹H₂ᵀ)``, from the M-normals
     (:func:`impactsym.mechanics.m_normal`), floats."""
-    from .mechanics import m_normal
+    from ..mechanics import m_normal
 
     Mf = np.array(sp.Matrix(M).evalf(17).tolist(), dtype=float)
     n1 = _f(m_normal(M, H[0, :]))
@@ -503,9 +503,9 @@ def sm_fig5_cradle_kinetic_plane(masses=(1, 1, 1), v0=(1, 0, 0)):
     >>> src["outcomes"], src["orders"]
     ([['0', '0', '1']], [[0, 1]])
     """
-    from .laws.reflection import reflect
-    from .laws.sequential import resolve_sequential
-    from .models.seghete_murphey import three_ball_cradle
+    from ..laws.reflection import reflect
+    from ..laws.sequential import resolve_sequential
+    from ..models.seghete_murphey import three_ball_cradle
 
     plt = _plt()
     sc = three_ball_cradle(velocities=v0, masses=masses)
@@ -572,8 +572,8 @@ MAX_DRAWN_REFLECTIONS = 200
 def _exact_inputs(M, H, v):
     """``M``, ``H``, ``v`` checked and exact: float entries taken at their exact binary value (as the
     laws decide float input)."""
-    from .mechanics import check_gradients, check_mass_matrix, check_velocity
-    from .numbers import float_to_rational
+    from ..mechanics import check_gradients, check_mass_matrix, check_velocity
+    from ..numbers import float_to_rational
 
     Mx = check_mass_matrix(M)
     n = Mx.shape[0]
@@ -610,8 +610,8 @@ def two_surface_figure(M, H, v, *, title=None):
     >>> src["counts"], src["exits"], src["bound"]
     ({'1': 2}, {'1': ['0', '1', '1']}, 3)
     """
-    from .laws.reflection import reflect
-    from .laws.two_surface import resolve_two_surfaces
+    from ..laws.reflection import reflect
+    from ..laws.two_surface import resolve_two_surfaces
 
     plt = _plt()
     Mx, Hx, vx = _exact_inputs(M, H, v)
@@ -704,9 +704,9 @@ def sm_three_surface_overgeneration(masses=(1, 3, 4), velocities=(-1, -3, 0),
     >>> src["orderings"], len(src["outcomes"]), src["realized"], src["simulated"][0]
     (15, 5, [['1/7', '5/7', '18/7']], ['1/7', '5/7', '18/7'])
     """
-    from .laws.sequential import resolve_sequential
-    from .scenes import balls_on_line
-    from .simulate import perturbed_scene_positions, realize_ordering, simulate_line
+    from ..laws.sequential import resolve_sequential
+    from ..scenes import balls_on_line
+    from ..simulate import perturbed_scene_positions, realize_ordering, simulate_line
 
     plt = _plt()
     n = len(masses)
@@ -762,8 +762,8 @@ def at_fig2_pool(theta="pi/4", tau=0):
     >>> src["contacts"], src["cos_kinetic_angle_12"]
     (['1-2', '2-3'], '-1/4')
     """
-    from .mechanics import kinetic_angle_cos
-    from .models.acary_taha import pool, pool_positions
+    from ..mechanics import kinetic_angle_cos
+    from ..models.acary_taha import pool, pool_positions
 
     plt = _plt()
     sc = pool(sp.sympify(theta), sp.sympify(tau))
@@ -813,7 +813,7 @@ def at_fig3_domain(theta="pi/4", *, printed_h=None, alpha_max=1.5):
     >>> src["alpha"], src["e"]
     (['sqrt(2)/4', '1'], ['3/7', '1'])
     """
-    from .domains import alpha as A, plot_domain, validity_domain
+    from ..domains import alpha as A, plot_domain, validity_domain
 
     plt = _plt()
     fig, ax = plt.subplots(figsize=(6, 4.5))
@@ -852,7 +852,7 @@ def at_domain_over_theta(thetas=None):
     >>> [(r["theta"], r["e"][0]) for r in src["panels"]]
     [('0', '1/3'), ('pi/2', '1/2')]
     """
-    from .domains import THETA_SWEEP, alpha as A, plot_domain, validity_domain
+    from ..domains import THETA_SWEEP, alpha as A, plot_domain, validity_domain
 
     plt = _plt()
     thetas = list(THETA_SWEEP) if thetas is None else [sp.sympify(t) for t in thetas]
@@ -903,7 +903,7 @@ def domain_figure(scene: str, theta=None, tau=None):
     >>> src["e"]
     ['4/7', '1']
     """
-    from .domains import alpha as A, plot_domain, validity_domain
+    from ..domains import alpha as A, plot_domain, validity_domain
 
     plt = _plt()
     if scene == "pool" and theta is None:
@@ -967,9 +967,9 @@ def at_chain3_velocities(restitutions=("1", "9/10", "2/3", "1/3"), alphas=None):
     >>> src["paper_example"]["velocity"], src["domain"]["alpha"]
     (['-19/381', '20/381', '380/381'], ['1/2', '1'])
     """
-    from .domains import validity_domain
-    from .laws.impulse_ratio import impulse_ratio_law
-    from .models.acary_taha import chain3
+    from ..domains import validity_domain
+    from ..laws.impulse_ratio import impulse_ratio_law
+    from ..models.acary_taha import chain3
 
     plt = _plt()
     sc = chain3()
@@ -1022,8 +1022,8 @@ def at_fig4_bernoulli(alpha="1/2", tau=None, restitution=1):
     >>> src["valid"], src["contacts"]
     (True, ['1-2', '2-3', '1-3'])
     """
-    from .laws.impulse_ratio import impulse_ratio_law
-    from .models.acary_taha import bernoulli, pool_positions
+    from ..laws.impulse_ratio import impulse_ratio_law
+    from ..models.acary_taha import bernoulli, pool_positions
 
     plt = _plt()
     sc = bernoulli() if tau is None else bernoulli(sp.sympify(tau))
@@ -1068,9 +1068,9 @@ def at_fig5_transmission(n_balls=5, stiffness=1.0):
     >>> [round(x, 5) for x in src["hertz"]["ratios"]], src["law_matches_hertz_velocity"]
     ([1.0, 0.92866], True)
     """
-    from .compliant import chain_impact
-    from .laws.impulse_ratio import impulse_ratio_law
-    from .scenes import balls_on_line
+    from ..compliant import chain_impact
+    from ..laws.impulse_ratio import impulse_ratio_law
+    from ..scenes import balls_on_line
 
     plt = _plt()
     n = int(n_balls)
@@ -1132,9 +1132,9 @@ def at_fig5_planar_chain(positions=PLANAR_CHAIN, ratios=("3/4", "1/2", "1/2"), r
     >>> src["cos_consecutive"], src["impact_degree"], src["ratios_used"]
     (['-2/5', '-3/10', '0'], 3, ['1', '3/4', '1/2', '0'])
     """
-    from .laws.coupling import coupling_decision, impact_degree
-    from .laws.impulse_ratio import impulse_ratio_law
-    from .scenes import balls_in_plane
+    from ..laws.coupling import coupling_decision, impact_degree
+    from ..laws.impulse_ratio import impulse_ratio_law
+    from ..scenes import balls_in_plane
 
     plt = _plt()
     nb = len(positions)
@@ -1206,12 +1206,12 @@ def outcomes_per_law(M, H, v, restitution=1, ratios=None) -> dict:
     >>> [list(o) for o in out["impulse-ratio"]["outcomes"]]
     [[-19/381, 20/381, 380/381]]
     """
-    from .errors import ImpactError
-    from .laws.classical import energetic, han_gilmore, newton_moreau, poisson
-    from .laws.impulse_ratio import impulse_ratio_law
-    from .laws.sequential import resolve_sequential
-    from .laws.two_surface import resolve_two_surfaces
-    from .mechanics import check_gradients, check_mass_matrix
+    from ..errors import ImpactError
+    from ..laws.classical import energetic, han_gilmore, newton_moreau, poisson
+    from ..laws.impulse_ratio import impulse_ratio_law
+    from ..laws.sequential import resolve_sequential
+    from ..laws.two_surface import resolve_two_surfaces
+    from ..mechanics import check_gradients, check_mass_matrix
 
     k = check_gradients(H, check_mass_matrix(M).shape[0]).shape[0]
     out: dict = {}
@@ -1275,8 +1275,8 @@ def laws_side_by_side(scene="cradle", ratios=None, *, max_drawn: int = 6):
     >>> src["laws"]["sequential"]["outcomes"]
     [['173/147', '278/147'], ['359/441', '922/441']]
     """
-    from .models import acary_taha, seghete_murphey
-    from .scenes import Scene
+    from ..models import acary_taha, seghete_murphey
+    from ..scenes import Scene
 
     plt = _plt()
     if isinstance(scene, Scene):
@@ -1472,6 +1472,3 @@ def main(argv=None) -> int:
         print(Path(args.outdir) / f"{name}.png")
     return 0
 
-
-if __name__ == "__main__":  # pragma: no cover
-    raise SystemExit(main())
