@@ -1,0 +1,134 @@
+"""What every figure module shares: matplotlib loaded lazily (Agg), exact numbers as text, saving and
+showing a figure, and the kinetic-coordinate drawing helpers.
+
+Matplotlib is imported inside :func:`_plt` only, so ``import impactsym`` stays light.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import sympy as sp
+
+from ..numbers import exact_str
+
+__all__ = ["save", "show"]
+
+
+def _plt():
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    return plt
+
+
+def _s(x) -> str:
+    return exact_str(sp.sympify(x))
+
+
+def _vs(v) -> list:
+    return [_s(x) for x in v]
+
+
+def _f(v) -> np.ndarray:
+    return np.array([float(sp.N(x, 17)) for x in v], dtype=float)
+
+
+def save(fig, path) -> str:
+    """Write ``fig`` to ``path`` (the format from its suffix, 100 dpi) and close it; return the path as text.
+
+    >>> import os, tempfile
+    >>> from impactsym.figures import at_fig3_domain
+    >>> fig, _ = at_fig3_domain()
+    >>> os.path.getsize(save(fig, os.path.join(tempfile.mkdtemp(), "fig3.png"))) > 0
+    True
+    """
+    fig.savefig(path, dpi=100)
+    _plt().close(fig)
+    return str(path)
+
+
+def show(fig):
+    """The figure as an ``IPython.display.Image`` (PNG), for a notebook cell's last line; closes ``fig``.
+
+    With the Agg backend a bare ``Figure`` displays as text; this shows the picture, once.
+
+    >>> from impactsym.figures import sm_fig1_convex_corner
+    >>> fig, _ = sm_fig1_convex_corner()
+    >>> show(fig).format
+    'png'
+    """
+    import io
+
+    from IPython.display import Image
+
+    buf = io.BytesIO()
+    fig.savefig(buf, format="png", dpi=90)
+    _plt().close(fig)
+    return Image(data=buf.getvalue(), format="png")
+
+
+# --------------------------------------------------------------------------- kinetic coordinates
+def _kinetic_frame(M):
+    """``L`` with ``M = L Lᵀ`` (floats): ``x = Lᵀ v`` are coordinates in which the kinetic metric
+    is Euclidean, so reflections ``G_u`` look like mirror images."""
+    Mf = np.array(sp.Matrix(M).evalf(17).tolist(), dtype=float)
+    return np.linalg.cholesky(Mf)
+
+
+def _kin(L, v) -> np.ndarray:
+    return L.T @ _f(v)
+
+
+def _ray(ax, x, *, scale=1.0, **kw):
+    ax.annotate("", xy=(scale * x[0], scale * x[1]), xytext=(0, 0),
+                arrowprops=dict(arrowstyle="->", lw=kw.pop("lw", 1.6), color=kw.pop("color", "k"), **kw))
+
+
+def _shade_cone(ax, L, H, *, either=False, color="C2", alpha=0.25, radius=2.5, label=None):
+    """Shade, in kinetic coordinates, the velocities with ``H v ≥ 0`` (all rows; ``either``: any row)."""
+    t = np.linspace(0, 2 * np.pi, 721)
+    xs = np.stack([np.cos(t), np.sin(t)])
+    v = np.linalg.solve(L.T, xs)  # back to velocities
+    Hf = np.array(sp.Matrix(H).evalf(17).tolist(), dtype=float)
+    w = Hf @ v
+    ok = (w >= 0).any(axis=0) if either else (w >= 0).all(axis=0)
+    for k in range(len(t) - 1):
+        if ok[k] and ok[k + 1]:
+            ax.fill([0, radius * xs[0, k], radius * xs[0, k + 1]], [0, radius * xs[1, k], radius * xs[1, k + 1]],
+                    color=color, alpha=alpha, lw=0)
+    if label:
+        ax.fill([], [], color=color, alpha=alpha, label=label)
+
+
+def _normal_cone_arc(M, H, v0, samples=61):
+    """The energy-preserving exits with the momentum jump in the normal cone, ``{v0 + M⁻¹Hᵀp : p ≥ 0,
+    ‖v‖_M = ‖v0‖_M}``: for ``p = (cos s, sin s)`` this is the single reflection across the covector
+    ``pᵀH`` (:func:`impactsym.laws.reflection.reflect`). Floats, for drawing."""
+    from ..laws.reflection import reflect
+
+    Hf = np.array(sp.Matrix(H).evalf(17).tolist(), dtype=float)
+    Mf = np.array(sp.Matrix(M).evalf(17).tolist(), dtype=float)
+    vf = _f(v0)
+    out = []
+    for s in np.linspace(0, np.pi / 2, samples):
+        h = np.cos(s) * Hf[0] + np.sin(s) * Hf[1]
+        out.append(reflect(Mf, h, vf))
+    return np.array(out)
+
+
+# --------------------------------------------------------------------------- kinetic plane (3 DOF)
+def _plane_basis(M, H):
+    """An M-orthonormal basis ``(e₁, e₂)`` of ``span(M⁻¹H₁ᵀ, M⁻¹H₂ᵀ)``, from the M-normals
+    (:func:`impactsym.mechanics.m_normal`), floats."""
+    from ..mechanics import m_normal
+
+    Mf = np.array(sp.Matrix(M).evalf(17).tolist(), dtype=float)
+    n1 = _f(m_normal(M, H[0, :]))
+    n2 = _f(m_normal(M, H[1, :]))
+    e2 = n2 - (n2 @ Mf @ n1) * n1
+    e2 /= math.sqrt(e2 @ Mf @ e2)
+    return Mf, n1, e2
