@@ -160,3 +160,14 @@ def test_domains_and_benchmark_run_with_derivations_unimportable():
                        cwd=ROOT)
     assert r.returncode == 0, r.stderr
     assert r.stdout.split() == ["(1/3,", "1)", "Max(0,", "cos(theta)/2)", "(5/9,", "1)", "(3/5,", "1)", "5"], r.stdout
+
+
+def test_import_impactsym_does_not_load_matplotlib_or_scipy_integrate():
+    """Figures and integrators load their heavy libraries when called, not on import."""
+    import subprocess
+    import sys
+
+    code = ("import sys, impactsym, impactsym.figures, impactsym.cli; "
+            "print(sorted(m for m in ('matplotlib', 'scipy.integrate') if m in sys.modules))")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout
+    assert out.strip() == "[]", out
