@@ -25,3 +25,19 @@ def test_domain_text_is_printed_from_the_factors():
     d = validity_domain("chain3")
     h = next(b for b in d.boundaries if b.name == "h")
     assert "g - h = alpha^2 (2 alpha - 1)^2 / (2 A (2 - alpha)^2) >= 0" in h.condition
+
+
+def test_bernoulli_prose_is_true_of_the_committed_curves():
+    """The theta = 2pi/3 (Bernoulli) domain states two facts in words: R3 > 0 exactly for
+    alpha < 2/5 or alpha > 1 (alpha >= 0), and e >= g1 implies Delta >= 0 (g1 >= h). Both are
+    decided here from the committed expressions, exactly."""
+    d = validity_domain("pool", "2*pi/3")
+    by = {b.name: b for b in d.boundaries}
+    assert "alpha < 2/5 or alpha > 1" in by["g3"].condition and "implied by e >= g1" in by["h"].condition
+    a = sp.Symbol("a", real=True)
+    R3 = sp.sympify(by["g3"].condition.split("(R3 = ")[1][:-1], locals={"alpha": alpha}).subs(alpha, a)
+    positive = sp.solve_univariate_inequality(R3 > 0, a, relational=False).intersect(sp.Interval(0, sp.oo))
+    assert positive == sp.Union(sp.Interval.Ropen(0, sp.Rational(2, 5)), sp.Interval.open(1, sp.oo))
+    gap = sp.factor(sp.together((by["g1"].expression - by["h"].expression).subs(alpha, a)))
+    below = sp.solve_univariate_inequality(gap < 0, a, relational=False).intersect(sp.Interval(0, sp.oo))
+    assert below == sp.S.EmptySet, gap
