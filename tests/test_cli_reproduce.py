@@ -73,5 +73,7 @@ def test_report_has_errata_corrections_and_figure(tmp_path, capsys):
     assert code == 0
     text = (tmp_path / "report.md").read_text()
     assert "## Errata and their corrections" in text and "at-eq31" in text and "$$" in text
+    assert "| **total** | **115** |" in text  # the README's table (verdict_table), for this paper
+    assert "**erratum** (judgment)" in text  # typography readings are flagged, as in the printed table
     assert (tmp_path / "fig3.png").stat().st_size > 1000
     assert "report written to" in capsys.readouterr().out

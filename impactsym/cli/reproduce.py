@@ -144,7 +144,7 @@ def _md_escape(s) -> str:
 
 def write_report(result: AuditOutput, outdir: Path) -> Path:
     """Write ``outdir/report.md`` (and ``outdir/fig3.png``); return the report's path."""
-    PAPERS, VERDICTS = result.audit.papers, result.audit.verdicts
+    PAPERS = result.audit.papers
     outdir.mkdir(parents=True, exist_ok=True)
     figs = []
     try:
@@ -159,15 +159,13 @@ def write_report(result: AuditOutput, outdir: Path) -> Path:
     L = ["# impactsym reproduce: audit of both papers", ""]
     L.append(f"{s['claims']} claims; " + ", ".join(f"{v}: {n}" for v, n in s["per_verdict"].items() if n) +
              f". Audit {'ok' if s['ok'] else 'FAILED'} ({s['seconds']} s).")
-    L += ["", "| paper | claims | " + " | ".join(VERDICTS) + " |", "|---|---|" + "---|" * len(VERDICTS)]
-    for paper, pp in s["per_paper"].items():
-        L.append(f"| {paper} | {pp['claims']} | " + " | ".join(str(pp[v]) for v in VERDICTS) + " |")
+    L += ["", verdict_table(s)]
     for paper, sections in _grouped(result).items():
         L += ["", f"## {PAPERS[paper]}", ""]
         for section, cs in sections.items():
             L += [f"### {section}", "", "| id | ref | quantity | verdict | note |", "|---|---|---|---|---|"]
             for c in cs:
-                L.append(f"| `{c['id']}` | {_md_escape(c['ref'])} | {_md_escape(c['quantity'])} | **{c['verdict']}** | "
+                L.append(f"| `{c['id']}` | {_md_escape(c['ref'])} | {_md_escape(c['quantity'])} | **{c['verdict']}**{' (judgment)' if c.get('judgment') else ''} | "
                          f"{_md_escape(c['note'])} |")
             L.append("")
     L += ["## Errata and their corrections", ""]
