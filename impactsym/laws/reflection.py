@@ -39,6 +39,7 @@ import mpmath
 import numpy as np
 import sympy as sp
 
+from ..arithmetic import all_rational, rational_matrix, to_sympy_matrix
 from .. import kernels
 from . import _reflection as _r
 from ..errors import DomainError, ImpactInputError
@@ -105,27 +106,12 @@ def _mp_parts(Mx, ux, ex, exact):
     return Mm, um, w, s, _r.gain(s, _mp(ex))
 
 
-def _all_rational(*mats) -> bool:
-    return all(x.is_Rational for m in mats for x in (m if isinstance(m, sp.MatrixBase) else [m]))
-
-
-def _fmpq_mat(A: sp.Matrix):
-    from flint import fmpq, fmpq_mat
-
-    return fmpq_mat(A.rows, A.cols, [fmpq(int(x.p), int(x.q)) for x in A])
-
-
-def _sympy_of(F) -> sp.Matrix:
-    return sp.Matrix(F.nrows(), F.ncols(), [sp.Rational(int(F[i, j].p), int(F[i, j].q))
-                                            for i in range(F.nrows()) for j in range(F.ncols())])
-
-
 def _rational_parts(Mx, ux, ex):
     """``w = M⁻¹uᵀ`` and ``c = (1+e)/(u w)`` exactly over the rationals (python-flint, O(n³))."""
     from flint import fmpq
 
-    u = _fmpq_mat(ux)
-    w, s = _r.fmpq_parts(_fmpq_mat(Mx), u)
+    u = rational_matrix(ux)
+    w, s = _r.fmpq_parts(rational_matrix(Mx), u)
     return u, w, _r.gain(s, fmpq(int(ex.p), int(ex.q)))
 
 
@@ -157,12 +143,12 @@ def reflection_map(mass_matrix, gradient, restitution=1, *, dps: int | None = No
         with mpmath.workdps(dps):
             _, um, w, _, c = _mp_parts(Mx, ux, ex, exact)
             return _r.reflection_matrix(mpmath.eye(n), w, um.T, c)
-    if exact and _all_rational(Mx, ux, ex):  # rational input: exact linear algebra in python-flint
+    if exact and all_rational(Mx, ux, sp.Matrix([ex])):  # rational input: exact linear algebra in python-flint
         from flint import fmpq_mat
 
         u, w, c = _rational_parts(Mx, ux, ex)
         G = _r.reflection_matrix(fmpq_mat(n, n, [int(i == j) for i in range(n) for j in range(n)]), w, u, c)
-        return _sympy_of(G)
+        return to_sympy_matrix(G)
     if exact:
         w, s = _r.sympy_parts(Mx, ux)
         return _r.reflection_matrix(sp.eye(n), w, ux, _r.gain(s, ex)).applyfunc(sp.radsimp)
@@ -187,11 +173,11 @@ def reflect(mass_matrix, gradient, velocity, restitution=1, *, dps: int | None =
             vm = mpmath.matrix([_mp(vx[i]) for i in range(n)])
             uv = sum(um[i] * vm[i] for i in range(n))
             return _r.reflect_along(vm, w, uv, c)[0]
-    if exact and _all_rational(Mx, ux, vx, ex):
+    if exact and all_rational(Mx, ux, vx, sp.Matrix([ex])):
         u, w, c = _rational_parts(Mx, ux, ex)
-        v = _fmpq_mat(vx)
+        v = rational_matrix(vx)
         vq, pq = _r.reflect_along(v, w, (u * v)[0, 0], c)  # p = -(1+e) u v / (u M^-1 u^T)
-        out = _sympy_of(vq)
+        out = to_sympy_matrix(vq)
         _verify_reflection(Mx, ux, vx, ex, out, sp.Rational(int(pq.p), int(pq.q)))
         return out
     if exact:
