@@ -32,7 +32,8 @@ def test_impulse_ratio_json(capsys):
     d = js(capsys, "--law", "impulse-ratio", *CHAIN, "--restitution", "1", "--ratios", "1/2")
     assert d["impulses"] == ["4/3", "2/3"] and d["velocity"] == ["-1/3", "2/3", "2/3"]
     assert d["impulses_float"] == [4 / 3, 2 / 3] and d["velocity_float"][0] == -1 / 3
-    assert d["delta"] == "1" and d["delta_float"] == 1.0 and d["delta_normalized"] == "1"
+    dd = d["details"]
+    assert dd["delta"] == "1" and dd["delta_float"] == 1.0 and dd["delta_normalized"] == "1"
     assert d["valid"] is True and d["violations"] == []
 
 
@@ -46,22 +47,24 @@ def test_classical_laws_sec32(capsys):
     for law in ("newton", "poisson", "energetic"):
         d = js(capsys, "--law", law, "--scene", "chain3")
         assert d["velocity"] == ["-1/3", "2/3", "2/3"] and d["impulses"] == ["4/3", "2/3"], law
-        assert d["energy_before"] == d["energy_after"] == "1/2"
+        assert d["kinetic_energy_before"] == d["kinetic_energy_after"] == "1/2"
     d = js(capsys, "--law", "han-gilmore", "--scene", "chain3")
     assert [o["velocity"] for o in d["outcomes"]] == [["-1/3", "2/3", "2/3"], ["0", "0", "1"]]
-    assert d["outcomes"][1]["sequences"] == [[[1], [2]]]
+    assert d["outcomes"][1]["details"]["sequences"] == [[[0], [1]]]  # 0-based contacts, stage by stage
+    assert d["outcomes"][1]["order"] == [[0], [1]] and d["uniqueness"] == "set-valued"
 
 
 def test_pool_coupling_reports_forced_zero(capsys):
     d = js(capsys, "--law", "impulse-ratio", "--scene", "pool", "--theta", "pi/2", "--ratios", "1/2", "--coupling")
-    assert d["ratios"] == ["1", "0"] and d["impulses"][1] == "0"
-    assert d["coupling"][0]["ratio"] == "alpha_12" and d["coupling"][0]["cos_kinetic_angle"] == "0"
-    assert d["coupling_decision"]["coupled"] == {"1-2": False}
+    dd = d["details"]
+    assert dd["ratios"] == ["1", "0"] and d["impulses"][1] == "0"
+    assert dd["coupling"][0]["ratio"] == "alpha_12" and dd["coupling"][0]["cos_kinetic_angle"] == "0"
+    assert dd["coupling_decision"]["coupled"] == {"1-2": False}
     d = js(capsys, "--law", "impulse-ratio", "--scene", "pool", "--theta", "pi/3", "--ratios", "1/2", "--coupling")
-    assert d["coupling_decision"]["cos_kinetic_angles"] == {"1-2": "-1/4"}  # eq. 42: -cos(pi/3)/2
+    assert d["details"]["coupling_decision"]["cos_kinetic_angles"] == {"1-2": "-1/4"}  # eq. 42: -cos(pi/3)/2
     d = js(capsys, "--law", "impulse-ratio", "--scene", "pool", "--theta", "pi/4", "--ratios", "1/2",
            "--restitution", "9/10", "--coupling")
-    assert d["ratios"] == ["1", "1/2"] and "coupling" not in d
+    assert d["details"]["ratios"] == ["1", "1/2"] and "coupling" not in d["details"]
 
 
 def test_domain_violation_exit_2_and_allow_invalid(capsys):
@@ -71,14 +74,14 @@ def test_domain_violation_exit_2_and_allow_invalid(capsys):
     d = js(capsys, "--law", "impulse-ratio", *CHAIN, "--ratios", "1/4", "--allow-invalid")
     assert d["valid"] is False and d["violations"][0]["condition"] == "penetration"
     d = js(capsys, "--law", "impulse-ratio", *CHAIN, "--ratios", "1", "--restitution", "1/10", "--allow-invalid")
-    assert d["impulses"] is None and d["impulses_float"] is None and d["real_solution"] is False
+    assert d["impulses"] is None and d["impulses_float"] is None and d["details"]["real_solution"] is False
 
 
 def test_text_output(capsys):
     code, out, _ = run(capsys, "resolve", "--law", "impulse-ratio", "--scene", "chain3", "--ratios", "1/2")
     assert code == 0 and "v+ = [-1/3, 2/3, 2/3]" in out and "valid: True" in out
     code, out, _ = run(capsys, "resolve", "--law", "han-gilmore", "--scene", "chain3")
-    assert code == 0 and "via {1} -> {2}" in out
+    assert code == 0 and "(order {1} > {2})" in out
 
 
 @pytest.mark.parametrize(
@@ -104,7 +107,7 @@ def test_text_output(capsys):
         (["--law", "newton", *CHAIN, "--coupling"], "--coupling applies to --law impulse-ratio"),
         (["--law", "newton", *CHAIN, "--variant", "glocker-pfeiffer"], "--variant applies to --law poisson"),
         (["--law", "poisson", *CHAIN, "--variant", "x"], "variant"),
-        (["--law", "poisson", *CHAIN, "--restitution", "1,1,1"], "expected 1 or 2"),
+        (["--law", "poisson", *CHAIN, "--restitution", "1,1,1"], "expected one per contact (2)"),
         (["--law", "han-gilmore", *CHAIN, "--allow-invalid"], "does not apply"),
         (["--law", "energetic", "--mass-matrix", "1,0;0,1", "--gradients", "1,0;1,0", "--velocity", "-1,0"], "not unique"),
         (["--law", "impulse-ratio", "--scene", "nope"], "unknown scene"),

@@ -189,7 +189,7 @@ def test_outcomes_per_law_is_each_law():
     ir = impulse_ratio_law(sc.M, sc.H, sc.v, 1, ["1"], allow_invalid=True)
     assert out["impulse-ratio"]["outcomes"] == [ir.velocity] and out["impulse-ratio"]["valid"] == [ir.valid]
     three = F.outcomes_per_law(sp.eye(3), "-1,1,0;0,-1,1", "1,0,0")
-    assert three["two-surface"]["outcomes"] and "no impulse ratios" in three["impulse-ratio"]["note"]
+    assert three["two-surface"]["outcomes"] and "expected 1 ratio(s) alpha_12 " in three["impulse-ratio"]["note"]
 
 
 def test_laws_side_by_side_runs_on_the_three_scenes():

@@ -25,30 +25,30 @@ def _json(capsys, *argv):
 
 def test_matrices_json_contract(capsys):
     d = _json(capsys, "--mass-matrix", "11/10,0;0,1", "--gradients", "1,0;-1,1", "--velocity", "-1,-2")
-    assert d["law"] == "sequential" and d["exact"] is True and d["reading"] == "energy"
+    assert d["law"] == "sequential" and d["exact"] is True and d["details"]["reading"] == "energy" and d["uniqueness"] == "gap-dependent"
     assert [o["order"] for o in d["outcomes"]] == [[0, 1, 0, 1], [1, 0, 1, 0]]
     assert d["outcomes"][0]["velocity"] == ["173/147", "278/147"]
     assert d["outcomes"][0]["velocity_float"] == [173 / 147, 278 / 147]
-    assert d["two_surface_bound"] == 4
-    assert d["selected"] == [["173/147", "278/147"], ["359/441", "922/441"]]
-    assert set(d["counts"]) == {"orderings", "states_visited", "sign_tests", "exact_fallbacks", "max_reflections_used"}
+    assert d["details"]["two_surface_bound"] == 4
+    assert [s["velocity"] for s in d["selected"]] == [["173/147", "278/147"], ["359/441", "922/441"]]
+    assert set(d["details"]["counts"]) == {"orderings", "states_visited", "sign_tests", "exact_fallbacks", "max_reflections_used"}
 
 
 def test_cone_reading_selects_zero(capsys):
     d = _json(capsys, "--scene", "two-balls-wall", "--masses", "11/10,1", "--reading", "cone")
-    assert d["selected"] == [["0", "0"]]
+    assert [s["velocity"] for s in d["selected"]] == [["0", "0"]]
 
 
 def test_scene_cradle_with_strikers(capsys):
     d = _json(capsys, "--scene", "cradle", "--n-balls", "5", "--strikers", "2")
     assert [o["velocity"] for o in d["outcomes"]] == [["0", "0", "0", "1", "1"]]
-    assert d["counts"]["orderings"] == 5 and d["counts"]["states_visited"] == 10
-    assert d["scene"] == {"scene": "cradle", "n_balls": 5, "strikers": 2}
+    assert d["details"]["counts"]["orderings"] == 5 and d["details"]["counts"]["states_visited"] == 10
+    assert d["scene"] == {"scene": "cradle", "n_balls": 5, "strikers": 2} and d["uniqueness"] == "unique"
 
 
 def test_float_mode_reports_exact_fallbacks(capsys):
     d = _json(capsys, "--scene", "three-ball-cradle", "--float", "--two-surface-path", "iterate")
-    assert d["exact"] is False and d["counts"]["exact_fallbacks"] >= 1
+    assert d["exact"] is False and d["details"]["counts"]["exact_fallbacks"] >= 1
     assert d["outcomes"][0]["velocity_float"] == [0.0, 0.0, 1.0]
 
 

@@ -19,11 +19,11 @@ def test_json_paper_example(capsys):
                          "--gradients", "1,0;-1,1", "--velocity", "-1,-2", "--json")
     assert code == 0 and err == ""
     data = json.loads(out)
-    assert data["law"] == "two-surface" and data["bound"] == 4
+    assert data["law"] == "two-surface" and data["details"]["bound"] == 4
     assert [o["order"] for o in data["outcomes"]] == [[0, 1, 0, 1], [1, 0, 1, 0]]
     assert data["outcomes"][0]["velocity"] == ["173/147", "278/147"]
     assert data["outcomes"][0]["velocity_float"] == [173 / 147, 278 / 147]
-    assert data["kinetic_angle_cos"] == "-sqrt(210)/21"
+    assert data["details"]["kinetic_angle_cos"] == "-sqrt(210)/21"
 
 
 def test_json_billion_reflections(capsys):
@@ -31,8 +31,8 @@ def test_json_billion_reflections(capsys):
                        "--gradients", "1,0;-1000000000,1", "--velocity", "-1,0", "--json")
     assert code == 0
     o = json.loads(out)["outcomes"][0]
-    assert o["order"] == {"first": 0, "length": o["reflections"], "alternating": True}
-    assert o["reflections"] > 10**9 and o["exact"] is False and o["digits"] == 30
+    assert o["order"] == {"first": 0, "length": o["details"]["reflections"], "alternating": True}
+    assert o["details"]["reflections"] > 10**9 and o["exactness"] == "certified" and o["digits"] == 30
 
 
 def test_text_output_and_scene(capsys):
@@ -43,7 +43,7 @@ def test_text_output_and_scene(capsys):
 
 @pytest.mark.parametrize("argv, words", [
     (["--gradients", "1,0;2,0", "--velocity", "-1,0"], "parallel"),
-    (["--gradients", "1,0;0,1;1,1", "--velocity", "-1,0"], "exactly 2 rows"),
+    (["--gradients", "1,0;0,1;1,1", "--velocity", "-1,0"], "exactly two contacts"),
     (["--gradients", "1,0;-1,1", "--velocity", "-1,0", "--restitution", "1/2"], "elastic"),
 ])
 def test_bad_input_exit_2(capsys, argv, words):

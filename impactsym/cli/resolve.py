@@ -1,11 +1,15 @@
-"""``impactsym resolve --law LAW ...``: resolve a (simultaneous) impact with one law.
+"""``impactsym resolve --law LAW|all ...``: resolve a (simultaneous) impact with one law, or with
+every law side by side.
 
-Each law lives in its own module and answers through :data:`LAWS`, a table from the law's
-CLI name to ``"module:function"``; the function takes the parsed ``args`` and returns the JSON
-result (a dict). The options are shared by the laws; :data:`LAW_OPTIONS` says which apply to
-which law and :data:`SCENE_OPTIONS` which apply to which scene, and one check
-(:func:`~impactsym.cli.common.refuse_inapplicable`) refuses any other option given (exit 2),
-naming it: nothing is silently ignored.
+One generic module over the law interface (:mod:`impactsym.lawbook`): it reads the system
+(explicit matrices, a built-in ``--scene``, or ``--scene-file``), the restitution and the law's
+options, calls the law, and prints its :class:`~impactsym.resolution.Resolution` in the one JSON
+schema of ``docs/resolution_schema.md``. What is specific to a law lives in its own module: the
+options it reads from ``args`` and the lines of its details (:data:`LAW_CLI`).
+
+An option that does not apply to the chosen law, scene or form is refused (exit 2), naming it;
+nothing is silently ignored. With ``--law all`` every law's options may be given: each goes to
+the laws that take it.
 """
 
 from __future__ import annotations
@@ -16,32 +20,21 @@ from ..errors import ImpactInputError
 from .common import add_json_flag, option_name, refuse_inapplicable
 from .plot import add_plot_option, plot_path, write_figure
 
-#: CLI law name -> "module:function" (module relative to impactsym)
-LAWS: dict[str, str] = {
-    "impulse-ratio": "cli.resolve_impulse_ratio:run",
-    "newton": "cli.resolve_classical:run_newton",
-    "poisson": "cli.resolve_classical:run_poisson",
-    "energetic": "cli.resolve_classical:run_energetic",
-    "han-gilmore": "cli.resolve_classical:run_han_gilmore",
-    "two-surface": "cli.resolve_two_surface:run",
-    "sequential": "cli.resolve_sequential:run",
+#: law -> "module:options function" (module relative to impactsym.cli); the module's ``render``
+#: gives the lines of the law's details
+LAW_CLI: dict[str, str] = {
+    "sequential": "resolve_sequential:options",
+    "two-surface": "resolve_two_surface:options",
+    "newton": "resolve_classical:newton_options",
+    "poisson": "resolve_classical:poisson_options",
+    "energetic": "resolve_classical:energetic_options",
+    "han-gilmore": "resolve_classical:han_gilmore_options",
+    "impulse-ratio": "resolve_impulse_ratio:options",
 }
-
-
-#: law -> the law's own options (beyond --scene and the scene's or the matrices' options)
-LAW_OPTIONS: dict[str, tuple[str, ...]] = {
-    "impulse-ratio": ("restitution", "ratios", "allow_invalid", "coupling"),
-    "newton": ("restitution", "allow_invalid"),
-    "poisson": ("restitution", "allow_invalid", "variant"),
-    "energetic": ("restitution", "allow_invalid", "ratios"),
-    "han-gilmore": ("restitution",),
-    "two-surface": ("restitution",),
-    "sequential": ("reading", "max_reflections", "float", "two_surface_path"),
-}
+LAWS = tuple(LAW_CLI)
 
 #: why an option is absent from a law (appended to the refusal)
 NOT_APPLICABLE_BECAUSE: dict[tuple[str, str], str] = {
-    ("sequential", "restitution"): "the sequential law is elastic (Seghete & Murphey treat e = 1 only)",
     ("han-gilmore", "allow_invalid"): "its outcomes are admissible by construction",
     ("two-surface", "max_reflections"): "the closed form needs no cap; --law sequential --two-surface-path "
                                         "iterate takes one",
@@ -49,57 +42,55 @@ NOT_APPLICABLE_BECAUSE: dict[tuple[str, str], str] = {
 
 #: the explicit form of an impact (used when no --scene is given)
 MATRIX_OPTIONS = ("mass_matrix", "gradients", "velocity")
-
-#: scene -> the options it takes; Acary & Taha's scenes serve every law, Seghete & Murphey's
-#: (the last four) only --law sequential
-SCENE_OPTIONS: dict[str, tuple[str, ...]] = {
-    "chain3": ("masses", "velocities"),
-    "pool": ("theta", "tau"),
-    "bernoulli": ("tau",),
-    "two-balls-wall": ("masses", "velocities"),
-    "three-ball-cradle": ("masses", "velocities"),
-    "cradle": ("n_balls", "strikers", "masses"),
-    "balls-against-wall": ("n_balls", "masses", "velocities"),
-}
-ALL_LAWS_SCENES = ("chain3", "pool", "bernoulli")
+#: options every law takes
+COMMON_OPTIONS = ("law", "scene", "plot", "restitution")
 
 
-def law_scenes(law: str) -> tuple[str, ...]:
-    """The scenes a law accepts."""
-    return tuple(SCENE_OPTIONS) if law == "sequential" else ALL_LAWS_SCENES
+def _law_options(law: str) -> tuple[str, ...]:
+    from ..lawbook import get_law
+
+    return get_law(law).options
+
+
+def _scene_options():
+    from .scene_args import SCENE_OPTIONS
+
+    return SCENE_OPTIONS
 
 
 def register(sub) -> None:
     p = sub.add_parser(
         "resolve",
-        help="resolve a simultaneous impact with one law",
-        description="Resolve an impact given matrices (--mass-matrix, --gradients, --velocity) or --scene.",
+        help="resolve a simultaneous impact with one law, or every law (--law all)",
+        description="Resolve an impact given matrices (--mass-matrix, --gradients, --velocity) or --scene. "
+                    "Every law takes every scene; --law all prints every law side by side.",
     )
-    p.add_argument("--law", required=True, metavar="LAW", help="one of: " + ", ".join(LAWS) if LAWS else "law")
+    p.add_argument("--law", required=True, metavar="LAW",
+                   help="one of: " + ", ".join(LAWS) + "; or all (every law that applies)")
     p.add_argument("--mass-matrix", metavar="M", help='mass matrix "a,b;c,d"')
     p.add_argument("--gradients", metavar="H", help='gradient rows of the closed contacts "a,b;c,d"')
     p.add_argument("--velocity", metavar="v", help='pre-impact velocity "a,b"')
-    p.add_argument("--restitution", metavar="e", help="restitution coefficient")
+    p.add_argument("--restitution", metavar="e", help='restitution: one coefficient, or one per contact "a,b"')
     p.add_argument("--scene", metavar="NAME",
-                   help="a canonical scene instead of matrices: chain3, pool, bernoulli (every law); "
-                        "two-balls-wall, three-ball-cradle, cradle, balls-against-wall (--law sequential)")
-    p.add_argument("--ratios", metavar="A", help="impulse ratios alpha_12,alpha_13,... against contact 1")
+                   help="a built-in scene instead of matrices: chain3, pool, bernoulli, two-balls-wall, "
+                        "three-ball-cradle, cradle, balls-against-wall")
+    p.add_argument("--ratios", metavar="A", help="impulse-ratio, energetic: ratios alpha_12,alpha_13,... against contact 1")
     p.add_argument("--allow-invalid", action="store_true", help="report a result outside the law's domain (exit 0)")
-    p.add_argument("--coupling", action="store_true", help="apply the kinetic-angle coupling criteria (eqs. 41-45)")
+    p.add_argument("--coupling", action="store_true", help="impulse-ratio: apply the kinetic-angle coupling criteria (eqs. 41-45)")
     p.add_argument("--theta", metavar="T", help="pool: angle between the lines 1-2 and 2-3 (e.g. pi/4)")
     p.add_argument("--tau", metavar="T", help="pool/bernoulli: incidence angle of ball 1")
-    p.add_argument("--masses", metavar="m", help='chain3: the three masses "m1,m2,m3"')
-    p.add_argument("--velocities", metavar="v", help='chain3: the three pre-impact velocities "v1,v2,v3"')
+    p.add_argument("--masses", metavar="m", help='chain3, two-balls-wall, three-ball-cradle, cradle, balls-against-wall: masses "m1,m2,..."')
+    p.add_argument("--velocities", metavar="v", help='chain3, two-balls-wall, three-ball-cradle, balls-against-wall: pre-impact velocities "v1,v2,..."')
     p.add_argument("--variant", metavar="V", help="poisson: paper (default) or glocker-pfeiffer")
     p.add_argument("--reading", metavar="R", help="sequential: feasible set of the selection, energy (default) or cone")
     p.add_argument("--max-reflections", metavar="K", help="sequential: cap on the reflections of one ordering")
     p.add_argument("--float", action="store_true", help="sequential: float64 with certified branch decisions")
     p.add_argument("--two-surface-path", metavar="P", help="sequential: closed-form (default) or iterate")
-    p.add_argument("--n-balls", metavar="N", help="sequential scenes cradle, balls-against-wall: number of balls "
+    p.add_argument("--n-balls", metavar="N", help="scenes cradle, balls-against-wall: number of balls "
                    "(an integer expression such as 10**2; at most 200, the sequential law's MAX_COORDINATES)")
-    p.add_argument("--strikers", metavar="K", help="sequential scene cradle: number of striking balls")
+    p.add_argument("--strikers", metavar="K", help="scene cradle: number of striking balls")
     add_plot_option(p, "the picture of the answer (two surfaces: the law in the plane of their M-normals; "
-                       "otherwise the velocities before and after)")
+                       "otherwise the velocities before and after; --law all: every law's outcomes)")
     add_json_flag(p)
     p.set_defaults(func=run, _resolve_parser=p)
 
@@ -107,23 +98,23 @@ def register(sub) -> None:
 def check_options(args) -> None:
     """Refuse every option given that does not apply to the law and the scene (or to explicit matrices)."""
     law, scene = args.law, args.scene
-    if scene is not None and scene not in law_scenes(law):
-        other = " (that scene is --law sequential's)" if scene in SCENE_OPTIONS else ""
-        raise ImpactInputError("scene", f"unknown scene {scene!r} for --law {law}{other}; known: "
-                               f"{', '.join(law_scenes(law))}")
-    form = SCENE_OPTIONS[scene] if scene is not None else MATRIX_OPTIONS
+    scenes = _scene_options()
+    if scene is not None and scene not in scenes:
+        raise ImpactInputError("scene", f"unknown scene {scene!r}; known: {', '.join(scenes)}")
+    form = scenes[scene] if scene is not None else MATRIX_OPTIONS
+    law_opts = tuple(o for name in LAWS for o in _law_options(name)) if law == "all" else _law_options(law)
     context = f"--law {law} " + (f"--scene {scene}" if scene is not None else "with explicit matrices (no --scene)")
     try:
-        refuse_inapplicable(args, args._resolve_parser, ("law", "scene", "plot", *LAW_OPTIONS[law], *form), context)
+        refuse_inapplicable(args, args._resolve_parser, (*COMMON_OPTIONS, *law_opts, *form), context)
     except ImpactInputError as exc:
         arg = exc.argument
         why = NOT_APPLICABLE_BECAUSE.get((law, arg))
-        owners = [name for name, opts in LAW_OPTIONS.items() if arg in opts]
+        owners = [name for name in LAWS if arg in _law_options(name)]
         if why is None and owners:
             why = f"{option_name(arg)} applies to --law {', '.join(owners)}"
-        elif why is None and scene is None and any(arg in opts for opts in SCENE_OPTIONS.values()):
+        elif why is None and scene is None and any(arg in opts for opts in scenes.values()):
             why = (f"{option_name(arg)} applies only with --scene "
-                   f"({', '.join(s for s in law_scenes(law) if arg in SCENE_OPTIONS[s])})")
+                   f"({', '.join(s for s in scenes if arg in scenes[s])})")
         elif why is None and scene is not None and arg in MATRIX_OPTIONS:
             why = f"{option_name(arg)} cannot be combined with --scene (the scene defines M, H and v)"
         if why:
@@ -131,38 +122,136 @@ def check_options(args) -> None:
         raise
 
 
+def _cli_options(law: str, args) -> dict:
+    module_name, func_name = LAW_CLI[law].split(":")
+    module = importlib.import_module(f"impactsym.cli.{module_name}")
+    return getattr(module, func_name)(args)
+
+
 def run(args) -> dict:
-    if args.law not in LAWS:
-        raise ImpactInputError("law", f"unknown law {args.law!r}; known: {', '.join(LAWS) or '(none yet)'}")
+    if args.law != "all" and args.law not in LAW_CLI:
+        raise ImpactInputError("law", f"unknown law {args.law!r}; known: {', '.join(LAWS)}, all")
     check_options(args)
     path = plot_path(args)  # checked before the work
-    module_name, func_name = LAWS[args.law].split(":")
-    module = importlib.import_module(f"impactsym.{module_name}")
-    result = getattr(module, func_name)(args)
+    from ..lawbook import get_law, resolve_all
+    from .scene_args import float_range_guard, read_system
+
+    system = read_system(args)
+    if args.law == "all":
+        given = {law: {k: v for k, v in _cli_options(law, args).items()} for law in LAWS}
+        with float_range_guard(args):
+            results = resolve_all(system, options=given)
+        out = {"schema": _schema(), "law": "all", "scene": system.scene, "system": system.as_json(),
+               "laws": {name: (r.as_json() if not isinstance(r, str) else {"refused": r})
+                        for name, r in results.items()}}
+    else:
+        law = get_law(args.law)
+        opts = _cli_options(args.law, args)
+        law.check(system, opts)
+        with float_range_guard(args):
+            res = law.resolve(system, **opts)
+        out = res.as_json()
+        if args.law == "impulse-ratio" and opts.get("coupling"):
+            from .resolve_impulse_ratio import coupling_details
+
+            out["details"]["coupling_decision"] = coupling_details(system)
     if path is not None:
-        from ..figures import resolve_figure
-
-        M, H, v = _system(args)
-        write_figure(resolve_figure(args.law, M, H, v, result)[0], path)
-    return result
+        _plot(args, system, out, path)
+    return out
 
 
-def _system(args):
-    """``(M, H, v)`` as the law read them (exact), for ``--plot``."""
-    if args.law == "sequential":
-        from .resolve_sequential import _read
+def _schema() -> str:
+    from ..resolution import SCHEMA
 
-        return _read(args)[:3]
-    from .scene_args import read_scene
+    return SCHEMA
 
-    return read_scene(args)[:3]
+
+def _plot(args, system, out, path) -> None:
+    from ..figures import resolve_figure
+
+    if args.law == "all":
+        from ..figures import laws_figure_from_json
+
+        fig = laws_figure_from_json(out)
+    else:
+        fig = resolve_figure(args.law, system.M, system.H, system.v, out)[0]
+    write_figure(fig, path)
+
+
+# ------------------------------------------------------------------------------------ text
+def _vec(xs) -> str:
+    return "[" + ", ".join(map(str, xs)) + "]" if xs is not None else "-"
+
+
+def _order(order, names) -> str:
+    """An ordering with the contacts' names: ``1-2 > 2-3``; stages of simultaneous impacts in braces."""
+    if order is None:
+        return ""
+    if isinstance(order, dict):
+        return f"alternating from {names[order['first']]} ({order['length']} impacts)"
+    flat = [("{" + ",".join(names[c] for c in o) + "}") if isinstance(o, list) else names[o] for o in order]
+    return "order " + " > ".join(flat) if flat else "no impact"
+
+
+def render_one(result: dict) -> str:
+    from ..lawbook import get_law
+
+    law = result["law"]
+    sysj = result["system"]
+    e = sysj["restitution"]
+    lines = [f"{law}: {get_law(law).title}"]
+    head = f"exactness: {result['exactness']}" + (f" ({result['digits']} digits)" if result["digits"] else "")
+    head += f"; outcome: {result['uniqueness']}; e = {e if e is not None else 'default (1)'}"
+    lines.append(head)
+    if result.get("scene"):
+        lines.append("scene: " + ", ".join(f"{k}={v}" for k, v in result["scene"].items()))
+    lines.append("contacts: " + ", ".join(sysj["contacts"]))
+    lines.append(f"T- = {result['kinetic_energy_before']}")
+    many = len(result["outcomes"]) > 1
+    for i, o in enumerate(result["outcomes"], 1):
+        tag = f"outcome {i}: " if many else ""
+        extra = f", {o['orderings']} ordering(s)" if o.get("orderings") not in (None, 1) else ""
+        ord_text = _order(o["order"], sysj["contacts"])
+        lines.append(f"{tag}v+ = {_vec(o['velocity'])}  p = {_vec(o['impulses'])}  T+ = {o['kinetic_energy_after']}"
+                     + (f"  ({ord_text}{extra})" if ord_text else ""))
+    for s in result["selected"]:
+        reading = result["details"].get("reading", "")
+        lines.append(f"selected ({reading} reading): v+ = {_vec(s['velocity'])}")
+    module_name = LAW_CLI[law].split(":")[0]
+    lines += importlib.import_module(f"impactsym.cli.{module_name}").render(result)
+    for n in result["notes"]:
+        lines.append("note: " + n)
+    lines.append(f"valid: {result['valid']}")
+    for v in result["violations"]:
+        lines.append("  violated: " + v["message"])
+    return "\n".join(lines)
+
+
+def render_all(result: dict) -> str:
+    sysj = result["system"]
+    lines = []
+    if result.get("scene"):
+        lines.append("scene: " + ", ".join(f"{k}={v}" for k, v in result["scene"].items()))
+    lines.append(f"contacts: {', '.join(sysj['contacts'])}; v- = {_vec(sysj['velocity'])}")
+    rows = [("law", "outcome", "v+", "T+", "valid")]
+    for name, r in result["laws"].items():
+        if "refused" in r:
+            rows.append((name, r["refused"], "", "", ""))
+            continue
+        if r["velocity"] is not None:
+            rows.append((name, r["uniqueness"], _vec(r["velocity"]), str(r["kinetic_energy_after"]), str(r["valid"])))
+            continue
+        for i, o in enumerate(r["outcomes"], 1):
+            rows.append((name if i == 1 else "", f"{r['uniqueness']} {i}/{len(r['outcomes'])}", _vec(o["velocity"]),
+                         str(o["kinetic_energy_after"]), str(o["valid"])))
+    widths = [max(len(r[c]) for r in rows if not (c == 1 and r[2] == "" and r[0] != "law")) for c in range(5)]
+    for r in rows:
+        if r[2] == "" and r[0] != "law":
+            lines.append(f"{r[0]:<{widths[0]}}  {r[1]}")
+        else:
+            lines.append("  ".join(f"{x:<{w}}" for x, w in zip(r, widths)).rstrip())
+    return "\n".join(lines)
 
 
 def render(result: dict) -> str:
-    """Text output: the law module's own ``render`` (the result's ``"law"`` is its LAWS key)."""
-    import json
-
-    module_name, _ = LAWS.get(result.get("law"), ":").split(":")
-    module = importlib.import_module(f"impactsym.{module_name}") if module_name else None
-    render_law = getattr(module, "render", None)
-    return render_law(result) if render_law else json.dumps(result, indent=2)
+    return render_all(result) if result.get("law") == "all" else render_one(result)

@@ -30,7 +30,7 @@ from ..errors import ImpactInputError  # noqa: F401  (was importable from here)
 from ._common import _normal_cone_arc, save, show  # noqa: F401
 from .acary_taha import (PLANAR_CHAIN, at_chain3_velocities, at_domain_over_theta, at_fig2_pool, at_fig3_domain,
                          at_fig4_bernoulli, at_fig5_planar_chain, at_fig5_transmission)
-from .laws import (LAWS, MAX_DRAWN_REFLECTIONS, domain_figure, laws_side_by_side, outcomes_per_law, resolve_figure,
+from .laws import (LAWS, MAX_DRAWN_REFLECTIONS, domain_figure, laws_side_by_side, laws_figure_from_json, outcomes_per_law, resolve_figure,
                    speed_against_error, two_surface_figure)
 from .readme import README_FIGURES, main, write_readme_figures
 from .seghete_murphey import (ordering_regions, sm_fig1_convex_corner, sm_fig2_concave_corner,
@@ -41,6 +41,6 @@ __all__ = [
     "sm_fig1_convex_corner", "sm_fig2_concave_corner", "sm_fig4_configuration_space", "ordering_regions",
     "sm_fig5_cradle_kinetic_plane", "sm_sec3c_termination", "two_surface_figure", "sm_three_surface_overgeneration",
     "at_fig2_pool", "at_fig3_domain", "at_domain_over_theta", "domain_figure", "at_chain3_velocities", "at_fig4_bernoulli",
-    "at_fig5_transmission", "at_fig5_planar_chain", "outcomes_per_law", "laws_side_by_side", "resolve_figure", "speed_against_error",
+    "at_fig5_transmission", "at_fig5_planar_chain", "outcomes_per_law", "laws_side_by_side", "laws_figure_from_json", "resolve_figure", "speed_against_error",
     "README_FIGURES", "write_readme_figures", "save", "show",
 ]

@@ -217,59 +217,69 @@ def outcomes_per_law(M, H, v, restitution=1, ratios=None) -> dict:
     >>> [list(o) for o in out["impulse-ratio"]["outcomes"]]
     [[-19/381, 20/381, 380/381]]
     """
-    from ..errors import ImpactError
-    from ..laws.classical import energetic, han_gilmore, newton_moreau, poisson
-    from ..laws.impulse_ratio import impulse_ratio_law
-    from ..laws.sequential import resolve_sequential
-    from ..laws.two_surface import resolve_two_surfaces
-    from ..mechanics import check_gradients, check_mass_matrix
+    from ..lawbook import resolve_all
+    from ..resolution import System
 
-    k = check_gradients(H, check_mass_matrix(M).shape[0]).shape[0]
+    system = System.from_matrices(M, H, v, restitution)
+    opts = {law: {"allow_invalid": True} for law in ("newton", "poisson", "energetic", "impulse-ratio")}
+    if ratios is not None:
+        opts["impulse-ratio"]["ratios"] = list(ratios)
     out: dict = {}
-
-    def ask(name, fn):
-        try:
-            outs, valid, note = fn()
-            out[name] = {"outcomes": outs, "valid": valid, "note": note}
-        except ImpactError as exc:
-            out[name] = {"outcomes": [], "valid": [], "note": f"refused: {exc}"}
-
-    def seq():
-        r = resolve_sequential(M, H, v)
-        return [o.velocity for o in r.outcomes], [True] * len(r.outcomes), f"selected: {[list(s) for s in r.selected]}"
-
-    def two():
-        if k != 2:
-            return [], [], f"not applicable: {k} contacts (needs exactly two)"
-        r = resolve_two_surfaces(M, H, v)
-        return [o.velocity for o in r.outcomes], [True] * len(r.outcomes), f"bound N = {r.bound}"
-
-    def classical(f):
-        def run():
-            r = f(M, H, v, restitution, allow_invalid=True)
-            return [r.velocity], [r.valid], "; ".join(r.notes[:1])
-        return run
-
-    def hg():
-        r = han_gilmore(M, H, v, restitution)
-        return [o.velocity for o in r.outcomes], [True] * len(r.outcomes), f"{len(r.outcomes)} outcome(s)"
-
-    def ir():
-        if ratios is None and k > 1:
-            return [], [], "not applicable: no impulse ratios given"
-        r = impulse_ratio_law(M, H, v, restitution, ratios, allow_invalid=True)
-        if r.velocity is None:
-            return [], [], "no real solution (negative discriminant)"
-        return [r.velocity], [r.valid], f"ratios {list(r.ratios)}" + ("" if r.valid else ": outside the domain")
-
-    ask("sequential", seq)
-    ask("two-surface", two)
-    ask("newton", classical(newton_moreau))
-    ask("poisson", classical(poisson))
-    ask("energetic", classical(energetic))
-    ask("han-gilmore", hg)
-    ask("impulse-ratio", ir)
+    for law, r in resolve_all(system, options=opts).items():
+        if isinstance(r, str):
+            out[law] = {"outcomes": [], "valid": [], "note": r}
+            continue
+        outs = [o for o in r.outcomes if o.velocity is not None]
+        note = "; ".join(r.notes[:1])
+        if law == "sequential":
+            note = f"selected: {[list(s.velocity) for s in r.selected]}"
+        elif law == "two-surface":
+            note = f"bound N = {r.details['bound']}"
+        elif law == "han-gilmore":
+            note = f"{len(outs)} outcome(s)"
+        elif law == "impulse-ratio":
+            note = ("no real solution (negative discriminant)" if not outs else
+                    f"ratios {list(r.raw.ratios)}" + ("" if r.valid else ": outside the domain"))
+        out[law] = {"outcomes": [o.velocity for o in outs], "valid": [o.valid for o in outs], "note": note}
     return out
+
+
+def laws_figure_from_json(result: dict):
+    """The picture of ``impactsym resolve --law all --json``'s answer: a panel per law, a bar per
+    velocity component for each of its outcomes (hatched when invalid).
+
+    >>> fig = laws_figure_from_json({"system": {"velocity_float": [1.0, 0.0], "coordinates": []},
+    ...     "laws": {"newton": {"outcomes": [{"velocity_float": [0.0, 1.0], "valid": True}]},
+    ...              "two-surface": {"refused": "does not apply"}}})
+    >>> len(fig.axes)
+    2
+    """
+    plt = _plt()
+    v0 = result["system"]["velocity_float"]
+    n = len(v0)
+    laws = list(result["laws"])
+    fig, axes = plt.subplots(1, len(laws), figsize=(2.3 * len(laws), 3.8), sharey=True, squeeze=False)
+    for ax, law in zip(axes[0], laws):
+        r = result["laws"][law]
+        outs = [o for o in r.get("outcomes", []) if o.get("velocity_float") is not None][:6]
+        w = 0.8 / max(1, len(outs))
+        for j, o in enumerate(outs):
+            ok = o.get("valid", True)
+            vals = [np.nan if x is None else x for x in o["velocity_float"]]
+            ax.bar(np.arange(n) + j * w, vals, w, color=f"C{j % 10}", alpha=1 if ok else 0.35,
+                   hatch=None if ok else "//")
+        ax.axhline(0, color="k", lw=0.5)
+        ax.set_xticks(np.arange(n))
+        names = result["system"].get("coordinates") or [f"q{i + 1}" for i in range(n)]
+        ax.set_xticklabels(names, fontsize=6, rotation=90)
+        ax.set_title(f"{law}\n{len(r.get('outcomes', []))} outcome(s)" if "refused" not in r else f"{law}\n(none)",
+                     fontsize=8)
+        if "refused" in r:
+            ax.text(0.5, 0.5, r["refused"][:60], transform=ax.transAxes, fontsize=6, ha="center", wrap=True)
+    axes[0][0].set_ylabel("exit velocity")
+    fig.suptitle("impactsym resolve --law all: every law's outcomes (hatched: invalid)", fontsize=10)
+    fig.tight_layout()
+    return fig
 
 
 def laws_side_by_side(scene="cradle", ratios=None, *, max_drawn: int = 6):

@@ -1,0 +1,428 @@
+"""One outcome type for every law: :class:`System`, :class:`Outcome` and :class:`Resolution`.
+
+Every law of :mod:`impactsym.lawbook` takes a :class:`System` (``M``, ``H``, ``v⁻``, the
+restitution, the names of the contacts and, when it came from a scene, the scene's description)
+and returns one :class:`Resolution`. A resolution holds every outcome the law gives (one for most
+laws; one per distinct exit velocity for the sequential law; one per end state for Han–Gilmore),
+the outcome(s) the law's selection rule picks where it has one, and how to read them
+(:attr:`Resolution.uniqueness`):
+
+``"unique"``
+    the law gives one post-impact velocity;
+``"set-valued"``
+    the law gives several outcomes and no rule among them (Han–Gilmore's hypotheses);
+``"gap-dependent"``
+    the law gives several outcomes, and which one happens depends on the (arbitrarily small)
+    gaps between the touching bodies: the sequential law's orderings, the two-surface branches.
+    Comparing a simulator against one vector makes sense only for ``"unique"``, or for the
+    outcome of given gaps (``impactsym resolve --gaps``).
+
+The JSON form (:meth:`Resolution.as_json`) is the same for every law; its schema is written down
+in ``docs/resolution_schema.md`` and tested (``tests/test_resolution_schema.py``).
+
+Examples
+--------
+>>> from impactsym.lawbook import resolve
+>>> r = resolve("newton", System.from_matrices("1,0,0;0,1,0;0,0,1", "-1,1,0;0,-1,1", "1,0,0"))
+>>> r.uniqueness, r.velocity.T, r.kinetic_energy_after
+('unique', Matrix([[-1/3, 2/3, 2/3]]), 1/2)
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Any
+
+import mpmath
+import numpy as np
+import sympy as sp
+
+from .errors import ImpactInputError, VerificationError
+from .numbers import exact_str
+
+__all__ = ["System", "Outcome", "Resolution", "SCHEMA", "UNIQUENESS", "vector_json", "number_json"]
+
+#: the version of the JSON schema of :meth:`Resolution.as_json` (``docs/resolution_schema.md``)
+SCHEMA = "impactsym.resolution/1"
+
+#: the values of :attr:`Resolution.uniqueness`
+UNIQUENESS = ("unique", "set-valued", "gap-dependent")
+
+
+# ----------------------------------------------------------------------------------- numbers
+def _float(x) -> float | None:
+    try:
+        if isinstance(x, sp.Basic):
+            f = float(sp.N(x, 17))
+        elif isinstance(x, mpmath.mpf):
+            f = float(x)
+        else:
+            f = float(x)
+    except (OverflowError, TypeError):
+        return None
+    return f if np.isfinite(f) else None
+
+
+def _text(x, digits: int | None) -> str:
+    if isinstance(x, sp.Basic):
+        return exact_str(x)
+    if isinstance(x, mpmath.mpf):
+        return mpmath.nstr(x, digits or 17, strip_zeros=False)
+    return repr(float(x))
+
+
+def _entries(value) -> list:
+    if isinstance(value, sp.MatrixBase):
+        return list(value)
+    if isinstance(value, mpmath.matrix):
+        return [value[i] for i in range(value.rows)]
+    return [x for x in np.asarray(value, dtype=float).reshape(-1)]
+
+
+def vector_json(name: str, value, digits: int | None = None) -> dict:
+    """``{name: [strings], name + "_float": [floats]}``; ``None`` gives ``None`` twice.
+
+    Exact entries are SymPy strings, certified ones ``mpmath`` strings to ``digits`` digits,
+    floats their ``repr``; a float twin that overflows is ``None`` (strict JSON).
+
+    >>> vector_json("v", sp.Matrix([sp.Rational(1, 3), 2]))
+    {'v': ['1/3', '2'], 'v_float': [0.3333333333333333, 2.0]}
+    """
+    if value is None:
+        return {name: None, name + "_float": None}
+    items = _entries(value)
+    return {name: [_text(x, digits) for x in items], name + "_float": [_float(x) for x in items]}
+
+
+def matrix_json(name: str, value) -> dict:
+    if isinstance(value, sp.MatrixBase):
+        rows = value.tolist()
+    else:
+        rows = np.asarray(value, dtype=float).tolist()
+    return {name: [[_text(x, None) for x in r] for r in rows], name + "_float": [[_float(x) for x in r] for r in rows]}
+
+
+def number_json(name: str, value, digits: int | None = None) -> dict:
+    """``{name: string, name + "_float": float}`` (``None`` twice for ``None``)."""
+    if value is None:
+        return {name: None, name + "_float": None}
+    return {name: _text(value, digits), name + "_float": _float(value)}
+
+
+# ------------------------------------------------------------------------------------ system
+@dataclass
+class System:
+    """What every law takes: the mass matrix, the gradient rows of the closed contacts, the
+    pre-impact velocity and the restitution.
+
+    Attributes
+    ----------
+    M, H, v : exact SymPy matrices (``v`` a column) or float64 arrays
+    restitution : None (each law's default, elastic), one number, or one per contact
+    contacts : the contacts' names, one per row of ``H`` (default ``"1"``, ``"2"``, …)
+    scene : the scene's description (a dict with at least ``"name"``) or None
+    exact : whether ``M``, ``H``, ``v`` are exact
+    """
+
+    M: Any
+    H: Any
+    v: Any
+    restitution: Any = None
+    contacts: list = field(default_factory=list)
+    scene: dict | None = None
+    exact: bool = True
+    coordinates: list = field(default_factory=list)
+    #: the Scene object the system came from (balls on a line: its geometry serves ``--gaps``)
+    source: Any = field(default=None, repr=False, compare=False)
+
+    def __post_init__(self):
+        if not self.contacts:
+            self.contacts = [str(i + 1) for i in range(self.k)]
+
+    @property
+    def n(self) -> int:
+        return self.M.shape[0]
+
+    @property
+    def k(self) -> int:
+        return self.H.shape[0]
+
+    @classmethod
+    def from_matrices(cls, M, H, v, restitution=None, **kw) -> "System":
+        """A system from matrices (``"a,b;c,d"`` text, nested lists, SymPy or NumPy), checked:
+        ``M`` symmetric positive definite, ``H`` with non-zero rows, shapes that agree.
+
+        >>> System.from_matrices("2,0;0,1", "-1,1", "1,0").H
+        Matrix([[-1, 1]])
+        """
+        from .mechanics import check_gradients, check_mass_matrix, check_velocity
+        from .numbers import is_exact
+
+        exact = is_exact(M, H, v)
+        Mx = check_mass_matrix(M, exact=exact)
+        Hx = check_gradients(H, Mx.shape[0], exact=exact)
+        vx = check_velocity(v, Mx.shape[0], exact=exact)
+        return cls(Mx, Hx, vx, restitution, exact=exact, **kw)
+
+    @classmethod
+    def from_scene(cls, scene, restitution=None, *, description: dict | None = None) -> "System":
+        """A system from an :class:`impactsym.scenes.Scene` (its per-contact restitution, if it
+        has one, unless ``restitution`` is given)."""
+        from .numbers import is_exact
+
+        if restitution is None:
+            restitution = getattr(scene, "restitution", None)
+        exact = is_exact(scene.M, scene.H, scene.v)
+        return cls(scene.M, scene.H, scene.v, restitution, contacts=list(scene.contacts),
+                   scene=description, exact=exact, coordinates=list(scene.coordinates), source=scene)
+
+    def restitution_scalar(self, law: str, *, default=1):
+        """The one restitution of a law that takes a single coefficient; per-contact values that
+        differ are refused, naming the law."""
+        e = self.restitution
+        if e is None:
+            return sp.Integer(default) if self.exact else float(default)
+        if isinstance(e, (list, tuple)):
+            vals = list(e)
+            if len(vals) != self.k:
+                raise ImpactInputError("restitution", f"has {len(vals)} entries, expected one per contact ({self.k})")
+            if any(sp.sympify(x) != sp.sympify(vals[0]) for x in vals[1:]):
+                raise ImpactInputError("restitution", f"--law {law} takes one restitution for every contact; "
+                                       f"the per-contact values {[exact_str(x) for x in vals]} differ")
+            return vals[0]
+        return e
+
+    def restitution_vector(self, default=1) -> list:
+        """One restitution per contact."""
+        e = self.restitution
+        if e is None:
+            e = sp.Integer(default) if self.exact else float(default)
+        if isinstance(e, (list, tuple)):
+            if len(e) != self.k:
+                raise ImpactInputError("restitution", f"has {len(e)} entries, expected one per contact ({self.k})")
+            return list(e)
+        return [e] * self.k
+
+    def as_json(self) -> dict:
+        out = {}
+        out.update(matrix_json("mass_matrix", self.M))
+        out.update(matrix_json("gradients", self.H))
+        out.update(vector_json("velocity", self.v))
+        e = self.restitution
+        if e is None:
+            out.update({"restitution": None, "restitution_float": None})
+        elif isinstance(e, (list, tuple)):
+            out.update(vector_json("restitution", sp.Matrix(list(e)) if self.exact else list(e)))
+        else:
+            out.update(number_json("restitution", e))
+        out["contacts"] = list(self.contacts)
+        out["coordinates"] = list(self.coordinates)
+        return out
+
+
+# ----------------------------------------------------------------------------------- outcome
+@dataclass
+class Outcome:
+    """One post-impact state of a law.
+
+    Attributes
+    ----------
+    velocity : ``v⁺`` (SymPy column when exact, ``mpmath.matrix`` when certified, float array)
+    impulses : ``p`` with ``M(v⁺ − v⁻) = Hᵀp`` (same form), or None when the law gives none
+    order : the order of single impacts (0-based contact indices, rows of ``H``) where the law
+        has one; stages of simultaneous impacts are tuples (Han–Gilmore); None otherwise
+    orderings : how many orderings give this outcome (sequential), else None
+    valid : whether the law's conditions hold (``H v⁺ ≥ 0`` on the closed contacts, ``p ≥ 0``, …)
+    violations : the violated conditions (dicts with ``condition``, ``message``, ``contact``)
+    digits : certified significant digits (None when exact or float)
+    details : law-specific data of this outcome (JSON-ready)
+    """
+
+    velocity: Any
+    impulses: Any = None
+    order: Any = None
+    orderings: int | None = None
+    valid: bool = True
+    violations: list = field(default_factory=list)
+    digits: int | None = None
+    details: dict = field(default_factory=dict)
+
+
+def _exactness(value) -> str:
+    if value is None:  # no outcome velocity (a law without a real solution, reported with --allow-invalid)
+        return "none"
+    if isinstance(value, sp.MatrixBase):
+        return "exact"
+    if isinstance(value, mpmath.matrix):
+        return "certified"
+    return "float"
+
+
+# -------------------------------------------------------------------------------- resolution
+@dataclass
+class Resolution:
+    """What every law returns.
+
+    Attributes
+    ----------
+    law : the law's name (``impactsym.lawbook.LAWS`` key)
+    system : the :class:`System` it resolved
+    outcomes : every outcome of the law (at least one)
+    selected : the outcome(s) the law's selection rule picks (Seghete & Murphey's projection;
+        not necessarily among ``outcomes``), empty where the law has no rule or a single outcome
+    uniqueness : ``"unique"``, ``"set-valued"`` or ``"gap-dependent"`` (module docstring)
+    notes : what the law did (method, choices, refusals of parts)
+    details : law-specific data (JSON-ready dict)
+    raw : the law's own result object (``SequentialResolution``, ``ClassicalResult``, …)
+    """
+
+    law: str
+    system: System
+    outcomes: list
+    selected: list = field(default_factory=list)
+    uniqueness: str = "unique"
+    notes: list = field(default_factory=list)
+    details: dict = field(default_factory=dict)
+    raw: Any = field(default=None, repr=False, compare=False)
+
+    def __post_init__(self):
+        if not self.outcomes:
+            raise VerificationError(f"{self.law}: a resolution without any outcome (a bug in impactsym)")
+        if self.uniqueness not in UNIQUENESS:
+            raise VerificationError(f"{self.law}: uniqueness {self.uniqueness!r} is not one of {UNIQUENESS}")
+        for o in list(self.outcomes) + list(self.selected):
+            self._check_momentum(o)
+
+    # --------------------------------------------------------------- the answer in one place
+    @property
+    def answer(self) -> Outcome | None:
+        """The one outcome to compare against: the single selected outcome, or the single
+        outcome; None when the law gives several and no (single) selection."""
+        if len(self.selected) == 1:
+            return self.selected[0]
+        if len(self.outcomes) == 1:
+            return self.outcomes[0]
+        return None
+
+    @property
+    def velocity(self):
+        a = self.answer
+        return None if a is None else a.velocity
+
+    @property
+    def impulses(self):
+        a = self.answer
+        return None if a is None else a.impulses
+
+    @property
+    def exactness(self) -> str:
+        """``"exact"``, ``"certified"`` or ``"float"`` (the weakest over the outcomes)."""
+        kinds = {_exactness(o.velocity) for o in self.outcomes}
+        for k in ("float", "certified", "exact"):
+            if k in kinds:
+                return k
+        return "exact" if self.system.exact else "float"
+
+    @property
+    def exact(self) -> bool:
+        return self.exactness == "exact"
+
+    @property
+    def digits(self) -> int | None:
+        ds = [o.digits for o in self.outcomes if o.digits is not None]
+        return min(ds) if ds else None
+
+    @property
+    def valid(self) -> bool:
+        a = self.answer
+        return all(o.valid for o in self.outcomes) if a is None else a.valid
+
+    @property
+    def violations(self) -> list:
+        a = self.answer
+        return list(a.violations) if a is not None else [v for o in self.outcomes for v in o.violations]
+
+    # ------------------------------------------------------------------------ mechanics
+    def kinetic_energy(self, velocity):
+        """``½ vᵀ M v`` in the velocity's own arithmetic (exact, mpmath or float)."""
+        M = self.system.M
+        if velocity is None:
+            return None
+        if isinstance(velocity, sp.MatrixBase):
+            Mx = M if isinstance(M, sp.MatrixBase) else sp.Matrix(M)
+            return sp.expand((velocity.T * Mx * velocity)[0, 0] / 2)
+        if isinstance(velocity, mpmath.matrix):
+            n = velocity.rows
+            Mm = mpmath.matrix([[mpmath.mpmathify(sp.N(M[i, j], mpmath.mp.dps + 10)) if isinstance(M, sp.MatrixBase)
+                                 else M[i, j] for j in range(n)] for i in range(n)])
+            return (velocity.T * Mm * velocity)[0, 0] / 2
+        v = np.asarray(velocity, dtype=float).reshape(-1)
+        return 0.5 * float(v @ np.asarray(M, dtype=float) @ v)
+
+    @property
+    def kinetic_energy_before(self):
+        return self.kinetic_energy(self.system.v)
+
+    @property
+    def kinetic_energy_after(self):
+        v = self.velocity
+        return None if v is None else self.kinetic_energy(v)
+
+    def momentum_residual(self, outcome: Outcome):
+        """``M(v⁺ − v⁻) − Hᵀp`` (zero for every law; exact for exact outcomes), or None when the
+        outcome carries no impulses."""
+        if outcome.impulses is None or outcome.velocity is None:
+            return None
+        M, H, v = self.system.M, self.system.H, self.system.v
+        vp, p = outcome.velocity, outcome.impulses
+        if isinstance(vp, sp.MatrixBase) and isinstance(M, sp.MatrixBase):
+            return sp.expand(M * (vp - v) - H.T * sp.Matrix(p))
+        if isinstance(vp, mpmath.matrix):
+            return None  # the certified laws verify their balls themselves (impactsym.verify)
+        Mf, Hf = np.asarray(M.tolist() if isinstance(M, sp.MatrixBase) else M, dtype=float), \
+            np.asarray(H.tolist() if isinstance(H, sp.MatrixBase) else H, dtype=float)
+        vf = np.asarray([float(x) for x in _entries(v)])
+        return Mf @ (np.asarray(vp, dtype=float).reshape(-1) - vf) - Hf.T @ np.asarray(p, dtype=float).reshape(-1)
+
+    def _check_momentum(self, o: Outcome) -> None:
+        if isinstance(o.velocity, sp.MatrixBase) and o.impulses is not None:
+            r = self.momentum_residual(o)
+            if any(sp.simplify(x) != 0 for x in r):
+                raise VerificationError(f"{self.law}: the outcome's momentum balance M(v+ - v-) = H^T p fails "
+                                        f"by {list(r)} (a bug in impactsym; the outcome was not returned)")
+
+    # ---------------------------------------------------------------------------- JSON
+    def outcome_json(self, o: Outcome) -> dict:
+        d = {"exactness": _exactness(o.velocity), "digits": o.digits}
+        d.update(vector_json("velocity", o.velocity, o.digits))
+        d.update(vector_json("impulses", o.impulses, o.digits))
+        d.update(number_json("kinetic_energy_after", self.kinetic_energy(o.velocity), o.digits))
+        res = self.momentum_residual(o)
+        d.update(vector_json("momentum_residual", res))
+        d["order"] = o.order
+        d["orderings"] = o.orderings
+        d["valid"] = o.valid
+        d["violations"] = list(o.violations)
+        d["details"] = dict(o.details)
+        return d
+
+    def as_json(self) -> dict:
+        """The one JSON schema of every law (``docs/resolution_schema.md``)."""
+        answer = self.answer
+        out = {"schema": SCHEMA, "law": self.law, "scene": self.system.scene,
+               "system": self.system.as_json(),
+               "exact": self.exact, "exactness": self.exactness, "digits": self.digits,
+               "uniqueness": self.uniqueness}
+        out.update(number_json("kinetic_energy_before", self.kinetic_energy_before))
+        out["answer"] = None if answer is None else self.outcome_json(answer)
+        digits = None if answer is None else answer.digits
+        out.update(vector_json("velocity", None if answer is None else answer.velocity, digits))
+        out.update(vector_json("impulses", None if answer is None else answer.impulses, digits))
+        out.update(number_json("kinetic_energy_after", self.kinetic_energy_after, digits))
+        out["valid"] = self.valid
+        out["violations"] = self.violations
+        out["outcomes"] = [self.outcome_json(o) for o in self.outcomes]
+        out["selected"] = [self.outcome_json(o) for o in self.selected]
+        out["notes"] = list(self.notes)
+        out["details"] = dict(self.details)
+        return out
