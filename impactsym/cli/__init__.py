@@ -34,7 +34,7 @@ from ..errors import ImpactError
 from .common import dumps_strict
 
 #: subcommand modules, in the order ``impactsym --help`` lists them
-SUBCOMMANDS = ["reproduce", "reflect", "prove", "resolve", "domain", "codegen", "bench"]
+SUBCOMMANDS = ["reproduce", "reflect", "prove", "resolve", "domain", "codegen", "bench", "check", "batch", "suite"]
 
 #: the JSON contract, as ``impactsym --help`` prints it
 JSON_CONTRACT = """\
@@ -137,7 +137,9 @@ class _TimeLimit:
         return False
 
 
-def emit(result: dict, args: argparse.Namespace, module) -> None:
+def emit(result: dict | None, args: argparse.Namespace, module) -> None:
+    if result is None:  # the subcommand wrote its own output (batch: JSON Lines on stdout)
+        return
     if getattr(args, "json", False):
         sys.stdout.write(dumps_strict(result) + "\n")
         return
