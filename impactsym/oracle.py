@@ -50,7 +50,7 @@ Examples
 >>> chain = System.from_matrices("1,0,0;0,1,0;0,0,1", "-1,1,0;0,-1,1", "1,0,0")
 >>> rep = check(chain, "0,0,1", laws=["sequential", "newton"])
 >>> rep.matches, rep.laws["newton"]["distance"], rep.exit_status
-(['sequential'], '2*sqrt(3)/3', 0)
+(['sequential'], 'sqrt(6)/3', 0)
 >>> check(chain, "-1/3,2/3,2/3", laws=["sequential"]).exit_status
 3
 """
@@ -492,7 +492,7 @@ def request_argv(request: Any) -> list[str]:
     ``--json`` is implied. An optional ``"id"`` is echoed in the answer.
 
     >>> request_argv({"command": "resolve", "args": {"law": "newton", "scene": "chain3", "allow_invalid": True}})
-    ['resolve', '--law', 'newton', '--scene', 'chain3', '--allow-invalid', '--json']
+    ['resolve', '--law=newton', '--scene=chain3', '--allow-invalid', '--json']
     """
     if not isinstance(request, dict):
         raise ImpactInputError("request", f"must be a JSON object, got {type(request).__name__}")
