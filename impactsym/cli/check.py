@@ -24,7 +24,9 @@ from __future__ import annotations
 from ..errors import ImpactInputError
 from .common import add_json_flag
 
-EXIT_HELP = """exit status:
+EXIT_HELP = """the observation: --observed "v1,v2,..." (in the system's coordinates), or --engine NAME to run
+  the scene (--scene, --scene-file) in a physics engine and check its answer.
+exit status:
   0  the observation matches at least one law within the tolerance
   3  it matches none (a finding: the report / JSON object is still printed)
   2  bad input (observed of the wrong length, NaN, negative tolerance, an option that does not apply)
@@ -47,7 +49,13 @@ def register(sub) -> None:
                     "and energy residuals, contact violations, and the impulse-ratio fit.",
         epilog=EXIT_HELP, formatter_class=argparse.RawDescriptionHelpFormatter,
     )
-    p.add_argument("--observed", required=True, metavar="v", help='the observed post-impact velocity "v1,v2,..."')
+    p.add_argument("--observed", metavar="v", help='the observed post-impact velocity "v1,v2,..." (or --engine)')
+    p.add_argument("--engine", metavar="ENGINE", help="mujoco, pybullet or pymunk: run the scene in that engine "
+                   "(pip install 'impactsym[engines]') and check its post-impact velocity instead of --observed")
+    p.add_argument("--engine-setting", metavar="KEY=VALUE", action="append",
+                   help="an engine setting, e.g. timestep=0.0005 (repeatable; with --engine)")
+    p.add_argument("--scene-file", metavar="FILE", help="a scene file (.toml/.json) or a shipped scene's name "
+                   "(impactsym scene list) instead of --scene or matrices")
     p.add_argument("--tolerance", metavar="T", help="relative kinetic-metric tolerance of a match (default 1e-3, >= 0)")
     p.add_argument("--laws", metavar="L", help="comma-separated laws to check (default: every law)")
     p.add_argument("--mass-matrix", metavar="M", help='mass matrix "a,b;c,d"')
@@ -99,23 +107,102 @@ def _options(args, laws) -> dict:
     return opts
 
 
+SCENE_PARAMS = ("theta", "tau", "masses", "velocities", "n_balls", "strikers")
+
+
+def _read_system(args):
+    """``(System, Scene or None)``: the Scene is what an engine builds (None for explicit matrices)."""
+    from ..resolution import System
+    from .scene_args import read_system, restitution_arg
+
+    if args.scene_file is None:
+        system = read_system(args)
+        scene = system.source
+        if args.engine is not None and scene is None:
+            if args.scene is None:
+                raise ImpactInputError("engine", "needs a scene (--scene or --scene-file): an engine builds bodies, "
+                                                 "not matrices")
+            from ..scenes import build_scene
+
+            scene = build_scene(args.scene, {k: getattr(args, k) for k in SCENE_PARAMS})
+        return system, scene
+    for opt in ("scene", "mass_matrix", "gradients", "velocity") + SCENE_PARAMS:
+        if getattr(args, opt) is not None:
+            raise ImpactInputError(opt, f"--{opt.replace('_', '-')} cannot be combined with --scene-file "
+                                        "(the file defines the scene)")
+    from ..scenes import load_scene
+
+    scene = load_scene(args.scene_file)
+    desc = scene.meta.get("scene_json") or {"scene": str(args.scene_file)}
+    return System.from_scene(scene, restitution_arg(args.restitution), description=desc), scene
+
+
+def _setting_value(text: str):
+    for cast in (int, float):
+        try:
+            return cast(text)
+        except ValueError:
+            pass
+    return {"true": True, "false": False}.get(text.lower(), text)
+
+
+def _engine_settings(items) -> dict:
+    out = {}
+    for item in items or []:
+        key, sep, val = item.partition("=")
+        if not sep or not key.strip():
+            raise ImpactInputError("engine_setting", f"expected KEY=VALUE, got {item!r}")
+        out[key.strip()] = _setting_value(val.strip())
+    return out
+
+
+def _run_engine(args, system, scene):
+    """The engine's post-impact velocity (floats) and what the run used."""
+    import sympy as sp
+
+    try:
+        from .. import engines
+    except ImportError:
+        raise ImpactInputError("engine", "the engine adapters (impactsym.engines) are not in this installation") from None
+    e = system.restitution
+    if isinstance(e, (list, tuple)):
+        raise ImpactInputError("restitution", "--engine takes one restitution for every contact")
+    e = 1 if e is None else float(sp.sympify(e))
+    settings = _engine_settings(args.engine_setting)
+    try:
+        r = engines.run(args.engine, scene, restitution=e, settings=settings or None)
+    except engines.EngineNotInstalled as exc:
+        raise ImpactInputError("engine", str(exc)) from None
+    info = {"name": r.engine, "restitution": r.restitution, "settings": dict(r.settings),
+            "defaults": dict(r.defaults or {}), "steps": r.steps, "time": r.time, "separated": r.separated,
+            "note": r.note, "velocity": [float(x) for x in r.velocity]}
+    return [float(x) for x in r.velocity], info
+
+
 def run(args):
+    from ..numbers import parse_number, parse_vector
     from ..oracle import DEFAULT_TOLERANCE, check
-    from .scene_args import float_range_guard, read_system
+    from .scene_args import float_range_guard
 
+    if (args.observed is None) == (args.engine is None):
+        raise ImpactInputError("observed", "give exactly one of --observed (a velocity) and --engine (run an engine)")
+    if args.engine_setting and args.engine is None:
+        raise ImpactInputError("engine_setting", "--engine-setting applies only with --engine")
     laws = _laws(args.laws)
-    tol = args.tolerance if args.tolerance is not None else DEFAULT_TOLERANCE
-    from ..numbers import parse_number
-
-    tol = parse_number(tol, "tolerance")
+    tol = parse_number(args.tolerance if args.tolerance is not None else DEFAULT_TOLERANCE, "tolerance")
     options = _options(args, laws)
-    system = read_system(args)
-    from ..numbers import parse_vector
-
-    observed = parse_vector(args.observed, "observed")
+    system, scene = _read_system(args)
+    engine = None
+    if args.engine is not None:
+        observed, engine = _run_engine(args, system, scene)
+    else:
+        observed = parse_vector(args.observed, "observed")
     with float_range_guard(args):
         report = check(system, observed, tolerance=tol, laws=laws, options=options)
-    return report.as_json(), report.exit_status
+    out = report.as_json()
+    if engine is not None:
+        out["engine"] = engine
+    return out, report.exit_status
 
 
 # ------------------------------------------------------------------------------------ text
@@ -128,6 +215,13 @@ def render(result: dict) -> str:
     if result.get("scene"):
         lines.append("scene: " + ", ".join(f"{k}={v}" for k, v in result["scene"].items()))
     sysj = result["system"]
+    if result.get("engine"):
+        e = result["engine"]
+        lines.append(f"engine {e['name']} (restitution {e['restitution']}; {e['steps']} steps; {e['note']})")
+        changed = {k: v for k, v in e["settings"].items() if e["defaults"].get(k) != v}
+        if changed:
+            lines.append("  settings changed from the defaults: " + ", ".join(f"{k}={v}" for k, v in changed.items()))
+        lines.append(f"  v+ = {_vec([f'{x:.6g}' for x in e['velocity']])}")
     lines.append(f"v- = {_vec(sysj['velocity'])}   observed v+ = {_vec(result['observed'])}"
                  + ("" if result["observed_exactness"] == "exact" else f" ({result['observed_exactness']})"))
     lines.append(f"tolerance {result['tolerance']} on ||v - v_law||_M / ||v-||_M")
