@@ -240,7 +240,7 @@ def fit_impulse_ratios(system: System, observed, *, tolerance=None, residual: di
     out: dict = {"family": "impulse-ratio (Acary & Taha eq. 38)", "status": "not-fitted", "reason": None,
                  "ratios": None, "ratios_float": None, "restitution": None, "restitution_float": None,
                  "velocity": None, "velocity_float": None, "distance": None, "distance_float": None,
-                 "within_tolerance": False, "valid": None, "violations": []}
+                 "within_tolerance": False, "membership": None, "valid": None, "violations": []}
     if not res["full_row_rank"]:
         out["reason"] = "the gradient rows are dependent: the impulses of the observation are not determined"
         return out
@@ -284,11 +284,31 @@ def fit_impulse_ratios(system: System, observed, *, tolerance=None, residual: di
     out["distance"], out["distance_float"] = dist["distance"], dist["distance_float"]
     if tolerance is not None:
         out["within_tolerance"] = _sign(sp.sympify(tolerance) ** 2 - dist["distance_squared"]) >= 0
-    if not res["zero"]:
-        out["status"] = "not-in-family"
-        out["reason"] = residual_reason + "; 'distance' is to the law with them"
-        return out
     A, B, C = law.coefficients
+    if not res["zero"]:
+        near = tolerance is not None and _sign(sp.sympify(tolerance) ** 2 - res["norm"] ** 2) >= 0
+        if not near:
+            out["status"] = "not-in-family"
+            out["reason"] = residual_reason + "; 'distance' is to the law with them"
+            return out
+        # a float observation (an engine's) is never exactly momentum-consistent: within the tolerance,
+        # say which root it is nearest to
+        out["membership"] = "within-tolerance"
+        plus = law.impulses[0]
+        minus = _simplify(C / (A * plus)) if not _is_zero(plus) else sp.Integer(0)  # product of the roots: C/A
+        if out["within_tolerance"]:
+            out["status"] = "law-root"
+            out["reason"] = ("within the tolerance (momentum residual and distance at most the tolerance): the "
+                             "observation is the law's solution with these ratios and e")
+        elif _sign(abs(p[0] - minus) - abs(p[0] - plus)) < 0:
+            out["status"] = "other-root"
+            out["reason"] = (f"within the tolerance of momentum, the observation's p_1 = {sp.N(p[0], 6)} is nearer the "
+                             f"other root {sp.N(minus, 6)} of eq. 38 than the law's {sp.N(plus, 6)}")
+        else:
+            out["status"] = "not-in-family"
+            out["reason"] = "the law with the fitted ratios and e is farther from the observation than the tolerance"
+        return out
+    out["membership"] = "exact"
     root = _simplify(A * p[0] ** 2 + B * p[0] + C)
     if not _is_zero(root):  # pragma: no cover - an identity (module docstring); a failure is a bug
         from .errors import VerificationError

@@ -210,6 +210,23 @@ def _vec(xs) -> str:
     return "[" + ", ".join(map(str, xs)) + "]" if xs is not None else "-"
 
 
+def _num(text, value) -> str:
+    """An exact number as text, or its float when the exact form is long (a float's binary value)."""
+    if text is None:
+        return "-"
+    if len(str(text)) <= 24 or value is None:
+        return str(text)
+    return f"{value:.9g} (exact: {len(str(text))} characters in JSON)"
+
+
+def _nums(texts, values) -> str:
+    if texts is None:
+        return "-"
+    if all(len(str(t)) <= 24 for t in texts):
+        return _vec(texts)
+    return _vec([f"{v:.9g}" for v in values])
+
+
 def render(result: dict) -> str:
     lines = []
     if result.get("scene"):
@@ -222,7 +239,7 @@ def render(result: dict) -> str:
         if changed:
             lines.append("  settings changed from the defaults: " + ", ".join(f"{k}={v}" for k, v in changed.items()))
         lines.append(f"  v+ = {_vec([f'{x:.6g}' for x in e['velocity']])}")
-    lines.append(f"v- = {_vec(sysj['velocity'])}   observed v+ = {_vec(result['observed'])}"
+    lines.append(f"v- = {_vec(sysj['velocity'])}   observed v+ = {_nums(result['observed'], result['observed_float'])}"
                  + ("" if result["observed_exactness"] == "exact" else f" ({result['observed_exactness']})"))
     lines.append(f"tolerance {result['tolerance']} on ||v - v_law||_M / ||v-||_M")
     rows = [("law", "outcome", "distance", "", "nearest v+", "match")]
@@ -244,16 +261,16 @@ def render(result: dict) -> str:
             lines.append(f"{r[0]:<{widths[0]}}  {r[1]:<{widths[1]}}  {r[2]:<10} {exact:<24} "
                          f"{r[4]:<{widths[4]}}  {r[5]}".rstrip())
     m = result["momentum"]
-    lines.append(f"momentum residual ||r||_(M^-1)/||v-||_M = {m['residual_norm']} ({m['residual_norm_float']:.3e})"
+    lines.append(f"momentum residual ||r||_(M^-1)/||v-||_M = {_num(m['residual_norm'], m['residual_norm_float'])}"
                  + ("  (zero: M(v - v-) = H^T p with p = " + _vec(m["impulses"]) + ")" if m["residual_zero"] and m["impulses"] else ""))
-    lines.append(f"energy ratio T+/T- = {result['energy_ratio']} ({result['energy_ratio_float']:.6g})")
-    lines.append(f"contact velocities H v+ = {_vec(result['contact_velocity'])}")
+    lines.append(f"energy ratio T+/T- = {_num(result['energy_ratio'], result['energy_ratio_float'])}")
+    lines.append(f"contact velocities H v+ = {_nums(result['contact_velocity'], result['contact_velocity_float'])}")
     for v in result["contact_violations"]:
         lines.append("  violated: " + v["message"])
     f = result["impulse_ratio_fit"]
     fit = f"impulse-ratio fit: {f['status']}"
     if f["ratios"] is not None:
-        fit += f" (ratios {_vec(f['ratios'])}, e = {f['restitution']})"
+        fit += f" (ratios {_nums(f['ratios'], f['ratios_float'])}, e = {_num(f['restitution'], f['restitution_float'])})"
     lines.append(fit)
     if f["reason"]:
         lines.append("  " + f["reason"])

@@ -23,7 +23,9 @@ def register(sub) -> None:
     actions = p.add_subparsers(dest="action", metavar="ACTION")
     actions.required = True
     e = actions.add_parser("export", help="write DIR/index.json and DIR/cases/*.json",
-                           description=__doc__.split("\n\n")[0].replace("``", ""))
+                           description="Write DIR/index.json and one DIR/cases/ID.json per scene: the system "
+                                       "(bodies, M, H, v) and every law's exact answer (the resolution JSON). "
+                                       "The same --seed gives byte-identical files.")
     e.add_argument("directory", metavar="DIR", help="output directory (created if missing)")
     e.add_argument("--scenes", metavar="S", help="comma-separated built-in scenes (default: all; 'none' for none)")
     e.add_argument("--laws", metavar="L", help="comma-separated laws (default: every law)")
