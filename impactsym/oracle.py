@@ -260,10 +260,12 @@ def fit_impulse_ratios(system: System, observed, *, tolerance=None, residual: di
     residual_reason = ("the momentum residual is not zero: M(v - v-) is not in the range of H^T, so no impulse "
                        "on the closed contacts gives the observation; the ratios and e above are the least-squares "
                        "fit (M^-1 metric)")
+    near = res["zero"] or (tolerance is not None and _sign(sp.sympify(tolerance) ** 2 - res["norm"] ** 2) >= 0)
     if _sign(e - 1) > 0:
         out["status"] = "not-in-family"
-        gain = f"the observation gains energy (e = T+/T- = {exact_str(e)} > 1); the law takes e in [0, 1]"
-        out["reason"] = gain if res["zero"] else f"{residual_reason}; and {gain}"
+        shown = exact_str(e) if len(exact_str(e)) <= 24 else f"{float(sp.N(e, 17)):.9g}"
+        gain = f"the observation gains energy (e = T+/T- = {shown} > 1); the law takes e in [0, 1]"
+        out["reason"] = gain if near else f"{residual_reason}; and {gain}"
         return out
     try:
         law = impulse_ratio_law(M, H, v, e, ratios, allow_invalid=True)
@@ -286,7 +288,6 @@ def fit_impulse_ratios(system: System, observed, *, tolerance=None, residual: di
         out["within_tolerance"] = _sign(sp.sympify(tolerance) ** 2 - dist["distance_squared"]) >= 0
     A, B, C = law.coefficients
     if not res["zero"]:
-        near = tolerance is not None and _sign(sp.sympify(tolerance) ** 2 - res["norm"] ** 2) >= 0
         if not near:
             out["status"] = "not-in-family"
             out["reason"] = residual_reason + "; 'distance' is to the law with them"
