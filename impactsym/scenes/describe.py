@@ -43,7 +43,7 @@ def _exact_data(scene: Scene):
     return W, (H * v).applyfunc(lambda x: tidy(sp.radsimp(x)))
 
 
-def contact_states(scene: Scene) -> list[str]:
+def contact_states(scene: Scene, _data=None) -> list[str]:
     """``"approaching"`` (``H_i v < 0``), ``"grazing"`` (``= 0``) or ``"leaving"`` (``> 0``) for each
     closed contact, decided exactly.
 
@@ -53,11 +53,11 @@ def contact_states(scene: Scene) -> list[str]:
     """
     from ..exact import certified_sign
 
-    _, w = _exact_data(scene)
+    _, w = _data or _exact_data(scene)
     return [("approaching", "grazing", "leaving")[certified_sign(x) + 1] for x in w]
 
 
-def kinetic_angles(scene: Scene) -> tuple[list[dict], int]:
+def kinetic_angles(scene: Scene, _data=None) -> tuple[list[dict], int]:
     """The kinetic angles of the pairs of closed contacts that are not orthogonal (``W_ij ≠ 0``).
 
     Returns
@@ -82,7 +82,7 @@ def kinetic_angles(scene: Scene) -> tuple[list[dict], int]:
     from ..exact import certified_sign
     from ..numbers import exact_str
 
-    W, _ = _exact_data(scene)
+    W, _ = _data or _exact_data(scene)
     k = W.shape[0]
     names = list(scene.contacts) if len(scene.contacts) == k else [str(i + 1) for i in range(k)]
     out, orthogonal = [], 0
@@ -128,14 +128,15 @@ def describe_scene(scene: Scene) -> dict:
     """
     from ..numbers import exact_str
 
-    W, w = _exact_data(scene)
-    states = contact_states(scene)
+    data = _exact_data(scene)
+    states = contact_states(scene, data)
     k = len(states)
     names = list(scene.contacts) if len(scene.contacts) == k else [str(i + 1) for i in range(k)]
     if scene.exact:
         T = sp.Rational(1, 2) * (scene.v.T * scene.M * scene.v)[0, 0]
         T = sp.radsimp(T) if not T.is_Rational else T
         energy = {"kinetic_energy": exact_str(T), "kinetic_energy_float": float(sp.N(T, 17))}
+        w = data[1]
         wj = {"relative_velocity": [exact_str(x) for x in w], "relative_velocity_float": [float(sp.N(x, 17)) for x in w]}
     else:
         vf = np.asarray(scene.v, dtype=float).reshape(-1)
@@ -143,7 +144,7 @@ def describe_scene(scene: Scene) -> dict:
         wf = (np.atleast_2d(np.asarray(scene.H, dtype=float)) @ vf).tolist()
         energy = {"kinetic_energy": T, "kinetic_energy_float": T}
         wj = {"relative_velocity": wf, "relative_velocity_float": wf}
-    angles, orthogonal = kinetic_angles(scene)
+    angles, orthogonal = kinetic_angles(scene, data)
     out = {"exact": scene.exact, "n": scene.n, "k": k, **wj, "contact_states": states,
            "approaching": [s == "approaching" for s in states],
            "approaching_contacts": [c for c, s in zip(names, states) if s == "approaching"],

@@ -186,13 +186,15 @@ def load_scene_file(path, *, name: str | None = None) -> Scene:
     """The scene of a file (see the module docstring for the format).
 
     >>> from impactsym.scenes.registry import SHIPPED_SCENES
-    >>> load_scene_file(SHIPPED_SCENES["newton-cradle-5-strikers-2"]).v.T
-    Matrix([[1, 1, 0, 0, 0]])
+    >>> sc = load_scene_file(SHIPPED_SCENES["newton-cradle-5-strikers-2"])
+    >>> sc.v.T, sc.meta["scene_json"]["scene"]
+    (Matrix([[1, 1, 0, 0, 0]]), 'newton-cradle-5-strikers-2')
     """
     p = Path(path)
     sc = scene_from_dict(read_scene_file(p))
     sc.meta["file"] = str(p)
     sc.meta["name"] = name or sc.meta.get("name") or p.stem
+    sc.meta["scene_json"] = {"scene": sc.meta["name"], "file": str(p)}
     return sc
 
 

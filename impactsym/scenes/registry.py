@@ -9,7 +9,7 @@ CLI text, and the scene files shipped in ``impactsym/scenes/files``.
   one by name (a shipped file takes no parameters).
 
 The built scene's ``meta["scene_json"]`` is the ``scene`` object the resolve JSON reports
-(``{"scene": "cradle", "n_balls": 5, "strikers": 2}``).
+(``{"scene": "cradle", "n_balls": 5, "strikers": 2}``; for a file ``{"scene": NAME, "file": PATH}``).
 
 Examples
 --------
