@@ -286,6 +286,17 @@ BAD_DICTS = [
     ({"mass_matrix": [[1, "x"], [0, 1]], "gradients": [[1, 0]], "velocity": [1, 0]}, "mass_matrix[0][1]", "cannot read"),
     ({"mass_matrix": [[1]], "gradients": [[1]], "velocity": [1], "contacts": ["a", "b"]}, "contacts", "has 2 names"),
     ({"mass_matrix": [[1]], "gradients": [[1]], "velocity": [1], "walls": []}, "walls", "applies only with bodies"),
+    ({"mass_matrix": [[1]], "gradients": [[1]], "velocity": [1], "contacts": ["default"]}, "contacts", "is reserved"),
+    ({"mass_matrix": [[1]], "gradients": [[1]], "velocity": [1], "coordinates": "q1"}, "coordinates", "array of texts"),
+    ({"bodies": [_ball(1, 1, 0, 1), _ball(1, 1, 2, 0)], "mass_matrix": [[1, 0], [0, 2]], "gradients": [[-1, 1]],
+      "velocity": [1, 0]}, "mass_matrix", "entry (1, 1) is 2 but the bodies reduce to 1"),
+    ({"bodies": [_ball(1, 1, 0, 1), _ball(1, 1, 2, 0)], "mass_matrix": [[1.0, 0], [0, 1]], "gradients": [[-1, 1]],
+      "velocity": [1, 0]}, "mass_matrix", "disagree on the number path"),
+    ({"bodies": [_ball(1, 1, 0, 1), _ball(1, 1, 2, 0)], "coordinates": ["a", "b"]}, "coordinates",
+     "the bodies' coordinates are ['x1', 'x2']"),
+    ({"bodies": [_ball(1, 1, 0, 1)], "walls": {"point": 0}}, "walls", "must be an array"),
+    ({"bodies": [_ball(1, 1, 0, 1), _ball(1, 1, 2, 0)], "restitution": {}}, "restitution", "empty table"),
+    ({"bodies": [_ball(1, 1, 0, 1), _ball(1, 1, 2, 0)], "description": 3}, "description", "must be text"),
 ]
 
 
@@ -341,3 +352,18 @@ def test_kinetic_angles_are_exact():
     for a in d["kinetic_angles"]:
         assert math.isclose(math.cos(a["angle_float"]), a["cos_float"], abs_tol=1e-15)
         assert a["coupled"] == (sp.sympify(a["cos"]) < 0)
+
+
+@pytest.mark.parametrize("name", sorted(n for n in SHIPPED_SCENES if load_scene(n).exact))
+def test_kinetic_angles_agree_with_mechanics(name):
+    """describe_scene (from W = H M⁻¹ Hᵀ, python-flint or SymPy) against mechanics.kinetic_angle_cos
+    (the conventions' formula, one pair at a time): equal exactly, and every unlisted pair is orthogonal."""
+    from impactsym.mechanics import kinetic_angle_cos
+
+    sc = load_scene(name)
+    listed = {tuple(a["contacts"]): sp.sympify(a["cos"]) for a in describe_scene(sc)["kinetic_angles"]}
+    for i in range(sc.k):
+        for j in range(i + 1, sc.k):
+            ref = kinetic_angle_cos(sc.M, sc.H.row(i), sc.H.row(j))
+            got = listed.get((sc.contacts[i], sc.contacts[j]), sp.Integer(0))
+            assert sp.simplify(got - ref) == 0, (sc.contacts[i], sc.contacts[j], got, ref)

@@ -509,6 +509,8 @@ def _from_explicit(d: dict) -> Scene:
     k = H.shape[0]
     contacts = _names(d["contacts"], "contacts", k, "closed contact") if "contacts" in d else \
         [str(i + 1) for i in range(k)]
+    if "default" in contacts:
+        raise ImpactInputError("contacts", "'default' is reserved (the restitution table's default), not a contact name")
     coords = _names(d["coordinates"], "coordinates", n, "coordinate") if "coordinates" in d else \
         [f"q{i + 1}" for i in range(n)]
     return Scene(M, H, v, coords, contacts, _approaching_exact(H, v, exact), {"exact": exact})
