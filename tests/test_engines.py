@@ -200,6 +200,32 @@ def test_planar_head_on_and_oblique(engine):
     assert res.distance([0, 1, 1, 0]) < tol, res.velocity
 
 
+ONE_BALL = {"bodies": [{"mass": 1, "radius": 1, "position": 1, "velocity": -1}], "walls": [{"point": 0, "normal": 1}]}
+
+
+@pytest.mark.parametrize("engine,measured,tol", [
+    ("mujoco", (1.00117, 0.56002, 0.26077, 0.14053), 1e-3),    # solref mapping: right at e = 1 only
+    ("pybullet", (0.9976, 0.4976, 0.0976, 0.0), 1e-3),         # e − 0.0024: the default contactSlop 1e-5
+    ("pymunk", (1.0, 0.5, 0.1, 0.0), 1e-12),                   # exactly e
+])
+def test_single_contact_restitution(engine, measured, tol):
+    """A ball against a wall at speed 1: the rebound speed for ``restitution = 1, 0.5, 0.1, 0``."""
+    got = [run(engine, ONE_BALL, restitution=e).velocity[0] for e in (1, 0.5, 0.1, 0)]
+    assert np.allclose(got, measured, rtol=0, atol=tol), got
+
+
+@pytest.mark.parametrize("engine,tol", [("mujoco", 2e-3), ("pybullet", 5e-3), ("pymunk", 1e-9)])
+def test_planar_wall_with_oblique_normal(engine, tol):
+    """A ball sliding along x into a wall of normal (1, 1)/√2 leaves along y (elastic, every law).
+    Measured distances: mujoco 7.4e-4, pybullet 2.4e-3, pymunk 5.6e-12."""
+    s = 2 ** -0.5
+    scene = {"bodies": [{"mass": 2, "radius": 1, "position": [s, s], "velocity": [-1, 0]}],
+             "walls": [{"point": [0, 0], "normal": [1, 1]}]}
+    r = run(engine, scene)
+    assert r.separated and np.allclose(r.scene.H, [[s, s]])
+    assert r.distance([0, 1]) < tol, r.velocity
+
+
 def test_sweep_moves_pybullet_from_newton_to_inelastic():
     """Sweeping contactSlop: 0 gives Newton, 0.01 the inelastic outcome (Bullet issue #3094)."""
     res = sweep("pybullet", SCENES["cradle"](), "contactSlop", [0.0, 0.001, 0.01])

@@ -18,7 +18,7 @@ silently.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 
 import numpy as np
 
@@ -72,7 +72,6 @@ class EngineResult:
     time: float
     separated: bool
     note: str = ""
-    extra: dict = field(default_factory=dict)
 
     def distance(self, v_law) -> float:
         """``‖v_engine − v_law‖_M / ‖v⁻‖_M`` in the scene's reduced coordinates."""

@@ -35,6 +35,12 @@ its speed (the textbook spring–dashpot restitution ``e = exp(−πζ/√(1 −
 ``ζ = 1`` (critical damping, MuJoCo's default dampratio). The measured restitution departs from
 ``e`` by the impedance ``solimp`` (``d < 1`` softens the reference) and the time discretization;
 ``restitution=None`` leaves ``solref`` at MuJoCo's default (a critically damped contact).
+
+Measured (one ball of mass 1 and radius 1 against a wall at speed 1, default settings otherwise;
+pinned in ``tests/test_engines.py``): ``e = 1, 0.5, 0.1, 0`` rebound at ``1.0012, 0.5600, 0.2608,
+0.1405``. The mapping is right at ``e = 1`` and too bouncy below: the contact cannot pull, so it is
+released before the half period of the oscillator, with speed left (the usual unilateral
+spring–dashpot defect), and the impedance ``d < 1`` softens the reference further.
 """
 
 from __future__ import annotations
