@@ -296,3 +296,49 @@ def test_engine_not_installed_names_the_extra(monkeypatch):
     with pytest.raises(EngineNotInstalled, match=r"pip install 'impactsym\[engines\]'"):
         run("pymunk", SCENES["cradle"]())
     assert isinstance(EngineNotInstalled("x", "y", "z"), ImportError)
+
+
+def test_gaps_open_the_contacts_of_a_line_scene():
+    es = engine_scene(SCENES["two-balls-wall"]())
+    assert es.contacts == ("wall@0-1", "1-2")
+    assert [b.position for b in es.with_gaps([0.5, 0.25]).balls] == [(1.5,), (3.75,)]
+    assert np.array_equal(es.with_gaps([0.5, 0.25]).H, es.H)
+    with pytest.raises(ImpactInputError, match="gaps: must be non-negative"):
+        es.with_gaps([-1, 0])
+    with pytest.raises(ImpactInputError, match="one per closed contact"):
+        es.with_gaps([0.1])
+    with pytest.raises(ImpactInputError, match="on a line only"):
+        engine_scene(balls_in_plane([1, 1], [1, 1], [(0, 0), (2, 0)], [(1, 0), (0, 0)])).with_gaps([0.1])
+
+
+def test_cradle_with_gaps():
+    """Small gaps between the cradle's balls: the rigid answer is the sequential (0, 0, 1) for any
+    positive gaps (the order is forced). Measured, gaps (g, g):
+
+    * pymunk: (0, 0, 1) exactly, for g = 1e-4 ... 0.1;
+    * MuJoCo (elastic): g = 0.1 gives (0, 0, 1) within 7.2e-4; g = 1e-3 gains 9 % energy
+      ((−0.366, 0.572, 0.795), T⁺/T⁻ = 1.092): the compliant contacts overlap in time;
+    * pybullet: gains energy at every gap tried (T⁺/T⁻ = 1.168, 1.129, 1.105, 1.165 for
+      g = 1e-4, 1e-3, 1e-2, 0.1), e.g. (−0.031, −0.031, 1.062) at g = 1e-3.
+    """
+    es = engine_scene(SCENES["cradle"]())
+    seq = [0, 0, 1]
+    for g in (1e-4, 1e-2):
+        assert run("pymunk", es.with_gaps([g, g])).distance(seq) < 1e-12
+    assert run("mujoco", es.with_gaps([0.1, 0.1])).distance(seq) < 2e-3
+    assert abs(run("mujoco", es.with_gaps([1e-3, 1e-3])).energy_ratio() - 1.092) < 5e-3
+    for g, ratio in ((1e-4, 1.168), (1e-3, 1.129), (1e-2, 1.105)):
+        r = run("pybullet", es.with_gaps([g, g]))
+        assert r.separated and abs(r.energy_ratio() - ratio) < 5e-3, (g, r.energy_ratio())
+
+
+def test_pymunk_cradle_flips_to_newton_when_the_contacts_overlap():
+    """pymunk makes a contact only where circles overlap: exactly touching balls (gap 0) meet one
+    pair at a time (sequential, (0, 0, 1)), but an overlap of 1e-9 (inside the builder's touching
+    tolerance) makes both contacts exist at the first step and the solver treats them together:
+    Newton's (−1/3, 2/3, 2/3), measured within 1e-5."""
+    cradle = {"bodies": [{"mass": 1, "radius": 1, "position": x, "velocity": v}
+                         for x, v in ((1.0, 1.0), (3.0 - 1e-9, 0.0), (5.0 - 2e-9, 0.0))]}
+    r = run("pymunk", cradle)
+    assert r.scene.contacts == ("1-2", "2-3")
+    assert r.distance([-1 / 3, 2 / 3, 2 / 3]) < 1e-5 and r.distance([0, 0, 1]) > 0.8

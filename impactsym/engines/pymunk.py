@@ -17,6 +17,12 @@ Restitution. Chipmunk combines two shapes' elasticities as the product (``cpArbi
 the recorded setting ``elasticity`` is ``e`` (the per-contact value). ``restitution=None`` keeps
 the default 0.
 
+Contacts. Chipmunk makes a contact only where two shapes overlap. Balls that touch exactly
+(gap 0, as the scene builders place them) are no contact at the first step, so Newton's cradle goes
+one pair per step: the sequential outcome (0, 0, 1). The same cradle with overlaps of 1e-9 has both
+contacts at the first step, which the solver treats together: Newton's outcome. Measured and pinned
+in ``tests/test_engines.py``.
+
 A wall is a static segment (radius 0) of length ``1e4`` times the scene's size along the wall,
 centred on the wall's point: a plane for every ball of the scene.
 """

@@ -83,6 +83,46 @@ class EngineScene:
         V = np.asarray(velocities, dtype=float).reshape(len(self.balls), self.dim)
         return np.array([V[b, a] for b, a in self.coordinates])
 
+    def with_gaps(self, gaps) -> "EngineScene":
+        """The same scene with the balls moved apart so that closed contact ``i`` (in the order of
+        ``contacts``) opens by ``gaps[i] ≥ 0``; ``M``, ``H``, ``v⁻`` stay those of the touching scene,
+        so the engine's answer is still compared with the laws at the impact instant.
+
+        Balls on a line only. Every ball beyond a contact (away from the wall for a wall contact,
+        right of the pair for a ball–ball contact) moves by that contact's gap, so a scene with
+        walls on both sides (whose length is fixed) is refused.
+
+        >>> from impactsym.models.seghete_murphey import three_ball_cradle
+        >>> es = engine_scene(three_ball_cradle()).with_gaps([0.5, 0.25])
+        >>> [b.position for b in es.balls]
+        [(1.0,), (3.5,), (5.75,)]
+        """
+        if self.dim != 1:
+            raise ImpactInputError("gaps", "are supported for balls on a line only")
+        g = [_float(x, "gaps") for x in (gaps if hasattr(gaps, "__len__") and not isinstance(gaps, str) else [gaps])]
+        if len(g) != len(self.contacts):
+            raise ImpactInputError("gaps", f"has {len(g)} entries, expected {len(self.contacts)} (one per closed contact)")
+        if any(x < 0 for x in g):
+            raise ImpactInputError("gaps", f"must be non-negative, got {g}")
+        if len({w.normal[0] for w in self.walls}) > 1:
+            raise ImpactInputError("gaps", "walls on both sides fix the scene's length: it cannot open")
+        x = [b.position[0] for b in self.balls]
+        shift = [0.0] * len(x)
+        for r, gap in enumerate(g):
+            on = sorted({self.coordinates[c][0] for c in range(self.H.shape[1]) if self.H[r, c] != 0},
+                        key=lambda b: x[b])
+            if len(on) == 2:  # balls right of the pair's left ball move right
+                moved = [b for b in range(len(x)) if x[b] >= x[on[1]]]
+                sign = 1.0
+            else:
+                sign = float(self.walls[0].normal[0]) if self.walls else 1.0
+                moved = [b for b in range(len(x)) if sign * (x[b] - x[on[0]]) >= 0]
+            for b in moved:
+                shift[b] += sign * gap
+        balls = tuple(Ball(b.mass, b.radius, (b.position[0] + shift[i],), b.velocity) for i, b in enumerate(self.balls))
+        return EngineScene(self.dim, balls, self.walls, self.coordinates, self.names, self.M, self.H, self.v,
+                           self.contacts)
+
     def kinetic_distance(self, a, b) -> float:
         """``‖a − b‖_M / ‖v⁻‖_M`` for two reduced velocities (the metric of :mod:`impactsym.engines`)."""
         d = np.asarray(a, dtype=float).reshape(-1) - np.asarray(b, dtype=float).reshape(-1)
