@@ -342,3 +342,19 @@ def test_pymunk_cradle_flips_to_newton_when_the_contacts_overlap():
     r = run("pymunk", cradle)
     assert r.scene.contacts == ("1-2", "2-3")
     assert r.distance([-1 / 3, 2 / 3, 2 / 3]) < 1e-5 and r.distance([0, 0, 1]) > 0.8
+
+
+def test_pymunk_pool_follows_the_rounding_of_the_touching_distance():
+    """Acary & Taha's planar pool, rebuilt from its gradient rows: at θ = π/6 the float distance of
+    balls 2 and 3 is exactly 2 (no overlap) and pymunk gives the sequential outcome (measured 0.0059,
+    the normal tilted by the first step); at θ = π/4 it is 2 − 2.2e-16 and pymunk gives Newton's
+    outcome (measured 4.0e-9). The law a user gets depends on the last bit of a position."""
+    for theta, law, tol, overlap in ((sp.pi / 6, "sequential", 0.01, False), (sp.pi / 4, "newton", 1e-7, True)):
+        sc = pool(theta)
+        es = engine_scene(sc)
+        b2, b3 = es.balls[1], es.balls[2]
+        assert (float(np.linalg.norm(np.subtract(b3.position, b2.position))) < 2.0) == overlap
+        r = run("pymunk", sc)
+        outcomes = ([o.velocity for o in resolve_sequential(sc.M, sc.H, sc.v).outcomes] if law == "sequential"
+                    else [newton_moreau(sc.M, sc.H, sc.v, 1).velocity])
+        assert _distance(r, outcomes) < tol, (theta, r.velocity)
