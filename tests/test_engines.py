@@ -243,6 +243,7 @@ def test_result_reports_every_ball_and_the_settings():
     assert len(r.velocities) == 4 and r.scene.names == ("x1", "x2", "x3")
     assert r.velocity.tolist() == r.velocities[:3]
     assert set(r.settings) == set(settings_of("pymunk")) and r.settings["elasticity"] == 1.0
+    assert r.defaults == settings_of("pymunk") and r.defaults["elasticity"] == 0.0
     js = r.as_json()
     assert js["coordinates"] == ["x1", "x2", "x3"] and js["separated"] is True and js["steps"] == r.steps
 
@@ -275,6 +276,8 @@ def test_errors_name_the_argument():
         run("mujoco", sc, settings={"solref": (0.02, 1)})
     with pytest.raises(ImpactInputError, match=r"restitution: must lie in \[0, 1\]"):
         run("pymunk", sc, restitution=1.5)
+    with pytest.raises(ImpactInputError, match="restitution: cannot be given when sweeping"):
+        sweep("pymunk", sc, "restitution", [1], restitution=0.5)
     with pytest.raises(ImpactInputError, match="integrator must be one of"):
         run("mujoco", sc, settings={"integrator": "leapfrog"})
     with pytest.raises(ImpactInputError, match="both sides of the wall"):

@@ -115,7 +115,8 @@ def run(engine: str, scene, *, restitution=1, settings=None, hold_steps: int = D
     mod = _adapter(engine)
     es = engine_scene(scene)
     e = _restitution(restitution)
-    used = check_settings(engine, mod.defaults(), settings)
+    defaults = mod.defaults()
+    used = check_settings(engine, defaults, settings)
     if e is not None:
         mapped = mod.restitution_settings(e, used)
         clash = sorted(k for k in mapped if settings and k in settings)
@@ -132,19 +133,23 @@ def run(engine: str, scene, *, restitution=1, settings=None, hold_steps: int = D
     note = (f"every contact separated and stayed separated for {hold_steps} steps" if separated else
             f"max_steps={max_steps} reached before every contact separated: the velocities are the last ones")
     return EngineResult(engine, es, e, used, velocities, es.reduced(V), steps, steps * _timestep(used), separated,
-                        note)
+                        note, defaults)
 
 
 def _timestep(settings):
     return float(settings.get("timestep", settings.get("fixedTimeStep", 0.0)))
 
 
-def sweep(engine: str, scene, setting: str, values, *, restitution=1, settings=None, **run_options) -> list:
+_UNSET = object()
+
+
+def sweep(engine: str, scene, setting: str, values, *, restitution=_UNSET, settings=None, **run_options) -> list:
     """:func:`run` once per value of one setting (the other settings as given or default).
 
-    Returns the list of :class:`EngineResult`, one per value, in order. Sweeping a setting that
-    ``restitution`` decides needs ``restitution=None``; sweeping ``"restitution"`` itself runs
-    with each value as ``restitution``.
+    Returns the list of :class:`EngineResult`, one per value, in order. ``restitution`` is 1
+    unless given. Sweeping a setting that ``restitution`` decides needs ``restitution=None``;
+    sweeping ``"restitution"`` itself runs with each value as ``restitution`` (and refuses a
+    ``restitution`` argument).
 
     >>> sweep("mujoco", {"bodies": [{"mass": 1, "radius": 1, "position": 1, "velocity": -1}],
     ...                  "walls": [{"point": 0, "normal": 1}]}, "timestep", [])
@@ -152,6 +157,10 @@ def sweep(engine: str, scene, setting: str, values, *, restitution=1, settings=N
     """
     if not isinstance(setting, str):
         raise ImpactInputError("setting", f"must be a setting name, got {setting!r}")
+    if setting == "restitution" and restitution is not _UNSET:
+        raise ImpactInputError("restitution", "cannot be given when sweeping 'restitution' itself")
+    if restitution is _UNSET:
+        restitution = 1
     out = []
     for value in list(values):
         if setting == "restitution":

@@ -54,6 +54,7 @@ class EngineResult:
     scene : the :class:`~impactsym.engines.scene.EngineScene` that was built
     restitution : the restitution asked for (``None``: the engine's own contact defaults)
     settings : every engine setting that decides the outcome, with the value used (defaults filled in)
+    defaults : the same settings at the engine's defaults (what ``settings`` changed is what differs)
     velocities : every ball's final velocity (a float on a line, ``[vx, vy]`` in the plane)
     velocity : the final velocity in the scene's reduced coordinates (compare it with a law's ``v⁺``)
     steps : engine steps run; ``time`` the simulated time
@@ -72,6 +73,7 @@ class EngineResult:
     time: float
     separated: bool
     note: str = ""
+    defaults: dict | None = None
 
     def distance(self, v_law) -> float:
         """``‖v_engine − v_law‖_M / ‖v⁻‖_M`` in the scene's reduced coordinates."""
@@ -84,6 +86,7 @@ class EngineResult:
 
     def as_json(self) -> dict:
         return {"engine": self.engine, "restitution": self.restitution, "settings": _jsonable(self.settings),
+                "defaults": _jsonable(self.defaults or {}),
                 "velocities": self.velocities, "velocity": [float(x) for x in self.velocity],
                 "coordinates": list(self.scene.names), "steps": self.steps, "time": self.time,
                 "separated": self.separated, "note": self.note}
