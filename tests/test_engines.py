@@ -284,6 +284,10 @@ def test_errors_name_the_argument():
         engine_scene(balls_on_line([1, 1], [1, 1], [-1, 1], [1, -1], walls=[0]))
     with pytest.raises(ImpactInputError, match="no contact is closed"):
         engine_scene({"bodies": [{"mass": 1, "radius": 1, "position": [0, 0], "velocity": [1, 0]}]})
+    with pytest.raises(ImpactInputError, match="restitution: a scene's own restitution is not read"):
+        engine_scene(dict(ONE_BALL, restitution=0.5))
+    with pytest.raises(ImpactInputError, match="mass_matrix: the engines build bodies"):
+        engine_scene({"mass_matrix": "1", "gradients": "1", "velocity": "-1"})
     with pytest.raises(ImpactInputError, match="overlap"):
         engine_scene({"bodies": [{"mass": 1, "radius": 1, "position": 0, "velocity": 1},
                                  {"mass": 1, "radius": 1, "position": 1, "velocity": 0}]})

@@ -29,11 +29,13 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..errors import ImpactInputError
+from ..scenes import FLOAT_GAP_RTOL
 
 __all__ = ["Ball", "Wall", "EngineScene", "engine_scene", "scene_to_dict", "CONTACT_RTOL"]
 
-#: a pair counts as touching when its gap is at most CONTACT_RTOL times the scene's length scale
-CONTACT_RTOL = 1e-9
+#: a pair counts as touching when |gap| is at most CONTACT_RTOL times the scene's length scale
+#: (the scene builders' tolerance, :data:`impactsym.scenes.FLOAT_GAP_RTOL`)
+CONTACT_RTOL = FLOAT_GAP_RTOL
 
 
 @dataclass(frozen=True)
@@ -207,6 +209,13 @@ def _build(dim, balls, walls, coordinates=None) -> EngineScene:
 
 
 def _from_dict(d) -> EngineScene:
+    if "restitution" in d:
+        raise ImpactInputError("restitution", "a scene's own restitution is not read by the engines: pass "
+                                              "restitution= to impactsym.engines.run (one value for every contact)")
+    explicit = [k for k in ("mass_matrix", "gradients", "velocity") if k in d]
+    if explicit:
+        raise ImpactInputError(explicit[0], "the engines build bodies: give 'bodies' (and 'walls'), "
+                                            "not the explicit M, H, v form")
     bodies = d.get("bodies")
     if not isinstance(bodies, (list, tuple)) or not bodies:
         raise ImpactInputError("bodies", "must be a non-empty list of {mass, radius, position, velocity}")
