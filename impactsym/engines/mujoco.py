@@ -19,11 +19,12 @@ Settings (defaults read from a fresh ``mujoco.MjModel``, except ``condim``):
 ==================  ========================  ==================================================
 
 Restitution. MuJoCo has no restitution coefficient: a contact follows a reference
-spring–damper ``a_ref = −b (J v) − k r`` in constraint space (MuJoCo documentation, Computation →
-Soft constraints → solref; google-deepmind/mujoco issue #2080 asks how to turn restitution into
-solref/solimp). With the positive form ``(timeconst, dampratio)`` the damping is
-``b = 2/(d_max·timeconst)`` and ``dampratio`` is the damping ratio of that oscillator, so
-``dampratio = 0`` (elastic) is out of reach (``k ∝ 1/dampratio²`` diverges). The direct form
+spring–damper ``a_ref = −b (J v) − k r`` in constraint space, reached to the extent of the
+impedance ``d ∈ [0.0001, 0.9999]`` set by ``solimp`` (MuJoCo documentation, Modeling → Solver
+parameters, and Computation → Soft constraints; google-deepmind/mujoco issue #2080 asks how to turn
+restitution into solref/solimp). With the positive form ``(timeconst, dampratio)``,
+``b = 2/(d_max·timeconst)`` and ``k = d(r)/(d_max²·timeconst²·dampratio²)``: ``dampratio`` is the
+damping ratio of that oscillator, and ``dampratio = 0`` (elastic) is out of reach (``k`` diverges). The direct form
 ``solref = (−k, −b)`` gives the stiffness and damping themselves, and ``b = 0`` is an undamped,
 elastic contact. ``restitution = e`` is therefore mapped to the direct form
 
