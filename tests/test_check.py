@@ -185,3 +185,54 @@ def test_cli_matrices_and_ratios(capsys):
     d = json.loads(out)
     assert code == 0 and d["matches"] == ["newton", "impulse-ratio"]
     assert d["impulse_ratio_fit"]["status"] == "law-root"
+
+
+# ------------------------------------------------------------------------------ scene files, engines
+def test_scene_file(capsys, tmp_path):
+    code, out, _ = run(capsys, "check", "--scene-file", "newton-cradle-5-strikers-1", "--observed", "0,0,0,0,1",
+                       "--laws", "newton,sequential", "--json")
+    d = json.loads(out)
+    assert code == 0 and d["matches"] == ["sequential"] and d["impulse_ratio_fit"]["status"] == "law-root"
+    f = tmp_path / "two.toml"
+    f.write_text('[[bodies]]\nmass = 1\nradius = 1\nposition = 0\nvelocity = 1\n\n'
+                 '[[bodies]]\nmass = 1\nradius = 1\nposition = 2\nvelocity = 0\n')
+    code, out, _ = run(capsys, "check", "--scene-file", str(f), "--observed", "0,1", "--json")
+    d = json.loads(out)
+    assert code == 0 and "newton" in d["matches"] and d["system"]["gradients"] == [["-1", "1"]]
+    code, out, _ = run(capsys, "check", "--scene-file", str(f), "--scene", "chain3", "--observed", "0,1", "--json")
+    assert code == 2 and json.loads(out)["error"]["argument"] == "scene"
+
+
+#: what each engine does on the three-ball cradle at its default settings and e = 1, as measured
+#: (MuJoCo 4.0.0, pybullet 3.2.7, pymunk 7.3.1): law it is nearest, and the distance bounds
+ENGINE_CRADLE = {"mujoco": ("newton", 0.04, 0.06), "pybullet": ("newton", 0.0, 0.01),
+                 "pymunk": ("sequential", 0.0, 1e-9)}
+
+
+@pytest.mark.parametrize("engine", sorted(ENGINE_CRADLE))
+def test_engine_three_ball_cradle(capsys, engine):
+    pytest.importorskip(engine, reason=f"{engine} is not installed (pip install 'impactsym[engines]')")
+    law, lo, hi = ENGINE_CRADLE[engine]
+    code, out, err = run(capsys, "check", "--engine", engine, "--scene", "three-ball-cradle", "--tolerance", "0.1",
+                         "--json")
+    d = json.loads(out)
+    assert code == 0 and law in d["matches"] and d["engine"]["separated"] is True, err
+    assert lo <= d["laws"][law]["distance_float"] <= hi
+    other = "sequential" if law == "newton" else "newton"
+    assert d["laws"][other]["distance_float"] > 0.7 and other not in d["matches"]
+    assert d["observed_float"] == d["engine"]["velocity"] and d["engine"]["name"] == engine
+
+
+def test_engine_refusals(capsys):
+    pytest.importorskip("mujoco", reason="mujoco is not installed (pip install 'impactsym[engines]')")
+    for argv, argument in ((["--engine", "mujoco", "--mass-matrix", "1,0;0,1", "--gradients", "-1,1",
+                             "--velocity", "1,0"], "engine"),
+                           (["--scene", "chain3", "--observed", "0,0,1", "--engine-setting", "timestep=0.001"],
+                            "engine_setting"),
+                           (["--scene", "chain3", "--engine", "mujoco", "--observed", "0,0,1"], "observed"),
+                           (["--scene", "chain3", "--engine", "bullet"], "engine"),
+                           (["--scene", "chain3", "--engine", "mujoco", "--engine-setting", "timestep"],
+                            "engine_setting")):
+        code, out, err = run(capsys, "check", *argv, "--json")
+        assert code == 2 and json.loads(out)["error"]["argument"] == argument, (argv, out)
+        assert "Traceback" not in err
