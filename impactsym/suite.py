@@ -19,7 +19,8 @@ which are given once per case. Everything is plain JSON: a test suite needs only
 Cases
 -----
 * ``builtin``: every built-in scene of ``impactsym resolve --scene`` with its default parameters
-  (``pool`` at ``theta = pi/4``);
+  (``pool`` at ``theta = pi/4``); ``scene-file``: a shipped scene file named in ``--scenes``
+  (``impactsym scene list``), its bodies as in the file;
 * random families from ``random.Random(seed)``, cycling through
 
   - ``mass-ratio``: a ball of mass 1 at speed 1 hits a ball of mass ``μ`` resting against a wall,
@@ -99,12 +100,25 @@ _DIRECTIONS = [(sp.Rational(a, c), sp.Rational(b, c)) for a, b, c in
 def builtin_specs(names: Iterable[str] | None = None) -> list[dict]:
     """One spec per built-in scene (default: all of them)."""
     names = list(BUILTINS) if names is None else list(names)
+    shipped = _shipped_names()
     out = []
     for name in names:
-        if name not in BUILTINS:
-            raise ImpactInputError("scenes", f"unknown scene {name!r}; known: {', '.join(BUILTINS)}")
-        out.append({"id": f"builtin-{name}", "family": "builtin", "scene": name, "params": dict(BUILTINS[name])})
+        if name in BUILTINS:
+            out.append({"id": f"builtin-{name}", "family": "builtin", "scene": name, "params": dict(BUILTINS[name])})
+        elif name in shipped:
+            out.append({"id": f"file-{name}", "family": "scene-file", "scene": name})
+        else:
+            raise ImpactInputError("scenes", f"unknown scene {name!r}; known: {', '.join(list(BUILTINS) + shipped)}")
     return out
+
+
+def _shipped_names() -> list[str]:
+    """The shipped scene files (``impactsym scene list``), when the scenes package has them."""
+    try:
+        from .scenes import SHIPPED_SCENES
+    except ImportError:  # pragma: no cover - an installation without scene files
+        return []
+    return list(SHIPPED_SCENES)
 
 
 def _mass_ratio(rng: random.Random) -> str:
@@ -177,6 +191,12 @@ def build_system(spec: dict):
     family = spec["family"]
     if family == "builtin":
         return _builtin_system(spec)
+    if family == "scene-file":
+        from .scenes import SHIPPED_SCENES, load_scene, scene_to_dict
+
+        sc = load_scene(spec["scene"])
+        desc = {"scene": spec["scene"], "file": Path(SHIPPED_SCENES[spec["scene"]]).name}
+        return System.from_scene(sc, description=desc), scene_to_dict(sc).get("bodies")
     if family == "mass-ratio":
         mu = sp.Rational(spec["mass_ratio"])
         if spec["shape"] == "wall":

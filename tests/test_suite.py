@@ -56,10 +56,11 @@ def _rational_matrix(rows):
 
 
 def test_read_back_with_json_alone(tmp_path, capsys):
-    code = main(["suite", "export", str(tmp_path / "s"), "--scenes", "chain3,two-balls-wall", "--random", "6",
+    code = main(["suite", "export", str(tmp_path / "s"), "--scenes", "chain3,two-balls-wall,newton-cradle-5-strikers-2",
+                 "--random", "6",
                  "--seed", "3", "--workers", "0", "--json"])
     summary = json.loads(capsys.readouterr().out)
-    assert code == 0 and summary["cases"] == 8
+    assert code == 0 and summary["cases"] == 9
     # a consumer with nothing but json (and fractions for the exact strings)
     index = json.loads((tmp_path / "s" / "index.json").read_text())
     assert index["schema"] == "impactsym.suite/1" and index["resolution_schema"] == "impactsym.resolution/1"
@@ -92,7 +93,10 @@ def test_read_back_with_json_alone(tmp_path, capsys):
             r = resolve("sequential", sysm)
             assert [[str(x) for x in o.velocity] for o in r.outcomes] == [o["velocity"] for o in seq["outcomes"]]
         checked += 1
-    assert checked == 8
+    assert checked == 9
+    shipped = json.loads((tmp_path / "s" / "cases" / "file-newton-cradle-5-strikers-2.json").read_text())
+    assert shipped["family"] == "scene-file" and len(shipped["bodies"]) == 5
+    assert shipped["system"]["velocity"] == ["1", "1", "0", "0", "0"]
 
 
 def test_cli_refusals(tmp_path, capsys):

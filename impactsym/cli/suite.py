@@ -27,7 +27,8 @@ def register(sub) -> None:
                                        "(bodies, M, H, v) and every law's exact answer (the resolution JSON). "
                                        "The same --seed gives byte-identical files.")
     e.add_argument("directory", metavar="DIR", help="output directory (created if missing)")
-    e.add_argument("--scenes", metavar="S", help="comma-separated built-in scenes (default: all; 'none' for none)")
+    e.add_argument("--scenes", metavar="S", help="comma-separated built-in scenes or shipped scene files (impactsym scene list); "
+                   "default: every built-in; 'none' for none")
     e.add_argument("--laws", metavar="L", help="comma-separated laws (default: every law)")
     e.add_argument("--seed", metavar="S", help="seed of the random families (default 0)")
     e.add_argument("--random", metavar="N", help="number of random scenes (default 0)")
