@@ -34,7 +34,7 @@ from ..errors import ImpactError
 from .common import dumps_strict
 
 #: subcommand modules, in the order ``impactsym --help`` lists them
-SUBCOMMANDS = ["reproduce", "reflect", "prove", "resolve", "domain", "codegen", "bench"]
+SUBCOMMANDS = ["reproduce", "reflect", "prove", "resolve", "scene", "domain", "codegen", "bench"]
 
 #: the JSON contract, as ``impactsym --help`` prints it
 JSON_CONTRACT = """\

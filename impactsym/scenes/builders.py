@@ -1,54 +1,18 @@
-"""Scenes: what a user describes (bodies, contacts, velocities), reduced to ``M``, ``H`` and ``v⁻``.
+"""Scene builders: balls on a line or in the plane (and fixed walls), reduced to ``M``, ``H`` and ``v⁻``.
 
-A :class:`Scene` holds only what the impact needs: the mass matrix of the bodies involved, the
-gradient rows of the contacts that are closed at the impact instant, and the pre-impact
-generalized velocity. Builders for balls on a line and in the plane live here too; canonical
-scenes of the papers are in :mod:`impactsym.models`.
+A builder keeps only what the impact needs: the contacts that are closed at the impact instant
+(decided exactly for exact input, within a stated tolerance for float input) and the bodies that
+take part in one of them. Canonical scenes of the papers are in :mod:`impactsym.models`; the file
+format that feeds these builders is :mod:`impactsym.scenes.fileformat`.
 """
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
-
 import sympy as sp
 
-__all__ = ["Scene", "balls_on_line", "balls_in_plane", "full_velocity", "FLOAT_GAP_RTOL"]
+from .scene import Scene
 
-
-@dataclass
-class Scene:
-    """An impact scene, reduced to the closed contacts.
-
-    Attributes
-    ----------
-    M : mass matrix (n×n)
-    H : gradient rows of the closed contacts (k×n), in the order of ``contacts``
-    v : pre-impact generalized velocity (n×1)
-    coordinates : names of the n generalized coordinates
-    contacts : names of the k closed contacts (``"1-2"``, ``"wall-1"``, ...)
-    approaching : for each closed contact, whether ``H_i v < 0`` (decided exactly for exact input)
-    meta : free-form description (paper, equation, parameters)
-    """
-
-    M: object
-    H: object
-    v: object
-    coordinates: list = field(default_factory=list)
-    contacts: list = field(default_factory=list)
-    approaching: list = field(default_factory=list)
-    meta: dict = field(default_factory=dict)
-
-    @property
-    def n(self) -> int:
-        return self.M.shape[0]
-
-    @property
-    def k(self) -> int:
-        return self.H.shape[0]
-
-    def relative_velocity(self):
-        """``w = H v`` (approaching when ``w_i < 0``)."""
-        return self.H * self.v if isinstance(self.H, sp.MatrixBase) else self.H @ self.v
+__all__ = ["balls_on_line", "balls_in_plane", "full_velocity", "FLOAT_GAP_RTOL"]
 
 
 # ---------------------------------------------------------------------------------------------
@@ -60,14 +24,14 @@ FLOAT_GAP_RTOL = 1e-9
 
 
 def _is_float_input(*objs) -> bool:
-    from .numbers import is_exact
+    from ..numbers import is_exact
 
     return not is_exact(*objs)
 
 
 def _numbers(values, argument: str, exact: bool, *, length: int | None = None):
-    from .errors import ImpactInputError
-    from .numbers import to_exact
+    from ..errors import ImpactInputError
+    from ..numbers import to_exact
 
     if isinstance(values, (str, bytes)) or not hasattr(values, "__len__"):
         raise ImpactInputError(argument, f"must be a sequence of numbers, got {values!r}")
@@ -92,16 +56,20 @@ def _numbers(values, argument: str, exact: bool, *, length: int | None = None):
 
 
 def _sign(x, exact: bool) -> int:
-    from .exact import certified_sign
+    from ..exact import certified_sign
 
     if exact:
         return certified_sign(x)
     return (x > 0) - (x < 0)
 
 
-def _classify_gap(gap, scale, exact: bool, tol, what: str):
-    """0 closed, 1 open; raises on overlap."""
-    from .errors import ImpactInputError
+def _classify_gap(gap, scale, exact: bool, tol, what: str, balls=(), wall=None):
+    """0 closed, 1 open; raises on overlap.
+
+    The error carries ``balls`` (0-based indices of the balls at fault) and ``wall`` (0-based
+    index of the wall, or None), so that a caller reading a scene file can name the key at fault.
+    """
+    from ..errors import ImpactInputError
 
     if exact:
         s = _sign(gap, True)
@@ -109,12 +77,14 @@ def _classify_gap(gap, scale, exact: bool, tol, what: str):
         t = FLOAT_GAP_RTOL * scale if tol is None else tol
         s = 0 if abs(gap) <= t else (1 if gap > 0 else -1)
     if s < 0:
-        raise ImpactInputError("positions", f"{what} overlap (gap {gap} < 0)")
+        exc = ImpactInputError("positions", f"{what} overlap (gap {gap} < 0)")
+        exc.balls, exc.wall = tuple(balls), wall
+        raise exc
     return s
 
 
 def _positive(vals, argument, exact, *, allow_zero=False):
-    from .errors import ImpactInputError
+    from ..errors import ImpactInputError
 
     for i, m in enumerate(vals):
         s = _sign(m, exact)
@@ -124,8 +94,8 @@ def _positive(vals, argument, exact, *, allow_zero=False):
 
 
 def _approaching_exact(H, v, exact: bool):
-    from .exact import certified_sign
-    from .numbers import float_to_rational
+    from ..exact import certified_sign
+    from ..numbers import float_to_rational
 
     out = []
     for i in range(H.shape[0]):
@@ -143,7 +113,7 @@ def _assemble(masses, velocities, dim, contacts, exact, coords_of, meta):
     """Reduce to the involved bodies: M, H, v and the bookkeeping for :func:`full_velocity`."""
     import numpy as np
 
-    from .errors import ImpactInputError
+    from ..errors import ImpactInputError
 
     if not contacts:
         raise ImpactInputError("positions", "no contact is closed (every gap is positive): there is no impact")
@@ -221,7 +191,7 @@ def balls_on_line(masses, radii, positions, velocities, walls=(), *, gap_toleran
     ...
     impactsym.errors.ImpactInputError: positions: balls 1 and 2 overlap (gap -1/2 < 0)
     """
-    from .errors import ImpactInputError
+    from ..errors import ImpactInputError
 
     exact = not _is_float_input(masses, radii, positions, velocities, list(walls))
     nb = len(masses) if hasattr(masses, "__len__") else None
@@ -240,15 +210,17 @@ def balls_on_line(masses, radii, positions, velocities, walls=(), *, gap_toleran
         for j in range(i + 1, nb):
             lo, hi = (i, j) if _sign(x[j] - x[i], exact) >= 0 else (j, i)
             gap = x[hi] - x[lo] - r[lo] - r[hi]
-            if _classify_gap(gap, scale, exact, gap_tolerance, f"balls {i + 1} and {j + 1}") == 0:
+            if _classify_gap(gap, scale, exact, gap_tolerance, f"balls {i + 1} and {j + 1}", (i, j)) == 0:
                 contacts.append((f"{i + 1}-{j + 1}", [(lo, (-1,)), (hi, (1,))]))
     for wi, wall in enumerate(w):
         for b in range(nb):
             side = _sign(x[b] - wall, exact)
             if side == 0:
-                raise ImpactInputError("positions", f"ball {b + 1} is centred on the wall at {wall}")
+                exc = ImpactInputError("positions", f"ball {b + 1} is centred on the wall at {wall}")
+                exc.balls, exc.wall = (b,), wi
+                raise exc
             gap = (x[b] - r[b] - wall) if side > 0 else (wall - x[b] - r[b])
-            if _classify_gap(gap, scale, exact, gap_tolerance, f"ball {b + 1} and the wall at {wall}") == 0:
+            if _classify_gap(gap, scale, exact, gap_tolerance, f"ball {b + 1} and the wall at {wall}", (b,), wi) == 0:
                 contacts.append((f"wall@{wall}-{b + 1}", [(b, (side,)), (None, None)]))
     contacts = _dedupe(contacts)
     return _assemble(m, v, 1, contacts, exact, lambda inv: [f"x{b + 1}" for b in inv],
@@ -265,31 +237,50 @@ def _dedupe(contacts):
     return out
 
 
-def balls_in_plane(masses, radii, positions, velocities, *, gap_tolerance=None) -> Scene:
-    """Balls in the plane (frictionless, no spin), reduced to the contacts closed at the impact.
+def balls_in_plane(masses, radii, positions, velocities, walls=(), *, gap_tolerance=None) -> Scene:
+    """Balls in the plane (frictionless, no spin) and fixed walls, reduced to the contacts closed
+    at the impact.
 
     Coordinates ``(x_b, y_b)`` of the involved balls. Contact ``i–j`` (``i < j``):
     ``φ = ‖G_j − G_i‖ − r_i − r_j``; at contact ``‖G_j − G_i‖ = r_i + r_j``, so its gradient row is
     ``−nᵀ`` on ball ``i`` and ``+nᵀ`` on ball ``j`` with ``n = (G_j − G_i)/(r_i + r_j)``, rational for
-    rational input. Closedness is decided on ``‖G_j − G_i‖² − (r_i + r_j)²`` (exactly, no square
-    root); float input uses the tolerance ``FLOAT_GAP_RTOL`` as in :func:`balls_on_line`.
+    rational input. Closedness is decided exactly (``certified_sign`` of ``‖G_j − G_i‖ − r_i − r_j``);
+    float input uses the tolerance ``FLOAT_GAP_RTOL`` as in :func:`balls_on_line`.
+
+    A wall is the half-plane ``{G : n̂·(G − P) ≥ 0}`` of a point ``P`` and a normal ``n`` pointing
+    into the free side. The normal need not have unit length: it is divided by its exact length,
+    ``n̂ = n / √(n·n)`` (rational when ``n·n`` is the square of a rational, e.g. ``(3, 4) → (3/5, 4/5)``;
+    otherwise a square root, kept exact). Contact ``wallJ-b`` (wall ``J`` and ball ``b``, both
+    numbered from 1): ``φ = n̂·(G_b − P) − r_b``, gradient row ``n̂ᵀ`` on ball ``b``. A ball with
+    ``φ < 0`` (overlapping the wall, or behind it) is refused.
 
     Parameters
     ----------
     masses, radii : sequences (masses > 0, radii > 0)
     positions, velocities : sequences of pairs, one per ball
+    walls : sequence of ``(point, normal)``, each a pair of pairs (the normal non-zero)
+    gap_tolerance : float, optional (float input only)
 
     Examples
     --------
     >>> sc = balls_in_plane([1, 1, 1], [1, 1, 1], [(0, 0), (2, 0), (5, 5)], [(1, 0), (0, 0), (0, 0)])
     >>> sc.H, sc.coordinates, sc.meta["uninvolved"]
     (Matrix([[-1, 0, 1, 0]]), ['x1', 'y1', 'x2', 'y2'], [3])
+    >>> sc = balls_in_plane([2], [5], [(3, 4)], [(-1, -1)], walls=[((0, 0), (3, 4))])
+    >>> sc.contacts, sc.H, sc.approaching
+    (['wall1-1'], Matrix([[3/5, 4/5]]), [True])
     """
-    from .errors import ImpactInputError
+    import math
 
-    flat_p = [c for p in positions for c in (p if hasattr(p, "__len__") and not isinstance(p, str) else [p])]
-    flat_v = [c for p in velocities for c in (p if hasattr(p, "__len__") and not isinstance(p, str) else [p])]
-    exact = not _is_float_input(masses, radii, flat_p, flat_v)
+    from ..errors import ImpactInputError
+
+    def pair(p):
+        return p if hasattr(p, "__len__") and not isinstance(p, str) else [p]
+
+    flat_p = [c for p in positions for c in pair(p)]
+    flat_v = [c for p in velocities for c in pair(p)]
+    flat_w = [c for w in walls for part in (pair(w) if len(pair(w)) == 2 else []) for c in pair(part)]
+    exact = not _is_float_input(masses, radii, flat_p, flat_v, flat_w)
     nb = len(masses) if hasattr(masses, "__len__") else None
     if not nb:
         raise ImpactInputError("masses", "at least one ball is needed")
@@ -305,7 +296,24 @@ def balls_in_plane(masses, radii, positions, velocities, *, gap_tolerance=None) 
             if isinstance(p, str) or not hasattr(p, "__len__") or len(p) != 2:
                 raise ImpactInputError(name, f"entry {b + 1} must be a pair (x, y), got {p!r}")
             dst.append(_numbers(p, name, exact))
-    scale = max([1.0] + [abs(float(t)) for t in r] + [abs(float(t)) for p in P for t in p])
+    W = []  # (point, unit normal)
+    for j, w in enumerate(walls):
+        if isinstance(w, str) or not hasattr(w, "__len__") or len(w) != 2 or any(
+                isinstance(part, str) or not hasattr(part, "__len__") or len(part) != 2 for part in w):
+            raise ImpactInputError("walls", f"entry {j + 1} must be (point, normal), two pairs, got {w!r}")
+        pt, nr = _numbers(w[0], "walls", exact), _numbers(w[1], "walls", exact)
+        nn = nr[0] ** 2 + nr[1] ** 2
+        if _sign(nn, exact) == 0:
+            raise ImpactInputError("walls", f"entry {j + 1}: the normal is zero")
+        if exact:
+            length = sp.sqrt(nn)
+            unit = [sp.radsimp(c / length) for c in nr]
+        else:
+            length = math.sqrt(nn)
+            unit = [c / length for c in nr]
+        W.append((pt, unit, nr))
+    scale = max([1.0] + [abs(float(t)) for t in r] + [abs(float(t)) for p in P for t in p]
+                + [abs(float(t)) for pt, _, _ in W for t in pt])
     contacts = []
     for i in range(nb):
         for j in range(i + 1, nb):
@@ -315,13 +323,21 @@ def balls_in_plane(masses, radii, positions, velocities, *, gap_tolerance=None) 
                 gap = sp.sqrt(d[0] ** 2 + d[1] ** 2) - rr
             else:
                 gap = (d[0] ** 2 + d[1] ** 2) ** 0.5 - rr
-            if _classify_gap(gap, scale, exact, gap_tolerance, f"balls {i + 1} and {j + 1}") == 0:
+            if _classify_gap(gap, scale, exact, gap_tolerance, f"balls {i + 1} and {j + 1}", (i, j)) == 0:
                 n = [d[0] / rr, d[1] / rr]
                 if exact:
                     n = [sp.radsimp(c) for c in n]
                 contacts.append((f"{i + 1}-{j + 1}", [(i, (-n[0], -n[1])), (j, (n[0], n[1]))]))
+    for j, (pt, unit, _) in enumerate(W):
+        for b in range(nb):
+            gap = unit[0] * (P[b][0] - pt[0]) + unit[1] * (P[b][1] - pt[1]) - r[b]
+            if exact:
+                gap = sp.radsimp(gap)
+            if _classify_gap(gap, scale, exact, gap_tolerance, f"ball {b + 1} and wall {j + 1}", (b,), j) == 0:
+                contacts.append((f"wall{j + 1}-{b + 1}", [(b, (unit[0], unit[1])), (None, None)]))
     return _assemble(m, V, 2, contacts, exact, lambda inv: [f"{c}{b + 1}" for b in inv for c in ("x", "y")],
-                     {"builder": "balls_in_plane"})
+                     {"builder": "balls_in_plane", "masses": m, "radii": r, "positions": P,
+                      "walls": [(pt, nr) for pt, _, nr in W]})
 
 
 def full_velocity(scene: Scene, reduced_velocity):
