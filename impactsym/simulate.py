@@ -166,7 +166,7 @@ def _restitution_of(restitution, contacts):
 
 
 def simulate_line(masses, radii, positions, velocities, walls=(), *, restitution=1, contacts=None,
-                  max_events: int | None = None) -> SimulationResult:
+                  watch: bool = True, max_events: int | None = None) -> SimulationResult:
     """Simulate balls on a line (and fixed walls) until no contact will close again.
 
     Each collision obeys Newton's law of restitution, written here from first principles (not
@@ -191,6 +191,9 @@ def simulate_line(masses, radii, positions, velocities, walls=(), *, restitution
         Only these contacts collide (default: all). Every other contact is watched: if it closes
         before the last collision of these contacts, the simulation is refused (those contacts
         were meant to stay open while the impact lasts).
+    watch : bool
+        With ``contacts``: ``False`` ignores the other contacts instead of watching them (for a
+        system that has no geometry beyond its contacts; balls may then pass through each other).
     max_events : int, optional
         Cap on the number of collisions; default ``DEFAULT_MAX_EVENTS`` (every contact elastic)
         or ``DEFAULT_MAX_EVENTS_INELASTIC``. Reaching it is refused (``DomainError``), and the
@@ -268,7 +271,7 @@ def simulate_line(masses, radii, positions, velocities, walls=(), *, restitution
             raise ImpactInputError("contacts", f"names no contact of this line: {unknown[0]!r} (contacts: "
                                                f"{', '.join(sorted(names)) or 'none'})")
         active = [c for c in every if c.name in wanted]
-        watched = [c for c in every if c.name not in wanted]
+        watched = [c for c in every if c.name not in wanted] if watch else []
     inelastic = any(c.e != 1 for c in active)
     cap = max_events if max_events is not None else (DEFAULT_MAX_EVENTS_INELASTIC if inelastic else DEFAULT_MAX_EVENTS)
     mf, rf, xf, vf = [_fr(t) for t in m], [_fr(t) for t in r], [_fr(t) for t in x], [_fr(t) for t in v]
