@@ -249,3 +249,78 @@ def test_a_wrong_impulse_from_the_simulator_is_caught(monkeypatch):
     monkeypatch.setattr(gp, "simulate_line", corrupted)
     with pytest.raises(VerificationError, match="differ from the simulator's"):
         resolve_with_gaps(cradle(3, 1), [R(1, 10), R(1, 10)])
+
+
+@pytest.mark.parametrize("name", ["two-balls-wall 1.1:1", "three-ball cradle masses 1,2,3", "cradle 4 balls unequal",
+                                  "balls against wall 3"])
+@pytest.mark.parametrize("e", [R(1, 2), R(4, 5)])
+def test_inelastic_outcome_is_its_ordering_replayed_with_the_restitution_map(name, e):
+    """With e < 1 the simulator (Newton's law from first principles) and impactsym's G_u(e)
+    (impactsym.laws.reflection.reflect) agree: replaying the realized ordering with G_u(e) gives
+    the gap outcome, exactly; the energy lost is positive."""
+    from impactsym.laws.reflection import reflect
+
+    sc = SCENES[name]()
+    for draw in [(1, 2), (5, 1), (2, 9)]:
+        gaps = [R(draw[i % 2] * (i + 1), 10**6) for i in range(sc.k)]
+        try:
+            r = resolve_with_gaps(sc, gaps, restitution=e)
+        except DomainError as err:
+            assert "same instant" in str(err) or "inelastic collapse" in str(err)
+            continue
+        v = sc.v
+        for i in r.order:
+            v = reflect(sc.M, sc.H[i, :], v, e)
+        assert r.velocity == v
+        assert sc.M * (r.velocity - sc.v) == sc.H.T * r.impulses
+        assert r.kinetic_energy_after < r.kinetic_energy_before
+
+
+def test_wall_names_follow_the_scene_when_walls_move():
+    """Opening moves a wall right of a gap; orderings, restitution and messages use the scene's names."""
+    sc = balls_on_line([1, 1], [1, 1], [-6, -4], [1, 1], walls=[-3])
+    assert sc.contacts == ["1-2", "wall@-3-2"]
+    r = resolve_with_gaps(sc, [R(1, 10), R(1, 5)], restitution={"wall@-3-2": R(1, 2)})
+    # by hand: ball 2 meets the moved wall (-27/10) at t = 1/5 and leaves at -1/2; 1-2 (gap 1/10,
+    # closing at 3/2) at t = 4/15 exchanges (1, -1/2); ball 2 is 1/30 from the wall: again at t = 3/10
+    assert r.walls == [R(-27, 10)] and r.order_names == ("wall@-3-2", "1-2", "wall@-3-2")
+    assert r.times == (R(1, 5), R(4, 15), R(3, 10))
+    assert list(r.velocity) == [R(-1, 2), R(-1, 2)]
+    # the moved wall (at -14/5 in the simulation) is named as in the scene in a refusal
+    sc = balls_on_line([1, 1], [1, 1], [-6, -4], [2, 1], walls=[-3])
+    with pytest.raises(DomainError, match=r"contacts 1-2, wall@-3-2 close at the same instant t = 1/10 and share "
+                                          r"ball 2"):
+        resolve_with_gaps(sc, [R(1, 10), R(1, 10)])
+
+
+from hypothesis import HealthCheck, given, settings  # noqa: E402
+from hypothesis import strategies as st  # noqa: E402
+
+
+@settings(max_examples=30, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(masses=st.lists(st.integers(1, 5), min_size=3, max_size=3),
+       velocities=st.lists(st.integers(-3, 3), min_size=3, max_size=3),
+       gaps=st.lists(st.integers(0, 20), min_size=2, max_size=2),
+       wall=st.booleans())
+def test_property_gap_outcome_is_a_sequential_outcome(masses, velocities, gaps, wall):
+    """Three balls touching in a row (with or without a wall touching the first): whatever the
+    masses, velocities and gaps, the gap outcome is a sequential outcome and its ordering a
+    sequential ordering, or the gaps make a simultaneous impact (refused)."""
+    from hypothesis import assume
+
+    if wall:
+        sc = balls_on_line(masses[:2], [1, 1], [1, 3], velocities[:2], walls=[0])
+        gaps = gaps[:2]
+    else:
+        sc = balls_on_line(masses, [1, 1, 1], [0, 2, 4], velocities)
+    assume(any(sc.approaching))
+    try:
+        r = resolve_with_gaps(sc, [R(g, 1000) for g in gaps])
+    except DomainError as err:
+        assert "same instant" in str(err)
+        return
+    seq = _sequential(sc)
+    orderings = {tuple(o): idx for o, idx in seq.iter_orderings()}
+    assert r.order in orderings
+    assert r.velocity == seq.outcomes[orderings[r.order]].velocity
+    assert r.kinetic_energy_after == r.kinetic_energy_before
