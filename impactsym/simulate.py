@@ -125,6 +125,7 @@ class _Contact:
     wall: fmpq | None = None
     side: int = 0  # wall: +1 ball right of it, -1 left of it
     e: fmpq = fmpq(1)
+    last_impulse: fmpq | None = None  # set by _collide
 
     @property
     def balls(self):

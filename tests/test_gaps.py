@@ -66,8 +66,8 @@ def test_any_gaps_give_a_sequential_ordering_and_outcome(name):
     """Gaps chosen without the LP (including zeros: touching contacts at t = 0): the outcome is one
     of the sequential outcomes and the ordering one of its orderings, or the gaps make two contacts
     sharing a ball close at one instant (refused, never guessed)."""
-    sc = _scene = SCENES[name]()
-    seq = _sequential(_scene)
+    sc = SCENES[name]()
+    seq = _sequential(sc)
     orderings = {tuple(o): idx for o, idx in seq.iter_orderings()}
     outcomes = [o.velocity for o in seq.outcomes]
     resolved = 0
