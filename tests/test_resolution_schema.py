@@ -24,6 +24,11 @@ from impactsym.resolution import SCHEMA, UNIQUENESS, Resolution, System
 
 DOC = Path(__file__).resolve().parents[1] / "docs" / "resolution_schema.md"
 
+#: (law, scene) -> what the refusal says: every other pair answers
+REFUSED = {(law, "chain-mass-ratio-1-2-4"): "per-contact values" for law in ("newton", "energetic", "han-gilmore", "impulse-ratio")}
+REFUSED.update({("two-surface", "chain-mass-ratio-1-2-4"): "elastic",
+                ("poisson", "chain-mass-ratio-1-2-4"): "penetration: contact 2"})
+
 #: scene parameters for scenes that need them
 PARAMS = {"pool": ["--theta", "pi/4"]}
 
@@ -66,16 +71,21 @@ def _law_args(law, scene):
     return []
 
 
-CASES = [(law, scene) for scene in SCENE_OPTIONS for law in LAWS]
+#: shipped scenes too heavy for the default run (the 6-ball rack: 10 contacts with sqrt(3) normals;
+#: the exact LCP enumeration and the ordering search take minutes)
+HEAVY = {"billiard-break-rack-6"}
+CASES = [pytest.param(law, scene, id=f"{law}:{scene}", marks=[pytest.mark.slow] if scene in HEAVY else [])
+         for scene in SCENE_OPTIONS for law in LAWS]
 
 
-@pytest.mark.parametrize("law, scene", CASES, ids=[f"{law}:{scene}" for law, scene in CASES])
+@pytest.mark.parametrize("law, scene", CASES)
 def test_every_law_on_every_builtin_scene_has_the_one_schema(law, scene):
     code, out, err = _run(["resolve", "--law", law, "--scene", scene, *PARAMS.get(scene, []),
                            *_law_args(law, scene), "--json"])
     d = json.loads(out)
-    if code == 2:  # a law that does not apply says why, naming the input
-        assert law == "two-surface" and "exactly two contacts" in d["error"]["message"], d
+    if code == 2:  # a law that does not apply, or refuses this scene, says why naming the input
+        assert (law == "two-surface" and "exactly two contacts" in d["error"]["message"]) or REFUSED.get(
+            (law, scene), "?") in d["error"]["message"], d
         return
     assert code == 0, err
     assert set(d) == TOP | _twins(TOP), set(d) ^ (TOP | _twins(TOP))
@@ -160,4 +170,4 @@ def test_per_contact_restitution_is_refused_by_a_law_with_one_coefficient():
 def test_law_options_are_refused_where_they_do_not_apply():
     code, _, err = _run(["resolve", "--law", "newton", "--scene", "chain3", "--reading", "cone"])
     assert code == 2 and "--reading" in err and "sequential" in err
-    assert get_law("sequential").options == ("reading", "max_reflections", "float", "two_surface_path")
+    assert get_law("sequential").options == ("reading", "max_reflections", "float", "two_surface_path", "gaps")
