@@ -367,3 +367,18 @@ def test_kinetic_angles_agree_with_mechanics(name):
             ref = kinetic_angle_cos(sc.M, sc.H.row(i), sc.H.row(j))
             got = listed.get((sc.contacts[i], sc.contacts[j]), sp.Integer(0))
             assert sp.simplify(got - ref) == 0, (sc.contacts[i], sc.contacts[j], got, ref)
+
+
+def test_the_documented_example_loads(tmp_path):
+    """The TOML example of the format's prose spec (the fileformat module docstring) is a valid file."""
+    import textwrap
+
+    from impactsym.scenes import fileformat
+
+    doc = fileformat.__doc__
+    block = doc.split("Example (TOML)::\n", 1)[1].split("\nExamples\n", 1)[0]
+    p = tmp_path / "example.toml"
+    p.write_text(textwrap.dedent(block))
+    sc = load_scene(p)
+    _same(sc, Scene(sp.diag(sp.Rational(11, 10), 1), sp.Matrix([[-1, 1], [1, 0]]), sp.Matrix([-1, -2])))
+    assert sc.contacts == ["1-2", "wall@0-1"] and sc.restitution == [1, 1]
