@@ -326,12 +326,12 @@ def test_pair_decision_agrees_with_brute_force():
     rng = random.Random(7)
     F = _Rational
     never, ended = 0, 0
-    for _ in range(400):
+    for _ in range(800):
         # Gram entries with g^2 < s_A s_B and g < 0: s_A = c p^2, s_B = c q^2, g = -t c p q, 0 < t < 1
         c, p_, q_ = rng.randint(1, 5), rng.randint(1, 3), rng.randint(1, 3)
         sA, sB = F.num(sp.Integer(c * p_ * p_)), F.num(sp.Integer(c * q_ * q_))
         g = F.num(-sp.Rational(rng.randint(1, 99), 100) * c * p_ * q_)
-        eA, eB = F.num(sp.Rational(rng.randint(0, 40), 100)), F.num(sp.Rational(rng.randint(0, 40), 100))
+        eA, eB = F.num(sp.Rational(rng.randint(0, 100), 100)), F.num(sp.Rational(rng.randint(0, 100), 100))
         a, b = F.num(sp.Rational(-rng.randint(1, 9), 1)), F.num(sp.Rational(rng.randint(-3, 9), rng.randint(1, 5)))
         decided = _never_ends(F, sA, sB, g, eA, eB, a, b, (1, 2))
         # brute force: alternate A, B exactly in (a, b)

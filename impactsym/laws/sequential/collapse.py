@@ -108,6 +108,9 @@ def _never_ends(F, sX, sY, g, eX, eY, a, b, names) -> bool:
     delta = F.norm(B * B - 4 * kX * kY * eY)
     if F.sign(delta) < 0:
         return False
+    # Here phi(rho0) > rho0, so rho0 is not between the roots; with the parity of the roots in
+    # (rho0, rho_max) the second halves of the two tests below are implied by the first halves.
+    # They are kept as the literal conditions (rho0 < rho_-, rho_- < rho_max).
     d0 = F.norm(B - 2 * kY * rho0)  # rho0 < rho_-  <=>  d0 > sqrt(delta)
     if not (F.sign(d0) > 0 and F.sign(F.norm(d0 * d0 - delta)) > 0):
         return False
