@@ -514,4 +514,5 @@ def _two_surface_path(M, H, v0, system, exact, reading, select, witness):
                                (F.name if exact else "float"), approaching, witness,
                                method="two-surface closed form", bound=ts.bound, _orders=orders)
     res.selection_note = note
+    res.restitution = tuple(sp.Integer(1) if exact else 1.0 for _ in range(system.k))
     return res
