@@ -468,3 +468,11 @@ def test_collapse_after_a_prefix_once_the_third_contact_is_certified():
     first = event_loop([1, 3, 3, 3], [Q(1, 10**6), Q(1, 10**6), Q(1, 10**6) + Q(1, 10**8)], [1, 0, 0, 0],
                        [1, Q(1, 20), Q(1, 20)], max_events=8, partial=True)
     assert first == tuple(o.order[i] for i in range(8))
+
+
+def test_exact_state_size_is_bounded_with_restitution(monkeypatch):
+    import impactsym.laws.sequential.resolve as mod
+
+    monkeypatch.setattr(mod, "MAX_STATE_BITS", 2000)
+    with pytest.raises(NonTermination, match="MAX_STATE_BITS"):
+        resolve_sequential(EYE3, CHAIN3, "1,0,0", restitution="718/10000")
