@@ -8,7 +8,6 @@ final velocity. Every comparison is exact (Rational equality or exact inequaliti
 
 from __future__ import annotations
 
-import math
 import random
 from fractions import Fraction as Q
 
@@ -374,7 +373,8 @@ def test_collapse_with_a_certified_third_contact():
 
 @pytest.mark.parametrize("v0,value", [("1,0,0,0", "-1/3"), ("1,0,0,1/10", "-7/30")])
 def test_collapse_whose_limit_approaches_another_contact_is_refused(v0, value):
-    with pytest.raises(NonTermination, match=rf"contacts 1 and 2 collapse.*approaches contact 3 \(H_3 v∞ = {value}\)"):
+    msg = rf"contacts 1 and 2 collapse.*approaches contact 3 \(H_3 v∞ = {value}\)"
+    with pytest.raises(NonTermination, match=msg):
         resolve_sequential(EYE4, CHAIN4, v0, restitution=["1/20", "1/20", "1/2"])
 
 

@@ -61,7 +61,6 @@ __all__ = ["critical_restitution"]
 
 def _pair(system, X, Y):
     """``(s_X, s_Y, g)`` of the pair, exact."""
-    F = system.F
     return system.s[X], system.s[Y], system.w(system.W[Y], X)
 
 
