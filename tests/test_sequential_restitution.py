@@ -476,3 +476,14 @@ def test_exact_state_size_is_bounded_with_restitution(monkeypatch):
     monkeypatch.setattr(mod, "MAX_STATE_BITS", 2000)
     with pytest.raises(NonTermination, match="MAX_STATE_BITS"):
         resolve_sequential(EYE3, CHAIN3, "1,0,0", restitution="718/10000")
+
+
+@pytest.mark.parametrize("floats", [False, True])
+def test_collapse_of_three_contacts_is_refused_with_the_reason(floats):
+    # four equal balls at e = 1/6: no pair can collapse (1/6 > 7 - 4 sqrt 3), but all three contacts
+    # keep colliding; the float path gives way to the exact search once its decisions all fall back
+    args = ((np.eye(4), [[-1.0, 1, 0, 0], [0, -1, 1, 0], [0, 0, -1, 1]], [1.0, 0, 0, 0], 1 / 6) if floats
+            else (EYE4, CHAIN4, "1,0,0,0", "1/6"))
+    with pytest.raises(NonTermination, match=r"max_reflections=300 with restitution < 1; its last 64 impacts "
+                                             r"involve contacts \[1, 2, 3\].*more than two contacts"):
+        resolve_sequential(*args[:3], restitution=args[3], max_reflections=300)

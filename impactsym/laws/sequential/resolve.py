@@ -14,7 +14,7 @@ from ...numbers import check_finite_exact, is_exact, to_exact
 from .common import (DEFAULT_MAX_REFLECTIONS, MAX_COORDINATES, MAX_STATE_BITS, READINGS, TWO_SURFACE_PATHS,
                      _Rational, _rank)
 from .collapse import _CollapseDetector, _verified_collapse
-from .float_search import _float_search
+from .float_search import INELASTIC_FALLBACK_BUDGET, _FallbackBudget, _float_search
 from .results import InfiniteOrder, Outcome, SequentialResolution
 from .search import (_ExactSystem, _Reflector, _aggregate, _cap_error, _explore, _explore_rational,
                      _merge_exact_keys, _state_bits_error, _verified_replay)
@@ -383,7 +383,17 @@ def _inelastic(M, H, v0, system, exact, cap, reading, select, witness, E):
     def state_of(v):
         return (v, tuple(system.w(v, i) for i in range(k)))
 
-    if exact:
+    exact_search = exact
+    fallbacks = 0
+    if not exact:
+        try:
+            g, tests, fallbacks, root_table, merged, float_sys = _float_search(
+                M, H, v0, system, cap, restitution=E, collapse=True, cap_error=cap_error)
+        except _FallbackBudget:
+            # every decision is being re-made exactly: search exactly on the floats' binary values
+            exact_search = True
+            fallbacks = INELASTIC_FALLBACK_BUDGET
+    if exact_search:
         if F is _Rational:
             def sign_of(state, i, node):
                 wi = state[1][i]
@@ -405,12 +415,8 @@ def _inelastic(M, H, v0, system, exact, cap, reading, select, witness, E):
                             collapse=detector, cap_error=cap_error)
         g.vel = [state[0] for state in g.vel]
         root_table = _aggregate(g, lambda v: v)
-        fallbacks = 0
         plain = [key for key in root_table if not _is_collapse_key(key)]
         merged = _merge_exact_keys(plain, F)
-    else:
-        g, tests, fallbacks, root_table, merged, float_sys = _float_search(
-            M, H, v0, system, cap, restitution=E, collapse=True, cap_error=cap_error)
     ckeys = [key for key in root_table if _is_collapse_key(key)]
     cmerged = _merge_exact_keys([key[1] for key in ckeys], F)
     for key in ckeys:
@@ -448,7 +454,7 @@ def _inelastic(M, H, v0, system, exact, cap, reading, select, witness, E):
         if exact:
             vel = sp.Matrix([F.to_sympy(x) for x in v_ex])
             imp = sp.Matrix([F.to_sympy(x) for x in p_ex])
-        elif collapse:
+        elif collapse or exact_search:  # float mode: the rounded exact outcome
             vel = np.array([float(F.to_sympy(x)) for x in v_ex])
             imp = np.array([float(F.to_sympy(x)) for x in p_ex])
         else:
