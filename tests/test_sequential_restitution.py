@@ -487,3 +487,63 @@ def test_collapse_of_three_contacts_is_refused_with_the_reason(floats):
     with pytest.raises(NonTermination, match=r"max_reflections=300 with restitution < 1; its last 64 impacts "
                                              r"involve contacts \[1, 2, 3\].*more than two contacts"):
         resolve_sequential(*args[:3], restitution=args[3], max_reflections=300)
+
+
+# ---------------------------------------------------------------------------------------------
+# against the project's exact simulator (impactsym.simulate, per-contact restitution)
+# ---------------------------------------------------------------------------------------------
+def _simulate(masses, gaps, v0, e, wall):
+    from impactsym.simulate import simulate_line
+
+    n = len(masses)
+    off = 1 if wall else 0
+    x = [sp.Rational(gaps[0].numerator, gaps[0].denominator) if wall else sp.Integer(0)]
+    for i in range(n - 1):
+        x.append(x[-1] + _rat(Q(gaps[i + off])))
+    names = (["wall@0-1"] if wall else []) + [f"{i + 1}-{i + 2}" for i in range(n - 1)]
+    rest = {name: str(val) for name, val in zip(names, e)}
+    if wall:  # the simulator also opens a wall contact for every other ball; they never close here
+        rest.update({f"wall@0-{b + 1}": "1" for b in range(1, n)})
+    r = simulate_line(masses, [0] * n, x, [_rat(Q(t)) for t in v0], walls=[0] if wall else [], restitution=rest)
+    return tuple(names.index(name) for _, name in r.events), list(r.velocities)
+
+
+def test_random_chains_match_the_exact_simulator():
+    rng = random.Random(11)
+    checked = 0
+    for _ in range(30):
+        n = rng.randint(2, 4)
+        wall = rng.random() < 0.4
+        masses = [rng.randint(1, 4) for _ in range(n)]
+        k = n - 1 + wall
+        e = [Q(rng.randint(4, 8), 8) for _ in range(k)]
+        v0 = [Q(rng.randint(-6, 6), rng.randint(1, 3)) for _ in range(n)]
+        M, H = scene(masses, wall)
+        Hm = sp.Matrix([[int(t) for t in r.split(",")] for r in H.split(";")])
+        if all(x >= 0 for x in Hm * sp.Matrix([_rat(x) for x in v0])):
+            continue
+        gaps = [Q(rng.randint(1, 10**6), 10**9) for _ in range(k)]
+        try:
+            order, vel = _simulate(masses, gaps, v0, e, wall)
+        except DomainError as exc:
+            if "same instant" in str(exc):
+                continue
+            raise
+        res = resolve_sequential(M, H, ",".join(str(_rat(x)) for x in v0), restitution=[str(x) for x in e],
+                                 select=False)
+        assert list(_outcome_of(res, order).velocity) == vel
+        checked += 1
+    assert checked >= 15
+
+
+def test_simulator_diagnoses_the_collapse_the_resolver_sums():
+    from impactsym.simulate import simulate_line
+
+    with pytest.raises(DomainError, match="inelastic collapse"):
+        simulate_line([1, 1, 1], [0, 0, 0], [0, "1/1000", "3/1000"], [1, 0, 0], restitution="1/20")
+    (o,) = resolve_sequential(EYE3, CHAIN3, "1,0,0", restitution="1/20", select=False).outcomes
+    assert o.collapse and list(o.velocity) == [sp.Rational(1, 3)] * 3
+    # just above e_c both finish, with the same 503 impacts
+    order, vel = _simulate([1, 1, 1], [Q(1, 10**6), Q(1, 10**6) + Q(1, 10**9)], [1, 0, 0], [Q(718, 10000)] * 2, False)
+    (f,) = resolve_sequential(EYE3, CHAIN3, "1,0,0", restitution="718/10000", select=False).outcomes
+    assert len(order) == f.reflections == 503 and order == tuple(f.order) and vel == list(f.velocity)
