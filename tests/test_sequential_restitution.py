@@ -547,3 +547,19 @@ def test_simulator_diagnoses_the_collapse_the_resolver_sums():
     order, vel = _simulate([1, 1, 1], [Q(1, 10**6), Q(1, 10**6) + Q(1, 10**9)], [1, 0, 0], [Q(718, 10000)] * 2, False)
     (f,) = resolve_sequential(EYE3, CHAIN3, "1,0,0", restitution="718/10000", select=False).outcomes
     assert len(order) == f.reflections == 503 and order == tuple(f.order) and vel == list(f.velocity)
+
+
+def test_alternation_limit_helper():
+    from impactsym.laws.sequential import alternation_limit
+
+    v, p = alternation_limit(EYE3, CHAIN3, "1,0,0", ["1/20", "1/30"])
+    assert list(v) == [sp.Rational(1, 3)] * 3 and list(p) == [sp.Rational(2, 3), sp.Rational(1, 3)]
+    assert alternation_limit(EYE3, CHAIN3, "1,0,0", "718/10000") is None
+    assert alternation_limit(EYE3, CHAIN3, "1,0,0", "717/10000") is not None
+    # the wall pair of sec. III-B.1 from the ball's side: only the pair counts
+    v, p = alternation_limit("1,0;0,1", "1,0;-1,1", "0,-1", 0, first=1, second=0)
+    assert list(v) == [0, 0] and list(p) == [1, 1]  # M(0 - v0) = (0, 1) = H_2^T p_2 + H_1^T p_1
+    with pytest.raises(DomainError, match="contact 1 is not approached"):
+        alternation_limit(EYE3, CHAIN3, "0,0,1", "1/20")
+    with pytest.raises(ImpactInputError, match="second"):
+        alternation_limit(EYE3, CHAIN3, "1,0,0", "1/20", first=0, second=5)

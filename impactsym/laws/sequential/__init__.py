@@ -114,7 +114,7 @@ from __future__ import annotations
 
 # the private names re-exported below are the ones the tests reach (tests/test_certified_extreme.py)
 from .bound import termination_bound
-from .collapse import critical_restitution
+from .collapse import alternation_limit, critical_restitution
 from .common import (DEFAULT_MAX_REFLECTIONS, FLOAT_SAFETY, MAX_COORDINATES, MAX_STATE_BITS, READINGS,
                      TWO_SURFACE_PATHS, _Algebraic, _Rational)
 from .resolve import check_restitutions, resolve_sequential
@@ -129,6 +129,7 @@ __all__ = [
     "Outcome",
     "InfiniteOrder",
     "critical_restitution",
+    "alternation_limit",
     "check_restitutions",
     "valid_velocity_witness",
     "termination_bound",
