@@ -56,12 +56,11 @@ import sympy as sp
 
 from ...errors import DomainError, ImpactInputError, NonTermination, VerificationError
 
-__all__ = ["critical_restitution"]
+__all__ = ["critical_restitution", "alternation_limit"]
 
 
 def _pair(system, X, Y):
     """``(s_X, s_Y, g)`` of the pair, exact."""
-    F = system.F
     return system.s[X], system.s[Y], system.w(system.W[Y], X)
 
 
@@ -108,6 +107,9 @@ def _never_ends(F, sX, sY, g, eX, eY, a, b, names) -> bool:
     delta = F.norm(B * B - 4 * kX * kY * eY)
     if F.sign(delta) < 0:
         return False
+    # Here phi(rho0) > rho0, so rho0 is not between the roots; with the parity of the roots in
+    # (rho0, rho_max) the second halves of the two tests below are implied by the first halves.
+    # They are kept as the literal conditions (rho0 < rho_-, rho_- < rho_max).
     d0 = F.norm(B - 2 * kY * rho0)  # rho0 < rho_-  <=>  d0 > sqrt(delta)
     if not (F.sign(d0) > 0 and F.sign(F.norm(d0 * d0 - delta)) > 0):
         return False
@@ -299,3 +301,59 @@ def critical_restitution(mass_matrix, gradients, first: int = 0, second: int = 1
     sin = sp.sqrt(1 - cos2)
     ec = sp.radsimp((1 - sin) / (1 + sin))
     return sp.expand(ec)
+
+
+def alternation_limit(mass_matrix, gradients, velocity, restitution, first: int = 0, second: int = 1):
+    """Decide exactly whether the pure alternation ``first, second, first, ...`` from ``velocity``
+    never ends (inelastic collapse); return its limit, or ``None`` when it ends.
+
+    Only the two contacts ``first`` and ``second`` are considered (the other rows of
+    ``gradients`` are ignored); ``first`` must be approached (``H_first v < 0``).
+
+    Parameters
+    ----------
+    mass_matrix, gradients, velocity : exact matrix-like data, as for :func:`resolve_sequential`
+    restitution : exact number or one per row of ``gradients``, in ``[0, 1]``
+    first, second : int
+        Rows of ``gradients`` (0-based), distinct.
+
+    Returns
+    -------
+    None, or (sympy.Matrix, sympy.Matrix)
+        The limit velocity (the M-orthogonal projection of ``velocity`` onto
+        ``{H_first v = H_second v = 0}``) and the pair's impulses ``(p_first, p_second)``.
+
+    Examples
+    --------
+    >>> v, p = alternation_limit("1,0,0;0,1,0;0,0,1", "-1,1,0;0,-1,1", "1,0,0", "1/20")
+    >>> list(v), list(p)
+    ([1/3, 1/3, 1/3], [2/3, 1/3])
+    >>> alternation_limit("1,0,0;0,1,0;0,0,1", "-1,1,0;0,-1,1", "1,0,0", "1/10") is None
+    True
+    """
+    from ...mechanics import check_gradients, check_mass_matrix, check_velocity
+    from .resolve import check_restitutions
+    from .search import _ExactSystem
+
+    M = check_mass_matrix(mass_matrix, exact=True)
+    H = check_gradients(gradients, M.shape[0], exact=True)
+    v = check_velocity(velocity, M.shape[0], exact=True)
+    for name, idx in (("first", first), ("second", second)):
+        if isinstance(idx, bool) or not isinstance(idx, int) or not 0 <= idx < H.rows:
+            raise ImpactInputError(name, f"must be a row index of gradients in [0, {H.rows - 1}], got {idx!r}")
+    if first == second:
+        raise ImpactInputError("second", f"must differ from first (both are {first})")
+    E = check_restitutions(restitution, H.rows, exact=True)
+    system = _ExactSystem(M, H, v, E)
+    F = system.F
+    a = system.w(system.v0, first)
+    if F.sign(a) >= 0:
+        raise DomainError(f"velocity: contact {first + 1} is not approached (H_{first + 1} v = {F.to_sympy(a)} >= 0)")
+    sX, sY, g = _pair(system, first, second)
+    if not _never_ends(F, sX, sY, g, system.e[first], system.e[second], a, system.w(system.v0, second),
+                       (first + 1, second + 1)):
+        return None
+    vinf, pX, pY, _ = _limit(system, system.v0, first, second)
+    if F.sign(system.w(vinf, first)) != 0 or F.sign(system.w(vinf, second)) != 0 or F.sign(pX) < 0 or F.sign(pY) < 0:
+        raise VerificationError("sequential (collapse)", "the pair's limit failed its exact check")
+    return sp.Matrix([F.to_sympy(x) for x in vinf]), sp.Matrix([F.to_sympy(pX), F.to_sympy(pY)])

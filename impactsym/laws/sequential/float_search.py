@@ -63,6 +63,17 @@ class _FloatSystem:
         return p
 
 
+#: restitution < 1, float mode: the most sign decisions re-made exactly before the float search
+#: gives way to the exact search (an inelastic collapse drives the velocities towards a limit
+#: closer than the float error bound, where every decision falls back and the float memo stops
+#: telling states apart)
+INELASTIC_FALLBACK_BUDGET = 2000
+
+
+class _FallbackBudget(Exception):
+    """Raised inside the float search when ``INELASTIC_FALLBACK_BUDGET`` is exhausted."""
+
+
 def _float_search(M, H, v0, system, cap, restitution=None, collapse=False, cap_error=None):
     """Float search; with ``restitution`` (floats, one per contact; ``system`` holds their exact
     binary values) and ``collapse=True`` the collapse of two contacts is decided exactly on the
@@ -89,17 +100,24 @@ def _float_search(M, H, v0, system, cap, restitution=None, collapse=False, cap_e
             exact_cache[nd] = v
         return v
 
+    budget = INELASTIC_FALLBACK_BUDGET if restitution is not None else None
+
+    def spend():
+        stats["fallbacks"] += 1
+        if budget is not None and stats["fallbacks"] > budget:
+            raise _FallbackBudget()
+
     def sign_of(v, i, node):
         wi, bound = fs.w_and_bound(v, i)
         if abs(wi) > bound:
             return (1 if wi > 0 else -1), wi
-        stats["fallbacks"] += 1
+        spend()
         holder["g"].fallback[node] = True
         s = F.sign(system.w(exact_state(node), i))
         return s, wi
 
     def same_exact(node, i, cand):
-        stats["fallbacks"] += 1
+        spend()
         v, _ = system.reflect(exact_state(node), i)
         return v == exact_state(cand) if F is _Rational else all(
             certified_sign(a - b) == 0 for a, b in zip(v, exact_state(cand)))

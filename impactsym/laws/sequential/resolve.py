@@ -11,12 +11,13 @@ from ...arithmetic import certified_sign, float_to_rational
 from ...errors import DomainError, ImpactInputError, NonTermination
 from ...mechanics import check_gradients, check_mass_matrix, check_velocity
 from ...numbers import check_finite_exact, is_exact, to_exact
-from .common import DEFAULT_MAX_REFLECTIONS, MAX_COORDINATES, READINGS, TWO_SURFACE_PATHS, _Rational, _rank
+from .common import (DEFAULT_MAX_REFLECTIONS, MAX_COORDINATES, MAX_STATE_BITS, READINGS, TWO_SURFACE_PATHS,
+                     _Rational, _rank)
 from .collapse import _CollapseDetector, _verified_collapse
-from .float_search import _float_search
+from .float_search import INELASTIC_FALLBACK_BUDGET, _FallbackBudget, _float_search
 from .results import InfiniteOrder, Outcome, SequentialResolution
 from .search import (_ExactSystem, _Reflector, _aggregate, _cap_error, _explore, _explore_rational,
-                     _merge_exact_keys, _verified_replay)
+                     _merge_exact_keys, _state_bits_error, _verified_replay)
 from .selection import _select, _select_two_surface, _verify_selected
 from .witness import valid_velocity_witness
 
@@ -350,6 +351,24 @@ def _leaf_of(g, order):
     return node
 
 
+class _BoundedReflector(_Reflector):
+    """The rational reflector of the restitution search, keeping the total size of the exact
+    states it makes below ``MAX_STATE_BITS`` (as the elastic rational search does)."""
+
+    def __init__(self, system):
+        super().__init__(system)
+        self.bits = 0
+        self.states = 0
+
+    def __call__(self, state, i, wi):
+        out = super().__call__(state, i, wi)
+        self.states += 1
+        self.bits += sum(x.p.bit_length() + x.q.bit_length() for x in out[0][0])
+        if self.bits > MAX_STATE_BITS:
+            raise _state_bits_error(self.states)
+        return out
+
+
 def _is_collapse_key(key) -> bool:
     return isinstance(key, tuple) and len(key) == 2 and isinstance(key[0], str) and key[0] == "collapse"
 
@@ -364,7 +383,17 @@ def _inelastic(M, H, v0, system, exact, cap, reading, select, witness, E):
     def state_of(v):
         return (v, tuple(system.w(v, i) for i in range(k)))
 
-    if exact:
+    exact_search = exact
+    fallbacks = 0
+    if not exact:
+        try:
+            g, tests, fallbacks, root_table, merged, float_sys = _float_search(
+                M, H, v0, system, cap, restitution=E, collapse=True, cap_error=cap_error)
+        except _FallbackBudget:
+            # every decision is being re-made exactly: search exactly on the floats' binary values
+            exact_search = True
+            fallbacks = INELASTIC_FALLBACK_BUDGET
+    if exact_search:
         if F is _Rational:
             def sign_of(state, i, node):
                 wi = state[1][i]
@@ -381,16 +410,13 @@ def _inelastic(M, H, v0, system, exact, cap, reading, select, witness, E):
                 return state[0]
         holder: dict = {}
         detector = _CollapseDetector(system, lambda node: holder["g"].vel[node][0], state_of, lambda v: v)
-        g, tests = _explore(sign_of, _Reflector(system), state_of(system.v0), cap, holder, key_of,
+        reflector = _Reflector(system) if F is not _Rational else _BoundedReflector(system)
+        g, tests = _explore(sign_of, reflector, state_of(system.v0), cap, holder, key_of,
                             collapse=detector, cap_error=cap_error)
         g.vel = [state[0] for state in g.vel]
         root_table = _aggregate(g, lambda v: v)
-        fallbacks = 0
         plain = [key for key in root_table if not _is_collapse_key(key)]
         merged = _merge_exact_keys(plain, F)
-    else:
-        g, tests, fallbacks, root_table, merged, float_sys = _float_search(
-            M, H, v0, system, cap, restitution=E, collapse=True, cap_error=cap_error)
     ckeys = [key for key in root_table if _is_collapse_key(key)]
     cmerged = _merge_exact_keys([key[1] for key in ckeys], F)
     for key in ckeys:
@@ -428,7 +454,7 @@ def _inelastic(M, H, v0, system, exact, cap, reading, select, witness, E):
         if exact:
             vel = sp.Matrix([F.to_sympy(x) for x in v_ex])
             imp = sp.Matrix([F.to_sympy(x) for x in p_ex])
-        elif collapse:
+        elif collapse or exact_search:  # float mode: the rounded exact outcome
             vel = np.array([float(F.to_sympy(x)) for x in v_ex])
             imp = np.array([float(F.to_sympy(x)) for x in p_ex])
         else:
@@ -514,4 +540,5 @@ def _two_surface_path(M, H, v0, system, exact, reading, select, witness):
                                (F.name if exact else "float"), approaching, witness,
                                method="two-surface closed form", bound=ts.bound, _orders=orders)
     res.selection_note = note
+    res.restitution = tuple(sp.Integer(1) if exact else 1.0 for _ in range(system.k))
     return res
