@@ -370,7 +370,7 @@ class Sequential(Law):
                                      f"max_reflections={cap}; raise the cap or omit --max-reflections")
         outs = []
         for o in r.outcomes:
-            extra = {k: getattr(o, k) for k in ("collapse",) if getattr(o, k, None) is not None}
+            extra = {"collapse": bool(getattr(o, "collapse", False))}
             outs.append(Outcome(o.velocity, o.impulse, order=_order_json(o.order), orderings=o.orderings,
                                 details={"reflections": o.reflections, "reflections_min": o.reflections_min,
                                          "reflections_max": o.reflections_max, **_jsonable(extra)}))
@@ -380,7 +380,8 @@ class Sequential(Law):
                 s = np.array([sp.N(x, 17) for x in s], dtype=np.float64)
             selected.append(Outcome(s, _impulses_of(system, s)))
         bound = r.bound
-        if bound is None and system.k == 2 and system.exact and not float:
+        elastic = all(sp.sympify(x) == 1 for x in system.restitution_vector())
+        if bound is None and system.k == 2 and system.exact and not float and elastic:  # the bound is elastic
             try:
                 bound = termination_bound(M, H)
             except (DomainError, ImpactInputError):  # parallel rows: no wedge, no bound

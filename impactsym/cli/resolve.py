@@ -179,6 +179,10 @@ def _order(order, names) -> str:
     """An ordering with the contacts' names: ``1-2 > 2-3``; stages of simultaneous impacts in braces."""
     if order is None:
         return ""
+    if isinstance(order, dict) and order.get("infinite"):  # inelastic collapse
+        prefix = " > ".join(names[c] for c in order["prefix"])
+        cycle = " > ".join(names[c] for c in order["cycle"])
+        return "order " + (prefix + " > " if prefix else "") + f"({cycle}) repeated forever: inelastic collapse, the limit"
     if isinstance(order, dict):
         return f"alternating from {names[order['first']]} ({order['length']} impacts)"
     flat = [("{" + ",".join(names[c] for c in o) + "}") if isinstance(o, list) else names[o] for o in order]
