@@ -878,12 +878,25 @@ def _derived_state_holds(d: dict, vminus, eps=None, restitution=1) -> None:
 
 
 @lru_cache(maxsize=None)
-def _baseline(name: str, vminus: tuple, eps=None, restitution=1) -> bool:
+def _baseline_failure(name: str, vminus: tuple, eps=None, restitution=1) -> str | None:
     """:func:`_derived_state_holds` for the derived state of ``_pool(name)``, decided once per
-    process and shared by the claims of one equation (an ``lru_cache``: the mutation tests clear it
-    with every other cache, so a mutant's state is checked afresh)."""
-    _derived_state_holds(_pool(name)[0], vminus, eps, restitution)
-    return True
+    process and shared by the claims of one equation: None when it holds, else its message (an
+    ``lru_cache``, which the mutation tests clear with every other cache, so a mutant's state is
+    checked afresh; a failure is cached too, so that every claim of the equation raises it without
+    simplifying the same non-zero residual again)."""
+    try:
+        _derived_state_holds(_pool(name)[0], vminus, eps, restitution)
+    except ValueError as exc:
+        return str(exc)
+    return None
+
+
+def _baseline(name: str, vminus: tuple, eps=None, restitution=1) -> None:
+    """Raise ``ValueError`` unless the derived state of ``_pool(name)`` conserves momentum and
+    energy (:func:`_derived_state_holds`, decided once per process)."""
+    failure = _baseline_failure(name, vminus, eps, restitution)
+    if failure is not None:
+        raise ValueError(failure)
 
 
 def _eq33_claim(key: str):
