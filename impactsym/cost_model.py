@@ -126,7 +126,7 @@ def fit_exponent(sizes, values) -> float | None:
     mx = statistics.fmean(x for x, _ in pts)
     my = statistics.fmean(y for _, y in pts)
     k = sum((x - mx) * (y - my) for x, y in pts) / sum((x - mx) ** 2 for x, _ in pts)
-    return round(k, 2)
+    return round(k, 2) + 0.0  # + 0.0: no -0.0
 
 
 def law_cost(law: str, sizes=None, repeats: int = 3, min_seconds: float = 0.2) -> dict:
@@ -200,7 +200,7 @@ def markdown(results: list[dict]) -> str:
     | newton | balls | - | - |
     """
     def g(x):
-        return "-" if x is None else f"{x:.3g}"
+        return "-" if x is None else f"{x + 0.0:.3g}"  # + 0.0: no "-0"
 
     out = ["| law | size | time ~ size^k | peak memory ~ size^k |", "|---|---|---:|---:|"]
     for r in results:
