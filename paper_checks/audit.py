@@ -138,14 +138,14 @@ def _groups(paper: str | None) -> list[list[str]]:
 
 def _run_parallel(paper: str | None, jobs: int):
     import multiprocessing
-    from concurrent.futures import ProcessPoolExecutor
 
     groups = _groups(paper)
     tasks = [("derivation", None), ("crosscheck", None)] + [("claims", g) for g in groups]
     method = "fork" if "fork" in multiprocessing.get_all_start_methods() else "spawn"
     by_id, derivation, cross = {}, None, None
-    with ProcessPoolExecutor(max_workers=jobs, mp_context=multiprocessing.get_context(method)) as pool:
-        for kind, out in pool.map(_task, tasks):
+    # a Pool's exit terminates its workers: an exception here (--timeout's) stops them at once
+    with multiprocessing.get_context(method).Pool(jobs) as pool:
+        for kind, out in pool.imap_unordered(_task, tasks):
             if kind == "claims":
                 by_id.update((c.id, c) for c in out)
             elif kind == "derivation":
