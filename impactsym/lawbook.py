@@ -418,3 +418,8 @@ def resolve_all(system: System, laws=None, options: dict | None = None) -> dict[
         except REFUSALS as exc:
             out[name] = f"refused: {exc}"
     return out
+
+
+from .lawbook_compliant import register as _register_compliant  # noqa: E402  (the compliant and LZB laws, issue 13)
+
+_register_compliant(LAWS)

@@ -30,6 +30,11 @@ LAW_CLI: dict[str, str] = {
     "energetic": "resolve_classical:energetic_options",
     "han-gilmore": "resolve_classical:han_gilmore_options",
     "impulse-ratio": "resolve_impulse_ratio:options",
+    "hertz": "resolve_compliant:hertz_options",
+    "linear": "resolve_compliant:linear_options",
+    "power": "resolve_compliant:power_options",
+    "hunt-crossley": "resolve_compliant:hunt_crossley_options",
+    "lzb": "resolve_compliant:lzb_options",
 }
 LAWS = tuple(LAW_CLI)
 
@@ -74,7 +79,8 @@ def register(sub) -> None:
     p.add_argument("--scene", metavar="NAME",
                    help="a built-in scene instead of matrices: chain3, pool, bernoulli, two-balls-wall, "
                         "three-ball-cradle, cradle, balls-against-wall")
-    p.add_argument("--ratios", metavar="A", help="impulse-ratio, energetic: ratios alpha_12,alpha_13,... against contact 1")
+    p.add_argument("--ratios", metavar="A", help="impulse-ratio, energetic: ratios alpha_12,alpha_13,... against "
+                   "contact 1, or from-hertz|from-linear|from-lzb (taken from that elastic model's impulses)")
     p.add_argument("--allow-invalid", action="store_true", help="report a result outside the law's domain (exit 0)")
     p.add_argument("--coupling", action="store_true", help="impulse-ratio: apply the kinetic-angle coupling criteria (eqs. 41-45)")
     p.add_argument("--theta", metavar="T", help="pool: angle between the lines 1-2 and 2-3 (e.g. pi/4)")
@@ -86,6 +92,13 @@ def register(sub) -> None:
     p.add_argument("--max-reflections", metavar="K", help="sequential: cap on the reflections of one ordering")
     p.add_argument("--float", action="store_true", help="sequential: float64 with certified branch decisions")
     p.add_argument("--two-surface-path", metavar="P", help="sequential: closed-form (default) or iterate")
+    p.add_argument("--stiffness", metavar="K", help='hertz, linear, power, hunt-crossley, lzb: contact stiffness, '
+                   'one or one per contact "a,b" (default 1)')
+    p.add_argument("--exponent", metavar="P", help="power (required), hunt-crossley, lzb (default 3/2): contact "
+                   "force exponent p >= 1, one or one per contact")
+    p.add_argument("--damping", metavar="D", help="hunt-crossley: damping coefficients D >= 0 instead of --restitution")
+    p.add_argument("--tolerance", metavar="RTOL", help="hertz, linear, power, hunt-crossley, lzb: the integrator's "
+                   "relative tolerance (default 1e-11)")
     p.add_argument("--n-balls", metavar="N", help="scenes cradle, balls-against-wall: number of balls "
                    "(an integer expression such as 10**2; at most 200, the sequential law's MAX_COORDINATES)")
     p.add_argument("--strikers", metavar="K", help="scene cradle: number of striking balls")
