@@ -420,6 +420,4 @@ def resolve_all(system: System, laws=None, options: dict | None = None) -> dict[
     return out
 
 
-from .lawbook_compliant import register as _register_compliant  # noqa: E402  (the compliant and LZB laws, issue 13)
-
-_register_compliant(LAWS)
+from . import lawbook_compliant  # noqa: E402,F401  (registers the compliant and LZB laws into LAWS, issue 13)

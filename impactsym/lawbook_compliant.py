@@ -92,7 +92,7 @@ import numpy as np
 import sympy as sp
 
 from .errors import ImpactInputError
-from .lawbook import Energetic, ImpulseRatio, Law
+from .lawbook import LAWS, Energetic, ImpulseRatio, Law
 from .resolution import Outcome, Resolution, System
 
 __all__ = ["Hertz", "Linear", "Power", "HuntCrossley", "LZB", "COMPLIANT_LAWS", "RATIO_SOURCES", "ratio_source",
@@ -500,3 +500,7 @@ def register(laws: dict) -> None:
         laws[cls.name] = cls()
     laws["impulse-ratio"] = ImpulseRatioFromModel()
     laws["energetic"] = EnergeticFromModel()
+
+
+# registered on import (impactsym.lawbook imports this module at its end, whichever is imported first)
+register(LAWS)
