@@ -209,6 +209,22 @@ def _names(system, idx):
 
 
 # ------------------------------------------------------------------------------------- laws
+def _separation(system, H, v, vplus) -> dict:
+    """``valid`` and ``violations`` of an integrated outcome: every contact leaves or grazes,
+    ``(H v⁺)_i ≥ −ε V`` with the engines' own end threshold ``ε`` (``SEPARATION_EPS``, relative to
+    the fastest approach speed ``V``); true by construction of both engines' stopping rules, and
+    checked here rather than assumed."""
+    from .compliant import SEPARATION_EPS
+
+    w0, w = H @ v, H @ vplus
+    V = float(np.max(-w0))
+    bad = [i for i in range(len(w)) if w[i] < -SEPARATION_EPS * V]
+    return {"valid": not bad,
+            "violations": [{"condition": "approaching", "contact": i,
+                            "message": f"contact {system.contacts[i]} still approaches after the impact: "
+                                       f"(H v+)_{i + 1} = {w[i]:.3g} < -{SEPARATION_EPS:g} V"} for i in bad]}
+
+
 class _Compliant(Law):
     """A law that integrates the time-domain compliant model (:func:`impactsym.compliant.compliant_impact`)."""
 
@@ -277,7 +293,7 @@ class _Compliant(Law):
             return Resolution(self.name, system, [out], notes=["no contact approaches: no impact, v+ = v-"],
                               details=details)
         r = self._run(M, H, v, kw)
-        out = Outcome(r.velocity, r.impulses, valid=True)
+        out = Outcome(r.velocity, r.impulses, **_separation(system, H, v, r.velocity))
         return Resolution(self.name, system, [out], details=self._details(r, kw), raw=r,
                           notes=[f"the {self.model} model integrated by DOP853: a float result at rtol {kw['rtol']:g}"])
 
