@@ -20,6 +20,10 @@ law                source                                      restitution      
 ``impulse-ratio``  Acary & Taha eq. 38                          one (global)            unique
 =================  ==========================================  ======================  ===========
 
+The integrated laws ``hertz``, ``linear``, ``power``, ``hunt-crossley`` and ``lzb`` (Acary & Taha
+sec. 3.4; Liu, Zhao & Brogliato) live in :mod:`impactsym.lawbook_compliant`, which registers them
+here on import, and lets ``impulse-ratio`` and ``energetic`` take ``ratios="from-hertz"`` etc.
+
 Examples
 --------
 >>> from impactsym.resolution import System
