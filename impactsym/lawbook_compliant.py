@@ -46,8 +46,9 @@ When a law does not apply, :meth:`~impactsym.lawbook.Law.why_not` says why:
   a Hunt–Crossley one only comes to rest asymptotically (its restitution tends to 1 as the speed
   falls). LZB with ``e_i < 1`` on every confining contact does end (the speed falls by a fixed
   factor per bounce), so LZB refuses only confining contacts with ``e_i = 1``. The support is
-  found by one float linear program (``scipy.optimize.linprog``, HiGHS): maximize ``Σ t_i`` with
-  ``Hᵀy = 0``, ``0 ≤ t_i ≤ min(y_i, 1)``.
+  found by one linear program (``scipy.optimize.linprog``, HiGHS): maximize ``Σ t_i`` with
+  ``Hᵀy = 0``, ``0 ≤ t_i ≤ min(y_i, 1)``; for rational rows its answer is verified exactly
+  (:func:`confinement`), for irrational or float rows it is a float decision.
 
 A system in which no contact approaches has no impact: every law returns ``v⁺ = v⁻`` and ``p = 0``
 (``details.events = 0``) instead of integrating.
@@ -96,7 +97,7 @@ from .lawbook import LAWS, Energetic, ImpulseRatio, Law
 from .resolution import Outcome, Resolution, System
 
 __all__ = ["Hertz", "Linear", "Power", "HuntCrossley", "LZB", "COMPLIANT_LAWS", "RATIO_SOURCES", "ratio_source",
-           "confining_contacts", "ratios_from_model", "register", "DEFAULT_RTOL"]
+           "confining_contacts", "confinement", "ratios_from_model", "register", "DEFAULT_RTOL"]
 
 #: the integrators' default relative tolerance (the engines' own default)
 DEFAULT_RTOL = 1e-11
@@ -204,6 +205,49 @@ def confining_contacts(M, H) -> list[int]:
     return [i for i in range(k) if res.x[k + i] > 0.5]
 
 
+def _exact_support(Hx: sp.Matrix) -> list[int]:
+    """:func:`confining_contacts` decided in exact rational arithmetic (SymPy's simplex): the
+    same linear program, for rational rows."""
+    from sympy.solvers.simplex import linprog
+
+    k, n = Hx.shape
+    c = sp.Matrix([0] * k + [-1] * k)
+    A = sp.Matrix.hstack(-sp.eye(k), sp.eye(k)).col_join(sp.Matrix.hstack(sp.zeros(k, k), sp.eye(k)))
+    b = sp.Matrix([0] * k + [1] * k)
+    A_eq = sp.Matrix.hstack(Hx.T, sp.zeros(n, k))
+    _, x = linprog(c, A, b, A_eq, sp.zeros(n, 1))
+    return [i for i in range(k) if x[k + i] > sp.Rational(1, 2)]
+
+
+def confinement(system: System) -> tuple[list[int], str]:
+    """The confining contacts of ``system`` (:func:`confining_contacts`) and how that was decided.
+
+    For exact rows with rational entries the float answer is verified exactly: no confinement by a
+    Gordan certificate ``u`` with ``H u > 0`` on every row (the float least-squares solution of
+    ``H u = 1``, read at its exact binary value), a confinement by an exact null vector of
+    ``H_Sᵀ`` that is strictly positive on the support ``S``; when neither certificate settles it,
+    the linear program is solved again in exact arithmetic. Other input (irrational or float
+    rows) is decided by the float program alone. Returns ``(contacts, "exact" | "float")``.
+
+    >>> confinement(System.from_matrices("1", "1;-1", "-1"))
+    ([0, 1], 'exact')
+    """
+    M, H = _float_matrices(system)[:2]
+    conf = confining_contacts(M, H)
+    Hx = system.H
+    if not (system.exact and isinstance(Hx, sp.MatrixBase) and all(x.is_Rational for x in Hx)):
+        return conf, "float"
+    if not conf:
+        u = sp.Matrix([sp.Rational(float(x)) for x in np.linalg.lstsq(H, np.ones(H.shape[0]), rcond=None)[0]])
+        if all(x > 0 for x in Hx * u):
+            return conf, "exact"
+    else:
+        basis = Hx.extract(conf, list(range(Hx.cols))).T.nullspace()
+        if len(basis) == 1 and (all(x > 0 for x in basis[0]) or all(x < 0 for x in basis[0])):
+            return conf, "exact"
+    return _exact_support(Hx), "exact"
+
+
 def _names(system, idx):
     return ", ".join(system.contacts[i] for i in idx)
 
@@ -249,7 +293,7 @@ class _Compliant(Law):
         return None
 
     def _confined_why_not(self, system, what="an elastic compliant impact never ends"):
-        conf = confining_contacts(*_float_matrices(system)[:2])
+        conf, _how = confinement(system)
         if conf:
             return "gradients", (f"contacts {_names(system, conf)} confine the bodies (y^T H = 0 with y >= 0 on "
                                  f"them): they can never separate, so {what}")
@@ -374,7 +418,7 @@ class LZB(_Compliant):
         _tolerance(tolerance)
         self._exponent(system, exponent)
         e = _restitution(system, self.name)
-        conf = confining_contacts(*_float_matrices(system)[:2])
+        conf, _how = confinement(system)
         elastic = [i for i in conf if e[i] == 1]
         if elastic:
             return "restitution", (f"contacts {_names(system, conf)} confine the bodies (y^T H = 0 with y >= 0 on "

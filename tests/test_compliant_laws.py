@@ -315,3 +315,24 @@ def test_lzb_differs_from_hertz_where_a_contact_recloses():
     M, v = floats(s.M), floats(s.v).reshape(-1)
     dv = h.velocity - lz.velocity
     assert 0.05 < np.sqrt(dv @ M @ dv) / np.sqrt(v @ M @ v) < 0.12
+
+
+@pytest.mark.parametrize("H, expected", [
+    ("1;-1", [0, 1]),                                  # a ball between two walls
+    ("-1,1,0;0,-1,1", []),                             # a free chain
+    ("1,0,0;-1,1,0;0,-1,1;0,0,-1", [0, 1, 2, 3]),      # a chain between two walls
+    ("1,0,0;-1,1,0;0,-1,0;0,0,1", [0, 1, 2]),          # partial: balls 1-2 between walls
+    ("1,1;2,2", []),                                   # dependent rows, same side: not confining
+    ("1,0;0,1;-1,-1", [0, 1, 2]),                      # a point in a triangle
+])
+def test_confinement_is_decided_exactly_for_rational_rows(H, expected):
+    from impactsym.lawbook_compliant import _exact_support, confinement
+    from impactsym.numbers import parse_matrix
+
+    Hx = parse_matrix(H)
+    n = Hx.shape[1]
+    s = System.from_matrices(sp.eye(n), Hx, sp.Matrix([-1] + [0] * (n - 1)))
+    assert confinement(s) == (expected, "exact")
+    assert _exact_support(Hx) == expected  # the exact simplex, the fallback when no certificate settles it
+    pool = System.from_scene(acary_taha.pool(sp.pi / 3, sp.pi / 12))
+    assert confinement(pool) == ([], "float")  # irrational rows: the float program decides
