@@ -20,6 +20,10 @@ law                source                                      restitution      
 ``impulse-ratio``  Acary & Taha eq. 38                          one (global)            unique
 =================  ==========================================  ======================  ===========
 
+The integrated laws ``hertz``, ``linear``, ``power``, ``hunt-crossley`` and ``lzb`` (Acary & Taha
+sec. 3.4; Liu, Zhao & Brogliato) live in :mod:`impactsym.lawbook_compliant`, which registers them
+here on import, and lets ``impulse-ratio`` and ``energetic`` take ``ratios="from-hertz"`` etc.
+
 Examples
 --------
 >>> from impactsym.resolution import System
@@ -443,3 +447,6 @@ def resolve_all(system: System, laws=None, options: dict | None = None) -> dict[
         except REFUSALS as exc:
             out[name] = f"refused: {exc}"
     return out
+
+
+from . import lawbook_compliant  # noqa: E402,F401  (registers the compliant and LZB laws into LAWS, issue 13)

@@ -31,6 +31,11 @@ LAW_CLI: dict[str, str] = {
     "energetic": "resolve_classical:energetic_options",
     "han-gilmore": "resolve_classical:han_gilmore_options",
     "impulse-ratio": "resolve_impulse_ratio:options",
+    "hertz": "resolve_compliant:hertz_options",
+    "linear": "resolve_compliant:linear_options",
+    "power": "resolve_compliant:power_options",
+    "hunt-crossley": "resolve_compliant:hunt_crossley_options",
+    "lzb": "resolve_compliant:lzb_options",
 }
 LAWS = tuple(LAW_CLI)
 
@@ -68,7 +73,8 @@ def register(sub) -> None:
                    help="one of: " + ", ".join(LAWS) + "; or all (every law that applies)")
     add_system_arguments(p)
     p.add_argument("--restitution", metavar="e", help='restitution: one coefficient, or one per contact "a,b"')
-    p.add_argument("--ratios", metavar="A", help="impulse-ratio, energetic: ratios alpha_12,alpha_13,... against contact 1")
+    p.add_argument("--ratios", metavar="A", help="impulse-ratio, energetic: ratios alpha_12,alpha_13,... against "
+                   "contact 1, or from-hertz|from-linear|from-lzb (taken from that elastic model's impulses)")
     p.add_argument("--allow-invalid", action="store_true", help="report a result outside the law's domain (exit 0)")
     p.add_argument("--coupling", action="store_true", help="impulse-ratio: apply the kinetic-angle coupling criteria (eqs. 41-45)")
     p.add_argument("--variant", metavar="V", help="poisson: paper (default) or glocker-pfeiffer")
@@ -78,6 +84,13 @@ def register(sub) -> None:
     p.add_argument("--two-surface-path", metavar="P", help="sequential: closed-form (default) or iterate")
     p.add_argument("--gaps", metavar="G", help="sequential: small gaps g1,g2,... opening the closed contacts (a "
                    "scene of balls on a line): the ordering and outcome those gaps produce (exact simulation)")
+    p.add_argument("--stiffness", metavar="K", help='hertz, linear, power, hunt-crossley, lzb: contact stiffness, '
+                   'one or one per contact "a,b" (default 1)')
+    p.add_argument("--exponent", metavar="P", help="power (required), hunt-crossley, lzb (default 3/2): contact "
+                   "force exponent p >= 1, one or one per contact")
+    p.add_argument("--damping", metavar="D", help="hunt-crossley: damping coefficients D >= 0 instead of --restitution")
+    p.add_argument("--tolerance", metavar="RTOL", help="hertz, linear, power, hunt-crossley, lzb: the integrator's "
+                   "relative tolerance (default 1e-11)")
     add_plot_option(p, "the picture of the answer (two surfaces: the law in the plane of their M-normals; "
                        "otherwise the velocities before and after; --law all: every law's outcomes)")
     add_json_flag(p)
