@@ -33,7 +33,8 @@ from .. import __version__
 from ..errors import ImpactError
 
 #: subcommand modules, in the order ``impactsym --help`` lists them
-SUBCOMMANDS = ["reproduce", "reflect", "prove", "resolve", "scene", "domain", "codegen", "bench"]
+SUBCOMMANDS = ["reproduce", "reflect", "prove", "resolve", "scene", "domain", "codegen", "bench", "check", "batch",
+               "suite"]
 
 #: the JSON contract, as ``impactsym --help`` prints it
 JSON_CONTRACT = """\
@@ -136,7 +137,9 @@ class _TimeLimit:
         return False
 
 
-def emit(result: dict, args: argparse.Namespace, module) -> None:
+def emit(result: dict | None, args: argparse.Namespace, module) -> None:
+    if result is None:  # the subcommand wrote its own output (batch: JSON Lines on stdout)
+        return
     from .common import dumps_strict
 
     if getattr(args, "json", False):

@@ -1,0 +1,284 @@
+"""``impactsym check``: compare a post-impact velocity observed elsewhere (a physics engine, an
+experiment) with every law.
+
+The system is given as for ``impactsym resolve``: explicit matrices (``--mass-matrix``,
+``--gradients``, ``--velocity``) or a built-in ``--scene`` with its parameters, and
+``--restitution``. ``--observed "v1,v2,…"`` is the observed post-impact velocity in the system's
+coordinates. For every law that applies (:func:`impactsym.lawbook.resolve_all`) the report gives
+the relative kinetic-metric distance to the law's nearest outcome, and for the observation its
+momentum residual, energy ratio ``T⁺/T⁻``, contact violations (``H v < 0``) and the impulse-ratio
+fit; the definitions are those of :mod:`impactsym.oracle`.
+
+Exit status
+-----------
+0  the observation matches at least one law within ``--tolerance``;
+3  it matches none (a finding, not an error: the report, or the JSON object, is still printed);
+2  bad input (``--observed`` of the wrong length, NaN, a negative tolerance, an unknown law, an
+   option that does not apply), with the message on stderr and, with ``--json``, one
+   ``{"error": …}`` object on stdout;
+1  a bug.
+"""
+
+from __future__ import annotations
+
+from ..errors import ImpactInputError
+from .common import add_json_flag
+
+EXIT_HELP = """the observation: --observed "v1,v2,..." (in the system's coordinates), or --engine NAME to run
+  the scene (--scene, --scene-file) in a physics engine and check its answer.
+exit status:
+  0  the observation matches at least one law within the tolerance
+  3  it matches none (a finding: the report / JSON object is still printed)
+  2  bad input (observed of the wrong length, NaN, negative tolerance, an option that does not apply)
+  1  a bug
+distance: ||v_obs - v_law||_M / ||v-||_M (kinetic metric, relative), to the law's nearest outcome;
+  exact (an exact sqrt string and a float) for exact input."""
+
+#: options of the system, as in ``impactsym resolve``
+SYSTEM_OPTIONS = ("mass_matrix", "gradients", "velocity", "restitution", "scene", "theta", "tau", "masses",
+                  "velocities", "n_balls", "strikers")
+
+
+def register(sub) -> None:
+    import argparse
+
+    p = sub.add_parser(
+        "check",
+        help="check an observed post-impact velocity (an engine's, an experiment's) against every law",
+        description="Distance from an observed post-impact velocity to every law's outcome set, its momentum "
+                    "and energy residuals, contact violations, and the impulse-ratio fit.",
+        epilog=EXIT_HELP, formatter_class=argparse.RawDescriptionHelpFormatter,
+    )
+    p.add_argument("--observed", metavar="v", help='the observed post-impact velocity "v1,v2,..." (or --engine)')
+    p.add_argument("--engine", metavar="ENGINE", help="mujoco, pybullet or pymunk: run the scene in that engine "
+                   "(pip install 'impactsym[engines]') and check its post-impact velocity instead of --observed")
+    p.add_argument("--engine-setting", metavar="KEY=VALUE", action="append",
+                   help="an engine setting, e.g. timestep=0.0005 (repeatable; with --engine)")
+    p.add_argument("--scene-file", metavar="FILE", help="a scene file (.toml/.json) or a shipped scene's name "
+                   "(impactsym scene list) instead of --scene or matrices")
+    p.add_argument("--tolerance", metavar="T", help="relative kinetic-metric tolerance of a match (default 1e-3, >= 0)")
+    p.add_argument("--laws", metavar="L", help="comma-separated laws to check (default: every law)")
+    p.add_argument("--mass-matrix", metavar="M", help='mass matrix "a,b;c,d"')
+    p.add_argument("--gradients", metavar="H", help='gradient rows of the closed contacts "a,b;c,d"')
+    p.add_argument("--velocity", metavar="v", help='pre-impact velocity "a,b"')
+    p.add_argument("--restitution", metavar="e", help='restitution: one coefficient, or one per contact "a,b"')
+    p.add_argument("--scene", metavar="NAME", help="a built-in scene instead of matrices (as impactsym resolve)")
+    p.add_argument("--theta", metavar="T", help="pool: angle between the lines 1-2 and 2-3")
+    p.add_argument("--tau", metavar="T", help="pool/bernoulli: incidence angle of ball 1")
+    p.add_argument("--masses", metavar="m", help='scene masses "m1,m2,..."')
+    p.add_argument("--velocities", metavar="v", help='scene pre-impact velocities "v1,v2,..."')
+    p.add_argument("--n-balls", metavar="N", help="scenes cradle, balls-against-wall: number of balls")
+    p.add_argument("--strikers", metavar="K", help="scene cradle: number of striking balls")
+    p.add_argument("--ratios", metavar="A", help="impulse-ratio, energetic: ratios alpha_12,... against contact 1")
+    p.add_argument("--coupling", action="store_true", help="impulse-ratio: set the ratios of uncoupled contacts")
+    add_json_flag(p)
+    p.set_defaults(func=run)
+
+
+def _laws(text):
+    from ..lawbook import LAWS, get_law
+
+    if text is None:
+        return list(LAWS)
+    names = [x.strip() for x in text.split(",") if x.strip()]
+    if not names:
+        raise ImpactInputError("laws", "is empty; give law names separated by commas")
+    for n in names:
+        get_law(n)  # refuses an unknown name, naming the known ones
+    return [n for n in LAWS if n in names]
+
+
+def _options(args, laws) -> dict:
+    from .resolve_impulse_ratio import ratios_arg
+
+    ratios = ratios_arg(args.ratios)
+    takers = [n for n in ("impulse-ratio", "energetic") if n in laws]
+    if ratios is not None and not takers:
+        raise ImpactInputError("ratios", "--ratios applies to the laws impulse-ratio and energetic, "
+                               "and neither is checked (--laws)")
+    if args.coupling and "impulse-ratio" not in laws:
+        raise ImpactInputError("coupling", "--coupling applies to the law impulse-ratio, which is not checked (--laws)")
+    opts: dict = {}
+    if ratios is not None:
+        for n in takers:
+            opts.setdefault(n, {})["ratios"] = ratios
+    if args.coupling:
+        opts.setdefault("impulse-ratio", {})["coupling"] = True
+    return opts
+
+
+SCENE_PARAMS = ("theta", "tau", "masses", "velocities", "n_balls", "strikers")
+
+
+def _read_system(args):
+    """``(System, Scene or None)``: the Scene is what an engine builds (None for explicit matrices)."""
+    from ..resolution import System
+    from .scene_args import read_system, restitution_arg
+
+    if args.scene_file is None:
+        system = read_system(args)
+        scene = system.source
+        if args.engine is not None and scene is None:
+            if args.scene is None:
+                raise ImpactInputError("engine", "needs a scene (--scene or --scene-file): an engine builds bodies, "
+                                                 "not matrices")
+            from ..scenes import build_scene
+
+            scene = build_scene(args.scene, {k: getattr(args, k) for k in SCENE_PARAMS})
+        return system, scene
+    for opt in ("scene", "mass_matrix", "gradients", "velocity") + SCENE_PARAMS:
+        if getattr(args, opt) is not None:
+            raise ImpactInputError(opt, f"--{opt.replace('_', '-')} cannot be combined with --scene-file "
+                                        "(the file defines the scene)")
+    from ..scenes import load_scene
+
+    scene = load_scene(args.scene_file)
+    desc = scene.meta.get("scene_json") or {"scene": str(args.scene_file)}
+    return System.from_scene(scene, restitution_arg(args.restitution), description=desc), scene
+
+
+def _setting_value(text: str):
+    for cast in (int, float):
+        try:
+            return cast(text)
+        except ValueError:
+            pass
+    return {"true": True, "false": False}.get(text.lower(), text)
+
+
+def _engine_settings(items) -> dict:
+    out = {}
+    for item in items or []:
+        key, sep, val = item.partition("=")
+        if not sep or not key.strip():
+            raise ImpactInputError("engine_setting", f"expected KEY=VALUE, got {item!r}")
+        out[key.strip()] = _setting_value(val.strip())
+    return out
+
+
+def _run_engine(args, system, scene):
+    """The engine's post-impact velocity (floats) and what the run used."""
+    import sympy as sp
+
+    try:
+        from .. import engines
+    except ImportError:
+        raise ImpactInputError("engine", "the engine adapters (impactsym.engines) are not in this installation") from None
+    e = system.restitution
+    if isinstance(e, (list, tuple)):
+        raise ImpactInputError("restitution", "--engine takes one restitution for every contact")
+    e = 1 if e is None else float(sp.sympify(e))
+    settings = _engine_settings(args.engine_setting)
+    try:
+        r = engines.run(args.engine, scene, restitution=e, settings=settings or None)
+    except engines.EngineNotInstalled as exc:
+        raise ImpactInputError("engine", str(exc)) from None
+    info = {"name": r.engine, "restitution": r.restitution, "settings": dict(r.settings),
+            "defaults": dict(r.defaults or {}), "steps": r.steps, "time": r.time, "separated": r.separated,
+            "note": r.note, "velocity": [float(x) for x in r.velocity]}
+    return [float(x) for x in r.velocity], info
+
+
+def run(args):
+    from ..numbers import parse_number, parse_vector
+    from ..oracle import DEFAULT_TOLERANCE, check
+    from .scene_args import float_range_guard
+
+    if (args.observed is None) == (args.engine is None):
+        raise ImpactInputError("observed", "give exactly one of --observed (a velocity) and --engine (run an engine)")
+    if args.engine_setting and args.engine is None:
+        raise ImpactInputError("engine_setting", "--engine-setting applies only with --engine")
+    laws = _laws(args.laws)
+    tol = parse_number(args.tolerance if args.tolerance is not None else DEFAULT_TOLERANCE, "tolerance")
+    options = _options(args, laws)
+    system, scene = _read_system(args)
+    engine = None
+    if args.engine is not None:
+        observed, engine = _run_engine(args, system, scene)
+    else:
+        observed = parse_vector(args.observed, "observed")
+    with float_range_guard(args):
+        report = check(system, observed, tolerance=tol, laws=laws, options=options)
+    out = report.as_json()
+    if engine is not None:
+        out["engine"] = engine
+    return out, report.exit_status
+
+
+# ------------------------------------------------------------------------------------ text
+def _vec(xs) -> str:
+    return "[" + ", ".join(map(str, xs)) + "]" if xs is not None else "-"
+
+
+def _num(text, value) -> str:
+    """An exact number as text, or its float when the exact form is long (a float's binary value)."""
+    if text is None:
+        return "-"
+    if len(str(text)) <= 24 or value is None:
+        return str(text)
+    return f"{value:.9g} (exact: {len(str(text))} characters in JSON)"
+
+
+def _nums(texts, values) -> str:
+    if texts is None:
+        return "-"
+    if all(len(str(t)) <= 24 for t in texts):
+        return _vec(texts)
+    return _vec([f"{v:.9g}" for v in values])
+
+
+def render(result: dict) -> str:
+    lines = []
+    if result.get("scene"):
+        lines.append("scene: " + ", ".join(f"{k}={v}" for k, v in result["scene"].items()))
+    sysj = result["system"]
+    if result.get("engine"):
+        e = result["engine"]
+        lines.append(f"engine {e['name']} (restitution {e['restitution']}; {e['steps']} steps; {e['note']})")
+        changed = {k: v for k, v in e["settings"].items() if e["defaults"].get(k) != v}
+        if changed:
+            lines.append("  settings changed from the defaults: " + ", ".join(f"{k}={v}" for k, v in changed.items()))
+        lines.append(f"  v+ = {_vec([f'{x:.6g}' for x in e['velocity']])}")
+    lines.append(f"v- = {_vec(sysj['velocity'])}   observed v+ = {_nums(result['observed'], result['observed_float'])}"
+                 + ("" if result["observed_exactness"] == "exact" else f" ({result['observed_exactness']})"))
+    lines.append(f"tolerance {result['tolerance']} on ||v - v_law||_M / ||v-||_M")
+    rows = [("law", "outcome", "distance", "", "nearest v+", "match")]
+    for name, e in result["laws"].items():
+        if "refused" in e:
+            rows.append((name, e["refused"], "", "", "", ""))
+            continue
+        near = e["nearest"]
+        which = "" if near is None or (e["outcomes"] + e["selected"]) == 1 else f"{near['kind']} {near['index'] + 1}"
+        df = "" if e["distance_float"] is None else f"{e['distance_float']:.3e}"
+        rows.append((name, f"{e['uniqueness']} {which}".strip(), df, "" if e["distance"] is None else e["distance"],
+                     _vec(None if near is None else near["velocity"]), "yes" if e["match"] else "no"))
+    widths = [max(len(r[c]) for r in rows if r[2] != "" or r[0] == "law" or c != 1) for c in range(6)]
+    for r in rows:
+        if r[2] == "" and r[0] != "law":
+            lines.append(f"{r[0]:<{widths[0]}}  {r[1]}")
+        else:
+            exact = r[3] if r[3] and len(r[3]) <= 24 else ("" if not r[3] else "(exact)")
+            lines.append(f"{r[0]:<{widths[0]}}  {r[1]:<{widths[1]}}  {r[2]:<10} {exact:<24} "
+                         f"{r[4]:<{widths[4]}}  {r[5]}".rstrip())
+    m = result["momentum"]
+    lines.append(f"momentum residual ||r||_(M^-1)/||v-||_M = {_num(m['residual_norm'], m['residual_norm_float'])}"
+                 + ("  (zero: M(v - v-) = H^T p with p = " + _vec(m["impulses"]) + ")" if m["residual_zero"] and m["impulses"] else ""))
+    lines.append(f"energy ratio T+/T- = {_num(result['energy_ratio'], result['energy_ratio_float'])}")
+    lines.append(f"contact velocities H v+ = {_nums(result['contact_velocity'], result['contact_velocity_float'])}")
+    for v in result["contact_violations"]:
+        lines.append("  violated: " + v["message"])
+    f = result["impulse_ratio_fit"]
+    fit = f"impulse-ratio fit: {f['status']}"
+    if f["ratios"] is not None:
+        fit += f" (ratios {_nums(f['ratios'], f['ratios_float'])}, e = {_num(f['restitution'], f['restitution_float'])})"
+    lines.append(fit)
+    if f["reason"]:
+        lines.append("  " + f["reason"])
+    if f["valid"] is False:
+        lines.append("  the law with these ratios and e is outside its domain: "
+                     + "; ".join(v["condition"] for v in f["violations"]))
+    for n in result["notes"]:
+        lines.append("note: " + n)
+    lines.append("matches: " + (", ".join(result["matches"]) if result["matches"] else
+                                "none (exit status 3)"))
+    return "\n".join(lines)
