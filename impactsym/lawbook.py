@@ -102,8 +102,7 @@ def _impulses_of(system: System, velocity):
         W = H * M.inv() * H.T
         if W.det() == 0:
             return None
-        return sp.Matrix([sp.radsimp(sp.nsimplify(x) if isinstance(x, sp.Float) else sp.simplify(x))
-                          for x in W.inv() * H * (velocity - v)])
+        return sp.Matrix([sp.radsimp(sp.simplify(x)) for x in W.inv() * H * (velocity - v)])
     if isinstance(velocity, mpmath.matrix):
         return None
     Hf = np.asarray(H.tolist() if isinstance(H, sp.MatrixBase) else H, dtype=float)
