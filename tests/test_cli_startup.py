@@ -54,3 +54,10 @@ def test_domain_scene_names_are_the_domains_scenes():
     from impactsym.domains import SCENES
 
     assert tuple(SCENE_NAMES) == tuple(SCENES)
+
+
+def test_the_clis_copy_of_the_scene_parameters_is_the_registrys():
+    from impactsym.cli.scene_args import ALL_PARAMS
+    from impactsym.scenes.registry import ALL_PARAMS as REGISTRY
+
+    assert ALL_PARAMS == REGISTRY

@@ -26,6 +26,7 @@ DOC = Path(__file__).resolve().parents[1] / "docs" / "resolution_schema.md"
 
 #: (law, scene) -> what the refusal says: every other pair answers
 REFUSED = {(law, "chain-mass-ratio-1-2-4"): "per-contact values" for law in ("newton", "energetic", "han-gilmore", "impulse-ratio")}
+REFUSED.update({(law, "chain-mass-ratio-1-2-4"): "e = 1" for law in ("hertz", "linear", "power")})
 REFUSED.update({("two-surface", "chain-mass-ratio-1-2-4"): "elastic",
                 ("poisson", "chain-mass-ratio-1-2-4"): "penetration: contact 2"})
 
@@ -58,6 +59,8 @@ def _run(argv):
 
 
 def _law_args(law, scene):
+    if law == "power":
+        return ["--exponent", "3/2"]
     if law == "impulse-ratio":  # ratios for every contact but the first, and any answer reported
         from impactsym.cli.scene_args import read_system
         import argparse
@@ -134,12 +137,15 @@ def test_law_all_passes_each_option_to_the_laws_that_take_it():
 
 def test_every_law_returns_one_resolution_type():
     chain = System.from_matrices("1,0,0;0,1,0;0,0,1", "-1,1,0;0,-1,1", "1,0,0")
-    results = resolve_all(chain, options={"impulse-ratio": {"ratios": ["1/2"]}})
+    results = resolve_all(chain, options={"impulse-ratio": {"ratios": ["1/2"]}, "power": {"exponent": 2}})
     assert set(results) == set(LAWS)
-    assert all(isinstance(r, Resolution) for r in results.values())
+    assert all(isinstance(r, Resolution) for r in results.values()), results
     assert {law: r.uniqueness for law, r in results.items()} == {
         "sequential": "unique", "two-surface": "unique", "newton": "unique", "poisson": "unique",
-        "energetic": "unique", "han-gilmore": "set-valued", "impulse-ratio": "unique"}
+        "energetic": "unique", "han-gilmore": "set-valued", "impulse-ratio": "unique", "hertz": "unique",
+        "linear": "unique", "power": "unique", "hunt-crossley": "unique", "lzb": "unique"}
+    assert {law: r.exactness for law, r in results.items() if r.exactness != "exact"} == {
+        law: "float" for law in ("hertz", "linear", "power", "hunt-crossley", "lzb")}
 
 
 def test_two_equal_branches_are_unique_and_different_branches_gap_dependent():

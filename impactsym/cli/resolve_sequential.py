@@ -16,7 +16,6 @@ from __future__ import annotations
 
 from ..errors import ImpactInputError
 from ..laws.sequential import READINGS, TWO_SURFACE_PATHS
-from .scene_args import int_option
 
 __all__ = ["options", "render"]
 
@@ -25,6 +24,8 @@ def options(args) -> dict:
     reading = args.reading  # None: energy when elastic, cone when some e < 1 (the law decides)
     if reading is not None and reading not in READINGS:
         raise ImpactInputError("reading", f"must be one of {', '.join(READINGS)}, got {reading!r}")
+    from ..scenes.registry import int_option
+
     cap = None if args.max_reflections is None else int_option(args.max_reflections, "max_reflections", 1)
     path = args.two_surface_path if args.two_surface_path is not None else "closed-form"
     if path not in TWO_SURFACE_PATHS:

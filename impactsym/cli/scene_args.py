@@ -9,15 +9,28 @@ from __future__ import annotations
 from contextlib import contextmanager
 
 from ..errors import ImpactInputError
-from ..numbers import parse_number
-from ..scenes.registry import ALL_PARAMS, SCENE_PARAMS, SHIPPED_SCENES, int_option
 from .common import matrix_arg, vector_arg
 
 __all__ = ["SCENE_OPTIONS", "MATRIX_OPTIONS", "read_system", "float_range_guard", "int_option",
            "restitution_arg", "add_system_arguments"]
 
-#: every named scene -> the options it takes (built-ins with parameters; shipped files take none)
-SCENE_OPTIONS: dict[str, tuple[str, ...]] = {**SCENE_PARAMS, **{name: () for name in SHIPPED_SCENES}}
+#: the parameters any built-in scene takes (``impactsym.scenes.registry.ALL_PARAMS``; a test checks
+#: they agree): the CLI reads them without importing the scenes (and SymPy) at start-up
+ALL_PARAMS = ("masses", "velocities", "theta", "tau", "n_balls", "strikers")
+
+
+def __getattr__(name):  # SCENE_OPTIONS, int_option: loaded on first use (start-up stays light)
+    if name == "SCENE_OPTIONS":
+        from ..scenes.registry import SCENE_PARAMS, SHIPPED_SCENES
+
+        return {**SCENE_PARAMS, **{n: () for n in SHIPPED_SCENES}}
+    if name == "int_option":
+        from ..scenes.registry import int_option
+
+        return int_option
+    raise AttributeError(name)
+
+
 #: the explicit form of an impact
 MATRIX_OPTIONS = ("mass_matrix", "gradients", "velocity")
 
@@ -28,8 +41,8 @@ def add_system_arguments(p) -> None:
     p.add_argument("--gradients", metavar="H", help='gradient rows of the closed contacts "a,b;c,d"')
     p.add_argument("--velocity", metavar="v", help='pre-impact velocity "a,b"')
     p.add_argument("--scene", metavar="NAME",
-                   help="a named scene instead of matrices: the built-ins " + ", ".join(SCENE_PARAMS)
-                        + ", or a shipped scene file (impactsym scene list)")
+                   help="a named scene instead of matrices: a built-in (chain3, pool, bernoulli, two-balls-wall, "
+                        "three-ball-cradle, cradle, balls-against-wall) or a shipped scene file (impactsym scene list)")
     p.add_argument("--scene-file", metavar="PATH", help="a scene file (TOML or JSON; see impactsym.scenes.fileformat)")
     p.add_argument("--theta", metavar="T", help="pool: angle between the lines 1-2 and 2-3 (e.g. pi/4)")
     p.add_argument("--tau", metavar="T", help="pool/bernoulli: incidence angle of ball 1")
@@ -47,7 +60,7 @@ def form_options(args) -> tuple[str, ...]:
     if getattr(args, "scene_file", None) is not None:
         return ("scene_file",)
     if args.scene is not None:
-        return SCENE_OPTIONS.get(args.scene, ())
+        return __getattr__("SCENE_OPTIONS").get(args.scene, ())
     return MATRIX_OPTIONS
 
 
@@ -98,6 +111,8 @@ def _existing_file(text: str):
 
 def restitution_arg(text):
     """``--restitution``: one exact number, or one per contact ``"a,b,c"``; None when absent."""
+    from ..numbers import parse_number
+
     if text is None:
         return None
     if "," in str(text):
