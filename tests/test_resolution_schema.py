@@ -177,3 +177,79 @@ def test_law_options_are_refused_where_they_do_not_apply():
     code, _, err = _run(["resolve", "--law", "newton", "--scene", "chain3", "--reading", "cone"])
     assert code == 2 and "--reading" in err and "sequential" in err
     assert get_law("sequential").options == ("reading", "max_reflections", "float", "two_surface_path", "gaps")
+
+
+def test_law_all_from_a_scene_file_is_the_builtin_scenes_table(tmp_path):
+    _, builtin, _ = _run(["resolve", "--law", "all", "--scene", "cradle", "--n-balls", "5", "--strikers", "2",
+                          "--json"])
+    code, out, _ = _run(["scene", "show", "cradle", "--n-balls", "5", "--strikers", "2", "--json"])
+    path = tmp_path / "cradle.json"
+    path.write_text(out)
+    code, fromfile, err = _run(["resolve", "--law", "all", "--scene-file", str(path), "--json"])
+    assert code == 0, err
+    a, b = json.loads(builtin), json.loads(fromfile)
+    exact = [law for law in LAWS if "refused" not in a["laws"][law] and a["laws"][law]["exact"]]
+    assert len(exact) >= 5
+    for law in exact:  # the file is the same system: every exact law gives the same outcomes
+        assert [o["velocity"] for o in a["laws"][law]["outcomes"]] == \
+               [o["velocity"] for o in b["laws"][law]["outcomes"]], law
+
+
+def test_gaps_give_the_simulated_ordering_verified_by_replay():
+    code, out, err = _run(["resolve", "--law", "sequential", "--scene", "cradle", "--n-balls", "4", "--strikers", "2",
+                           "--gaps", "0,1/100,0", "--json"])
+    assert code == 0, err
+    d = json.loads(out)
+    assert d["uniqueness"] == "unique" and d["velocity"] == ["0", "0", "1", "1"]
+    assert d["outcomes"][0]["order"] == [1, 0, 2, 1] and d["details"]["gaps"] == ["0", "1/100", "0"]
+    # other gaps, another ordering: 1-2 closes first when the striker pair is apart
+    code, out, _ = _run(["resolve", "--law", "sequential", "--scene", "cradle", "--n-balls", "4", "--strikers", "2",
+                         "--gaps", "1/100,0,0", "--json"])
+    d2 = json.loads(out)
+    assert code == 0 and d2["outcomes"][0]["order"] != d["outcomes"][0]["order"]
+    # e < 1 per contact: the simulated outcome is the ordering replayed with G_u(e)
+    code, out, err = _run(["resolve", "--law", "sequential", "--scene", "three-ball-cradle", "--gaps", "0,1/10",
+                           "--restitution", "1/2,1", "--json"])
+    d3 = json.loads(out)
+    assert code == 0, err
+    M = sp.eye(3)
+    v = sp.Matrix([1, 0, 0])
+    from impactsym.laws.reflection import reflect
+
+    H = sp.Matrix([[-1, 1, 0], [0, -1, 1]])
+    for i in d3["outcomes"][0]["order"]:
+        v = reflect(M, H[i, :], v, [sp.Rational(1, 2), 1][i])
+    assert d3["velocity"] == [str(x) for x in v]
+
+
+@pytest.mark.parametrize("argv, argument, words", [
+    (["--scene", "cradle", "--gaps", "0,1,0"], "gaps", ""),
+    (["--scene", "cradle", "--gaps", "-1/10,0"], "gaps", ""),
+    (["--scene", "cradle", "--gaps", "0,0", "--reading", "cone"], "reading", "takes no option"),
+    (["--scene", "pool", "--theta", "pi/4", "--gaps", "0,0"], "gaps", "balls on a line"),
+    (["--mass-matrix", "1,0;0,1", "--gradients", "-1,1", "--velocity", "1,0", "--gaps", "0"], "gaps",
+     "balls on a line"),
+])
+def test_bad_gaps_exit_2_naming_the_argument(argv, argument, words):
+    code, out, err = _run(["resolve", "--law", "sequential", *argv, "--json"])
+    d = json.loads(out)
+    assert code == 2 and d["error"]["argument"] == argument and words in d["error"]["message"], d
+
+
+def test_a_simulated_outcome_that_is_not_its_ordering_replayed_is_refused(monkeypatch):
+    import dataclasses
+
+    import impactsym.gaps as gaps_module
+    from impactsym.errors import VerificationError
+    from impactsym.scenes import load_scene
+
+    real = gaps_module.resolve_with_gaps
+
+    def corrupted(*args, **kw):  # the simulator's velocity with one entry moved
+        g = real(*args, **kw)
+        return dataclasses.replace(g, velocity=g.velocity + sp.Matrix([sp.Rational(1, 10**6)] + [0] * (len(g.velocity) - 1)))
+
+    monkeypatch.setattr(gaps_module, "resolve_with_gaps", corrupted)
+    system = System.from_scene(load_scene("three-ball-cradle"))
+    with pytest.raises(VerificationError, match="replayed with G_u"):
+        get_law("sequential")(system, gaps=[0, sp.Rational(1, 10)])
