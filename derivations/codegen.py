@@ -457,8 +457,9 @@ def _is_boolean(expr) -> bool:
 
 
 def _flat(code: str) -> str:
-    """Join a printer's multi-line output (C ternaries, Rust ``if`` blocks) into one line."""
-    return " ".join(part.strip() for part in code.splitlines())
+    """Join a printer's multi-line output (C ternaries, Rust ``if`` blocks) into one line; Octave's
+    line-continuation marker ``...`` goes (inside a line it would comment out the rest of it)."""
+    return " ".join(part.strip().removesuffix("...").rstrip() for part in code.splitlines())
 
 
 def julia_scalar(k: ScalarKernel) -> str:

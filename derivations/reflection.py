@@ -40,6 +40,7 @@ import sympy as sp
 
 from .algebra import block_determinant_lemma, nc_symbols, rewrite
 from .codegen import ArrayKernel, ScalarKernel, numpy_code, render_family
+from .rational_zero import is_zero_rational_function
 
 from impactsym.errors import DerivationError
 
@@ -128,7 +129,12 @@ def printed_lambda(M: sp.Matrix, u: sp.Matrix, qm: sp.Matrix) -> sp.Expr:
 
 
 def _is_zero_rational(expr) -> bool:
-    """Exact zero test of a rational function: cancel to lowest terms, expand the numerator."""
+    """Exact zero test of a rational function: the numerator over a product of non-zero
+    denominators, expanded by python-flint (:mod:`derivations.rational_zero`, milliseconds), or,
+    for anything else, SymPy's cancel to lowest terms and the expanded numerator."""
+    fast = is_zero_rational_function(expr)
+    if fast is not None:
+        return fast
     num, _den = sp.fraction(sp.cancel(sp.together(expr)))
     return sp.expand(num) == 0
 

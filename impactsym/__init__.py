@@ -11,25 +11,39 @@ Matrix([
 [1, 0]])
 """
 
-from .domains import plot_domain, validity_domain
-from .errors import DomainError, ImpactError, ImpactInputError, NonTermination, UndecidableSign
-from .laws.reflection import impulse_multiplier, reflect, reflection_map
-from .laws.impulse_ratio import impulse_ratio_law
-from .laws.classical import energetic, han_gilmore, newton_moreau, poisson
-from .laws.coupling import apply_coupling, coupling_decision, impact_degree
-from .laws.two_surface import resolve_two_surfaces
-from .laws.sequential import resolve_sequential
-from .mechanics import (
-    check_gradient,
-    check_gradients,
-    check_mass_matrix,
-    check_velocity,
-    kinetic_angle,
-    kinetic_angle_cos,
-    kinetic_energy,
-    m_normal,
-    relative_velocity,
-)
+import importlib
+
+#: every public name, and the module it lives in: imported on first use (PEP 562), so that
+#: ``import impactsym`` (and the CLI's start-up) costs no SymPy, NumPy or SciPy until a law is used
+_LAZY = {
+    "validity_domain": "domains", "plot_domain": "domains",
+    "DomainError": "errors", "ImpactError": "errors", "ImpactInputError": "errors",
+    "NonTermination": "errors", "UndecidableSign": "errors",
+    "impulse_multiplier": "laws.reflection", "reflect": "laws.reflection", "reflection_map": "laws.reflection",
+    "impulse_ratio_law": "laws.impulse_ratio",
+    "energetic": "laws.classical", "han_gilmore": "laws.classical", "newton_moreau": "laws.classical",
+    "poisson": "laws.classical",
+    "apply_coupling": "laws.coupling", "coupling_decision": "laws.coupling", "impact_degree": "laws.coupling",
+    "resolve_two_surfaces": "laws.two_surface",
+    "resolve_sequential": "laws.sequential",
+    **{name: "mechanics" for name in ("check_gradient", "check_gradients", "check_mass_matrix", "check_velocity",
+                                      "kinetic_angle", "kinetic_angle_cos", "kinetic_energy", "m_normal",
+                                      "relative_velocity")},
+}
+
+
+def __getattr__(name):
+    module = _LAZY.get(name)
+    if module is None:
+        raise AttributeError(f"module 'impactsym' has no attribute {name!r}")
+    value = getattr(importlib.import_module(f".{module}", __name__), name)
+    globals()[name] = value  # later lookups skip __getattr__
+    return value
+
+
+def __dir__():
+    return sorted(set(globals()) | set(_LAZY))
+
 
 __version__ = "0.1.0"
 

@@ -20,6 +20,10 @@ law                source                                      restitution      
 ``impulse-ratio``  Acary & Taha eq. 38                          one (global)            unique
 =================  ==========================================  ======================  ===========
 
+The integrated laws ``hertz``, ``linear``, ``power``, ``hunt-crossley`` and ``lzb`` (Acary & Taha
+sec. 3.4; Liu, Zhao & Brogliato) live in :mod:`impactsym.lawbook_compliant`, which registers them
+here on import, and lets ``impulse-ratio`` and ``energetic`` take ``ratios="from-hertz"`` etc.
+
 Examples
 --------
 >>> from impactsym.resolution import System
@@ -98,8 +102,7 @@ def _impulses_of(system: System, velocity):
         W = H * M.inv() * H.T
         if W.det() == 0:
             return None
-        return sp.Matrix([sp.radsimp(sp.nsimplify(x) if isinstance(x, sp.Float) else sp.simplify(x))
-                          for x in W.inv() * H * (velocity - v)])
+        return sp.Matrix([sp.radsimp(sp.simplify(x)) for x in W.inv() * H * (velocity - v)])
     if isinstance(velocity, mpmath.matrix):
         return None
     Hf = np.asarray(H.tolist() if isinstance(H, sp.MatrixBase) else H, dtype=float)
@@ -309,17 +312,48 @@ class TwoSurface(Law):
 class Sequential(Law):
     name = "sequential"
     title = "every ordering of single impacts G_u, their outcomes and the selection (Seghete & Murphey sec. III)"
-    options = ("reading", "max_reflections", "float", "two_surface_path")
+    options = ("reading", "max_reflections", "float", "two_surface_path", "gaps")
     restitution = "per-contact"
 
-    def why_not(self, system, **_):
-        e = system.restitution
-        vals = e if isinstance(e, (list, tuple)) else [e]
-        if any(x is not None and sp.sympify(x) != 1 for x in vals) and not _sequential_takes_restitution():
-            return "restitution", "the sequential law is elastic (Seghete & Murphey treat e = 1 only)"
+    def why_not(self, system, gaps=None, **options):
+        if gaps is None:
+            return None
+        given = [k for k, v in options.items() if v not in (None, False, "closed-form")]
+        if given:
+            return given[0], "--gaps simulates the impact; it takes no option of the ordering search"
+        if system.source is None or system.source.meta.get("builder") != "balls_on_line":
+            return "gaps", ("gaps need the geometry of balls on a line (a line scene or scene file); "
+                            "this system has none")
         return None
 
-    def resolve(self, system, reading="energy", max_reflections=None, float=False, two_surface_path="closed-form"):
+    def _with_gaps(self, system, gaps):
+        """The outcome that the gaps produce (:func:`impactsym.gaps.resolve_with_gaps`), verified
+        by replaying its ordering with ``G_u(e)`` exactly."""
+        from .errors import VerificationError
+        from .gaps import resolve_with_gaps
+        from .laws.reflection import reflect
+
+        e = system.restitution_vector()
+        g = resolve_with_gaps(system.source, gaps, e)
+        v = system.v
+        for i in g.order:  # the law's own single impacts G_u(e), in the simulated order
+            v = reflect(system.M, system.H[i, :], v, e[i])
+        if any(sp.simplify(a - b) != 0 for a, b in zip(v, g.velocity)):
+            raise VerificationError(self.name, f"the simulated outcome {list(g.velocity)} is not the ordering "
+                                    f"{list(g.order)} replayed with G_u(e): {list(v)}")
+        out = Outcome(g.velocity, g.impulses, order=[int(i) for i in g.order], orderings=1,
+                      details={"reflections": len(g.order)})
+        details = {"method": "exact small-gap simulation (impactsym.gaps)", "gaps": [str(x) for x in g.gaps],
+                   "times": [str(t) for t in g.times], "positions": [str(x) for x in g.positions],
+                   "impulses_unique": g.impulses_unique}
+        return Resolution(self.name, system, [out], uniqueness="unique",
+                          notes=["the outcome of these gaps; other gaps may give another ordering and outcome"],
+                          details=details, raw=g)
+
+    def resolve(self, system, reading=None, max_reflections=None, float=False, two_surface_path="closed-form",
+                gaps=None):
+        if gaps is not None:
+            return self._with_gaps(system, gaps)
         from .laws.sequential import DEFAULT_MAX_REFLECTIONS, resolve_sequential, termination_bound
 
         M, H, v = system.M, system.H, system.v
@@ -329,9 +363,7 @@ class Sequential(Law):
             system = System(M, H, v, system.restitution, contacts=system.contacts, scene=system.scene, exact=False,
                             coordinates=system.coordinates, source=system.source)
         cap = DEFAULT_MAX_REFLECTIONS if max_reflections is None else max_reflections
-        kw = {}
-        if _sequential_takes_restitution() and system.restitution is not None:
-            kw["restitution"] = system.restitution
+        kw = {} if system.restitution is None else {"restitution": system.restitution}
         r = resolve_sequential(M, H, v, reading=reading, max_reflections=cap, exact=not float and system.exact,
                                two_surface=two_surface_path, **kw)
         if max_reflections is not None:
@@ -341,38 +373,34 @@ class Sequential(Law):
                                      f"max_reflections={cap}; raise the cap or omit --max-reflections")
         outs = []
         for o in r.outcomes:
-            extra = {k: getattr(o, k) for k in ("collapse",) if getattr(o, k, None) is not None}
+            extra = {"collapse": bool(getattr(o, "collapse", False))}
             outs.append(Outcome(o.velocity, o.impulse, order=_order_json(o.order), orderings=o.orderings,
                                 details={"reflections": o.reflections, "reflections_min": o.reflections_min,
                                          "reflections_max": o.reflections_max, **_jsonable(extra)}))
         selected = []
         for s in r.selected:
-            if float and isinstance(s, sp.MatrixBase):  # the float path reports floats
+            if (float or not system.exact) and isinstance(s, sp.MatrixBase):  # the float path reports floats
                 s = np.array([sp.N(x, 17) for x in s], dtype=np.float64)
             selected.append(Outcome(s, _impulses_of(system, s)))
         bound = r.bound
-        if bound is None and system.k == 2 and system.exact and not float:
+        elastic = all(sp.sympify(x) == 1 for x in system.restitution_vector())
+        if bound is None and system.k == 2 and system.exact and not float and elastic:  # the bound is elastic
             try:
                 bound = termination_bound(M, H)
             except (DomainError, ImpactInputError):  # parallel rows: no wedge, no bound
                 bound = None
-        details = {"backend": r.backend, "method": r.method, "reading": reading,
+        details = {"backend": r.backend, "method": r.method, "reading": r.reading,
                    "approaching": list(r.approaching), "two_surface_bound": bound,
                    "counts": {"orderings": r.orderings, "states_visited": r.states_visited,
                               "sign_tests": r.sign_tests, "exact_fallbacks": r.exact_fallbacks,
                               "max_reflections_used": r.max_reflections_used}}
         notes = [r.selection_note] if r.selection_note else []
+        if len(outs) > 1:
+            notes.append("which outcome happens depends on the gaps between the touching bodies: --gaps g1,g2,... "
+                         "gives the one that given gaps produce")
         return Resolution(self.name, system, outs, selected=selected,
                           uniqueness=_kind(outs, "gap-dependent"), notes=notes,
                           details=details, raw=r)
-
-
-def _sequential_takes_restitution() -> bool:
-    import inspect
-
-    from .laws.sequential import resolve_sequential
-
-    return "restitution" in inspect.signature(resolve_sequential).parameters
 
 
 #: every law, by CLI name, in the order of tables
@@ -418,3 +446,6 @@ def resolve_all(system: System, laws=None, options: dict | None = None) -> dict[
         except REFUSALS as exc:
             out[name] = f"refused: {exc}"
     return out
+
+
+from . import lawbook_compliant  # noqa: E402,F401  (registers the compliant and LZB laws into LAWS, issue 13)

@@ -15,7 +15,7 @@ import time
 from collections import Counter, OrderedDict
 from dataclasses import dataclass, field
 
-from .framework import PAPERS, VERDICTS, Claim, evaluate_all, section_rank
+from .framework import PAPERS, VERDICTS, Claim, evaluate_all, section_of, section_rank
 
 __all__ = ["PAPER_ORDER", "AuditResult", "run_audit", "count_verdicts", "derivation_summary"]
 
@@ -101,13 +101,72 @@ def derivation_summary() -> dict:
     return {"derivations": derivations, "properties": proofs, "all_proven": ok}
 
 
-def run_audit(paper: str | None = None) -> AuditResult:
+# --------------------------------------------------------------------------- processes
+def _task(task):
+    """One unit of work of a worker process: a list of claim ids, or the derivation summary, or the
+    cross-check."""
+    kind, payload = task
+    if kind == "claims":
+        from .framework import evaluate
+
+        return kind, [evaluate(cid).rendered_copy() for cid in payload]
+    if kind == "derivation":
+        return kind, derivation_summary()
+    from .crosscheck import run_crosschecks
+
+    return kind, run_crosschecks()
+
+
+def _groups(paper: str | None) -> list[list[str]]:
+    """The claim ids in registration order, cut where the section changes: claims of one section
+    share their derivations (one worker computes them once)."""
+    from .framework import REGISTRY, load_all
+
+    load_all()
+    groups: list[list[str]] = []
+    last = None
+    for r in sorted(REGISTRY.values(), key=lambda r: r.order):
+        if paper is not None and r.paper != paper:
+            continue
+        key = (r.paper, section_of(r.ref, r.paper))
+        if key != last:
+            groups.append([])
+            last = key
+        groups[-1].append(r.id)
+    return groups
+
+
+def _run_parallel(paper: str | None, jobs: int):
+    import multiprocessing
+
+    groups = _groups(paper)
+    tasks = [("derivation", None), ("crosscheck", None)] + [("claims", g) for g in groups]
+    method = "fork" if "fork" in multiprocessing.get_all_start_methods() else "spawn"
+    by_id, derivation, cross = {}, None, None
+    # a Pool's exit terminates its workers: an exception here (--timeout's) stops them at once
+    with multiprocessing.get_context(method).Pool(jobs) as pool:
+        for kind, out in pool.imap_unordered(_task, tasks):
+            if kind == "claims":
+                by_id.update((c.id, c) for c in out)
+            elif kind == "derivation":
+                derivation = out
+            else:
+                cross = out
+    claims = [by_id[cid] for g in groups for cid in g]
+    return claims, derivation, cross
+
+
+def run_audit(paper: str | None = None, jobs: int = 1) -> AuditResult:
     """Evaluate every claim (of one paper, or both), the ``G_u`` derivation and proofs, and the
     cross-check of the numeric solvers: the public entry point of ``impactsym reproduce``.
 
     Parameters
     ----------
     paper : ``"seghete-murphey"``, ``"acary-taha"`` or None (both)
+    jobs : number of processes. With ``jobs > 1`` the claims are evaluated on that many worker
+        processes (the claims of one section together, so that they share their derivations), and
+        so are the ``G_u`` derivation and the cross-check; the records are the same as a serial
+        run's, in registration order (each is rendered to JSON in the process that evaluated it).
 
     Returns
     -------
@@ -122,12 +181,17 @@ def run_audit(paper: str | None = None) -> AuditResult:
     """
     if paper is not None and paper not in PAPER_ORDER:
         raise ValueError(f"paper: unknown {paper!r}; known: {', '.join(PAPER_ORDER)}")
+    if isinstance(jobs, bool) or not isinstance(jobs, int) or jobs < 1:
+        raise ValueError(f"jobs: must be a positive integer, got {jobs!r}")
     from .crosscheck import run_crosschecks
 
     t0 = time.perf_counter()
-    claims = evaluate_all(paper)
-    derivation = derivation_summary()
-    cross = run_crosschecks()
+    if jobs == 1:
+        claims = evaluate_all(paper)
+        derivation = derivation_summary()
+        cross = run_crosschecks()
+    else:
+        claims, derivation, cross = _run_parallel(paper, jobs)
     seconds = time.perf_counter() - t0
 
     counted = count_verdicts(claims)

@@ -170,12 +170,24 @@ class Claim:
     status: str = "ok"  # ok | verdict-differs | raised
     error: str = ""
     seconds: float = 0.0
+    #: the JSON record, rendered where the claim was evaluated (set by :meth:`rendered_copy`)
+    rendered: dict | None = None
 
     @property
     def section(self) -> str:
         return section_of(self.ref, self.paper)
 
+    def rendered_copy(self) -> "Claim":
+        """A copy that carries its JSON record (:meth:`as_dict`, rendered here) in place of the SymPy
+        objects: what a worker process of ``reproduce -j N`` sends back (plain strings pickle
+        cheaply and always; the record is the one a serial run prints)."""
+        return Claim(self.id, self.paper, self.ref, self.quantity, self.expected, self.verdict, self.published,
+                     note=self.note, digits=self.digits, judgment=self.judgment, evidence_kind=self.evidence_kind,
+                     status=self.status, error=self.error, seconds=self.seconds, rendered=self.as_dict())
+
     def as_dict(self) -> dict:
+        if self.rendered is not None:
+            return dict(self.rendered)
         return {
             "id": self.id, "paper": self.paper, "ref": self.ref, "section": self.section,
             "quantity": self.quantity, "published": self.published,

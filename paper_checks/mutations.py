@@ -10,7 +10,9 @@ each claim under each of its mutations and requires that the verdict changes or 
 
 Caches are the trap: a claim memoized before the mutation would repeat its unmutated verdict.
 :func:`applied` clears the claim memo and every ``functools.lru_cache`` in impactsym,
-``derivations`` and ``paper_checks`` on entry and on exit.
+``derivations`` and ``paper_checks`` on entry and on exit, and on exit puts back the claim findings
+memoized before the mutation (the original functions computed them; nothing computed under the
+mutant is kept).
 
 Examples
 --------
@@ -187,6 +189,11 @@ def applied(name: str):
                 patched.append((mod, key))
     if not patched:  # pragma: no cover - the target itself is always bound
         raise RuntimeError(f"mutation {name!r}: {m.target} is bound nowhere")
+    from . import framework
+
+    # the findings memoized before the mutation were computed by the original functions: they are
+    # put back on exit (every lru_cache stays cleared: it may hold values computed under the mutant)
+    before = dict(framework._MEMO)
     clear_caches()
     try:
         yield replacement
@@ -200,6 +207,7 @@ def applied(name: str):
                     if value is replacement:
                         setattr(mod, key, original)
         clear_caches()
+        framework._MEMO.update(before)
 
 
 # The mutants that only one paper's claims use live beside that paper's checks (one file each),

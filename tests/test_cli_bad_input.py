@@ -104,7 +104,7 @@ LAW_BAD = [
     ("newton", ["--scene", "chain3", "--max-reflections", "1"], "max_reflections"),
     ("newton", ["--scene", "chain3", "--strikers", "7"], "strikers"),
     ("newton", ["--scene", "chain3", "--float", "--reading", "cone", "--max-reflections", "1", "--strikers", "7"],
-     "reading"),
+     "strikers"),  # every inapplicable option is named; the argument is the first in the parser's order
     ("newton", ["--scene", "chain3", "--two-surface-path", "iterate"], "two_surface_path"),
     ("newton", ["--scene", "chain3", "--variant", "paper"], "variant"),
     ("newton", ["--scene", "chain3", "--coupling"], "coupling"),
@@ -255,7 +255,9 @@ def test_float_path_selects_floats(capsys):
     code, out, _ = run(capsys, ["resolve", "--law", "sequential", "--scene", "pool", "--theta", "pi/4", "--float",
                                 "--json"])
     d = json.loads(out)
-    assert code == 0 and all(isinstance(x, float) for s in d["selected"] for x in s["velocity"])
+    assert code == 0 and d["selected"] and d["exactness"] == "float"
+    assert all(s["exactness"] == "float" and all(isinstance(x, float) for x in s["velocity_float"])
+               for s in d["selected"])
 
 
 def test_pool_domain_without_impact_renders_as_text(capsys):

@@ -81,7 +81,7 @@ def test_text_output(capsys):
     code, out, _ = run(capsys, "resolve", "--law", "impulse-ratio", "--scene", "chain3", "--ratios", "1/2")
     assert code == 0 and "v+ = [-1/3, 2/3, 2/3]" in out and "valid: True" in out
     code, out, _ = run(capsys, "resolve", "--law", "han-gilmore", "--scene", "chain3")
-    assert code == 0 and "(order {1} > {2})" in out
+    assert code == 0 and "(order {1-2} > {2-3})" in out
 
 
 @pytest.mark.parametrize(

@@ -74,7 +74,8 @@ def test_text_output(capsys):
     (["--mass-matrix", "1,0;0,1", "--gradients", "1,0,0", "--velocity", "-1,0"], "gradients"),
     (["--mass-matrix", "1,0;0,1", "--gradients", "1,0", "--velocity", "-1,0", "--n-balls", "3"], "n_balls"),
     (["--scene", "two-balls-wall", "--masses", "1,0"], "masses"),
-    (["--scene", "two-balls-wall", "--restitution", "1/2"], "restitution"),
+    (["--scene", "two-balls-wall", "--restitution", "3/2"], "restitution"),
+    (["--scene", "two-balls-wall", "--restitution", "1/2", "--reading", "energy"], "energy reading"),
     (["--scene", "two-balls-wall", "--two-surface-path", "x"], "two_surface_path"),
 ])
 def test_bad_input_exits_2_with_a_message(capsys, argv, message):

@@ -119,3 +119,126 @@ def test_simulator_conserves_momentum_and_energy():
     # a ball between two walls bounces for ever: the event cap refuses it
     with pytest.raises(DomainError, match="max_events"):
         simulate_line([1], [1], [0], [1], walls=[-2, 2], max_events=50)
+
+
+# --------------------------------------------------------------------------- restitution (Newton's law)
+def test_pair_restitution_by_hand():
+    """m = (2, 3), v = (5, -1), e = 1/3: w = -6, mu = 6/5, P = (4/3)(6)(6/5) = 48/5, so
+    v' = (5 - 48/10, -1 + 48/15) = (1/5, 11/5); w' = 2 = -e w; momentum 7 kept; loss (1-e^2)/2 mu w^2."""
+    res = simulate_line([2, 3], [1, 1], [0, 2], [5, -1], restitution="1/3")
+    assert res.velocities == [R(1, 5), R(11, 5)]
+    assert res.events == [(0, "1-2")]
+    assert res.impulses == {"1-2": R(48, 5)}
+    assert res.energy_loss == R(8, 9) / 2 * R(6, 5) * 36
+
+
+def test_wall_restitution_and_per_contact_mapping():
+    res = simulate_line([3], [1], [2], [-3], walls=[0], restitution="2/5")
+    assert res.velocities == [R(6, 5)] and res.impulses == {"wall@0-1": R(63, 5)}
+    # per contact: only the wall contact is inelastic, the pair stays elastic
+    res = simulate_line([1, 1], [1, 1], [1, 3], [0, -2], walls=[0], restitution={"wall@0-1": "1/2"})
+    # 1-2 at t=0: (0,-2) -> (-2, 0); wall at t=0: -2 -> 1; then 1-2 again: (1, 0) -> (0, 1)
+    assert res.events == [(0, "1-2"), (0, "wall@0-1"), (0, "1-2")]
+    assert res.velocities == [0, 1]
+    assert res.energy_loss == R(3, 2)
+
+
+@pytest.mark.parametrize("e", [R(1, 2), R(7, 10), 1])
+def test_restitution_agrees_with_the_reflection_map(e):
+    """The simulator's first-principles Newton law equals G_u(e) (impactsym.laws.reflection),
+    collision by collision, on a 3-ball line with a wall (unequal masses, exact)."""
+    from impactsym.laws.reflection import reflect
+
+    m, pos, v0 = [2, 1, 3], [1, "31/10", "27/5"], [0, -1, -3]
+    res = simulate_line(m, [1, 1, 1], pos, v0, walls=[0], restitution=e)
+    assert len(res.events) >= 3
+    rows = {"wall@0-1": [1, 0, 0], "1-2": [-1, 1, 0], "2-3": [0, -1, 1]}
+    v = sp.Matrix(v0)
+    p = {}
+    for _, name in res.events:
+        u = sp.Matrix([rows[name]])
+        new = reflect(sp.diag(*m), u, v, e)
+        j = rows[name].index(1)  # M (v' - v) = u^T p: read p on the ball whose row entry is +1
+        p[name] = p.get(name, 0) + m[j] * (new[j] - v[j])
+        v = new
+    assert res.impulses == p
+    assert res.velocities == list(v)
+    # kinetic energy: initial minus the reported loss, exactly
+    ke = lambda vel: R(1, 2) * sum(mi * vi**2 for mi, vi in zip(m, vel))  # noqa: E731
+    assert ke(res.velocities) == ke(v0) - res.energy_loss
+    assert (res.energy_loss == 0) == (e == 1)
+
+
+def test_restitution_bad_input():
+    with pytest.raises(ImpactInputError, match=r"restitution: must satisfy 0 <= e <= 1, got 3/2"):
+        simulate_line([1, 1], [1, 1], [0, 3], [1, 0], restitution="3/2")
+    with pytest.raises(ImpactInputError, match="restitution"):
+        simulate_line([1, 1], [1, 1], [0, 3], [1, 0], restitution=-1)
+    with pytest.raises(ImpactInputError, match="exact"):
+        simulate_line([1, 1], [1, 1], [0, 3], [1, 0], restitution=0.5)
+    with pytest.raises(ImpactInputError, match="rational"):
+        simulate_line([1, 1], [1, 1], [0, 3], [1, 0], restitution="sqrt(2)/2")
+    with pytest.raises(ImpactInputError, match=r"restitution: names no contact of this line: '1-3'"):
+        simulate_line([1, 1, 1], [1, 1, 1], [0, 3, 6], [1, 0, 0], restitution={"1-3": "1/2"})
+    with pytest.raises(ImpactInputError, match=r"restitution\['1-2'\]: must satisfy"):
+        simulate_line([1, 1, 1], [1, 1, 1], [0, 3, 6], [1, 0, 0], restitution={"1-2": 2})
+    with pytest.raises(ImpactInputError, match="max_events"):
+        simulate_line([1, 1], [1, 1], [0, 3], [1, 0], max_events=0)
+
+
+def test_inelastic_collapse_is_refused_not_capped():
+    """Three equal balls, e = 1/20 (below 7 - 4 sqrt 3): the middle ball rattles between the outer
+    two with ever shorter intervals. The run is refused at the cap and says why; with e = 1/10 the
+    same start ends after finitely many collisions."""
+    start = ([1, 1, 1], [1, 1, 1], [0, "21/10", "42/10"], [1, 0, "-1/2"])
+    with pytest.raises(DomainError, match="max_events: inelastic collapse: 300 collisions and the collision times converge"):
+        simulate_line(*start, restitution="1/20", max_events=300)
+    res = simulate_line(*start, restitution="1/10")
+    assert 3 <= len(res.events) < 300
+    assert sum(res.velocities) == R(1, 2)
+    # sticking (e = 0) with three balls: infinitely many collisions at one instant (t = 0)
+    with pytest.raises(DomainError, match=r"inelastic collapse.*the last at t = 0\)"):
+        simulate_line([1, 1, 1], [1, 1, 1], [0, 2, 4], [0, 0, -1], restitution=0, max_events=200)
+    # a ball between two walls, e = 1/2: never ends, but the times spread out: not a collapse
+    with pytest.raises(DomainError, match="max_events: more than 60 collisions .*do not converge"):
+        simulate_line([1], [1], [0], [1], walls=[-2, 2], restitution="1/2", max_events=60)
+
+
+def test_two_sticking_balls_move_together():
+    res = simulate_line([1, 3], [1, 1], [0, 3], [2, 0], restitution=0)
+    assert res.velocities == [R(1, 2), R(1, 2)] and res.events == [(R(1, 2), "1-2")]
+
+
+# --------------------------------------------------------------------------- same instant, t = 0
+def test_independent_impacts_at_one_instant_are_resolved():
+    res = simulate_line([1, 1, 1, 1], [1, 1, 1, 1], [0, "21/10", 10, "121/10"], [0, -1, 1, 0])
+    assert res.events == [(R(1, 10), "1-2"), (R(1, 10), "3-4")]
+    assert res.velocities == [-1, 0, 0, 1]
+    # a wall and a pair that share no ball, at one instant
+    res = simulate_line([1, 1, 1], [1, 1, 1], [2, 10, 13], [-1, 1, 0], walls=[0], restitution={"wall@0-1": 0})
+    assert res.events == [(1, "2-3"), (1, "wall@0-1")]
+    assert res.velocities == [0, 0, 1]
+
+
+def test_touching_and_approaching_at_t0():
+    """Cradle of four touching balls struck from both ends: 1-2 and 3-4 touch and approach at t = 0
+    (independent), then 2-3, then 1-2 and 3-4 again, all at t = 0."""
+    res = simulate_line([1, 1, 1, 1], [1, 1, 1, 1], [0, 2, 4, 6], [1, 0, 0, -1])
+    assert res.events == [(0, "1-2"), (0, "3-4"), (0, "2-3"), (0, "1-2"), (0, "3-4")]
+    assert res.velocities == [-1, 0, 0, 1] and res.time == 0
+    # three touching balls struck from both ends: 1-2 and 2-3 share ball 2 at t = 0
+    with pytest.raises(DomainError, match=r"1-2, 2-3 close at the same instant t = 0 \(touching and approaching at "
+                                          r"t = 0\) and share ball 2"):
+        simulate_line([1, 1, 1], [1, 1, 1], [0, 2, 4], [1, 0, -1])
+    # touching and approaching, with an open gap elsewhere: resolved first, then the rest
+    res = simulate_line([1, 1, 1], [1, 1, 1], [0, 2, "41/10"], [1, 0, 0])
+    assert res.events == [(0, "1-2"), (R(1, 10), "2-3")] and res.velocities == [0, 0, 1]
+
+
+def test_only_the_named_contacts_collide_and_the_others_must_stay_open():
+    res = simulate_line([1, 1, 1], [1, 1, 1], [0, "21/10", 10], [1, 0, 0], contacts=["1-2"])
+    assert res.events == [(R(1, 10), "1-2")] and res.velocities == [0, 1, 0]  # 2-3 closes later: not simulated
+    with pytest.raises(DomainError, match=r"contact 2-3, which is not simulated, closes at t = 1/20, before"):
+        simulate_line([1, 1, 1], [1, 1, 1], [0, "21/10", "42/10"], [1, 0, -2], contacts=["1-2"])
+    with pytest.raises(ImpactInputError, match=r"contacts: names no contact of this line: '1-3'"):
+        simulate_line([1, 1, 1], [1, 1, 1], [0, 3, 6], [1, 0, 0], contacts=["1-3"])

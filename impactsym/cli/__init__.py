@@ -31,7 +31,6 @@ from typing import Sequence
 
 from .. import __version__
 from ..errors import ImpactError
-from .common import dumps_strict
 
 #: subcommand modules, in the order ``impactsym --help`` lists them
 SUBCOMMANDS = ["reproduce", "reflect", "prove", "resolve", "scene", "domain", "codegen", "bench", "check", "batch",
@@ -141,6 +140,8 @@ class _TimeLimit:
 def emit(result: dict | None, args: argparse.Namespace, module) -> None:
     if result is None:  # the subcommand wrote its own output (batch: JSON Lines on stdout)
         return
+    from .common import dumps_strict
+
     if getattr(args, "json", False):
         sys.stdout.write(dumps_strict(result) + "\n")
         return
@@ -180,6 +181,8 @@ def error_argument(exc: Exception) -> str | None:
 
 
 def _json_error(argument: str | None, message: str) -> None:
+    from .common import dumps_strict
+
     sys.stdout.write(dumps_strict({"error": {"argument": argument, "message": message}}) + "\n")
 
 

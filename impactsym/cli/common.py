@@ -9,13 +9,14 @@ import argparse
 import json
 import math
 import os
+import sys
 from pathlib import Path
 from typing import Any, Iterable
 
-import numpy as np
-
 from ..errors import ImpactInputError
-from ..numbers import parse_matrix, parse_number, parse_vector
+
+# NumPy and impactsym.numbers (SymPy) are imported where they are used: `impactsym --help` and
+# the subcommands that read no numbers start without them.
 
 __all__ = ["matrix_arg", "vector_arg", "number_arg", "add_json_flag", "strict_json", "dumps_strict",
            "given_options", "refuse_inapplicable", "option_name", "writable_file", "writable_dir"]
@@ -27,16 +28,26 @@ def add_json_flag(parser: argparse.ArgumentParser) -> None:
 
 def matrix_arg(text: str, argument: str, *, as_float: bool = False):
     """Exact SymPy matrix from ``"a,b;c,d"``; a float array when ``as_float``."""
+    import numpy as np
+
+    from ..numbers import parse_matrix
+
     m = parse_matrix(text, argument)
     return np.array(m.evalf(17).tolist(), dtype=float) if as_float else m
 
 
 def vector_arg(text: str, argument: str, *, as_float: bool = False):
+    import numpy as np
+
+    from ..numbers import parse_vector
+
     v = parse_vector(text, argument)
     return np.array([float(x.evalf(17)) for x in v]) if as_float else v
 
 
 def number_arg(text: str, argument: str, *, as_float: bool = False):
+    from ..numbers import parse_number
+
     x = parse_number(text, argument)
     return float(x.evalf(17)) if as_float else x
 
@@ -47,6 +58,7 @@ def strict_json(obj: Any) -> Any:
     Python ones), so that it is strict JSON (``CONVENTIONS.md``: a float that overflows is
     ``null`` beside its exact string).
 
+    >>> import numpy as np
     >>> strict_json({"v": ["1e400", float("inf")], "n": [float("nan"), 1.5, np.int64(3)]})
     {'v': ['1e400', None], 'n': [None, 1.5, 3]}
     """
@@ -54,15 +66,23 @@ def strict_json(obj: Any) -> Any:
         return {str(k): strict_json(v) for k, v in obj.items()}
     if isinstance(obj, (list, tuple)):
         return [strict_json(v) for v in obj]
-    if isinstance(obj, np.ndarray):
-        return strict_json(obj.tolist())
-    if isinstance(obj, (bool, np.bool_)):
-        return bool(obj)
-    if isinstance(obj, (int, np.integer)):
+    if isinstance(obj, bool):
+        return obj
+    if isinstance(obj, int):
         return int(obj)
-    if isinstance(obj, (float, np.floating)):
-        x = float(obj)
-        return x if math.isfinite(x) else None
+    if isinstance(obj, float):
+        return obj if math.isfinite(obj) else None
+    np = sys.modules.get("numpy")  # without NumPy loaded there is no NumPy object to convert
+    if np is not None:
+        if isinstance(obj, np.ndarray):
+            return strict_json(obj.tolist())
+        if isinstance(obj, np.bool_):
+            return bool(obj)
+        if isinstance(obj, np.integer):
+            return int(obj)
+        if isinstance(obj, np.floating):
+            x = float(obj)
+            return x if math.isfinite(x) else None
     return obj
 
 

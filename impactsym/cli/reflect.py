@@ -2,8 +2,6 @@
 
 from __future__ import annotations
 
-from ..laws.reflection import reflect, reflection_map
-from ..numbers import exact_json
 from .common import add_json_flag, matrix_arg, number_arg, vector_arg
 
 
@@ -22,6 +20,9 @@ def register(sub) -> None:
 
 
 def run(args) -> dict:
+    from ..laws.reflection import reflect, reflection_map  # imported here: not needed for --help
+    from ..numbers import exact_json
+
     M = matrix_arg(args.mass_matrix, "mass_matrix")
     u = vector_arg(args.gradient, "gradient")
     e = number_arg(args.restitution, "restitution")

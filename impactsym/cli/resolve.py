@@ -18,6 +18,7 @@ import importlib
 
 from ..errors import ImpactInputError
 from .common import add_json_flag, option_name, refuse_inapplicable
+from .scene_args import MATRIX_OPTIONS, add_system_arguments, form_options
 from .plot import add_plot_option, plot_path, write_figure
 
 #: law -> "module:options function" (module relative to impactsym.cli); the module's ``render``
@@ -30,6 +31,11 @@ LAW_CLI: dict[str, str] = {
     "energetic": "resolve_classical:energetic_options",
     "han-gilmore": "resolve_classical:han_gilmore_options",
     "impulse-ratio": "resolve_impulse_ratio:options",
+    "hertz": "resolve_compliant:hertz_options",
+    "linear": "resolve_compliant:linear_options",
+    "power": "resolve_compliant:power_options",
+    "hunt-crossley": "resolve_compliant:hunt_crossley_options",
+    "lzb": "resolve_compliant:lzb_options",
 }
 LAWS = tuple(LAW_CLI)
 
@@ -40,10 +46,8 @@ NOT_APPLICABLE_BECAUSE: dict[tuple[str, str], str] = {
                                         "iterate takes one",
 }
 
-#: the explicit form of an impact (used when no --scene is given)
-MATRIX_OPTIONS = ("mass_matrix", "gradients", "velocity")
 #: options every law takes
-COMMON_OPTIONS = ("law", "scene", "plot", "restitution")
+COMMON_OPTIONS = ("law", "scene", "scene_file", "plot", "restitution")
 
 
 def _law_options(law: str) -> tuple[str, ...]:
@@ -67,28 +71,26 @@ def register(sub) -> None:
     )
     p.add_argument("--law", required=True, metavar="LAW",
                    help="one of: " + ", ".join(LAWS) + "; or all (every law that applies)")
-    p.add_argument("--mass-matrix", metavar="M", help='mass matrix "a,b;c,d"')
-    p.add_argument("--gradients", metavar="H", help='gradient rows of the closed contacts "a,b;c,d"')
-    p.add_argument("--velocity", metavar="v", help='pre-impact velocity "a,b"')
+    add_system_arguments(p)
     p.add_argument("--restitution", metavar="e", help='restitution: one coefficient, or one per contact "a,b"')
-    p.add_argument("--scene", metavar="NAME",
-                   help="a built-in scene instead of matrices: chain3, pool, bernoulli, two-balls-wall, "
-                        "three-ball-cradle, cradle, balls-against-wall")
-    p.add_argument("--ratios", metavar="A", help="impulse-ratio, energetic: ratios alpha_12,alpha_13,... against contact 1")
+    p.add_argument("--ratios", metavar="A", help="impulse-ratio, energetic: ratios alpha_12,alpha_13,... against "
+                   "contact 1, or from-hertz|from-linear|from-lzb (taken from that elastic model's impulses)")
     p.add_argument("--allow-invalid", action="store_true", help="report a result outside the law's domain (exit 0)")
     p.add_argument("--coupling", action="store_true", help="impulse-ratio: apply the kinetic-angle coupling criteria (eqs. 41-45)")
-    p.add_argument("--theta", metavar="T", help="pool: angle between the lines 1-2 and 2-3 (e.g. pi/4)")
-    p.add_argument("--tau", metavar="T", help="pool/bernoulli: incidence angle of ball 1")
-    p.add_argument("--masses", metavar="m", help='chain3, two-balls-wall, three-ball-cradle, cradle, balls-against-wall: masses "m1,m2,..."')
-    p.add_argument("--velocities", metavar="v", help='chain3, two-balls-wall, three-ball-cradle, balls-against-wall: pre-impact velocities "v1,v2,..."')
     p.add_argument("--variant", metavar="V", help="poisson: paper (default) or glocker-pfeiffer")
     p.add_argument("--reading", metavar="R", help="sequential: feasible set of the selection, energy (default) or cone")
     p.add_argument("--max-reflections", metavar="K", help="sequential: cap on the reflections of one ordering")
     p.add_argument("--float", action="store_true", help="sequential: float64 with certified branch decisions")
     p.add_argument("--two-surface-path", metavar="P", help="sequential: closed-form (default) or iterate")
-    p.add_argument("--n-balls", metavar="N", help="scenes cradle, balls-against-wall: number of balls "
-                   "(an integer expression such as 10**2; at most 200, the sequential law's MAX_COORDINATES)")
-    p.add_argument("--strikers", metavar="K", help="scene cradle: number of striking balls")
+    p.add_argument("--gaps", metavar="G", help="sequential: small gaps g1,g2,... opening the closed contacts (a "
+                   "scene of balls on a line): the ordering and outcome those gaps produce (exact simulation)")
+    p.add_argument("--stiffness", metavar="K", help='hertz, linear, power, hunt-crossley, lzb: contact stiffness, '
+                   'one or one per contact "a,b" (default 1)')
+    p.add_argument("--exponent", metavar="P", help="power (required), hunt-crossley, lzb (default 3/2): contact "
+                   "force exponent p >= 1, one or one per contact")
+    p.add_argument("--damping", metavar="D", help="hunt-crossley: damping coefficients D >= 0 instead of --restitution")
+    p.add_argument("--tolerance", metavar="RTOL", help="hertz, linear, power, hunt-crossley, lzb: the integrator's "
+                   "relative tolerance (default 1e-11)")
     add_plot_option(p, "the picture of the answer (two surfaces: the law in the plane of their M-normals; "
                        "otherwise the velocities before and after; --law all: every law's outcomes)")
     add_json_flag(p)
@@ -100,8 +102,11 @@ def check_options(args) -> None:
     law, scene = args.law, args.scene
     scenes = _scene_options()
     if scene is not None and scene not in scenes:
-        raise ImpactInputError("scene", f"unknown scene {scene!r}; known: {', '.join(scenes)}")
-    form = scenes[scene] if scene is not None else MATRIX_OPTIONS
+        from ..scenes import load_scene
+
+        load_scene(scene)  # raises naming the scene (neither a name nor a file)
+        raise ImpactInputError("scene", f"{scene!r} is a file: give it with --scene-file")
+    form = form_options(args)
     law_opts = tuple(o for name in LAWS for o in _law_options(name)) if law == "all" else _law_options(law)
     context = f"--law {law} " + (f"--scene {scene}" if scene is not None else "with explicit matrices (no --scene)")
     try:
@@ -115,7 +120,7 @@ def check_options(args) -> None:
         elif why is None and scene is None and any(arg in opts for opts in scenes.values()):
             why = (f"{option_name(arg)} applies only with --scene "
                    f"({', '.join(s for s in scenes if arg in scenes[s])})")
-        elif why is None and scene is not None and arg in MATRIX_OPTIONS:
+        elif why is None and (scene is not None or args.scene_file is not None) and arg in MATRIX_OPTIONS:
             why = f"{option_name(arg)} cannot be combined with --scene (the scene defines M, H and v)"
         if why:
             raise ImpactInputError(exc.argument, f"{exc.condition}; {why}") from None
@@ -187,6 +192,10 @@ def _order(order, names) -> str:
     """An ordering with the contacts' names: ``1-2 > 2-3``; stages of simultaneous impacts in braces."""
     if order is None:
         return ""
+    if isinstance(order, dict) and order.get("infinite"):  # inelastic collapse
+        prefix = " > ".join(names[c] for c in order["prefix"])
+        cycle = " > ".join(names[c] for c in order["cycle"])
+        return "order " + (prefix + " > " if prefix else "") + f"({cycle}) repeated forever: inelastic collapse, the limit"
     if isinstance(order, dict):
         return f"alternating from {names[order['first']]} ({order['length']} impacts)"
     flat = [("{" + ",".join(names[c] for c in o) + "}") if isinstance(o, list) else names[o] for o in order]

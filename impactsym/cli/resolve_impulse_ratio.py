@@ -15,8 +15,14 @@ __all__ = ["ratios_arg", "options", "coupling_details", "render"]
 
 
 def ratios_arg(text):
+    """``--ratios``: exact numbers ``"a,b"``, or a model ``from-hertz|from-linear|from-lzb``
+    (:mod:`impactsym.lawbook_compliant`: the elastic model's impulse ratios, then eq. 38)."""
     if text is None:
         return None
+    if str(text).strip().lower().startswith("from-"):
+        from ..lawbook_compliant import ratio_source
+
+        return ratio_source(str(text).strip())
     parts = [x.strip() for x in text.split(",")]
     return [parse_number(x, "ratios") for x in parts]
 
@@ -43,6 +49,12 @@ def coupling_details(system) -> dict:
 def render(result: dict) -> list[str]:
     d = result["details"]
     lines = [f"ratios a = ({', '.join(d['ratios'])})"]
+    src = d.get("ratio_source")
+    if src:
+        dist = src["kinetic_distance"]
+        lines.append(f"ratios from the elastic {src['model']} model (rtol {src['model_tolerance']:g}); its v+ = "
+                     f"[{', '.join(f'{x:.10g}' for x in src['model_velocity'])}]; kinetic-metric distance "
+                     + ("-" if dist is None else f"{dist:.3g} ({src['kinetic_distance_relative']:.3g} of |v-|_M)"))
     for note in d.get("coupling", []):
         lines.append(f"coupling: {note['ratio']} set to 0 ({note['reason']}; cos theta = {note['cos_kinetic_angle']})")
     lines.append(f"D = B^2 - 4AC = {d['delta']}  (paper's normalized Delta = {d['delta_normalized']})")

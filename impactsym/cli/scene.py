@@ -55,7 +55,7 @@ def register(sub) -> None:
     )
     show.add_argument("scene", metavar="FILE|NAME",
                       help="a built-in scene, a shipped scene file (impactsym scene list) or a .toml/.json path")
-    from ..scenes.registry import ALL_PARAMS
+    from .scene_args import ALL_PARAMS  # the light copy: the registry imports SymPy
 
     for name in ALL_PARAMS:
         metavar, text = PARAM_HELP[name]

@@ -225,7 +225,7 @@ def outcomes_per_law(M, H, v, restitution=1, ratios=None) -> dict:
     if ratios is not None:
         opts["impulse-ratio"]["ratios"] = list(ratios)
     out: dict = {}
-    for law, r in resolve_all(system, options=opts).items():
+    for law, r in resolve_all(system, laws=LAWS, options=opts).items():
         if isinstance(r, str):
             out[law] = {"outcomes": [], "valid": [], "note": r}
             continue

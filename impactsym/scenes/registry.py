@@ -38,7 +38,7 @@ import sympy as sp
 from ..errors import ImpactInputError
 from .scene import Scene
 
-__all__ = ["BUILTIN_SCENES", "SCENE_PARAMS", "ALL_PARAMS", "SHIPPED_SCENES", "SCENE_FILES_DIR", "build_scene",
+__all__ = ["int_option", "BUILTIN_SCENES", "SCENE_PARAMS", "ALL_PARAMS", "SHIPPED_SCENES", "SCENE_FILES_DIR", "build_scene",
            "scene_names", "is_scene_name"]
 
 #: built-in scene name -> one-line description (paper and section)
@@ -104,12 +104,12 @@ def _option(name: str) -> str:
     return "--" + name.replace("_", "-")
 
 
-def _int_option(text, argument, minimum, maximum=None):
+def int_option(text, argument, minimum, maximum=None):
     """An integer parameter, given as an integer or an exact integer expression (``10**2``).
 
-    >>> _int_option("10**2", "n_balls", 2)
+    >>> int_option("10**2", "n_balls", 2)
     100
-    >>> _int_option("1000000000000", "n_balls", 2, 200)
+    >>> int_option("1000000000000", "n_balls", 2, 200)
     Traceback (most recent call last):
     ...
     impactsym.errors.ImpactInputError: n_balls: must be at most 200, got 1000000000000
@@ -250,9 +250,9 @@ def _seghete_murphey(name, given):
     if given.get("velocities") is not None:
         kw["velocities"] = list(parse_vector(given["velocities"], "velocities"))
     if given.get("n_balls") is not None:
-        kw["n_balls"] = _int_option(given["n_balls"], "n_balls", 1, MAX_COORDINATES)
+        kw["n_balls"] = int_option(given["n_balls"], "n_balls", 1, MAX_COORDINATES)
     if given.get("strikers") is not None:
-        kw["strikers"] = _int_option(given["strikers"], "strikers", 1, MAX_COORDINATES)
+        kw["strikers"] = int_option(given["strikers"], "strikers", 1, MAX_COORDINATES)
     try:
         sc = sm.SCENES[name](**kw)
     except TypeError as exc:  # pragma: no cover - guarded by SCENE_PARAMS

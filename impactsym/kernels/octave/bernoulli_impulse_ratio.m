@@ -13,7 +13,7 @@ function [p1, p2, p3, w1x, w1y, w2x, w2y, w3x, w3y] = bernoulli_impulse_ratio(ta
   x3 = alpha13.*x1 + x0;
   x4 = e - 1;
   x5 = sqrt(x2.*x4 + x3.^2) + abs(x3);
-  x6 = ((x0 <= 0 & x1 <= 0).*(0) + (~(x0 <= 0 & x1 <= 0)).*( ... (x3 >= 0).*(x5./x2) + (~(x3 >= 0)).*(x4./x5)));
+  x6 = ((x0 <= 0 & x1 <= 0).*(0) + (~(x0 <= 0 & x1 <= 0)).*( (x3 >= 0).*(x5./x2) + (~(x3 >= 0)).*(x4./x5)));
   x7 = alpha13.*x6;
   x8 = tau + pi/3;
   x9 = x6/2;

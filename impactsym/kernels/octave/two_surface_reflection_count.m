@@ -9,6 +9,6 @@ function [count_a, count_b] = two_surface_reflection_count(s_a, s_b, g, c_a, c_b
   x0 = c_a >= 0 & c_b >= 0;
   x1 = sqrt(-g.^2 + s_a.*s_b);
   x2 = 1./atan2(x1, -g);
-  count_a = ((x0).*(0) + (~(x0)).*( ... (c_a < 0).*(ceil(x2.*atan2(-c_a.*x1, -c_a.*g + c_b.*s_a))) + (~(c_a < 0)).*(-1)));
-  count_b = ((x0).*(0) + (~(x0)).*( ... (c_b < 0).*(ceil(x2.*atan2(-c_b.*x1, c_a.*s_b - c_b.*g))) + (~(c_b < 0)).*(-1)));
+  count_a = ((x0).*(0) + (~(x0)).*( (c_a < 0).*(ceil(x2.*atan2(-c_a.*x1, -c_a.*g + c_b.*s_a))) + (~(c_a < 0)).*(-1)));
+  count_b = ((x0).*(0) + (~(x0)).*( (c_b < 0).*(ceil(x2.*atan2(-c_b.*x1, c_a.*s_b - c_b.*g))) + (~(c_b < 0)).*(-1)));
 end

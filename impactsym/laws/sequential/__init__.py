@@ -63,10 +63,21 @@ energy sphere, the critical points of ``⟨v, v0⟩_M``, exact in ``Q(√q)``), 
 coefficients on ``O_T`` and ``M⁻¹H_Sᵀ`` are ``≥ 0`` (exact signs). The optimum lies in the relative
 interior of a face and is found among these candidates. All minimizers are returned (ties).
 
+Restitution e < 1 and inelastic collapse
+----------------------------------------
+``restitution=`` (one number, or one per contact) replaces each ``G_{H_i}`` by ``G_{H_i}(e_i)``
+(``CONVENTIONS.md``); ``1`` is the elastic law above, on its unchanged code path. With some
+``e_i < 1`` two contacts are always iterated (the closed form is elastic), the selection
+defaults to the cone reading (the energy sphere holds only for elastic impacts), and an
+alternation of two contacts that never ends (inelastic collapse) is decided exactly and
+replaced by its limit, the plastic impact of the pair (:mod:`.collapse`, ``Outcome.collapse``,
+:class:`InfiniteOrder`). A collapse involving more contacts is refused (``NonTermination``).
+See ``docs/sequential_restitution.md``.
+
 How the package is laid out
 ---------------------------
 ``common`` (limits; the fields and linear algebra of :mod:`impactsym.arithmetic`), ``witness``
-(the refusal test), ``search`` (the exact DAG search and the verified replay), ``float_search``
+(the refusal test), ``collapse`` (inelastic collapse of two contacts), ``search`` (the exact DAG search and the verified replay), ``float_search``
 (float mode), ``selection`` (steps 4–5), ``bound`` (sec. III-C), ``results`` (the result types)
 and ``resolve`` (:func:`resolve_sequential`). Every public name is importable from here.
 
@@ -103,10 +114,11 @@ from __future__ import annotations
 
 # the private names re-exported below are the ones the tests reach (tests/test_certified_extreme.py)
 from .bound import termination_bound
+from .collapse import alternation_limit, critical_restitution
 from .common import (DEFAULT_MAX_REFLECTIONS, FLOAT_SAFETY, MAX_COORDINATES, MAX_STATE_BITS, READINGS,
                      TWO_SURFACE_PATHS, _Algebraic, _Rational)
-from .resolve import resolve_sequential
-from .results import Outcome, SequentialResolution
+from .resolve import check_restitutions, resolve_sequential
+from .results import InfiniteOrder, Outcome, SequentialResolution
 from .search import _ExactSystem, _verified_replay
 from .selection import SELECTION_FACE_LIMIT, _select, _verify_selected
 from .witness import valid_velocity_witness
@@ -115,6 +127,10 @@ __all__ = [
     "resolve_sequential",
     "SequentialResolution",
     "Outcome",
+    "InfiniteOrder",
+    "critical_restitution",
+    "alternation_limit",
+    "check_restitutions",
     "valid_velocity_witness",
     "termination_bound",
     "READINGS",

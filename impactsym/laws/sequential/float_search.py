@@ -19,7 +19,7 @@ from .search import _aggregate, _explore
 # Float mode
 # ---------------------------------------------------------------------------------------------
 class _FloatSystem:
-    def __init__(self, M, H, v0, cap):
+    def __init__(self, M, H, v0, cap, restitution=None):
         self.M = np.asarray(M, dtype=float)
         self.H = np.asarray(H, dtype=float)
         self.v0 = np.asarray(v0, dtype=float)
@@ -27,7 +27,9 @@ class _FloatSystem:
         W = np.linalg.solve(self.M, self.H.T)
         self.W = W.T.copy()
         self.s = np.einsum("ij,ij->i", self.H, self.W)
-        self.coef = _r.gain(self.s, 1.0)
+        # restitution < 1: G_u(e) is non-expansive in the kinetic norm (‖G_u(e)‖_M = max(1, e) = 1),
+        # so the bound below (stated for the isometries G_u) still holds
+        self.coef = _r.gain(self.s, 1.0 if restitution is None else np.asarray(restitution, dtype=float))
         kappa = float(np.linalg.cond(self.M))
         gamma = FLOAT_ERROR_FACTOR * self.n * kappa * _EPS
         vnorm = math.sqrt(max(float(self.v0 @ self.M @ self.v0), 0.0))
@@ -61,8 +63,23 @@ class _FloatSystem:
         return p
 
 
-def _float_search(M, H, v0, system, cap):
-    fs = _FloatSystem(M, H, v0, cap)
+#: restitution < 1, float mode: the most sign decisions re-made exactly before the float search
+#: gives way to the exact search (an inelastic collapse drives the velocities towards a limit
+#: closer than the float error bound, where every decision falls back and the float memo stops
+#: telling states apart)
+INELASTIC_FALLBACK_BUDGET = 2000
+
+
+class _FallbackBudget(Exception):
+    """Raised inside the float search when ``INELASTIC_FALLBACK_BUDGET`` is exhausted."""
+
+
+def _float_search(M, H, v0, system, cap, restitution=None, collapse=False, cap_error=None):
+    """Float search; with ``restitution`` (floats, one per contact; ``system`` holds their exact
+    binary values) and ``collapse=True`` the collapse of two contacts is decided exactly on the
+    replayed exact state (:class:`~impactsym.laws.sequential.collapse._CollapseDetector`), only
+    for pairs whose restitutions admit one."""
+    fs = _FloatSystem(M, H, v0, cap, restitution)
     F = system.F
     exact_cache: dict[int, tuple] = {}
     stats = {"fallbacks": 0}
@@ -83,17 +100,24 @@ def _float_search(M, H, v0, system, cap):
             exact_cache[nd] = v
         return v
 
+    budget = INELASTIC_FALLBACK_BUDGET if restitution is not None else None
+
+    def spend():
+        stats["fallbacks"] += 1
+        if budget is not None and stats["fallbacks"] > budget:
+            raise _FallbackBudget()
+
     def sign_of(v, i, node):
         wi, bound = fs.w_and_bound(v, i)
         if abs(wi) > bound:
             return (1 if wi > 0 else -1), wi
-        stats["fallbacks"] += 1
+        spend()
         holder["g"].fallback[node] = True
         s = F.sign(system.w(exact_state(node), i))
         return s, wi
 
     def same_exact(node, i, cand):
-        stats["fallbacks"] += 1
+        spend()
         v, _ = system.reflect(exact_state(node), i)
         return v == exact_state(cand) if F is _Rational else all(
             certified_sign(a - b) == 0 for a, b in zip(v, exact_state(cand)))
@@ -106,9 +130,16 @@ def _float_search(M, H, v0, system, cap):
         def __call__(self, v, i, wi):
             return fs.reflect(v, i, wi)
 
-    g, tests = _explore(sign_of, _R(), tuple(float(x) for x in fs.v0), cap, holder)
+    detector = None
+    if collapse:
+        from .collapse import _CollapseDetector
+
+        detector = _CollapseDetector(system, exact_state, lambda v: tuple(float(F.to_sympy(x)) for x in v),
+                                     lambda v: v)
+    g, tests = _explore(sign_of, _R(), tuple(float(x) for x in fs.v0), cap, holder, collapse=detector,
+                        cap_error=cap_error)
     root_table = _aggregate(g, lambda v: v)
-    keys = list(root_table)
+    keys = [key for key in root_table if not (isinstance(key[0], str) and key[0] == "collapse")]
     # merge nearby float outcomes by exact comparison of their replays
     canon: dict = {}
     reps: list = []

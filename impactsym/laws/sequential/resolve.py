@@ -10,12 +10,14 @@ import sympy as sp
 from ...arithmetic import certified_sign, float_to_rational
 from ...errors import DomainError, ImpactInputError, NonTermination
 from ...mechanics import check_gradients, check_mass_matrix, check_velocity
-from ...numbers import is_exact
-from .common import DEFAULT_MAX_REFLECTIONS, MAX_COORDINATES, READINGS, TWO_SURFACE_PATHS, _Rational, _rank
-from .float_search import _float_search
-from .results import Outcome, SequentialResolution
+from ...numbers import check_finite_exact, is_exact, to_exact
+from .common import (DEFAULT_MAX_REFLECTIONS, MAX_COORDINATES, MAX_STATE_BITS, READINGS, TWO_SURFACE_PATHS,
+                     _Rational, _rank)
+from .collapse import _CollapseDetector, _verified_collapse
+from .float_search import INELASTIC_FALLBACK_BUDGET, _FallbackBudget, _float_search
+from .results import InfiniteOrder, Outcome, SequentialResolution
 from .search import (_ExactSystem, _Reflector, _aggregate, _cap_error, _explore, _explore_rational,
-                     _merge_exact_keys, _verified_replay)
+                     _merge_exact_keys, _state_bits_error, _verified_replay)
 from .selection import _select, _select_two_surface, _verify_selected
 from .witness import valid_velocity_witness
 
@@ -32,9 +34,69 @@ def _coordinates(mass_matrix):
     return None
 
 
-def _check_inputs(mass_matrix, gradients, velocity, exact):
+def _restitution_entries(restitution):
+    """The entries of ``restitution`` as given: one scalar, or a sequence (``"a,b"`` text too)."""
+    if isinstance(restitution, str):
+        parts = [t.strip() for t in restitution.split(",")]
+        return parts[0] if len(parts) == 1 else parts, len(parts) > 1
+    if isinstance(restitution, sp.MatrixBase):
+        return list(restitution), True
+    if isinstance(restitution, np.ndarray):
+        if restitution.ndim == 0:
+            return restitution.item(), False
+        return list(restitution.reshape(-1)) if restitution.ndim == 1 else None, True
+    if isinstance(restitution, (list, tuple)):
+        return list(restitution), True
+    return restitution, False
+
+
+def check_restitutions(restitution, contacts: int, *, exact: bool) -> tuple:
+    """One restitution per contact, checked: ``0 ≤ e_i ≤ 1``, finite, real.
+
+    ``restitution`` is a scalar (every contact) or one entry per contact (row of ``H``).
+    Exact mode returns exact SymPy numbers (a float entry: its exact binary value); float mode
+    returns Python floats.
+
+    >>> check_restitutions("1/2", 2, exact=True), check_restitutions([0.5, 1], 2, exact=False)
+    ((1/2, 1/2), (0.5, 1.0))
+    >>> check_restitutions([1, 2], 2, exact=True)
+    Traceback (most recent call last):
+    ...
+    impactsym.errors.ImpactInputError: restitution: entry 2 must lie in [0, 1], got 2
+    """
+    entries, seq = _restitution_entries(restitution)
+    if entries is None:
+        raise ImpactInputError("restitution", "must be a number or a 1-D sequence of numbers")
+    if seq and len(entries) != contacts:
+        raise ImpactInputError("restitution", f"has {len(entries)} entries; give one number per contact "
+                                              f"(k={contacts} rows of gradients) or a single number")
+    values = entries if seq else [entries] * contacts
+    out = []
+    for idx, x in enumerate(values, 1):
+        if isinstance(x, bool) or x is None:
+            raise ImpactInputError("restitution", f"entry {idx} must be a number, got {x!r}")
+        if exact:
+            if isinstance(x, (float, np.floating)) and not np.isfinite(x):
+                raise ImpactInputError("restitution", f"entry {idx} must be a finite real number, got {x}")
+            val = check_finite_exact(to_exact(x, "restitution"), "restitution")
+            if certified_sign(val) < 0 or certified_sign(val - 1) > 0:
+                raise ImpactInputError("restitution", f"entry {idx} must lie in [0, 1], got {val}")
+        else:
+            try:
+                val = float(x)
+            except (TypeError, ValueError):
+                raise ImpactInputError("restitution", f"entry {idx} must be a number, got {x!r}") from None
+            if not np.isfinite(val):
+                raise ImpactInputError("restitution", f"entry {idx} must be a finite real number, got {val}")
+            if not 0.0 <= val <= 1.0:
+                raise ImpactInputError("restitution", f"entry {idx} must lie in [0, 1], got {val!r}")
+        out.append(val)
+    return tuple(out)
+
+
+def _check_inputs(mass_matrix, gradients, velocity, exact, restitution=1):
     if exact is None:
-        exact = is_exact(mass_matrix, gradients, velocity)
+        exact = is_exact(mass_matrix, gradients, velocity, restitution)
     M = check_mass_matrix(mass_matrix, exact=exact)
     n = M.shape[0]
     H = check_gradients(gradients, n, exact=exact)
@@ -42,9 +104,10 @@ def _check_inputs(mass_matrix, gradients, velocity, exact):
     return exact, M, H, v
 
 
-def resolve_sequential(mass_matrix, gradients, velocity, *, reading: str = "energy",
+def resolve_sequential(mass_matrix, gradients, velocity, *, reading: str | None = None,
                        max_reflections: int = DEFAULT_MAX_REFLECTIONS, exact: bool | None = None,
-                       select: bool = True, two_surface: str = "closed-form") -> SequentialResolution:
+                       select: bool = True, two_surface: str = "closed-form",
+                       restitution=1) -> SequentialResolution:
     """Every impact ordering of a corner impact, its outcomes, and the selected solution.
 
     Parameters
@@ -52,9 +115,12 @@ def resolve_sequential(mass_matrix, gradients, velocity, *, reading: str = "ener
     mass_matrix : matrix-like (n×n), symmetric positive definite
     gradients : matrix-like (k×n), gradient rows ``H_i`` of the closed contacts, any k ≥ 1
     velocity : vector-like (n,), pre-impact velocity ``v0``
-    reading : ``"energy"`` (default) or ``"cone"``
+    reading : ``"energy"``, ``"cone"`` or ``None`` (default)
         The feasible set of the selection: conic hull of the outcomes with the momentum-cone
         requirement, intersected with the energy sphere (``"energy"``) or not (``"cone"``).
+        ``None``: ``"energy"`` for the elastic law (every ``e_i = 1``), ``"cone"`` otherwise.
+        The energy reading is refused (``DomainError``) when some ``e_i < 1`` and ``select``
+        is true: the outcomes no longer share the energy sphere (``docs/sequential_restitution.md``).
     max_reflections : int
         Cap on the reflections of any one ordering; exceeding it raises ``NonTermination``.
     exact : bool, optional
@@ -71,7 +137,16 @@ def resolve_sequential(mass_matrix, gradients, velocity, *, reading: str = "ener
         certified outcomes; see :func:`_two_surface_path`); the cone reading of certified
         outcomes is skipped in exact mode (``selected`` empty, ``selection_note`` says why) and
         refused in float mode (``DomainError``): a float run never succeeds with an empty
-        selection.
+        selection. With some ``e_i < 1`` the closed form (elastic) does not apply and two
+        contacts are always iterated.
+    restitution : number or sequence of numbers
+        Newton restitution ``e_i ∈ [0, 1]`` of each contact (row of ``H``), or one number for
+        all; each single impact on contact ``i`` applies ``G_{H_i}(e_i) = I − (1+e_i)
+        M⁻¹H_iᵀH_i/(H_i M⁻¹H_iᵀ)``. ``1`` (default) is the paper's elastic law, unchanged. With
+        ``e_i < 1`` an alternation of two contacts may never end (inelastic collapse): it is
+        decided exactly and its limit returned (``Outcome.collapse``, ``InfiniteOrder``), see
+        :mod:`impactsym.laws.sequential.collapse`; a collapse that involves more contacts is
+        refused (``NonTermination``).
 
     Returns
     -------
@@ -81,12 +156,15 @@ def resolve_sequential(mass_matrix, gradients, velocity, *, reading: str = "ener
     ------
     ImpactInputError
         Bad shapes, a mass matrix that is not SPD, a zero gradient row, a bad ``reading`` or cap,
+        a restitution outside ``[0, 1]``, not finite, or with the wrong number of entries,
         more than ``MAX_COORDINATES`` coordinates (refused before any exact work).
     DomainError
-        No non-zero velocity is valid for all closed contacts (no elastic outcome exists).
+        No non-zero velocity is valid for all closed contacts (no elastic outcome exists); the
+        energy reading requested with restitution < 1.
     NonTermination
-        An ordering exceeds ``max_reflections`` or provably never ends, or the exact states of
-        the search exceed ``MAX_STATE_BITS``.
+        An ordering exceeds ``max_reflections`` or provably never ends (elastic: a velocity
+        recurs; restitution < 1: a collapse that is not a two-contact alternation with a
+        certified limit), or the exact states of the search exceed ``MAX_STATE_BITS``.
     VerificationError
         An exact outcome failed its check before return (a bug; never returned).
 
@@ -110,11 +188,21 @@ def resolve_sequential(mass_matrix, gradients, velocity, *, reading: str = "ener
     >>> r.outcomes[0].velocity, r.exact, r.exact_fallbacks > 0
     (array([0., 0., 1.]), False, True)
 
+    Restitution ``1/2`` on every contact of the three-ball cradle: the impacts 1-2, 2-3, 1-2
+    end; below ``7 − 4√3`` the alternation never ends and its limit is the plastic outcome:
+
+    >>> r = resolve_sequential("1,0,0;0,1,0;0,0,1", "-1,1,0;0,-1,1", "1,0,0", restitution="1/2")
+    >>> [(o.order, list(o.velocity)) for o in r.outcomes], r.reading
+    ([((0, 1, 0), [13/64, 15/64, 9/16])], 'cone')
+    >>> o = resolve_sequential("1,0,0;0,1,0;0,0,1", "-1,1,0;0,-1,1", "1,0,0", restitution="1/20").outcomes[0]
+    >>> o.collapse, o.order, o.reflections, list(o.velocity)
+    (True, InfiniteOrder(prefix=(), cycle=(0, 1)), None, [1/3, 1/3, 1/3])
+
     References
     ----------
     Seghete & Murphey, sec. III-A (algorithm steps 1–5), sec. III-B (branching), eq. 4.
     """
-    if reading not in READINGS:
+    if reading is not None and reading not in READINGS:
         raise ImpactInputError("reading", f"must be one of {', '.join(READINGS)}, got {reading!r}")
     if isinstance(max_reflections, bool) or not isinstance(max_reflections, (int, np.integer)) or max_reflections < 1:
         raise ImpactInputError("max_reflections", f"must be a positive integer, got {max_reflections!r}")
@@ -126,7 +214,16 @@ def resolve_sequential(mass_matrix, gradients, velocity, *, reading: str = "ener
         raise ImpactInputError(
             "mass_matrix", f"has {size} coordinates, more than the sequential law's limit MAX_COORDINATES="
             f"{MAX_COORDINATES} (its exact checks and linear algebra cost O(n^3) or more exact operations)")
-    exact, M, H, v0 = _check_inputs(mass_matrix, gradients, velocity, exact)
+    exact, M, H, v0 = _check_inputs(mass_matrix, gradients, velocity, exact, restitution)
+    E = check_restitutions(restitution, H.shape[0], exact=exact)
+    elastic = all(x == 1 for x in E)
+    if reading is None:
+        reading = "energy" if elastic else "cone"
+    elif reading == "energy" and not elastic and select:
+        raise DomainError(
+            "reading: the energy reading intersects the feasible set with the energy sphere ||v||_M = "
+            "||v0||_M, which only elastic impacts keep (restitution 1 on every contact); with restitution "
+            "< 1 use reading='cone' or select=False")
     if exact:
         Mx, Hx, vx = M, H, v0
     else:
@@ -135,8 +232,15 @@ def resolve_sequential(mass_matrix, gradients, velocity, *, reading: str = "ener
         vx = sp.Matrix([float_to_rational(x) for x in v0])
     witness = valid_velocity_witness(Hx)
     if witness is None:
+        if not elastic:
+            raise DomainError("gradients: no non-zero velocity v satisfies H v >= 0 (only v = 0 would be valid, "
+                              "which the sequential law with restitution < 1 does not resolve)")
         raise DomainError("gradients: no non-zero velocity v satisfies H v >= 0 "
                           "(the closed contacts admit no elastic exit velocity)")
+    if not elastic:
+        Ex = [x if exact else float_to_rational(x) for x in E]
+        system = _ExactSystem(Mx, Hx, vx, Ex)
+        return _inelastic(M, H, v0, system, exact, cap, reading, select, witness, E)
     system = _ExactSystem(Mx, Hx, vx)
     F = system.F
     if system.k == 2 and _rank(system.H, F) == 2:
@@ -223,7 +327,153 @@ def resolve_sequential(mass_matrix, gradients, velocity, *, reading: str = "ener
         selected = _select(system, [v for v, _ in exact_outcomes], [p for _, p in exact_outcomes], reading)
         _verify_selected(system, selected, reading)
     return SequentialResolution(tuple(outcomes), selected, reading, total, longest, len(g.vel), tests,
-                                fallbacks, exact, F.name if exact else "float", approaching, witness, _graph=g)
+                                fallbacks, exact, F.name if exact else "float", approaching, witness, _graph=g,
+                                restitution=tuple(sp.Integer(1) if exact else 1.0 for _ in range(system.k)))
+
+
+def _inelastic_cap_error(cap, k):
+    def make(path):
+        tail = path[-min(len(path), 64):]
+        involved = sorted({i + 1 for i in tail})
+        return NonTermination(
+            f"max_reflections: an ordering exceeded the cap max_reflections={cap} with restitution < 1; its last "
+            f"{len(tail)} impacts involve contacts {involved}. This is either a two-contact inelastic collapse whose "
+            "other contacts were not yet certified within the cap (raise the cap), or a collapse involving "
+            f"{'more than two contacts' if len(involved) > 2 else 'these contacts'}, which has no closed form here "
+            "(not decided; refused rather than truncated)")
+    return make
+
+
+def _leaf_of(g, order):
+    node = g.root
+    for i in order:
+        node = next(child for j, child in g.children[node] if j == i)
+    return node
+
+
+class _BoundedReflector(_Reflector):
+    """The rational reflector of the restitution search, keeping the total size of the exact
+    states it makes below ``MAX_STATE_BITS`` (as the elastic rational search does)."""
+
+    def __init__(self, system):
+        super().__init__(system)
+        self.bits = 0
+        self.states = 0
+
+    def __call__(self, state, i, wi):
+        out = super().__call__(state, i, wi)
+        self.states += 1
+        self.bits += sum(x.p.bit_length() + x.q.bit_length() for x in out[0][0])
+        if self.bits > MAX_STATE_BITS:
+            raise _state_bits_error(self.states)
+        return out
+
+
+def _is_collapse_key(key) -> bool:
+    return isinstance(key, tuple) and len(key) == 2 and isinstance(key[0], str) and key[0] == "collapse"
+
+
+def _inelastic(M, H, v0, system, exact, cap, reading, select, witness, E):
+    """The DAG search with restitution < 1: the impacts ``G_{H_i}(e_i)``, collapse leaves for
+    two-contact alternations that never end (:mod:`.collapse`), outcomes verified exactly."""
+    F = system.F
+    k = system.k
+    cap_error = _inelastic_cap_error(cap, k)
+
+    def state_of(v):
+        return (v, tuple(system.w(v, i) for i in range(k)))
+
+    exact_search = exact
+    fallbacks = 0
+    if not exact:
+        try:
+            g, tests, fallbacks, root_table, merged, float_sys = _float_search(
+                M, H, v0, system, cap, restitution=E, collapse=True, cap_error=cap_error)
+        except _FallbackBudget:
+            # every decision is being re-made exactly: search exactly on the floats' binary values
+            exact_search = True
+            fallbacks = INELASTIC_FALLBACK_BUDGET
+    if exact_search:
+        if F is _Rational:
+            def sign_of(state, i, node):
+                wi = state[1][i]
+                return (wi > 0) - (wi < 0), wi
+
+            def key_of(state):
+                return tuple([(x.p, x.q) for x in state[0]])
+        else:
+            def sign_of(state, i, node):
+                wi = state[1][i]
+                return F.sign(wi), wi
+
+            def key_of(state):
+                return state[0]
+        holder: dict = {}
+        detector = _CollapseDetector(system, lambda node: holder["g"].vel[node][0], state_of, lambda v: v)
+        reflector = _Reflector(system) if F is not _Rational else _BoundedReflector(system)
+        g, tests = _explore(sign_of, reflector, state_of(system.v0), cap, holder, key_of,
+                            collapse=detector, cap_error=cap_error)
+        g.vel = [state[0] for state in g.vel]
+        root_table = _aggregate(g, lambda v: v)
+        plain = [key for key in root_table if not _is_collapse_key(key)]
+        merged = _merge_exact_keys(plain, F)
+    ckeys = [key for key in root_table if _is_collapse_key(key)]
+    cmerged = _merge_exact_keys([key[1] for key in ckeys], F)
+    for key in ckeys:
+        merged[key] = ("collapse", cmerged[key[1]])
+    approaching = tuple(F.sign(system.w(system.v0, i)) < 0 for i in range(k))
+    groups: dict = {}
+    for key in root_table:
+        canon = merged[key]
+        cnt, lo, hi, rep = root_table[key]
+        if canon not in groups:
+            groups[canon] = [cnt, lo, hi, rep]
+        else:
+            a = groups[canon]
+            a[0] += cnt
+            a[1] = min(a[1], lo)
+            a[2] = max(a[2], hi)
+            if (len(rep), rep) < (len(a[3]), a[3]):
+                a[3] = rep
+    items = sorted(groups.items(), key=lambda kv: (_is_collapse_key(kv[0]), len(kv[1][3]), kv[1][3]))
+    g.outcome_index = {}
+    for idx, (canon, _) in enumerate(items):
+        for key, c in merged.items():
+            if c == canon:
+                g.outcome_index[key] = idx
+    outcomes = []
+    exact_outcomes = []
+    for canon, (cnt, lo, hi, rep) in items:
+        collapse = _is_collapse_key(canon)
+        if collapse:
+            cycle = g.collapse[_leaf_of(g, rep)][0]
+            v_ex, p_ex = _verified_collapse(system, rep[:-1], cycle)
+        else:
+            v_ex, p_ex = _verified_replay(system, rep)
+        exact_outcomes.append((v_ex, p_ex))
+        if exact:
+            vel = sp.Matrix([F.to_sympy(x) for x in v_ex])
+            imp = sp.Matrix([F.to_sympy(x) for x in p_ex])
+        elif collapse or exact_search:  # float mode: the rounded exact outcome
+            vel = np.array([float(F.to_sympy(x)) for x in v_ex])
+            imp = np.array([float(F.to_sympy(x)) for x in p_ex])
+        else:
+            vel = np.array(canon, dtype=float)
+            imp = float_sys.impulse(rep)
+        if collapse:
+            outcomes.append(Outcome(InfiniteOrder(tuple(rep[:-1]), cycle), None, vel, imp, cnt, None, None,
+                                    collapse=True))
+        else:
+            outcomes.append(Outcome(rep, len(rep), vel, imp, cnt, lo, hi))
+    total = sum(o.orderings for o in outcomes)
+    longest = max((o.reflections_max for o in outcomes if not o.collapse), default=0)
+    selected: tuple = ()
+    if select:
+        selected = _select(system, [v for v, _ in exact_outcomes], [p for _, p in exact_outcomes], reading)
+        _verify_selected(system, selected, reading)
+    return SequentialResolution(tuple(outcomes), selected, reading, total, longest, len(g.vel), tests,
+                                fallbacks, exact, F.name if exact else "float", approaching, witness, _graph=g,
+                                restitution=tuple(E), collapse=any(o.collapse for o in outcomes))
 
 
 def _two_surface_path(M, H, v0, system, exact, reading, select, witness):
@@ -290,4 +540,5 @@ def _two_surface_path(M, H, v0, system, exact, reading, select, witness):
                                (F.name if exact else "float"), approaching, witness,
                                method="two-surface closed form", bound=ts.bound, _orders=orders)
     res.selection_note = note
+    res.restitution = tuple(sp.Integer(1) if exact else 1.0 for _ in range(system.k))
     return res

@@ -31,15 +31,23 @@ class Outcome:
         How many orderings give this velocity.
     reflections_min, reflections_max : int
         Shortest and longest of those orderings.
+    collapse : bool
+        ``True`` when the velocity is the limit of an infinite ordering (inelastic collapse of
+        two contacts, restitution < 1): then ``order`` is an :class:`InfiniteOrder` (a finite
+        prefix, then the two contacts alternating forever), and ``reflections``,
+        ``reflections_min`` and ``reflections_max`` are ``None``; ``orderings`` counts the
+        infinite orderings (one per prefix) that converge to this velocity. Such an outcome is
+        listed on its own even if a finite ordering happened to give the same velocity.
     """
 
-    order: tuple
-    reflections: int
+    order: Any
+    reflections: int | None
     velocity: Any
     impulse: Any
     orderings: int
-    reflections_min: int
-    reflections_max: int
+    reflections_min: int | None
+    reflections_max: int | None
+    collapse: bool = False
 
     @property
     def velocity_float(self) -> list[float]:
@@ -54,6 +62,34 @@ def _floats(v) -> list[float]:
     if isinstance(v, sp.MatrixBase):
         return [float(sp.N(x, 17)) for x in v]
     return [float(x) for x in np.asarray(v, dtype=float).reshape(-1)]
+
+
+@dataclass(frozen=True)
+class InfiniteOrder:
+    """An infinite ordering: the impacts of ``prefix``, then ``cycle = (X, Y)`` repeated forever
+    (``X, Y, X, Y, ...``), the order of an inelastic collapse of contacts ``X`` and ``Y``.
+
+    >>> o = InfiniteOrder((0,), (1, 0))
+    >>> o[:6], o.to_json()
+    ([0, 1, 0, 1, 0, 1], {'prefix': [0], 'cycle': [1, 0], 'infinite': True})
+    """
+
+    prefix: tuple
+    cycle: tuple
+
+    def __getitem__(self, i):
+        if isinstance(i, slice):
+            if i.stop is None or (i.stop < 0) or (i.start is not None and i.start < 0):
+                raise IndexError("InfiniteOrder: a slice needs a non-negative stop (the ordering is infinite)")
+            return [self[k] for k in range(*i.indices(i.stop))]
+        if i < 0:
+            raise IndexError("InfiniteOrder: negative index of an infinite ordering")
+        if i < len(self.prefix):
+            return self.prefix[i]
+        return self.cycle[(i - len(self.prefix)) % len(self.cycle)]
+
+    def to_json(self) -> dict:
+        return {"prefix": list(self.prefix), "cycle": list(self.cycle), "infinite": True}
 
 
 @dataclass
@@ -97,6 +133,14 @@ class SequentialResolution:
         (:func:`impactsym.laws.two_surface.resolve_two_surfaces`, used for two independent rows).
     bound : int or None
         Two surfaces: the paper's ``N = ⌈S_total/(2S₀)⌉`` (sec. III-C), certified.
+    restitution : tuple
+        The restitution ``e_i`` of each contact (exact SymPy numbers, or floats in float mode);
+        ``(1, ..., 1)`` for the elastic law.
+    collapse : bool
+        Whether any outcome is an inelastic-collapse limit (``Outcome.collapse``).
+
+    With restitution < 1, ``max_reflections_used`` is the longest *finite* ordering (0 when
+    every ordering is infinite).
     """
 
     outcomes: tuple
@@ -115,6 +159,8 @@ class SequentialResolution:
     bound: int | None = None
     #: why ``selected`` is empty although ``select=True`` (``None`` otherwise)
     selection_note: str | None = None
+    restitution: tuple = ()
+    collapse: bool = False
     _graph: Any = field(default=None, repr=False, compare=False)
     _orders: Any = field(default=None, repr=False, compare=False)
 
@@ -143,7 +189,10 @@ class SequentialResolution:
             node, path = stack.pop()
             kids = g.children[node]
             if not kids:
-                yield path, g.outcome_index[g.terminal_key[node]]
+                if node in g.collapse:
+                    yield InfiniteOrder(path[:-1], g.collapse[node][0]), g.outcome_index[g.terminal_key[node]]
+                else:
+                    yield path, g.outcome_index[g.terminal_key[node]]
                 count += 1
                 if limit is not None and count >= limit:
                     return

@@ -29,13 +29,20 @@ class _Graph:
         self.root = 0
         self.terminal_key: dict = {}
         self.outcome_index: dict = {}
+        #: collapse leaves (restitution < 1): node -> (cycle (X, Y), exact outcome key)
+        self.collapse: dict = {}
 
 
 class _ExactSystem:
-    """Exact data of ``M``, ``H``, ``v0`` in one backend, in sparse form."""
+    """Exact data of ``M``, ``H``, ``v0`` in one backend, in sparse form.
 
-    def __init__(self, M: sp.Matrix, H: sp.Matrix, v0: sp.Matrix):
-        self.F = F = _Rational if _all_rational(M, H, v0) else _Algebraic
+    ``restitution`` (optional): one exact number ``e_i`` per contact; each single impact then
+    applies ``G_{H_i}(e_i)`` (``None``: the elastic law, ``e_i = 1``, with the code path it had
+    before restitution existed)."""
+
+    def __init__(self, M: sp.Matrix, H: sp.Matrix, v0: sp.Matrix, restitution=None):
+        E = sp.Matrix(list(restitution)) if restitution is not None else sp.zeros(0, 1)
+        self.F = F = _Rational if _all_rational(M, H, v0, E) else _Algebraic
         self.n, self.k = M.shape[0], H.shape[0]
         n, k = self.n, self.k
         self.M = [[F.num(M[i, j]) for j in range(n)] for i in range(n)]
@@ -48,7 +55,12 @@ class _ExactSystem:
             Ws = M.LUsolve(H.T)
             self.W = [[F.norm(Ws[j, i]) for j in range(n)] for i in range(k)]
         self.s = [_dot(self.H[i], self.W[i], F) for i in range(k)]
-        self.coef = [F.norm(_r.gain(s)) if F is _Algebraic else _r.gain(s, fmpq(1)) for s in self.s]
+        if restitution is None:
+            self.e = None
+            self.coef = [F.norm(_r.gain(s)) if F is _Algebraic else _r.gain(s, fmpq(1)) for s in self.s]
+        else:
+            self.e = [F.num(x) for x in restitution]
+            self.coef = [F.norm(_r.gain(s, e)) for s, e in zip(self.s, self.e)]
         self.rows = [[(j, h) for j, h in enumerate(r) if F.sign(h) != 0] for r in self.H]
         self.wcols = [[(j, w) for j, w in enumerate(c) if F.sign(w) != 0] for c in self.W]
         #: column i of the Gram matrix H M^-1 H^T, sparse: how w = H v changes when surface i acts
@@ -117,7 +129,12 @@ def _aggregate(g, key_of):
     the smallest first surface, then the child's representative). Returns the root's table as
     ``{outcome key: [count, min_len, max_len, rep_order]}``."""
     post = _postorder(g)
-    terminals = {key_of(g.vel[nd]) for nd in post if not g.children[nd]}
+
+    def leaf_key(nd):
+        c = g.collapse.get(nd)
+        return key_of(g.vel[nd]) if c is None else ("collapse", c[1])
+
+    terminals = {leaf_key(nd) for nd in post if not g.children[nd]}
     if len(terminals) == 1:  # one outcome (the cradles): plain lists instead of per-node dicts
         (key,) = terminals
         cnt = [0] * len(g.vel)
@@ -151,7 +168,7 @@ def _aggregate(g, key_of):
     for node in post:
         kids = g.children[node]
         if not kids:
-            key = key_of(g.vel[node])
+            key = leaf_key(node)
             g.terminal_key[node] = key
             oid = ids.setdefault(key, len(ids))
             if oid == len(keys):
@@ -205,7 +222,11 @@ def _verified_replay(system, order):
                                                   f"surface {i}, which is not approached (H_{i + 1} v = {wi})")
         v, pi = system.reflect(v, i, wi)
         p[i] = F.norm(p[i] + pi)
-    verify_exact("sequential", system.M, system.H, list(system.v0), list(v), p)
+    if system.e is None:
+        verify_exact("sequential", system.M, system.H, list(system.v0), list(v), p)
+    else:  # restitution < 1: energy is not conserved, and never gained
+        verify_exact("sequential", system.M, system.H, list(system.v0), list(v), p, energy_ratio=None,
+                     energy_at_most=1)
     return v, p
 
 
@@ -259,11 +280,25 @@ def _merge_exact_keys(keys, F):
     return canon
 
 
-def _explore(sign_of, reflect, v0, cap, holder, key_of=lambda v: v):
+def _path_to(g, node):
+    """The edges (surface indices) from the root to ``node``."""
+    path = []
+    while g.parent[node] is not None:
+        node, i = g.parent[node]
+        path.append(i)
+    return tuple(reversed(path))
+
+
+def _explore(sign_of, reflect, v0, cap, holder, key_of=lambda v: v, collapse=None, cap_error=None):
     """Depth-first construction of the DAG of states, memoized on the velocity.
 
     ``sign_of(v, i, node) -> (sign, w_i)``; the graph is published in ``holder["g"]`` so that
-    ``sign_of`` can replay a node's ordering exactly (float mode)."""
+    ``sign_of`` can replay a node's ordering exactly (float mode).
+
+    ``collapse(node, i)`` (restitution < 1): ``None``, or ``(leaf state, cycle, exact key)`` when
+    the edge ``i`` out of ``node`` starts an infinite alternation (inelastic collapse) whose limit
+    is certified: the edge then ends at a collapse leaf (``g.collapse``), never shared in the
+    memo. ``cap_error(path)`` builds the exception raised when a path exceeds ``cap``."""
     g = _Graph()
     holder["g"] = g
     counters = {"tests": 0}
@@ -296,6 +331,20 @@ def _explore(sign_of, reflect, v0, cap, holder, key_of=lambda v: v):
             stack.pop()
             state[node] = 2
             continue
+        if collapse is not None:
+            term = collapse(node, i)
+            if term is not None:
+                leaf_state, cycle, exact_key = term
+                leaf = len(g.vel)
+                g.vel.append(leaf_state)
+                g.parent.append((node, i))
+                g.fallback.append(False)
+                g.children.append([])
+                g.legal.append(((), {}))
+                g.collapse[leaf] = (cycle, exact_key)
+                g.children[node].append((i, leaf))
+                state[leaf] = 2
+                continue
         child_v, _ = reflect(g.vel[node], i, g.legal[node][1][i])
         child = None
         ckey = key_of(child_v)
@@ -310,6 +359,8 @@ def _explore(sign_of, reflect, v0, cap, holder, key_of=lambda v: v):
                 break
         if child is None:
             if len(stack) > cap:
+                if cap_error is not None:
+                    raise cap_error(_path_to(g, node) + (i,))
                 raise _cap_error(cap)
             child = new_node(child_v, (node, i))
             g.index.setdefault(ckey, []).append(child)
