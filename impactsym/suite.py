@@ -32,7 +32,12 @@ Cases
     of 1 to 4 touching balls built outward along rational directions (Pythagorean triples, so
     that every normal is rational), every ball of mass 1 (as on a pool table).
 
-The same seed gives byte-identical files, whatever the number of workers.
+The same seed gives byte-identical files, whatever the number of workers (tested). Exact laws give
+the same strings everywhere; the float laws (the compliant ones: ``hertz``, ``linear``, ``power``,
+``hunt-crossley``, ``lzb``, integrated in float64) give the same bits on one installation, and may
+differ in the last bits across platforms or SciPy/NumPy versions. They are also the slow ones on
+extreme mass ratios (3 to 5 s per law at a mass ratio of 1e-6, against milliseconds for the
+impact laws): ``--laws`` chooses.
 
 Budget
 ------
