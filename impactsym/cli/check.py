@@ -250,8 +250,10 @@ def render(result: dict) -> str:
         near = e["nearest"]
         which = "" if near is None or (e["outcomes"] + e["selected"]) == 1 else f"{near['kind']} {near['index'] + 1}"
         df = "" if e["distance_float"] is None else f"{e['distance_float']:.3e}"
-        rows.append((name, f"{e['uniqueness']} {which}".strip(), df, "" if e["distance"] is None else e["distance"],
-                     _vec(None if near is None else near["velocity"]), "yes" if e["match"] else "no"))
+        shown = "" if e["distance"] is None else (e["distance"] if e["distance_exact"] else f"({e['exactness']})")
+        velocity = "-" if near is None else (_vec(near["velocity"]) if all(len(x) <= 12 for x in near["velocity"])
+                                             else _vec([f"{x:.6g}" for x in near["velocity_float"]]))
+        rows.append((name, f"{e['uniqueness']} {which}".strip(), df, shown, velocity, "yes" if e["match"] else "no"))
     widths = [max(len(r[c]) for r in rows if r[2] != "" or r[0] == "law" or c != 1) for c in range(6)]
     for r in rows:
         if r[2] == "" and r[0] != "law":
