@@ -236,3 +236,36 @@ def test_engine_refusals(capsys):
         code, out, err = run(capsys, "check", *argv, "--json")
         assert code == 2 and json.loads(out)["error"]["argument"] == argument, (argv, out)
         assert "Traceback" not in err
+
+
+def test_sweep_shows_which_law_the_engine_follows_per_setting(tmp_path):
+    """pymunk strikes exactly touching balls one pair at a time (tests/test_engines.py): at every
+    iteration count it is the sequential law, exactly; pybullet's contact slop moves it off Newton."""
+    import contextlib
+    import io
+
+    from impactsym.cli import main
+
+    def run(argv):
+        out, err = io.StringIO(), io.StringIO()
+        with contextlib.redirect_stdout(out), contextlib.redirect_stderr(err):
+            code = main(argv)
+        return code, out.getvalue(), err.getvalue()
+
+    png = tmp_path / "sweep.png"
+    code, out, err = run(["check", "--engine", "pymunk", "--scene", "three-ball-cradle", "--laws",
+                          "sequential,newton", "--sweep", "iterations=1,10", "--plot", str(png), "--json"])
+    assert code == 0, err
+    d = json.loads(out)
+    assert d["schema"] == "impactsym.check-sweep/1" and [r["value"] for r in d["rows"]] == [1, 10]
+    assert all(r["nearest"] == "sequential" and r["distance_float"] == 0 and r["matches"] == ["sequential"]
+               for r in d["rows"])
+    assert png.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+    code, out, _ = run(["check", "--engine", "pybullet", "--scene", "three-ball-cradle", "--laws", "newton",
+                        "--sweep", "contactSlop=0,0.001"])
+    assert code == 3 and "none" in out.splitlines()[-1]  # at slop 1e-3 no law within 1e-3
+    for argv, argument in ((["--observed", "0,0,1", "--sweep", "iterations=1"], "sweep"),
+                           (["--engine", "pymunk", "--sweep", "iterations"], "sweep"),
+                           (["--observed", "0,0,1", "--plot", str(png)], "plot")):
+        code, out, err = run(["check", "--scene", "three-ball-cradle", *argv, "--json"])
+        assert code == 2 and json.loads(out)["error"]["argument"] == argument, (argv, out)

@@ -54,6 +54,12 @@ def register(sub) -> None:
                    "(pip install 'impactsym[engines]') and check its post-impact velocity instead of --observed")
     p.add_argument("--engine-setting", metavar="KEY=VALUE", action="append",
                    help="an engine setting, e.g. timestep=0.0005 (repeatable; with --engine)")
+    p.add_argument("--sweep", metavar="SETTING=v1,v2,...",
+                   help="with --engine: run the engine once per value of one setting and show which law it "
+                        "follows at each (a table; --plot FILE draws the distance to each law)")
+    from .plot import add_plot_option
+
+    add_plot_option(p, "with --sweep: the distance to each law against the setting's value")
     p.add_argument("--scene-file", metavar="FILE", help="a scene file (.toml/.json) or a shipped scene's name "
                    "(impactsym scene list) instead of --scene or matrices")
     p.add_argument("--tolerance", metavar="T", help="relative kinetic-metric tolerance of a match (default 1e-3, >= 0)")
@@ -156,8 +162,9 @@ def _engine_settings(items) -> dict:
     return out
 
 
-def _run_engine(args, system, scene):
-    """The engine's post-impact velocity (floats) and what the run used."""
+def _run_engine(args, system, scene, extra=None):
+    """The engine's post-impact velocity (floats) and what the run used (``extra``: settings that
+    override ``--engine-setting``, for ``--sweep``)."""
     import sympy as sp
 
     try:
@@ -168,7 +175,7 @@ def _run_engine(args, system, scene):
     if isinstance(e, (list, tuple)):
         raise ImpactInputError("restitution", "--engine takes one restitution for every contact")
     e = 1 if e is None else float(sp.sympify(e))
-    settings = _engine_settings(args.engine_setting)
+    settings = {**_engine_settings(args.engine_setting), **(extra or {})}
     try:
         r = engines.run(args.engine, scene, restitution=e, settings=settings or None)
     except engines.EngineNotInstalled as exc:
@@ -188,10 +195,18 @@ def run(args):
         raise ImpactInputError("observed", "give exactly one of --observed (a velocity) and --engine (run an engine)")
     if args.engine_setting and args.engine is None:
         raise ImpactInputError("engine_setting", "--engine-setting applies only with --engine")
+    if args.sweep is not None and args.engine is None:
+        raise ImpactInputError("sweep", "--sweep applies only with --engine (it reruns the engine per value)")
+    from .plot import plot_path
+
+    if args.sweep is None and getattr(args, "plot", None) is not None:
+        raise ImpactInputError("plot", "--plot applies only with --sweep")
     laws = _laws(args.laws)
     tol = parse_number(args.tolerance if args.tolerance is not None else DEFAULT_TOLERANCE, "tolerance")
     options = _options(args, laws)
     system, scene = _read_system(args)
+    if args.sweep is not None:
+        return _sweep(args, system, scene, tol, laws, options, plot_path(args))
     engine = None
     if args.engine is not None:
         observed, engine = _run_engine(args, system, scene)
@@ -203,6 +218,81 @@ def run(args):
     if engine is not None:
         out["engine"] = engine
     return out, report.exit_status
+
+
+def _sweep_values(text: str):
+    key, sep, vals = text.partition("=")
+    items = [v.strip() for v in vals.split(",") if v.strip()]
+    if not sep or not key.strip() or not items:
+        raise ImpactInputError("sweep", f"expected SETTING=v1,v2,..., got {text!r}")
+    return key.strip(), items
+
+
+def _sweep(args, system, scene, tol, laws, options, path):
+    """Which law the engine follows as one setting changes: one engine run and one check per value.
+    Exit status 0 when every value's answer matches some law, 3 otherwise."""
+    from ..oracle import check
+
+    setting, texts = _sweep_values(args.sweep)
+    rows, checks = [], []
+    for text in texts:
+        value = _setting_value(text)
+        observed, engine = _run_engine(args, system, scene, {setting: value})
+        report = check(system, observed, tolerance=tol, laws=laws, options=options).as_json()
+        distances = {name: e["distance_float"] for name, e in report["laws"].items()
+                     if "refused" not in e and e["distance_float"] is not None}
+        nearest = min(distances, key=distances.get) if distances else None
+        rows.append({"value": value, "nearest": nearest, "distance_float": distances.get(nearest),
+                     "matches": report["matches"], "energy_ratio_float": report["energy_ratio_float"],
+                     "distances": distances, "separated": engine["separated"]})
+        checks.append({"engine": engine, "check": report})
+    out = {"schema": "impactsym.check-sweep/1", "engine": args.engine, "setting": setting,
+           "tolerance": str(tol), "rows": rows, "checks": checks}
+    if path is not None:
+        from .plot import write_figure
+
+        write_figure(_sweep_figure(out), path)
+    return out, (0 if all(r["matches"] for r in rows) else 3)
+
+
+def _sweep_figure(out):
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    fig, ax = plt.subplots(figsize=(6.5, 4))
+    labels = [str(r["value"]) for r in out["rows"]]
+    laws = sorted({law for r in out["rows"] for law in r["distances"]})
+    for i, law in enumerate(laws):
+        ys = [max(r["distances"].get(law, float("nan")), 1e-17) for r in out["rows"]]
+        ax.plot(range(len(labels)), ys, marker="o", color=f"C{i % 10}", label=law)
+    from fractions import Fraction
+
+    ax.axhline(float(Fraction(out["tolerance"])), color="k", ls="--", lw=0.8, label="tolerance")
+    ax.set_yscale("log")
+    ax.set_xticks(range(len(labels)))
+    ax.set_xticklabels(labels, rotation=30, fontsize=8)
+    ax.set_xlabel(out["setting"])
+    ax.set_ylabel("||v_engine - v_law||_M / ||v-||_M")
+    ax.set_title(f"{out['engine']}: distance to each law as {out['setting']} changes", fontsize=9)
+    ax.legend(fontsize=6, ncol=2)
+    fig.tight_layout()
+    return fig
+
+
+def render_sweep(result: dict) -> str:
+    lines = [f"engine {result['engine']}: which law it follows as {result['setting']} changes "
+             f"(tolerance {result['tolerance']})"]
+    rows = [(result["setting"], "nearest law", "distance", "T+/T-", "matches")]
+    for r in result["rows"]:
+        rows.append((str(r["value"]), r["nearest"] or "-", "-" if r["distance_float"] is None else
+                     f"{r['distance_float']:.3e}", f"{r['energy_ratio_float']:.6g}",
+                     ", ".join(r["matches"]) or "none"))
+    widths = [max(len(row[c]) for row in rows) for c in range(5)]
+    for row in rows:
+        lines.append("  ".join(f"{x:<{w}}" for x, w in zip(row, widths)).rstrip())
+    return "\n".join(lines)
 
 
 # ------------------------------------------------------------------------------------ text
@@ -228,6 +318,8 @@ def _nums(texts, values) -> str:
 
 
 def render(result: dict) -> str:
+    if result.get("schema") == "impactsym.check-sweep/1":
+        return render_sweep(result)
     lines = []
     if result.get("scene"):
         lines.append("scene: " + ", ".join(f"{k}={v}" for k, v in result["scene"].items()))
