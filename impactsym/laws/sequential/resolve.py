@@ -104,6 +104,26 @@ def _check_inputs(mass_matrix, gradients, velocity, exact, restitution=1):
     return exact, M, H, v
 
 
+def _group_outcomes(root_table, merged) -> dict:
+    """Aggregate the orderings' statistics per distinct outcome: ``{canonical key: [orderings,
+    fewest reflections, most reflections, representative ordering]}``, the representative the
+    shortest, then lexicographically first, ordering."""
+    groups: dict = {}
+    for key in root_table:
+        canon = merged[key]
+        cnt, lo, hi, rep = root_table[key]
+        if canon not in groups:
+            groups[canon] = [cnt, lo, hi, rep]
+        else:
+            a = groups[canon]
+            a[0] += cnt
+            a[1] = min(a[1], lo)
+            a[2] = max(a[2], hi)
+            if (len(rep), rep) < (len(a[3]), a[3]):
+                a[3] = rep
+    return groups
+
+
 def resolve_sequential(mass_matrix, gradients, velocity, *, reading: str | None = None,
                        max_reflections: int = DEFAULT_MAX_REFLECTIONS, exact: bool | None = None,
                        select: bool = True, two_surface: str = "closed-form",
@@ -287,19 +307,7 @@ def resolve_sequential(mass_matrix, gradients, velocity, *, reading: str | None 
         g, tests, fallbacks, root_table, merged, float_sys = _float_search(M, H, v0, system, cap)
     approaching = tuple(F.sign(system.w(system.v0, i)) < 0 for i in range(system.k))
     # Merge outcome keys that are the same velocity (exact comparison), aggregate stats.
-    groups: dict = {}
-    for key in root_table:
-        canon = merged[key]
-        cnt, lo, hi, rep = root_table[key]
-        if canon not in groups:
-            groups[canon] = [cnt, lo, hi, rep]
-        else:
-            a = groups[canon]
-            a[0] += cnt
-            a[1] = min(a[1], lo)
-            a[2] = max(a[2], hi)
-            if (len(rep), rep) < (len(a[3]), a[3]):
-                a[3] = rep
+    groups = _group_outcomes(root_table, merged)
     items = sorted(groups.items(), key=lambda kv: (len(kv[1][3]), kv[1][3]))
     g.outcome_index = {}
     for idx, (canon, _) in enumerate(items):
@@ -422,19 +430,7 @@ def _inelastic(M, H, v0, system, exact, cap, reading, select, witness, E):
     for key in ckeys:
         merged[key] = ("collapse", cmerged[key[1]])
     approaching = tuple(F.sign(system.w(system.v0, i)) < 0 for i in range(k))
-    groups: dict = {}
-    for key in root_table:
-        canon = merged[key]
-        cnt, lo, hi, rep = root_table[key]
-        if canon not in groups:
-            groups[canon] = [cnt, lo, hi, rep]
-        else:
-            a = groups[canon]
-            a[0] += cnt
-            a[1] = min(a[1], lo)
-            a[2] = max(a[2], hi)
-            if (len(rep), rep) < (len(a[3]), a[3]):
-                a[3] = rep
+    groups = _group_outcomes(root_table, merged)
     items = sorted(groups.items(), key=lambda kv: (_is_collapse_key(kv[0]), len(kv[1][3]), kv[1][3]))
     g.outcome_index = {}
     for idx, (canon, _) in enumerate(items):
