@@ -34,9 +34,6 @@ exit status:
 distance: ||v_obs - v_law||_M / ||v-||_M (kinetic metric, relative), to the law's nearest outcome;
   exact (an exact sqrt string and a float) for exact input."""
 
-#: options of the system, as in ``impactsym resolve``
-SYSTEM_OPTIONS = ("mass_matrix", "gradients", "velocity", "restitution", "scene", "theta", "tau", "masses",
-                  "velocities", "n_balls", "strikers")
 
 
 def register(sub) -> None:
@@ -60,21 +57,12 @@ def register(sub) -> None:
     from .plot import add_plot_option
 
     add_plot_option(p, "with --sweep: the distance to each law against the setting's value")
-    p.add_argument("--scene-file", metavar="FILE", help="a scene file (.toml/.json) or a shipped scene's name "
-                   "(impactsym scene list) instead of --scene or matrices")
     p.add_argument("--tolerance", metavar="T", help="relative kinetic-metric tolerance of a match (default 1e-3, >= 0)")
     p.add_argument("--laws", metavar="L", help="comma-separated laws to check (default: every law)")
-    p.add_argument("--mass-matrix", metavar="M", help='mass matrix "a,b;c,d"')
-    p.add_argument("--gradients", metavar="H", help='gradient rows of the closed contacts "a,b;c,d"')
-    p.add_argument("--velocity", metavar="v", help='pre-impact velocity "a,b"')
+    from .scene_args import add_system_arguments
+
+    add_system_arguments(p)
     p.add_argument("--restitution", metavar="e", help='restitution: one coefficient, or one per contact "a,b"')
-    p.add_argument("--scene", metavar="NAME", help="a built-in scene instead of matrices (as impactsym resolve)")
-    p.add_argument("--theta", metavar="T", help="pool: angle between the lines 1-2 and 2-3")
-    p.add_argument("--tau", metavar="T", help="pool/bernoulli: incidence angle of ball 1")
-    p.add_argument("--masses", metavar="m", help='scene masses "m1,m2,..."')
-    p.add_argument("--velocities", metavar="v", help='scene pre-impact velocities "v1,v2,..."')
-    p.add_argument("--n-balls", metavar="N", help="scenes cradle, balls-against-wall: number of balls")
-    p.add_argument("--strikers", metavar="K", help="scene cradle: number of striking balls")
     p.add_argument("--ratios", metavar="A", help="impulse-ratio, energetic: ratios alpha_12,... against contact 1")
     p.add_argument("--coupling", action="store_true", help="impulse-ratio: set the ratios of uncoupled contacts")
     add_json_flag(p)
@@ -113,34 +101,15 @@ def _options(args, laws) -> dict:
     return opts
 
 
-SCENE_PARAMS = ("theta", "tau", "masses", "velocities", "n_balls", "strikers")
-
-
 def _read_system(args):
     """``(System, Scene or None)``: the Scene is what an engine builds (None for explicit matrices)."""
-    from ..resolution import System
-    from .scene_args import read_system, restitution_arg
+    from .scene_args import read_system
 
-    if args.scene_file is None:
-        system = read_system(args)
-        scene = system.source
-        if args.engine is not None and scene is None:
-            if args.scene is None:
-                raise ImpactInputError("engine", "needs a scene (--scene or --scene-file): an engine builds bodies, "
-                                                 "not matrices")
-            from ..scenes import build_scene
-
-            scene = build_scene(args.scene, {k: getattr(args, k) for k in SCENE_PARAMS})
-        return system, scene
-    for opt in ("scene", "mass_matrix", "gradients", "velocity") + SCENE_PARAMS:
-        if getattr(args, opt) is not None:
-            raise ImpactInputError(opt, f"--{opt.replace('_', '-')} cannot be combined with --scene-file "
-                                        "(the file defines the scene)")
-    from ..scenes import load_scene
-
-    scene = load_scene(args.scene_file)
-    desc = scene.meta.get("scene_json") or {"scene": str(args.scene_file)}
-    return System.from_scene(scene, restitution_arg(args.restitution), description=desc), scene
+    system = read_system(args)
+    if args.engine is not None and system.source is None:
+        raise ImpactInputError("engine", "needs a scene (--scene or --scene-file): an engine builds bodies, "
+                                         "not matrices")
+    return system, system.source
 
 
 def _setting_value(text: str):

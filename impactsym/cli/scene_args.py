@@ -43,7 +43,8 @@ def add_system_arguments(p) -> None:
     p.add_argument("--scene", metavar="NAME",
                    help="a named scene instead of matrices: a built-in (chain3, pool, bernoulli, two-balls-wall, "
                         "three-ball-cradle, cradle, balls-against-wall) or a shipped scene file (impactsym scene list)")
-    p.add_argument("--scene-file", metavar="PATH", help="a scene file (TOML or JSON; see impactsym.scenes.fileformat)")
+    p.add_argument("--scene-file", metavar="PATH", help="a scene file (TOML or JSON; see impactsym.scenes.fileformat), "
+                   "or a shipped scene file's name (impactsym scene list)")
     p.add_argument("--theta", metavar="T", help="pool: angle between the lines 1-2 and 2-3 (e.g. pi/4)")
     p.add_argument("--tau", metavar="T", help="pool/bernoulli: incidence angle of ball 1")
     p.add_argument("--masses", metavar="m", help='chain3, two-balls-wall, three-ball-cradle, cradle, '
@@ -73,7 +74,7 @@ def read_system(args):
     scene_file = getattr(args, "scene_file", None)
     e = restitution_arg(getattr(args, "restitution", None))
     if scene_file is not None and args.scene is not None:
-        raise ImpactInputError("scene_file", "cannot be combined with --scene (give one scene)")
+        raise ImpactInputError("scene", "cannot be combined with --scene-file (the file defines the scene; give one)")
     if scene_file is not None or args.scene is not None:
         for opt in MATRIX_OPTIONS:
             if getattr(args, opt) is not None:
@@ -84,7 +85,9 @@ def read_system(args):
                 if val is not None:
                     raise ImpactInputError(p, f"--{p.replace('_', '-')} does not apply to --scene-file (the file "
                                               "holds the scene's values)")
-            sc = load_scene(_existing_file(scene_file))
+            from ..scenes.registry import SHIPPED_SCENES
+
+            sc = load_scene(scene_file if scene_file in SHIPPED_SCENES else _existing_file(scene_file))
         else:
             sc = load_scene(args.scene, params)
         return System.from_scene(sc, e, description=sc.meta.get("scene_json") or {"scene": args.scene})
