@@ -25,6 +25,7 @@ def _png(path):
     ["resolve", "--law", "sequential", "--scene", "cradle", "--n-balls", "5", "--strikers", "2"],
     ["resolve", "--law", "han-gilmore", "--scene", "chain3"],
     ["resolve", "--law", "impulse-ratio", "--scene", "chain3", "--ratios", "0.95"],
+    ["resolve", "--law", "all", "--scene", "chain3"],
     ["domain", "--scene", "pool", "--theta", "pi/4"],
     ["domain", "--scene", "chain3"],
     ["domain", "--scene", "pool", "--theta", "pi/4", "--tau", "pi/6"],
