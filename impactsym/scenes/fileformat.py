@@ -190,11 +190,17 @@ def load_scene_file(path, *, name: str | None = None) -> Scene:
     >>> sc.v.T, sc.meta["scene_json"]["scene"]
     (Matrix([[1, 1, 0, 0, 0]]), 'newton-cradle-5-strikers-2')
     """
+    from .registry import SCENE_FILES_DIR
+
     p = Path(path)
     sc = scene_from_dict(read_scene_file(p))
     sc.meta["file"] = str(p)
     sc.meta["name"] = name or sc.meta.get("name") or p.stem
-    sc.meta["scene_json"] = {"scene": sc.meta["name"], "file": str(p)}
+    try:  # a shipped file is named by its place in the package, the same on every machine
+        shown = "impactsym/scenes/files/" + p.resolve().relative_to(SCENE_FILES_DIR.resolve()).as_posix()
+    except ValueError:
+        shown = str(p)
+    sc.meta["scene_json"] = {"scene": sc.meta["name"], "file": shown}
     return sc
 
 
