@@ -353,10 +353,13 @@ class Resolution:
             Mx = M if isinstance(M, sp.MatrixBase) else sp.Matrix(M)
             return sp.expand((velocity.T * Mx * velocity)[0, 0] / 2)
         if isinstance(velocity, mpmath.matrix):
+            # certified velocities: T is not itself certified, so it is given as a float, computed
+            # at 60 working digits inside this block (no mpmath value leaves the context)
             n = velocity.rows
-            Mm = mpmath.matrix([[mpmath.mpmathify(sp.N(M[i, j], mpmath.mp.dps + 10)) if isinstance(M, sp.MatrixBase)
-                                 else M[i, j] for j in range(n)] for i in range(n)])
-            return (velocity.T * Mm * velocity)[0, 0] / 2
+            with mpmath.workdps(60):
+                Mm = mpmath.matrix([[mpmath.mpf(str(sp.N(M[i, j], 70))) if isinstance(M, sp.MatrixBase)
+                                     else mpmath.mpf(float(M[i, j])) for j in range(n)] for i in range(n)])
+                return float((velocity.T * Mm * velocity)[0, 0] / 2)
         v = np.asarray(velocity, dtype=float).reshape(-1)
         return 0.5 * float(v @ np.asarray(M, dtype=float) @ v)
 
