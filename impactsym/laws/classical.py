@@ -122,32 +122,6 @@ class ClassicalResult:
     notes: list = field(default_factory=list)
     details: dict = field(default_factory=dict)
 
-    def as_json(self) -> dict:
-        out: dict = {"law": self.law, "exact": self.exact}
-        out.update(_json("impulses", self.impulses))
-        out.update(_json("velocity", self.velocity))
-        out.update(_json("energy_before", self.energy_before))
-        out.update(_json("energy_after", self.energy_after))
-        out["valid"] = self.valid
-        out["violations"] = [v.as_dict() for v in self.violations]
-        out["unique_impulse"] = self.unique_impulse
-        if self.other_impulses:
-            out["other_impulses"] = [_json("p", p)["p"] for p in self.other_impulses]
-            out["other_impulses_float"] = [_json("p", p)["p_float"] for p in self.other_impulses]
-        out["notes"] = list(self.notes)
-        for key, val in self.details.items():
-            if isinstance(val, (sp.MatrixBase, np.ndarray, sp.Basic, float, int)):
-                out.update(_json(key, val))
-            else:
-                out[key] = val
-        return out
-
-
-def _json(name, value):
-    from .impulse_ratio import _json as ir_json
-
-    return ir_json(name, value)
-
 
 # --------------------------------------------------------------------------------------- input
 
@@ -543,24 +517,6 @@ class HanGilmoreResult:
     @property
     def unique(self) -> bool:
         return len(self.outcomes) == 1
-
-    def as_json(self) -> dict:
-        outs = []
-        for o in self.outcomes:
-            d = {}
-            d.update(_json("velocity", o.velocity))
-            d.update(_json("impulses", o.impulses))
-            d.update(_json("energy_after", o.energy_after))
-            d["sequences"] = [[list(stage) for stage in seq] for seq in o.sequences]
-            outs.append(d)
-        first = self.outcomes[0]
-        out = {"law": "han-gilmore", "exact": self.exact}
-        out.update(_json("impulses", first.impulses))
-        out.update(_json("velocity", first.velocity))
-        out.update(_json("energy_before", self.energy_before))
-        out.update({"valid": True, "violations": [], "unique": self.unique, "outcomes": outs, "notes": self.notes,
-                    "unterminated": [[list(stage) for stage in seq] for seq in self.unterminated]})
-        return out
 
 
 def han_gilmore(mass_matrix, gradients, velocity, restitution=1, *, max_stages: int = 50,

@@ -76,7 +76,7 @@ import sympy as sp
 from .. import kernels
 from ..errors import DomainError, ImpactInputError
 from ..mechanics import check_gradients, check_mass_matrix, check_velocity
-from ..numbers import exact_json, exact_str, is_exact, to_exact
+from ..numbers import exact_str, is_exact, to_exact
 from .coupling import apply_coupling
 from .delassus import exact_data, sign_of, sign_surd, tidy, to_sympy_matrix, to_sympy_rational
 from .reflection import check_restitution
@@ -133,35 +133,6 @@ class ImpulseRatioResult:
     def real_solution(self) -> bool:
         """Whether the quadratic has a real root (``D ≥ 0``)."""
         return self.impulses is not None
-
-    def as_json(self) -> dict:
-        """The CLI's JSON form: exact strings plus ``_float`` twins (``CONVENTIONS.md``)."""
-        out: dict = {"law": "impulse-ratio", "exact": self.exact}
-        out.update(_json("impulses", self.impulses))
-        out.update(_json("velocity", self.velocity))
-        out.update(_json("delta", self.delta))
-        out.update(_json("delta_normalized", self.delta_normalized))
-        out.update(_json("ratios", self.ratios))
-        A, B, C = self.coefficients
-        out["coefficients"] = {**_json("A", A), **_json("B", B), **_json("C", C)}
-        out["valid"] = self.valid
-        out["violations"] = [v.as_dict() for v in self.violations]
-        out["real_solution"] = self.real_solution
-        if self.coupling:
-            out["coupling"] = self.coupling
-        return out
-
-
-def _json(name: str, value) -> dict:
-    if value is None:
-        return {name: None, name + "_float": None}
-    if isinstance(value, np.ndarray):
-        value = [float(x) for x in value.reshape(-1)]
-    if isinstance(value, (float, np.floating)):
-        return {name: repr(float(value)), name + "_float": float(value)}
-    if isinstance(value, list) and value and isinstance(value[0], (float, np.floating)):
-        return {name: [repr(float(x)) for x in value], name + "_float": [float(x) for x in value]}
-    return exact_json(name, value)
 
 
 def _ratio_vector(ratios, k: int, exact: bool):
