@@ -102,7 +102,7 @@ import numpy as np
 from scipy.integrate import solve_ivp
 from scipy.optimize import brentq
 
-from .errors import ImpactInputError, NonTermination
+from .errors import ImpactInputError, NonTermination, VerificationError
 
 __all__ = ["CompliantResult", "chain_impact", "compliant_impact", "chain_matrices", "hunt_crossley_damping",
            "hunt_crossley_restitution", "MODELS", "WALLS"]
@@ -141,6 +141,10 @@ class CompliantResult:
     steps: int = 0
     nfev: int = 0
     outcome: str = "separated"
+    #: :class:`~impactsym.termination.SeparationCertificate` of the rows (the theorem's hypothesis)
+    certificate: object = None
+    #: the a-posteriori checks passed (:func:`impactsym.termination.check_run`)
+    checks: dict | None = None
 
 
 def float_system(M, H, v):
@@ -357,6 +361,33 @@ def compliant_impact(M, H, v, stiffness, exponent=1.5, damping=None, *, hunt_cro
     if rest_tol is not None and not (rest_tol > 0):
         raise ImpactInputError("rest_tol", f"must be > 0, got {rest_tol}")
 
+    from .termination import check_run, energy_tolerance, impulse_bounds, separating_direction
+
+    # the theorem's hypothesis, decided exactly on the float rows (read at their binary values):
+    # with a separating direction the impulses are bounded (checked below, during and after the run)
+    # and an elastic run provably reaches the stopping condition (docs/compliant_termination.md)
+    cert = separating_direction(Hf)
+    bounds = impulse_bounds(Mf, Hf, v0, cert)
+    elastic = (damping is None or not np.any(C > 0)) and (hunt_crossley is None or not np.any(D > 0))
+    etol = energy_tolerance(rtol)
+    theorem = ("" if cert.separating else
+               f"; no separating direction ({cert.statement()}), so the termination theorem does not apply")
+
+    def verify_window(y):
+        # step 2 of the proof: the energy never grows and every impulse stays below its bound
+        E = energy(y)
+        if E > T0 * (1 + etol):
+            raise VerificationError("compliant_impact", f"the energy rose to {E / T0:.12g} T- (> 1 + {etol:.3g}) at "
+                                                        f"t = {t:g}: the integration failed")
+        P = y[2 * n:]
+        fin = np.isfinite(bounds)
+        over = fin & (P > bounds * (1 + etol))
+        if np.any(over):
+            i = int(np.argmax(over))
+            raise VerificationError("compliant_impact", f"the impulse P_{i + 1} = {P[i]:.12g} at t = {t:g} exceeds its "
+                                                        f"proved bound {bounds[i]:.12g} (step 2 of "
+                                                        "docs/compliant_termination.md): the integration failed")
+
     Minv = np.linalg.inv(Mf)
     A = Minv @ Hf.T  # accelerations per unit contact force
     mu = 1.0 / np.einsum("ij,ji->i", Hf, A)  # effective mass of each contact
@@ -422,7 +453,11 @@ def compliant_impact(M, H, v, stiffness, exponent=1.5, damping=None, *, hunt_cro
         windows += 1
         if windows > max_windows:
             raise NonTermination(f"compliant impact: not over after {max_windows} windows of {window:g} "
-                                 f"(200 contact time scales {T:g})")
+                                 f"(200 contact time scales {T:g}){theorem}")
+        if windows > 1 and stop(t, y) >= 0:
+            # the stopping condition already holds (reached exactly at a window's end): the motion is over
+            outcome = "separated"
+            break
         g = g0 + Hf @ y[:n]
         if np.all(g >= 0):
             # free flight (no force): the gaps are linear in time, so jump to the next closing exactly
@@ -434,8 +469,8 @@ def compliant_impact(M, H, v, stiffness, exponent=1.5, damping=None, *, hunt_cro
                 y[:n] += t_close * y[n:2 * n]
                 t += t_close
         if t >= t_max:
-            raise NonTermination(f"compliant impact: not over at t_max = {t_max:g} (contact time scale {T:g}); "
-                                 "a body confined by its contacts never separates (give damping and rest_tol)")
+            raise NonTermination(f"compliant impact: not over at t_max = {t_max:g} (contact time scale {T:g})"
+                                 f"{theorem or '; the termination theorem gives finiteness, not a bound on the time'}")
         sol = solve_ivp(rhs, (t, min(t + window, t_max)), y, method="DOP853", rtol=rtol, atol=atol_vec,
                         events=events)
         if sol.status == -1:  # pragma: no cover - integrator failure
@@ -448,8 +483,10 @@ def compliant_impact(M, H, v, stiffness, exponent=1.5, damping=None, *, hunt_cro
         count += int(np.count_nonzero(c_all[:, 1:] != c_all[:, :-1]))
         closed = c_steps[:, -1]
         if count > max_events:
-            raise NonTermination(f"compliant impact: more than max_events = {max_events} contact events (a body "
-                                 "confined by its contacts never separates: give damping and rest_tol)")
+            raise NonTermination(f"compliant impact: more than max_events = {max_events} contact events"
+                                 + (f"{theorem} (a ball between two walls never separates: give damping and "
+                                    "rest_tol)" if theorem else
+                                    "; the termination theorem gives finiteness, not a bound on the events"))
         if sol.status == 1:
             for which, name in ((0, "separated"), (1, "rest")):
                 if which < len(sol.t_events) and len(sol.t_events[which]):
@@ -461,11 +498,13 @@ def compliant_impact(M, H, v, stiffness, exponent=1.5, damping=None, *, hunt_cro
                 count += int(np.count_nonzero(closed))
         else:
             t, y = float(sol.t[-1]), sol.y[:, -1]
+        verify_window(y)
     P = y[2 * n:]
     vplus = y[n:2 * n]
     T1 = 0.5 * float(vplus @ Mf @ vplus)
     ratios = P / P[0] if P[0] != 0 else np.full(k, np.nan)
-    return CompliantResult(P, ratios, vplus, t, T1 / T0, count, steps, nfev, outcome)
+    checks = check_run(Mf, Hf, v0, vplus, P, elastic=elastic, rtol=rtol, certificate=cert, bounds=bounds)
+    return CompliantResult(P, ratios, vplus, t, T1 / T0, count, steps, nfev, outcome, cert, checks)
 
 
 def chain_impact(masses, velocities, stiffness, damping=None, *, model: str = "hertz", rtol: float = 1e-11,
