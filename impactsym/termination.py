@@ -287,10 +287,12 @@ def _exact_lp(F, rows, k, n):
     from sympy.solvers.simplex import linprog
 
     Hx = sp.Matrix(k, n, [F.to_sympy(x) for r in rows for x in r])
-    # maximize t subject to H u >= t 1, -1 <= u <= 1, t <= 1 (u = u+ - u-)
-    A = sp.Matrix.hstack(-Hx, Hx, sp.ones(k, 1))
-    bounds = [(0, 1)] * (2 * n) + [(None, 1)]
-    opt, x = linprog(sp.Matrix([0] * (2 * n) + [-1]), A, sp.zeros(k, 1), bounds=bounds)
+    # maximize t subject to H u >= t 1, 0 <= u+, u-, t <= 1 (u = u+ - u-; t >= 0 loses nothing since
+    # u = 0, t = 0 is feasible). The box is written as constraints: SymPy 1.14's ``bounds`` argument
+    # returned an infeasible point here (t = 1 with H u = -1/2 on a row), so it is not used
+    m = 2 * n + 1
+    A = sp.Matrix.hstack(-Hx, Hx, sp.ones(k, 1)).col_join(sp.eye(m))
+    opt, x = linprog(sp.Matrix([0] * (2 * n) + [-1]), A, sp.zeros(k, 1).col_join(sp.ones(m, 1)))
     if -opt > 0:
         u = [x[j] - x[n + j] for j in range(n)]
         return SeparationCertificate(True, tuple(u), tuple(Hx * sp.Matrix(u)), F.name)
@@ -376,7 +378,7 @@ def energy_tolerance(rtol: float) -> float:
     return float(min(1e5 * rtol, 10 * np.sqrt(rtol)))
 
 
-def impulse_bounds(M, H, v, certificate: SeparationCertificate | None = None) -> np.ndarray:
+def impulse_bounds(M, H, v, certificate: SeparationCertificate | None = None, *, verify: bool = True) -> np.ndarray:
     """Proved per-contact bounds on the impulses ``P_i(t)`` of a compliant impact, for all ``t``.
 
     With ``E⁻ = T⁻ = ½ v⁻ᵀ M v⁻`` (every gap starts open or touching, so no elastic energy):
@@ -387,7 +389,9 @@ def impulse_bounds(M, H, v, certificate: SeparationCertificate | None = None) ->
       ``P_i ≤ 2 √(2 T⁻ (W⁻¹)_ii)`` (the direction ``u = M⁻¹HᵀW⁻¹e_i``, ``H u = e_i``).
 
     The smaller of the two is returned (floats; ``inf`` for a contact neither bounds, i.e. when
-    there is no separating direction). The proof is step 2 of ``docs/compliant_termination.md``;
+    there is no separating direction). A given ``certificate`` is verified against ``H`` first
+    (:func:`verify_certificate`; ``verify=False`` only for one :func:`separating_direction` has
+    just returned): a bound from a wrong ``u`` would not be a bound. The proof is step 2 of ``docs/compliant_termination.md``;
     it needs only ``f ≥ 0`` and an energy that does not grow, so it holds for the damped laws too.
 
     Examples
@@ -403,6 +407,8 @@ def impulse_bounds(M, H, v, certificate: SeparationCertificate | None = None) ->
     T0 = 0.5 * float(v @ Mf @ v)
     if certificate is None:
         certificate = separating_direction(Hf)
+    elif verify:
+        verify_certificate(Hf, certificate)
     k = Hf.shape[0]
     bound = np.full(k, np.inf)
     if certificate.separating:
