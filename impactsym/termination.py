@@ -60,7 +60,7 @@ __all__ = ["SeparationCertificate", "separating_direction", "verify_certificate"
 DOC = "docs/compliant_termination.md"
 #: the momentum balance ``‖(v⁺ − v⁻) − M⁻¹HᵀP‖_M ≤ MOMENTUM_TOL · ‖v⁻‖_M`` of a run (the integrators
 #: carry ``v`` and ``P`` as separate states; a Runge–Kutta method keeps the linear invariant
-#: ``v − M⁻¹HᵀP`` to rounding, measured ≤ 1e-14 relative)
+#: ``v − M⁻¹HᵀP`` to rounding: measured ≤ 4.4e-14 relative on chains of up to 100 balls)
 MOMENTUM_TOL = 1e-9
 
 
