@@ -210,6 +210,8 @@ def verify_certificate(H, certificate: SeparationCertificate) -> SeparationCerti
             if F.sign(s) != 0:
                 raise VerificationError(name, f"(H^T lambda)_{j + 1} = {F.to_sympy(s)} is not 0")
     exact = tuple(F.to_sympy(x) for x in prods)
+    if len(certificate.products) != len(exact):
+        raise VerificationError(name, f"{len(certificate.products)} stored products, {len(exact)} recomputed")
     if tuple(sp.sympify(x) for x in certificate.products) != exact and not all(
             sp.simplify(sp.sympify(a) - b) == 0 for a, b in zip(certificate.products, exact)):
         raise VerificationError(name, f"the stored products {certificate.products} are not the recomputed {exact}")

@@ -21,9 +21,9 @@ S3 = sp.sqrt(3)
 
 
 def exact_H(H):
-    return sp.Matrix(H) if isinstance(H, sp.MatrixBase) else sp.Matrix([[sp.nsimplify(x, rational=True) if
-                                                                        isinstance(x, float) else x for x in r]
-                                                                       for r in np.asarray(H, dtype=object)])
+    # floats at their exact binary value (sp.Rational of a float is exact)
+    return sp.Matrix(H) if isinstance(H, sp.MatrixBase) else sp.Matrix(
+        [[sp.Rational(x) if isinstance(x, float) else sp.sympify(x) for x in r] for r in np.asarray(H, dtype=object)])
 
 
 def independently_certified(H, c):
