@@ -25,35 +25,52 @@ this is the usual unilateral reading of eq. 20, stated rather than done silently
 
 Event handling and termination
 ------------------------------
-The right-hand side is continuous in the state (``max(δ, 0)^p`` with ``p ≥ 1``), so the whole
-impact is integrated as one ODE (DOP853, adaptive; no restart at contact openings or closings,
-hence no chatter between tiny events and no trouble with bodies that touch and move together
-at ``t = 0``). The integration runs in windows and stops at the root of the *stopping function*
+The right-hand side is continuous in the state for the elastic and Hunt–Crossley laws
+(``max(δ, 0)^p`` with ``p ≥ 1``; eq. 20 damping with ``p = 1`` jumps at first contact), so the
+whole impact is integrated as one ODE (DOP853, adaptive; no restart at contact openings or
+closings, hence no chatter between tiny events and no trouble with bodies that touch and move
+together at ``t = 0``). The integration runs in windows and stops at the root of the *stopping
+function*
 
     ``s(y) = min_i min(g_i / L, (H q̇)_i / V + ε_w)``,
 
 i.e. when every contact is open (``g_i ≥ 0``) and none approaches (``(H q̇)_i ≥ −ε_w V``,
-``ε_w = 1e-12``: a relative speed below the integrator's own error counts as zero). This is a
-*proof that the result is final* for the model: with no force, ``q(t) = q + q̇ t`` and every gap
-``g_i + (H q̇)_i t`` stays non-negative for all later ``t``. Termination of the integration is
-not assumed: it is bounded by ``max_events`` contact openings/closings, by 10⁵ integration
-windows of ``200 T`` (``T`` the shortest contact time scale) and by the optional ``t_max``; past
-any of them, :class:`~impactsym.errors.NonTermination` is raised naming the cap. Free flight (every
-gap open, so no force) is not integrated: the gaps are linear in time there, and the state jumps
-exactly to the next closing (late, slow re-contacts at the tail of a long chain would otherwise
-cost ~10⁶ contact times of integration). A body confined by
-contacts that admit no separating velocity (a ball between two walls: ``H v ≥ 0`` forces
-``v = 0``) can never meet the stopping condition; with damping its energy decays to zero and
-``rest_tol`` stops the run once ``T + V_elastic ≤ rest_tol · T⁻`` (``outcome = "rest"``).
+``ε_w = 1e-12``: a relative speed below the integrator's own error counts as zero); the same test
+is also made on the state at the start of every window. This is a *proof that the result is
+final* for the model: with no force, ``q(t) = q + q̇ t`` and every gap ``g_i + (H q̇)_i t`` stays
+non-negative for all later ``t``. Free flight (every gap open, so no force) is not integrated:
+the gaps are linear in time there, and the state jumps exactly to the next closing (late, slow
+re-contacts at the tail of a long chain would otherwise cost ~10⁶ contact times of integration).
+
+*Theorem* (``docs/compliant_termination.md``, with the proof). If some ``u`` has ``H u > 0`` (a
+separating direction, decided with an exact certificate by
+:func:`impactsym.termination.separating_direction`), every impulse stays below a proved bound
+(``Σ_i (Hu)_i P_i ≤ 2 ‖u‖_M √(2T⁻)``), the velocity converges to a ``v∞`` with ``H v∞ ≥ 0``, and an
+*elastic* run meets the stopping condition in finite time; a damped one converges to it (finite
+time not proved). Otherwise (Gordan's alternative) some ``λ ≥ 0``, ``λ ≠ 0`` has ``Hᵀλ = 0``: those
+contacts can never all leave, and a body confined by them need not stop (a ball between two
+walls: ``H v ≥ 0`` forces ``v = 0``, and elastic it rings for ever); with damping its energy decays
+and ``rest_tol`` stops the run once ``T + V_elastic ≤ rest_tol · T⁻`` (``outcome = "rest"``). The
+proof gives finiteness, not a bound on the time or on the number of events.
+
+What the code enforces: the certificate is computed for every run (``CompliantResult.certificate``);
+at the end of every window the energy must not exceed ``T⁻ (1 + tol)`` and every impulse must stay
+below its proved bound (:func:`impactsym.termination.impulse_bounds`); after the run
+:func:`impactsym.termination.check_run` checks the momentum balance, the energy (elastic:
+``|T⁺/T⁻ − 1| ≤ tol``, ``tol = min(1e5 rtol, 10 √rtol)``, measured) and the bound again
+(``CompliantResult.checks``). A violation raises :class:`~impactsym.errors.VerificationError`
+instead of returning. The caps stay as a numerical safeguard: ``max_events`` contact
+openings/closings, 10⁵ integration windows of ``200 T`` (``T`` the shortest contact time scale)
+and the optional ``t_max``; past any of them, :class:`~impactsym.errors.NonTermination` is raised
+naming the cap (and, without a separating direction, the certificate ``λ``).
 
 Events counted: a contact event is a change of ``δ_i > 0`` between consecutive accepted steps
 (an opening or a closing; one that opens and closes again inside a single step is not seen).
-``steps`` and ``nfev`` report the integrator's work. No general bound on the number of events is
-proved here (for elastic chains the number of re-contacts depends on the mass ratios); what is
-guaranteed is that every run ends, either with the proved stopping condition or with
-``NonTermination`` at a stated cap. Measured counts: ``benchmarks/results/compliant.md`` (a
-monodisperse Hertz chain of ``n ≤ 50`` balls struck at one end: exactly ``2(n − 1)`` events, each
-contact closes and opens once; 100 balls: 442 events, the tail re-contacting slowly).
+``steps`` and ``nfev`` report the integrator's work. No bound on the number of events is proved
+(for elastic chains the number of re-contacts depends on the mass ratios). Measured counts:
+``benchmarks/results/compliant.md`` (a monodisperse Hertz chain of ``n ≤ 50`` balls struck at one
+end: exactly ``2(n − 1)`` events, each contact closes and opens once; 100 balls: 442 events, the
+tail re-contacting slowly).
 
 Scaling (dimensional analysis; tested in ``tests/test_compliant.py``). With ``x = V T x̃``,
 ``t = T t̃`` and a speed scale ``V``, the Hertz chain is dimensionless for
@@ -102,7 +119,7 @@ import numpy as np
 from scipy.integrate import solve_ivp
 from scipy.optimize import brentq
 
-from .errors import ImpactInputError, NonTermination
+from .errors import ImpactInputError, NonTermination, VerificationError
 
 __all__ = ["CompliantResult", "chain_impact", "compliant_impact", "chain_matrices", "hunt_crossley_damping",
            "hunt_crossley_restitution", "MODELS", "WALLS"]
@@ -130,6 +147,10 @@ class CompliantResult:
     steps : accepted integrator steps
     nfev : right-hand-side evaluations
     outcome : ``"separated"`` (every contact open, none approaching) or ``"rest"`` (``rest_tol``)
+    certificate : :class:`~impactsym.termination.SeparationCertificate` of the rows: ``u`` with
+        ``H u > 0`` (the termination theorem applies) or ``λ ≥ 0`` with ``Hᵀλ = 0`` (it does not)
+    checks : the residuals of :func:`~impactsym.termination.check_run` (momentum, energy, impulse
+        bound) and their tolerances
     """
 
     impulses: np.ndarray
@@ -141,6 +162,10 @@ class CompliantResult:
     steps: int = 0
     nfev: int = 0
     outcome: str = "separated"
+    #: :class:`~impactsym.termination.SeparationCertificate` of the rows (the theorem's hypothesis)
+    certificate: object = None
+    #: the a-posteriori checks passed (:func:`impactsym.termination.check_run`)
+    checks: dict | None = None
 
 
 def float_system(M, H, v):
@@ -322,7 +347,11 @@ def compliant_impact(M, H, v, stiffness, exponent=1.5, damping=None, *, hunt_cro
         Shapes, NaN, non-positive stiffness, exponent < 1, negative damping or gap, both damping
         kinds, or no contact approaching.
     NonTermination
-        More than ``max_events`` events, or ``t_max`` reached.
+        More than ``max_events`` events, or ``t_max`` reached (a numerical safeguard; the message
+        says whether the termination theorem applies).
+    VerificationError
+        The integration broke a proved fact (an impulse above its bound, the energy growing, the
+        momentum balance off): raised instead of returning (``docs/compliant_termination.md``).
 
     Examples
     --------
@@ -356,6 +385,33 @@ def compliant_impact(M, H, v, stiffness, exponent=1.5, damping=None, *, hunt_cro
         raise ImpactInputError("v", "no contact approaches ((H v)_i < 0 for none): there is no impact")
     if rest_tol is not None and not (rest_tol > 0):
         raise ImpactInputError("rest_tol", f"must be > 0, got {rest_tol}")
+
+    from .termination import check_run, energy_tolerance, impulse_bounds, separating_direction
+
+    # the theorem's hypothesis, decided exactly on the float rows (read at their binary values):
+    # with a separating direction the impulses are bounded (checked below, during and after the run)
+    # and an elastic run provably reaches the stopping condition (docs/compliant_termination.md)
+    cert = separating_direction(Hf)
+    bounds = impulse_bounds(Mf, Hf, v0, cert, verify=False)  # cert was verified by separating_direction
+    elastic = (damping is None or not np.any(C > 0)) and (hunt_crossley is None or not np.any(D > 0))
+    etol = energy_tolerance(rtol)
+    theorem = ("" if cert.separating else
+               f"; no separating direction ({cert.statement()}), so the termination theorem does not apply")
+
+    def verify_window(y):
+        # step 2 of the proof: the energy never grows and every impulse stays below its bound
+        E = energy(y)
+        if E > T0 * (1 + etol):
+            raise VerificationError("compliant_impact", f"the energy rose to {E / T0:.12g} T- (> 1 + {etol:.3g}) at "
+                                                        f"t = {t:g}: the integration failed")
+        P = y[2 * n:]
+        fin = np.isfinite(bounds)
+        over = fin & (P > bounds * (1 + etol))
+        if np.any(over):
+            i = int(np.argmax(over))
+            raise VerificationError("compliant_impact", f"the impulse P_{i + 1} = {P[i]:.12g} at t = {t:g} exceeds its "
+                                                        f"proved bound {bounds[i]:.12g} (step 2 of "
+                                                        "docs/compliant_termination.md): the integration failed")
 
     Minv = np.linalg.inv(Mf)
     A = Minv @ Hf.T  # accelerations per unit contact force
@@ -422,7 +478,11 @@ def compliant_impact(M, H, v, stiffness, exponent=1.5, damping=None, *, hunt_cro
         windows += 1
         if windows > max_windows:
             raise NonTermination(f"compliant impact: not over after {max_windows} windows of {window:g} "
-                                 f"(200 contact time scales {T:g})")
+                                 f"(200 contact time scales {T:g}){theorem}")
+        if windows > 1 and stop(t, y) >= 0:
+            # the stopping condition already holds (reached exactly at a window's end): the motion is over
+            outcome = "separated"
+            break
         g = g0 + Hf @ y[:n]
         if np.all(g >= 0):
             # free flight (no force): the gaps are linear in time, so jump to the next closing exactly
@@ -434,8 +494,8 @@ def compliant_impact(M, H, v, stiffness, exponent=1.5, damping=None, *, hunt_cro
                 y[:n] += t_close * y[n:2 * n]
                 t += t_close
         if t >= t_max:
-            raise NonTermination(f"compliant impact: not over at t_max = {t_max:g} (contact time scale {T:g}); "
-                                 "a body confined by its contacts never separates (give damping and rest_tol)")
+            raise NonTermination(f"compliant impact: not over at t_max = {t_max:g} (contact time scale {T:g})"
+                                 f"{theorem or '; the termination theorem gives finiteness, not a bound on the time'}")
         sol = solve_ivp(rhs, (t, min(t + window, t_max)), y, method="DOP853", rtol=rtol, atol=atol_vec,
                         events=events)
         if sol.status == -1:  # pragma: no cover - integrator failure
@@ -448,8 +508,10 @@ def compliant_impact(M, H, v, stiffness, exponent=1.5, damping=None, *, hunt_cro
         count += int(np.count_nonzero(c_all[:, 1:] != c_all[:, :-1]))
         closed = c_steps[:, -1]
         if count > max_events:
-            raise NonTermination(f"compliant impact: more than max_events = {max_events} contact events (a body "
-                                 "confined by its contacts never separates: give damping and rest_tol)")
+            raise NonTermination(f"compliant impact: more than max_events = {max_events} contact events"
+                                 + (f"{theorem} (a ball between two walls never separates: give damping and "
+                                    "rest_tol)" if theorem else
+                                    "; the termination theorem gives finiteness, not a bound on the events"))
         if sol.status == 1:
             for which, name in ((0, "separated"), (1, "rest")):
                 if which < len(sol.t_events) and len(sol.t_events[which]):
@@ -461,11 +523,13 @@ def compliant_impact(M, H, v, stiffness, exponent=1.5, damping=None, *, hunt_cro
                 count += int(np.count_nonzero(closed))
         else:
             t, y = float(sol.t[-1]), sol.y[:, -1]
+        verify_window(y)
     P = y[2 * n:]
     vplus = y[n:2 * n]
     T1 = 0.5 * float(vplus @ Mf @ vplus)
     ratios = P / P[0] if P[0] != 0 else np.full(k, np.nan)
-    return CompliantResult(P, ratios, vplus, t, T1 / T0, count, steps, nfev, outcome)
+    checks = check_run(Mf, Hf, v0, vplus, P, elastic=elastic, rtol=rtol, certificate=cert, bounds=bounds)
+    return CompliantResult(P, ratios, vplus, t, T1 / T0, count, steps, nfev, outcome, cert, checks)
 
 
 def chain_impact(masses, velocities, stiffness, damping=None, *, model: str = "hertz", rtol: float = 1e-11,

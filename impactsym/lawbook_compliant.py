@@ -40,15 +40,25 @@ expansion is ``e_i²`` times what it stored).
 When a law does not apply, :meth:`~impactsym.lawbook.Law.why_not` says why:
 
 * a restitution other than 1 for an elastic law (or ``e = 0`` for Hunt–Crossley and LZB);
-* confining contacts: a positive combination of rows ``yᵀH = 0``, ``y ≥ 0``, ``y ≠ 0`` (a ball
-  between two walls). Those contacts can never separate (``H v⁺ ≥ 0`` forces ``yᵀHv⁺ = 0``, so
-  each ``(Hv⁺)_i = 0`` on the support of ``y``): an elastic compliant impact rings for ever, and
-  a Hunt–Crossley one only comes to rest asymptotically (its restitution tends to 1 as the speed
+* no separating direction (the hypothesis of the termination theorem,
+  ``docs/compliant_termination.md``): by Gordan's alternative, no ``u`` has ``H u > 0`` exactly
+  when some ``λ ≥ 0``, ``λ ≠ 0`` has ``Hᵀλ = 0`` (a ball between two walls: ``λ = (1, 1)``). The
+  contacts in the support of ``λ`` *confine* the bodies: they can never all leave (``H v ≥ 0``
+  forces ``λᵀHv = 0``, so ``(Hv)_i = 0`` on the support). The theorem (with a separating
+  direction, an elastic compliant impact ends in finite time) then does not apply, and an elastic
+  run need not end: a ball between two walls rings for ever (proved in the document). So the
+  elastic laws refuse, naming ``λ``; Hunt–Crossley refuses too (a damped run without a separating
+  direction ends only at a rest tolerance, which the law does not take; a Hunt–Crossley ball
+  between two walls comes to rest only asymptotically, its restitution tending to 1 as the speed
   falls). LZB with ``e_i < 1`` on every confining contact does end (the speed falls by a fixed
-  factor per bounce), so LZB refuses only confining contacts with ``e_i = 1``. The support is
-  found by one linear program (``scipy.optimize.linprog``, HiGHS): maximize ``Σ t_i`` with
-  ``Hᵀy = 0``, ``0 ≤ t_i ≤ min(y_i, 1)``; for rational rows its answer is verified exactly
-  (:func:`confinement`), for irrational or float rows it is a float decision.
+  factor per bounce), so LZB refuses only confining contacts with ``e_i = 1``. The certificate
+  (``u`` or ``λ``) is :func:`impactsym.termination.separating_direction`'s, verified exactly
+  (rational rows in ``fmpq``, algebraic rows such as ``sqrt(3)/2`` with certified signs) before
+  it is used (:func:`confinement`).
+
+Every run that ends is checked before it is returned (:func:`impactsym.termination.check_run`):
+the momentum balance, the energy (elastic: ``|T⁺/T⁻ − 1| ≤ min(1e5 rtol, 10 √rtol)``) and the
+proved impulse bound; ``details.termination`` holds the certificate and the measured residuals.
 
 A system in which no contact approaches has no impact: every law returns ``v⁺ = v⁻`` and ``p = 0``
 (``details.events = 0``) instead of integrating.
@@ -82,7 +92,7 @@ Examples
 >>> resolve("linear", System.from_matrices("1", "1;-1", "-1")).velocity
 Traceback (most recent call last):
 ...
-impactsym.errors.ImpactInputError: gradients: --law linear does not apply: contacts 1, 2 confine the bodies (y^T H = 0 with y >= 0 on them): they can never separate, so an elastic compliant impact never ends
+impactsym.errors.ImpactInputError: gradients: --law linear does not apply: contacts 1, 2 confine the bodies: lambda = (1, 1) >= 0 has H^T lambda = 0 (checked exactly), so by Gordan's alternative no u has H u > 0. They can never all leave (H v >= 0 forces (H v)_i = 0 on them), so an elastic impact need not end (a ball between two walls rings for ever, proved); the termination theorem needs some u with H u > 0 (docs/compliant_termination.md)
 """
 
 from __future__ import annotations
@@ -176,13 +186,13 @@ def _float_matrices(system: System):
 
 # ------------------------------------------------------------------------------- confinement
 def confining_contacts(M, H) -> list[int]:
-    """The contacts (0-based rows of ``H``) in the support of some ``y ≥ 0``, ``y ≠ 0`` with
-    ``Hᵀy = 0``: the contacts that can never separate (``H v ≥ 0`` forces ``(Hv)_i = 0`` there).
+    """The contacts (0-based rows of ``H``) in the support of the certificate ``λ ≥ 0``, ``λ ≠ 0``,
+    ``Hᵀλ = 0`` of :func:`impactsym.termination.separating_direction` (empty when some ``u`` has
+    ``H u > 0``): contacts that can never all leave (``H v ≥ 0`` forces ``(Hv)_i = 0`` there).
 
-    Decided by one float linear program (HiGHS): maximize ``Σ t_i`` subject to ``Hᵀy = 0``,
-    ``y ≥ 0``, ``0 ≤ t_i ≤ 1``, ``t_i ≤ y_i``; the cone is scale-free, so ``t_i = 1`` exactly on
-    the largest support. ``M`` is not needed (``Hᵀy = 0`` iff ``H M⁻¹ Hᵀ y = 0``); it is taken for
-    symmetry with the laws.
+    The certificate is exact (verified before it is returned); its ``λ`` comes from the linear
+    program of largest support, so these are all the confining contacts. ``M`` is not needed
+    (``Hᵀλ = 0`` does not involve it); it is taken for symmetry with the laws.
 
     Examples
     --------
@@ -191,61 +201,23 @@ def confining_contacts(M, H) -> list[int]:
     >>> confining_contacts([[1]], [[1], [-1]]), confining_contacts(np.eye(3), [[-1, 1, 0], [0, -1, 1], [0, 0, -1]])
     ([0, 1], [])
     """
-    from scipy.optimize import linprog
+    from .termination import separating_direction
 
-    Hf = np.asarray(H, dtype=float)
-    k, n = Hf.shape
-    c = np.concatenate([np.zeros(k), -np.ones(k)])
-    A_eq = np.hstack([Hf.T, np.zeros((n, k))])
-    A_ub = np.hstack([-np.eye(k), np.eye(k)])  # t_i - y_i <= 0
-    bounds = [(0, None)] * k + [(0, 1)] * k
-    res = linprog(c, A_ub=A_ub, b_ub=np.zeros(k), A_eq=A_eq, b_eq=np.zeros(n), bounds=bounds, method="highs")
-    if res.status != 0:  # pragma: no cover - the LP is always feasible (y = t = 0) and bounded
-        raise ImpactInputError("gradients", f"the confinement test failed ({res.message})")
-    return [i for i in range(k) if res.x[k + i] > 0.5]
+    return list(separating_direction(H).support)
 
 
-def _exact_support(Hx: sp.Matrix) -> list[int]:
-    """:func:`confining_contacts` decided in exact rational arithmetic (SymPy's simplex): the
-    same linear program, for rational rows."""
-    from sympy.solvers.simplex import linprog
+def confinement(system: System):
+    """The exact certificate of Gordan's alternative for ``system``'s rows
+    (:func:`impactsym.termination.separating_direction` on the exact ``H``: rational rows in
+    ``fmpq``, algebraic rows in SymPy with certified signs; float rows at their binary values).
 
-    k, n = Hx.shape
-    c = sp.Matrix([0] * k + [-1] * k)
-    A = sp.Matrix.hstack(-sp.eye(k), sp.eye(k)).col_join(sp.Matrix.hstack(sp.zeros(k, k), sp.eye(k)))
-    b = sp.Matrix([0] * k + [1] * k)
-    A_eq = sp.Matrix.hstack(Hx.T, sp.zeros(n, k))
-    _, x = linprog(c, A, b, A_eq, sp.zeros(n, 1))
-    return [i for i in range(k) if x[k + i] > sp.Rational(1, 2)]
-
-
-def confinement(system: System) -> tuple[list[int], str]:
-    """The confining contacts of ``system`` (:func:`confining_contacts`) and how that was decided.
-
-    For exact rows with rational entries the float answer is verified exactly: no confinement by a
-    Gordan certificate ``u`` with ``H u > 0`` on every row (the float least-squares solution of
-    ``H u = 1``, read at its exact binary value), a confinement by an exact null vector of
-    ``H_Sᵀ`` that is strictly positive on the support ``S``; when neither certificate settles it,
-    the linear program is solved again in exact arithmetic. Other input (irrational or float
-    rows) is decided by the float program alone. Returns ``(contacts, "exact" | "float")``.
-
-    >>> confinement(System.from_matrices("1", "1;-1", "-1"))
-    ([0, 1], 'exact')
+    >>> c = confinement(System.from_matrices("1", "1;-1", "-1"))
+    >>> c.separating, c.support, c.vector
+    (False, (0, 1), (1, 1))
     """
-    M, H = _float_matrices(system)[:2]
-    conf = confining_contacts(M, H)
-    Hx = system.H
-    if not (system.exact and isinstance(Hx, sp.MatrixBase) and all(x.is_Rational for x in Hx)):
-        return conf, "float"
-    if not conf:
-        u = sp.Matrix([sp.Rational(float(x)) for x in np.linalg.lstsq(H, np.ones(H.shape[0]), rcond=None)[0]])
-        if all(x > 0 for x in Hx * u):
-            return conf, "exact"
-    else:
-        basis = Hx.extract(conf, list(range(Hx.cols))).T.nullspace()
-        if len(basis) == 1 and (all(x > 0 for x in basis[0]) or all(x < 0 for x in basis[0])):
-            return conf, "exact"
-    return _exact_support(Hx), "exact"
+    from .termination import separating_direction
+
+    return separating_direction(system.H)
 
 
 def _names(system, idx):
@@ -267,6 +239,14 @@ def _separation(system, H, v, vplus) -> dict:
             "violations": [{"condition": "approaching", "contact": i,
                             "message": f"contact {system.contacts[i]} still approaches after the impact: "
                                        f"(H v+)_{i + 1} = {w[i]:.3g} < -{SEPARATION_EPS:g} V"} for i in bad]}
+
+
+def _termination(r) -> dict:
+    """``details.termination``: the separating-direction certificate of the engine's rows (when it
+    computed one) and the a-posteriori checks the run passed (``docs/compliant_termination.md``)."""
+    cert = getattr(r, "certificate", None)
+    return {"certificate": None if cert is None else cert.as_json(), "checks": r.checks,
+            "document": "docs/compliant_termination.md"}
 
 
 class _Compliant(Law):
@@ -292,12 +272,15 @@ class _Compliant(Law):
                                    "take a restitution e < 1 per contact")
         return None
 
-    def _confined_why_not(self, system, what="an elastic compliant impact never ends"):
-        conf, _how = confinement(system)
-        if conf:
-            return "gradients", (f"contacts {_names(system, conf)} confine the bodies (y^T H = 0 with y >= 0 on "
-                                 f"them): they can never separate, so {what}")
-        return None
+    def _confined_why_not(self, system, what=None):
+        cert = confinement(system)
+        if cert.separating:
+            return None
+        what = what or ("an elastic impact need not end (a ball between two walls rings for ever, proved); the "
+                        "termination theorem needs some u with H u > 0")
+        return "gradients", (f"contacts {_names(system, cert.support)} confine the bodies: {cert.statement()}. "
+                             "They can never all leave (H v >= 0 forces (H v)_i = 0 on them), so " + what
+                             + " (docs/compliant_termination.md)")
 
     def why_not(self, system, stiffness=None, tolerance=None, exponent=None, **_):
         if self.fixed_exponent is None and self.default_exponent is None and exponent is None:
@@ -325,7 +308,8 @@ class _Compliant(Law):
                               "note": "DOP853; atol relative to the problem's length, speed and impulse scales; "
                                       "a relative approach speed below separation_eps counts as zero at the end"},
                 "events": int(r.events), "steps": int(r.steps), "nfev": int(r.nfev), "duration": float(r.duration),
-                "end": r.outcome, "energy_ratio": float(r.energy_ratio), "ratios": [float(x) for x in r.ratios]}
+                "end": r.outcome, "energy_ratio": float(r.energy_ratio), "ratios": [float(x) for x in r.ratios],
+                "termination": _termination(r)}
 
     def resolve(self, system, **options):
         M, H, v = _float_matrices(system)
@@ -379,7 +363,9 @@ class HuntCrossley(_Compliant):
                 raise ImpactInputError("damping", f"must be >= 0 on every contact, got {D.tolist()}")
         else:
             _restitution(system, self.name)
-        return self._confined_why_not(system, "a Hunt-Crossley impact comes to rest only asymptotically (its "
+        return self._confined_why_not(system, "the termination theorem does not apply and a damped run ends only "
+                                              "at a rest tolerance, which this law does not take (a Hunt-Crossley "
+                                              "ball between two walls comes to rest only asymptotically: its "
                                               "restitution tends to 1 as the speed falls); --law lzb with e < 1 ends")
 
     def _engine_kwargs(self, system, stiffness=None, tolerance=None, exponent=None, damping=None):
@@ -418,12 +404,13 @@ class LZB(_Compliant):
         _tolerance(tolerance)
         self._exponent(system, exponent)
         e = _restitution(system, self.name)
-        conf, _how = confinement(system)
-        elastic = [i for i in conf if e[i] == 1]
+        cert = confinement(system)
+        elastic = [i for i in cert.support if e[i] == 1]
         if elastic:
-            return "restitution", (f"contacts {_names(system, conf)} confine the bodies (y^T H = 0 with y >= 0 on "
-                                   f"them) and {_names(system, elastic)} restitute e = 1: LZB restarts for ever; "
-                                   "give e < 1 on the confining contacts")
+            return "restitution", (f"contacts {_names(system, cert.support)} confine the bodies: {cert.statement()}; "
+                                   f"{_names(system, elastic)} restitute e = 1: the confined contacts never all "
+                                   "leave and lose no energy, so LZB restarts for ever; give e < 1 on the "
+                                   "confining contacts")
         return None
 
     def _engine_kwargs(self, system, stiffness=None, tolerance=None, exponent=None):
@@ -447,7 +434,8 @@ class LZB(_Compliant):
                                       "scales; a primary energy below energy_eps times its approach energy ends a "
                                       "segment"},
                 "segments": int(r.segments), "steps": int(r.steps), "nfev": int(r.nfev),
-                "energy_ratio": float(r.energy_ratio), "ratios": [float(x) for x in r.ratios]}
+                "energy_ratio": float(r.energy_ratio), "ratios": [float(x) for x in r.ratios],
+                "termination": _termination(r)}
 
 
 #: the laws of this module, in the order of tables

@@ -47,6 +47,19 @@ of ``E_p`` resolved the pinned case (``tests/test_lzb.py``) and 36 of 36 random 
 seeds of 12 chains: masses ``10^U(−3, 3)``, stiffnesses ``10^U(−2, 2)``, 5–7 balls, 0.2–4.7 s each
 on the shared machine).
 
+Termination (what is and is not proved; ``docs/compliant_termination.md``, step 7). The loop
+ends when, after a segment, every energy has been set to zero (the primary's energy fell below
+``ENERGY_EPS · E⁰``: a truncation) and no contact approaches by more than ``SEPARATION_EPS · V``;
+``max_segments`` caps it (``NonTermination``). The impulse bound of the compliant model holds here
+too (``M dv = Hᵀ dP`` with ``dP ≥ 0``, and ``T + Σ E_i`` never grows since ``c_j ≥ 1`` in
+expansion), so with a separating direction ``u`` the total impulse stays below
+``2 ‖u‖_M √(2T⁻) / min (Hu)_i``; it is checked after every run
+(:func:`impactsym.termination.check_run`, with the momentum balance and the energy). No bound on
+the number of segments or restarts is proved: each restart is triggered by an approach left
+over from the previous segment, and nothing here shows that these stop; with ``e < 1`` on a ball
+between two walls the approach speed falls by the factor ``e`` per bounce, so the run ends after
+about ``log(1/SEPARATION_EPS) / log(1/e)`` restarts (42 segments at ``e = 1/2``, measured).
+
 With every ``e_i = 1`` this is the time-domain compliant model of :mod:`impactsym.compliant`
 re-parametrized by ``P_p`` (``dt = dP_p / f_p``), except that contacts that open during the
 impact keep zero gap here; the two agree closely on chains (``tests/test_lzb.py`` states the
@@ -121,6 +134,8 @@ class LZBResult:
     segments: int
     steps: int
     nfev: int
+    #: the a-posteriori checks passed (:func:`impactsym.termination.check_run`)
+    checks: dict | None = None
 
 
 def lzb_impact(M, H, v, stiffness, exponent=1.5, restitution=1.0, *, rtol: float = 1e-11, atol: float = 1e-14,
@@ -312,7 +327,12 @@ def lzb_impact(M, H, v, stiffness, exponent=1.5, restitution=1.0, *, rtol: float
     vplus = v
     T1 = 0.5 * float(vplus @ Mf @ vplus)
     ratios = P / P[0] if P[0] != 0 else np.full(k, np.nan)
-    return LZBResult(P, ratios, vplus, T1 / T0, t_equiv if track_time else float("nan"), segments, steps, nfev)
+    # momentum balance, energy and the proved impulse bound (docs/compliant_termination.md, step 7)
+    from .termination import check_run
+
+    checks = check_run(Mf, Hf, v0, vplus, P, elastic=bool(np.all(e == 1)), rtol=rtol, law="lzb_impact")
+    return LZBResult(P, ratios, vplus, T1 / T0, t_equiv if track_time else float("nan"), segments, steps, nfev,
+                     checks)
 
 
 def lzb_chain(masses, velocities, stiffness, exponent=1.5, restitution=1.0, *, walls=(), rtol: float = 1e-11,

@@ -326,13 +326,19 @@ def test_lzb_differs_from_hertz_where_a_contact_recloses():
     ("1,0;0,1;-1,-1", [0, 1, 2]),                      # a point in a triangle
 ])
 def test_confinement_is_decided_exactly_for_rational_rows(H, expected):
-    from impactsym.lawbook_compliant import _exact_support, confinement
+    from impactsym.lawbook_compliant import confinement
     from impactsym.numbers import parse_matrix
+    from impactsym.termination import _exact_lp, _exact_rows
 
     Hx = parse_matrix(H)
     n = Hx.shape[1]
     s = System.from_matrices(sp.eye(n), Hx, sp.Matrix([-1] + [0] * (n - 1)))
-    assert confinement(s) == (expected, "exact")
-    assert _exact_support(Hx) == expected  # the exact simplex, the fallback when no certificate settles it
+    c = confinement(s)
+    assert list(c.support) == expected and c.field == "rational" and c.separating == (not expected)
+    # the exact simplex, the fallback when no float candidate verifies, gives the same verdict
+    F, rows, k, n = _exact_rows(Hx)
+    e = _exact_lp(F, rows, k, n)
+    assert e.separating == c.separating and list(e.support) == expected
     pool = System.from_scene(acary_taha.pool(sp.pi / 3, sp.pi / 12))
-    assert confinement(pool) == ([], "float")  # irrational rows: the float program decides
+    c = confinement(pool)  # irrational rows: decided exactly too (certified signs)
+    assert c.separating and c.field == "algebraic"
