@@ -236,3 +236,15 @@ def test_exact_json_floats_of_rationals_are_unchanged():
     x = sp.Matrix([sp.Rational(1, 3), sp.Rational(-10 ** 30 - 1, 7), sp.Integer(2) ** 2000, sp.sqrt(2)])
     assert exact_json("x", x)["x_float"] == [_sympy_float(1, 3), _sympy_float(-10 ** 30 - 1, 7), float("inf"),
                                              float(sp.N(sp.sqrt(2), 17))]
+
+
+def test_the_librarys_rational_map_is_verified_too(monkeypatch):
+    from impactsym.laws import reflection as rf
+
+    assert rf.reflection_map("2,0;0,1", "-1,1")[0, 0] == sp.Rational(1, 3)
+    real = rf._r
+    monkeypatch.setattr(rf, "_r", types.SimpleNamespace(
+        fmpq_parts=real.fmpq_parts, gain=real.gain, sympy_parts=real.sympy_parts,
+        reflection_matrix=lambda I, w, u, g: real.reflection_matrix(I, w, u, g) * rr.fmpq(98, 97)))
+    with pytest.raises(VerificationError, match="reflection"):
+        rf.reflection_map("2,0;0,1", "-1,1")
