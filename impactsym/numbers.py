@@ -29,7 +29,6 @@ from __future__ import annotations
 
 import math
 import re
-from fractions import Fraction
 from numbers import Integral, Rational as _NumRational
 from typing import Any, Iterable
 
@@ -37,6 +36,7 @@ import mpmath
 import numpy as np
 import sympy as sp
 
+from .arithmetic.literals import MAX_DIGITS, json_float, plain_rational, split_entries
 from .arithmetic.rational import float_to_rational
 from .errors import ImpactInputError
 
@@ -89,17 +89,14 @@ _ALLOWED_NAMES = {
 _PARSE_NAMES = {**_ALLOWED_NAMES, "_text_Rational_": _rational_call, "_text_Integer_": _integer_call}
 _USER_CALL = re.compile(r"\b(Rational|Integer)\s*\(")
 
-#: the most decimal digits of any integer or rational the parser builds (numerator or denominator),
-#: and of any integer power's estimated result; a larger number (``9^9^9^9``, ``2^(2^30)``) is
-#: refused before it is computed, naming this limit
-MAX_DIGITS = 1000
+# MAX_DIGITS (from :mod:`impactsym.arithmetic.literals`): the most decimal digits of any integer or
+# rational the parser builds (numerator or denominator), and of any integer power's estimated result;
+# a larger number (``9^9^9^9``, ``2^(2^30)``) is refused before it is computed, naming this limit
 #: the longest text accepted for one entry
 MAX_TEXT = 2000
 
 _SAFE_TEXT = re.compile(r"[0-9A-Za-z_+\-*/().^ eE]+")
 _IDENT = re.compile(r"[A-Za-z_][A-Za-z_0-9]*")
-#: plain numeric text read without the expression parser: ``-3``, ``11/10``, ``1.25``, ``1e-3``
-_PLAIN = re.compile(r"[+-]?(?:\d+\.?\d*|\.\d+)(?:[eE]([+-]?\d+))?(?:/(\d+))?")
 #: a numeric literal, with an optional decimal exponent (``1e-3``, ``2.5E+4``): read exactly
 _LITERAL = re.compile(r"(?<![A-Za-z_0-9.])(?:\d+\.?\d*|\.\d+)(?:[eE]([+-]?\d+))?")
 
@@ -162,14 +159,12 @@ def parse_number(text: Any, argument: str = "value") -> sp.Expr:
     low = s.lower()
     if low in {"nan", "+nan", "-nan", "inf", "+inf", "-inf", "infinity", "-infinity", "oo", "-oo", "zoo"}:
         raise ImpactInputError(argument, f"must be a finite real number, got {s}")
-    plain = _PLAIN.fullmatch(s)
-    if plain and len(s) <= MAX_DIGITS:  # a plain integer, fraction or decimal: no parser needed
-        if plain.group(2) is not None and int(plain.group(2)) == 0:
-            raise ImpactInputError(argument, f"must be a finite real number, got {s} (division by zero)")
-        exponent = plain.group(1)
-        if exponent is None or abs(int(exponent)) <= MAX_DIGITS:
-            num, _, den = s.partition("/")
-            return sp.Rational(Fraction(num)) / (int(den) if den else 1)
+    try:  # a plain integer, fraction or decimal: no parser needed (the one reading of plain text)
+        plain = plain_rational(s)
+    except ZeroDivisionError:
+        raise ImpactInputError(argument, f"must be a finite real number, got {s} (division by zero)") from None
+    if plain is not None:
+        return sp.Rational(plain.numerator, plain.denominator)
     if len(s) > MAX_TEXT:
         raise ImpactInputError(argument, f"entry is {len(s)} characters long; at most {MAX_TEXT} are read")
     if not _SAFE_TEXT.fullmatch(s) or any(name not in _ALLOWED_NAMES for name in _IDENT.findall(_LITERAL.sub(" ", s))):
@@ -285,8 +280,7 @@ except ImportError:  # pragma: no cover
     TokenError_ = SyntaxError  # type: ignore
 
 
-def _split(text: str, sep: str) -> list[str]:
-    return [part for part in (p.strip() for p in text.split(sep))]
+_split = split_entries
 
 
 def parse_vector(text: str, argument: str = "vector") -> sp.Matrix:
@@ -428,6 +422,8 @@ def exact_str(x: Any) -> str:
 
 
 def _float_of(x: Any) -> float:
+    if isinstance(x, sp.Rational):  # bit for bit float(N(x, 17)), without evalf (shared with the fast paths)
+        return json_float(int(x.p), int(x.q))
     if isinstance(x, sp.Basic):
         return float(sp.N(x, 17))
     return float(x)

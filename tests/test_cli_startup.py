@@ -1,6 +1,6 @@
 """Start-up stays light: ``import impactsym``, ``impactsym --help`` and ``impactsym codegen --list``
-import no SymPy, NumPy, SciPy, mpmath or flint (each runs in a fresh interpreter, checked through
-``sys.modules``, not by timing); the lazy names of ``impactsym`` resolve to the objects of their
+import no SymPy, NumPy, SciPy, mpmath or flint, and ``impactsym reflect`` on rational input only
+flint (each runs in a fresh interpreter, checked through ``sys.modules``, not by timing); the lazy names of ``impactsym`` resolve to the objects of their
 modules; the domain parser's scene names are the domains' own."""
 
 from __future__ import annotations
@@ -33,6 +33,27 @@ def _loaded_after(code: str) -> set:
 ])
 def test_start_up_imports_no_heavy_library(code):
     assert _loaded_after(code) == set()
+
+
+_REFLECT = ("import contextlib, io\nfrom impactsym.cli import main\n"
+            "with contextlib.redirect_stdout(io.StringIO()): assert main({argv!r}) == 0")
+
+
+@pytest.mark.parametrize("argv", [
+    ["reflect", "--mass-matrix", "2,0;0,1", "--gradient=-1,1", "--velocity", "1,0", "--json"],
+    ["reflect", "--mass-matrix", "1.5,1/4;0.25,2", "--gradient", "1e-3,2", "--restitution", "0.9", "--timeout", "30"],
+    ["reflect", "--mass-matrix", "3,1,0;1,3,1;0,1,3", "--gradient", "1,0,0"],
+])
+def test_reflect_on_rational_input_imports_only_flint(argv):
+    """``reflect`` on plain rational entries runs in python-flint alone (issue 15): no SymPy, NumPy
+    or mpmath at start-up."""
+    assert _loaded_after(_REFLECT.format(argv=argv)) == {"flint"}
+
+
+def test_reflect_on_irrational_input_still_takes_sympy():
+    """The probe above can fail: irrational entries load SymPy (the general path)."""
+    argv = ["reflect", "--mass-matrix", "sqrt(2),0;0,1", "--gradient=-1,1", "--json"]
+    assert "sympy" in _loaded_after(_REFLECT.format(argv=argv))
 
 
 def test_lazy_names_are_the_modules_objects():

@@ -12,23 +12,51 @@ holds all of that, once:
 * :mod:`~impactsym.arithmetic.linalg` — row reduction, null space, solve, rank on those fields
   (python-flint ``fmpq_mat`` and SymPy ``DomainMatrix``; certified elimination only where no
   number field exists);
-* :mod:`~impactsym.arithmetic.balls` — Arb enclosures and their exact reads.
+* :mod:`~impactsym.arithmetic.balls` — Arb enclosures and their exact reads;
+* :mod:`~impactsym.arithmetic.literals` — plain numeric text (``"11/10"``, ``"1e-3"``) read exactly
+  with the standard library alone, and the float of an exact rational in JSON.
+
+The names below are imported on first use, so that importing one light submodule costs no SymPy.
 
 It depends only on :mod:`impactsym.errors`; the laws, :mod:`impactsym.verify` and
 :mod:`impactsym.exact` (the historical name of the sign functions) import from it.
 
 >>> import sympy as sp
+>>> from impactsym.arithmetic import certified_sign, exact_rank
 >>> certified_sign(sp.sqrt(2) - sp.Rational(141421, 100000)), exact_rank(sp.Matrix([[1, 2], [2, 4]]))
 (1, 1)
 """
 
-from .balls import arb_to_mpf, arf_fmpq, ball_ends, certified_ceil, certified_ceiling, enclose, nearest_int
-from .closed_form import certified_compare, certified_sign, tidy
-from .fields import AlgebraicField, RationalField, compare_surds, field_of, sign_of, sign_surd
-from .linalg import (ExactLinearAlgebra, dot, exact_rank, in_row_space, independent, kernel_basis, matvec,
-                     minner, nullspace, rank, rref, solve_columns)
-from .rational import (all_rational, as_fmpq, bits, exact_data, float_to_rational, float_vector, rational_matrix,
-                       rational_sqrt, to_fmpq, to_sympy_matrix, to_sympy_rational)
+import importlib
+
+#: every public name and the submodule it lives in, imported on first use (PEP 562): the plain-text
+#: reader (:mod:`~impactsym.arithmetic.literals`) serves the command line's start-up without SymPy
+_NAMES = {
+    **dict.fromkeys(["arb_to_mpf", "arf_fmpq", "ball_ends", "certified_ceil", "certified_ceiling", "enclose",
+                     "nearest_int"], "balls"),
+    **dict.fromkeys(["certified_compare", "certified_sign", "tidy"], "closed_form"),
+    **dict.fromkeys(["AlgebraicField", "RationalField", "compare_surds", "field_of", "sign_of", "sign_surd"],
+                    "fields"),
+    **dict.fromkeys(["ExactLinearAlgebra", "dot", "exact_rank", "in_row_space", "independent", "kernel_basis",
+                     "matvec", "minner", "nullspace", "rank", "rref", "solve_columns"], "linalg"),
+    **dict.fromkeys(["all_rational", "as_fmpq", "bits", "exact_data", "float_to_rational", "float_vector",
+                     "rational_matrix", "rational_sqrt", "to_fmpq", "to_sympy_matrix", "to_sympy_rational"],
+                    "rational"),
+}
+
+
+def __getattr__(name):
+    module = _NAMES.get(name)
+    if module is None:
+        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+    value = getattr(importlib.import_module(f".{module}", __name__), name)
+    globals()[name] = value  # later lookups skip __getattr__
+    return value
+
+
+def __dir__():
+    return sorted(set(globals()) | set(_NAMES))
+
 
 __all__ = [
     "certified_sign", "certified_compare", "tidy",

@@ -100,11 +100,21 @@ def build_parser() -> argparse.ArgumentParser:
 def _timeout_seconds(text: str | None) -> float | None:
     if text is None:
         return None
+    from ..arithmetic.literals import plain_rational
     from ..errors import ImpactInputError
-    from ..numbers import parse_number
 
-    value = parse_number(text, "timeout")
-    if not value.is_positive:
+    try:
+        value = plain_rational(text)  # plain text ("30", "0.5") needs no SymPy
+    except ZeroDivisionError:
+        value = None
+    if value is not None:
+        positive = value > 0
+    else:
+        from ..numbers import parse_number
+
+        value = parse_number(text, "timeout")
+        positive = value.is_positive
+    if not positive:
         raise ImpactInputError("timeout", f"must be a positive number of seconds, got {text!r}")
     return float(value)
 

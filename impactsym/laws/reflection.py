@@ -144,10 +144,13 @@ def reflection_map(mass_matrix, gradient, restitution=1, *, dps: int | None = No
             _, um, w, _, c = _mp_parts(Mx, ux, ex, exact)
             return _r.reflection_matrix(mpmath.eye(n), w, um.T, c)
     if exact and all_rational(Mx, ux, sp.Matrix([ex])):  # rational input: exact linear algebra in python-flint
-        from flint import fmpq_mat
+        from flint import fmpq, fmpq_mat
+
+        from .reflection_rational import verify_rational_reflection
 
         u, w, c = _rational_parts(Mx, ux, ex)
         G = _r.reflection_matrix(fmpq_mat(n, n, [int(i == j) for i in range(n) for j in range(n)]), w, u, c)
+        verify_rational_reflection(rational_matrix(Mx), u, fmpq(int(ex.p), int(ex.q)), G)  # u G = -e u, M(G - I) = u^T r
         return to_sympy_matrix(G)
     if exact:
         w, s = _r.sympy_parts(Mx, ux)
