@@ -12,9 +12,10 @@ the reflection count of two surfaces). Each problem is solved through the law in
   hunt-crossley, lzb) integrate an ODE in floats whatever they are given: they have the float
   path only.
 
-Per size and path: the **median time** of repeated calls (``time.perf_counter``; at least three
-calls and as many as fit in :data:`MIN_SECONDS`, or one when a call takes longer than
-:data:`SLOW_CALL` seconds) and the **peak memory** of one more
+Per size and path, after one warm-up call: the **median time** of repeated calls
+(``time.perf_counter``; at least three calls and as many as fit in :data:`MIN_SECONDS`, or one
+when a call takes longer than :data:`SLOW_CALL` seconds), each after emptying SymPy's cache so
+that a repeated call costs what a new problem of that size costs, and the **peak memory** of one more
 call under :mod:`tracemalloc` (Python allocations, NumPy arrays included; memory that FLINT/GMP
 allocate outside Python's allocator is not seen). Then the fitted growth (:func:`fit_growth`):
 the least-squares slope ``k`` of ``log(cost)`` against ``log(size)``, with its standard error and
@@ -23,8 +24,10 @@ constant overhead of a call has stopped dominating), and a named model (``O(1)``
 ``O(n^2)``, …) only when the fit is good.
 
 A series stops growing when one call takes more than ``max_call`` seconds, or when the next is
-predicted to (from the growth between the last two sizes), and when the law refuses a size; the
-row says so. Every problem is built from fixed seeds: the same sizes give the same problems.
+predicted to (from the growth between the last two sizes), when a call runs past a hard limit
+(``HARD_LIMIT_FACTOR · max_call``; it is interrupted), and when the law refuses a size; the row
+says so. A warning raised by a call, or a float outcome holding NaN or infinity, is recorded with
+the row. Every problem is built from fixed seeds: the same sizes give the same problems.
 
 Examples
 --------
@@ -44,6 +47,7 @@ import random
 import statistics
 import time
 import tracemalloc
+from contextlib import contextmanager
 from dataclasses import dataclass, field
 from typing import Callable
 
@@ -60,6 +64,8 @@ MIN_SECONDS = 0.1
 MAX_CALL = 3.0
 #: calls faster than this (seconds) are not extrapolated to predict the next size
 PREDICT_FROM = 0.02
+#: a warm-up call running past this many times the cap is interrupted (SIGALRM)
+HARD_LIMIT_FACTOR = 4
 
 
 # ------------------------------------------------------------------------------------ fitting
@@ -421,48 +427,81 @@ def _result_facts(res) -> dict:
     return out
 
 
-def _measure(call, repeats: int, warm_up: bool, max_call: float = MAX_CALL,
-             min_seconds: float = MIN_SECONDS) -> dict:
+class CallTimeout(Exception):
+    """One call ran past the hard limit (:func:`_hard_limit`)."""
+
+
+@contextmanager
+def _hard_limit(seconds: float):
+    """Interrupt the call after ``seconds`` (SIGALRM; main thread on Unix only, elsewhere no limit):
+    a size whose growth the prediction underestimated cannot hold the run for long."""
+    import signal
+    import threading
+
+    if not hasattr(signal, "setitimer") or threading.current_thread() is not threading.main_thread():
+        yield
+        return
+
+    def _raise(signum, frame):
+        raise CallTimeout(f"a call ran past the hard limit of {seconds:g} s")
+
+    old = signal.signal(signal.SIGALRM, _raise)
+    signal.setitimer(signal.ITIMER_REAL, seconds)
+    try:
+        yield
+    finally:
+        signal.setitimer(signal.ITIMER_REAL, 0)
+        signal.signal(signal.SIGALRM, old)
+
+
+def _clear_caches() -> None:
+    """Empty SymPy's global cache, so that a repeated call on the same input is not a cache hit
+    (each timed call costs what a new problem of that size costs)."""
+    from sympy.core.cache import clear_cache
+
+    clear_cache()
+
+
+def _measure(call, repeats: int, max_call: float = MAX_CALL, min_seconds: float = MIN_SECONDS) -> dict:
     """Time and peak memory of ``call``.
 
-    The first call (its result and warnings kept) is a warm-up when ``warm_up`` (the first size of
-    a series: imports, lazy set-up), and otherwise the first timing. A call slower than
-    :data:`SLOW_CALL` is timed once; a faster one at least ``repeats`` times and for at least
-    ``min_seconds`` (at most 100 calls), and the median taken. Then one more call under
-    :mod:`tracemalloc` gives the peak, unless the first call took more than ``max_call`` (no
-    memory then: ``peak_kib`` None)."""
+    A warm-up call first (its result and warnings are kept; imports and lazy set-up happen there).
+    Then timed calls, each after :func:`_clear_caches`: one when the first takes more than
+    :data:`SLOW_CALL`, else at least ``repeats`` and for at least ``min_seconds`` (at most 100);
+    the median is reported. Then one call under :mod:`tracemalloc` (after clearing the caches too)
+    gives the peak. A warm-up slower than ``max_call`` is the only call: its time is reported
+    (``calls: 0``) and memory is not measured."""
     import warnings
 
-    with warnings.catch_warnings(record=True) as caught:
+    with warnings.catch_warnings(record=True) as caught, _hard_limit(max(1.0, HARD_LIMIT_FACTOR * max_call)):
         warnings.simplefilter("always")
         t0 = time.perf_counter()
         res = call()
         first = time.perf_counter() - t0
-    start = time.perf_counter()
-    if warm_up:  # the warm-up does not count: the first timed call decides how many follow
-        call()
-        times = [time.perf_counter() - start]
-    else:
-        times = [first]
-    slow = times[0] > SLOW_CALL
-    while not slow and (len(times) < repeats or time.perf_counter() - start < min_seconds) and len(times) < 100:
-        t0 = time.perf_counter()
-        call()
-        times.append(time.perf_counter() - t0)
-    out = {"seconds": statistics.median(times), "calls": len(times)}
+    out: dict = {}
     if first > max_call:
-        out["peak_kib"] = None
-        out["memory"] = f"not measured: a call took {first:.3g} s, above the cap of {max_call:g} s"
+        out = {"seconds": first, "calls": 0, "peak_kib": None,
+               "memory": f"not measured, and the time is the warm-up call's: it took {first:.3g} s, above the cap "
+                         f"of {max_call:g} s"}
     else:
+        times: list = []
+        start = time.perf_counter()
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")
+            while not times or (times[0] <= SLOW_CALL and (len(times) < repeats or time.perf_counter() - start
+                                                           < min_seconds) and len(times) < 100):
+                _clear_caches()
+                t0 = time.perf_counter()
+                call()
+                times.append(time.perf_counter() - t0)
+            _clear_caches()
             tracemalloc.start()
             try:
                 call()
                 peak = tracemalloc.get_traced_memory()[1]
             finally:
                 tracemalloc.stop()
-        out["peak_kib"] = round(peak / 1024, 1)
+        out = {"seconds": statistics.median(times), "calls": len(times), "peak_kib": round(peak / 1024, 1)}
     out.update(_result_facts(res))
     msgs = sorted({f"{w.category.__name__}: {w.message}" for w in caught})
     if msgs:
@@ -474,9 +513,11 @@ def _series(law: str, axis: Axis, sizes, path: str, repeats: int, max_call: floa
     """One path of one axis: a dict per size (``seconds``, ``peak_kib``, …, or ``stopped``).
 
     Before each size after the first, the time is predicted from the last one and the growth
-    between the last two (at least linear); a size predicted to take more than ``max_call`` is
-    skipped, and so is everything after it. Calls under :data:`PREDICT_FROM` seconds are not
-    extrapolated (their growth is mostly fixed overhead and noise)."""
+    between the last two (an exponent clamped to [1, 3]); a size predicted to take more than
+    ``max_call`` is skipped, and so is everything after it. Calls under :data:`PREDICT_FROM`
+    seconds are not extrapolated (their growth is mostly fixed overhead and noise). A call that
+    runs past ``HARD_LIMIT_FACTOR · max_call`` (at least 1 s) anyway is interrupted and ends the
+    series."""
     from .lawbook import REFUSALS, resolve
 
     rows = []
@@ -486,7 +527,8 @@ def _series(law: str, axis: Axis, sizes, path: str, repeats: int, max_call: floa
             prev = rows[-2] if len(rows) >= 2 and "seconds" in rows[-2] else None
             k = 1.0
             if prev and prev["seconds"] > 0 and last["size"] != prev["size"]:
-                k = max(1.0, math.log(last["seconds"] / prev["seconds"]) / math.log(last["size"] / prev["size"]))
+                k = math.log(last["seconds"] / prev["seconds"]) / math.log(last["size"] / prev["size"])
+                k = min(3.0, max(1.0, k))
             predicted = last["seconds"] * (size / last["size"]) ** k
             if predicted > max_call:
                 rows.append({"size": size, "stopped": f"skipped: predicted {predicted:.3g} s a call, above the "
@@ -494,10 +536,12 @@ def _series(law: str, axis: Axis, sizes, path: str, repeats: int, max_call: floa
                 break
         system, opts = _system(law, axis.build(size), path)
         try:
-            row = {"size": size, **_measure(lambda: resolve(law, system, **opts), repeats, warm_up=not rows,
-                                            max_call=max_call)}
+            row = {"size": size, **_measure(lambda: resolve(law, system, **opts), repeats, max_call=max_call)}
         except REFUSALS as exc:
             rows.append({"size": size, "stopped": f"refused: {type(exc).__name__}: {_short(exc)}"})
+            break
+        except CallTimeout as exc:
+            rows.append({"size": size, "stopped": f"stopped: {exc}"})
             break
         except (ValueError, ArithmeticError, MemoryError, RecursionError) as exc:
             rows.append({"size": size, "stopped": f"failed: {type(exc).__name__}: {_short(exc)}"})
@@ -821,8 +865,9 @@ def header(report: dict, command: str) -> str:
             f"{m['python']}; {v}. Load average {load}: a shared machine, other jobs were running. "
             f"{report['seconds']:.0f} s in all{' (quick sizes)' if report['quick'] else ''}.\n\n"
             f"Each time is the median of at least three calls, and of as many as fit in {MIN_SECONDS} s (one call "
-            f"when a call takes over {SLOW_CALL} s), through "
-            f"`impactsym.lawbook.resolve`, after one warm-up call; memory is the {report['memory']}. "
+            f"when a call takes over {SLOW_CALL} s), each after emptying SymPy's cache (so that a repeated call "
+            f"costs what a new problem of that size costs), through "
+            f"`impactsym.lawbook.resolve`, after one warm-up call at each size; memory is the {report['memory']}. "
             f"Exact path: SymPy integers and rationals in; float path: the same problem as float64 arrays. "
             f"k is the least-squares slope of log(cost) against log(size) (cost ~ size^k) with its standard "
             f"error and the rms of the log residuals; a fit with rms above {POOR_RMS} is called poor, and no "

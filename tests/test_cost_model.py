@@ -11,6 +11,9 @@ import random
 import pytest
 
 from impactsym.cli import main
+import numpy as np
+
+from impactsym import cost_model
 from impactsym.cost_model import (COST_LAWS, POOR_RMS, approaching_cradle, dense_system, digits_chain, fit_exponent,
                                   fit_growth, law_cost)
 
@@ -159,3 +162,31 @@ def test_out_must_be_a_directory(capsys, tmp_path):
     f.write_text("x")
     code, data = _run(capsys, "--law", "newton", "--out", str(f))
     assert code == 2 and data["error"]["argument"] == "out"
+
+
+def test_a_call_past_the_hard_limit_is_interrupted():
+    with pytest.raises(cost_model.CallTimeout):
+        with cost_model._hard_limit(0.05):
+            while True:
+                pass
+
+
+def test_warnings_and_non_finite_outcomes_are_recorded_and_shown():
+    import types
+    import warnings
+
+    def call():
+        warnings.warn("overflow encountered in matmul", RuntimeWarning)
+        return types.SimpleNamespace(law="energetic", details={},
+                                     outcomes=[types.SimpleNamespace(velocity=np.array([np.nan, 1.0]))])
+
+    m = cost_model._measure(call, repeats=1)
+    assert m["finite"] is False and m["warnings"] == ["RuntimeWarning: overflow encountered in matmul"]
+    fit = fit_growth([64], [m["seconds"]])
+    r = {"law": "energetic", "title": "t", "paths": ["float"], "float_note": "n",
+         "axes": [{"axis": "dimension", "symbol": "n", "description": "d", "x": "size", "also": None,
+                   "rows": [{"size": 64, "contacts": 2, "coordinates": 64, "float": m}],
+                   "fits": {"float": {"time": fit, "memory": fit}}}]}
+    md = cost_model.markdown({"results": [r]})
+    assert "(!)" in md and "dimension 64, float: the outcome holds NaN or infinity" in md
+    assert "warning RuntimeWarning: overflow encountered in matmul" in md
