@@ -12,11 +12,11 @@ the reflection count of two surfaces). Each problem is solved through the law in
   hunt-crossley, lzb) integrate an ODE in floats whatever they are given: they have the float
   path only.
 
-Per size and path, after one warm-up call: the **median time** of repeated calls
-(``time.perf_counter``; at least three calls and as many as fit in :data:`MIN_SECONDS`, or one
-when a call takes longer than :data:`SLOW_CALL` seconds), each after emptying SymPy's cache so
-that a repeated call costs what a new problem of that size costs, and the **peak memory** of one more
-call under :mod:`tracemalloc` (Python allocations, NumPy arrays included; memory that FLINT/GMP
+Per size and path: the **median time** of repeated calls (``time.perf_counter``; at least three
+calls and as many as fit in :data:`MIN_SECONDS`, after a first untimed one; or the first call
+alone when it takes longer than :data:`SLOW_CALL` seconds), each after emptying SymPy's cache so
+that a repeated call costs what a new problem of that size costs, and the **peak memory** of one
+more call under :mod:`tracemalloc` (Python allocations, NumPy arrays included; memory that FLINT/GMP
 allocate outside Python's allocator is not seen). Then the fitted growth (:func:`fit_growth`):
 the least-squares slope ``k`` of ``log(cost)`` against ``log(size)``, with its standard error and
 the root-mean-square of the residuals, over every size and over the largest sizes (where the
@@ -464,29 +464,30 @@ def _clear_caches() -> None:
     clear_cache()
 
 
-def _measure(call, repeats: int, max_call: float = MAX_CALL, min_seconds: float = MIN_SECONDS) -> dict:
+def _measure(call, repeats: int, max_call: float = MAX_CALL, min_seconds: float = MIN_SECONDS,
+             warm_up: bool = True) -> dict:
     """Time and peak memory of ``call``.
 
-    A warm-up call first (its result and warnings are kept; imports and lazy set-up happen there).
-    Then timed calls, each after :func:`_clear_caches`: one when the first takes more than
-    :data:`SLOW_CALL`, else at least ``repeats`` and for at least ``min_seconds`` (at most 100);
-    the median is reported. Then one call under :mod:`tracemalloc` (after clearing the caches too)
-    gives the peak. A warm-up slower than ``max_call`` is the only call: its time is reported
-    (``calls: 0``) and memory is not measured."""
+    Every call starts after :func:`_clear_caches`. The first call's result and warnings are kept.
+    With ``warm_up`` (the first size of a series: imports and lazy set-up happen there) it is not
+    timed; otherwise, when it takes more than :data:`SLOW_CALL`, it is the one timing. Else timed
+    calls follow: at least ``repeats`` and for at least ``min_seconds`` (at most 100), and the
+    median is reported. Then one call under :mod:`tracemalloc` gives the peak. A first call slower
+    than ``max_call`` is the only call: its time is reported and memory is not measured."""
     import warnings
 
     with warnings.catch_warnings(record=True) as caught, _hard_limit(max(1.0, HARD_LIMIT_FACTOR * max_call)):
         warnings.simplefilter("always")
+        _clear_caches()
         t0 = time.perf_counter()
         res = call()
         first = time.perf_counter() - t0
     out: dict = {}
     if first > max_call:
-        out = {"seconds": first, "calls": 0, "peak_kib": None,
-               "memory": f"not measured, and the time is the warm-up call's: it took {first:.3g} s, above the cap "
-                         f"of {max_call:g} s"}
+        out = {"seconds": first, "calls": 1, "peak_kib": None,
+               "memory": f"not measured (one call only: it took {first:.3g} s, above the cap of {max_call:g} s)"}
     else:
-        times: list = []
+        times: list = [first] if first > SLOW_CALL and not warm_up else []
         start = time.perf_counter()
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")
@@ -515,9 +516,10 @@ def _series(law: str, axis: Axis, sizes, path: str, repeats: int, max_call: floa
     """One path of one axis: a dict per size (``seconds``, ``peak_kib``, …, or ``stopped``).
 
     Before each size after the first, the time is predicted from the last one and the growth
-    between the last two (an exponent clamped to [1, 3]); a size predicted to take more than
+    between the last two (an exponent of at least 1); a size predicted to take more than
     ``max_call`` is skipped, and so is everything after it. Calls under :data:`PREDICT_FROM`
-    seconds are not extrapolated (their growth is mostly fixed overhead and noise). A call that
+    seconds are not extrapolated, nor is growth measured from one (linear growth is assumed
+    then: the time of such a call is mostly fixed overhead and noise). A call that
     runs past ``HARD_LIMIT_FACTOR · max_call`` (at least 1 s) anyway is interrupted and ends the
     series."""
     from .lawbook import REFUSALS, resolve
@@ -528,9 +530,8 @@ def _series(law: str, axis: Axis, sizes, path: str, repeats: int, max_call: floa
             last = rows[-1]
             prev = rows[-2] if len(rows) >= 2 and "seconds" in rows[-2] else None
             k = 1.0
-            if prev and prev["seconds"] > 0 and last["size"] != prev["size"]:
-                k = math.log(last["seconds"] / prev["seconds"]) / math.log(last["size"] / prev["size"])
-                k = min(3.0, max(1.0, k))
+            if prev and prev["seconds"] >= PREDICT_FROM and last["size"] != prev["size"]:
+                k = max(1.0, math.log(last["seconds"] / prev["seconds"]) / math.log(last["size"] / prev["size"]))
             predicted = last["seconds"] * (size / last["size"]) ** k
             if predicted > max_call:
                 rows.append({"size": size, "stopped": f"skipped: predicted {predicted:.3g} s a call, above the "
@@ -538,7 +539,8 @@ def _series(law: str, axis: Axis, sizes, path: str, repeats: int, max_call: floa
                 break
         system, opts = _system(law, axis.build(size), path)
         try:
-            row = {"size": size, **_measure(lambda: resolve(law, system, **opts), repeats, max_call=max_call)}
+            row = {"size": size, **_measure(lambda: resolve(law, system, **opts), repeats, max_call=max_call,
+                                            warm_up=not rows)}
         except REFUSALS as exc:
             rows.append({"size": size, "stopped": f"refused: {type(exc).__name__}: {_short(exc)}"})
             break
@@ -870,10 +872,11 @@ def header(report: dict, command: str) -> str:
             f"Taken on {m['cpu']}, {m['cores']} cores ({m['usable_cores']} usable), {m['platform']}; "
             f"{m['python']}; {v}. Load average {load}: a shared machine, other jobs were running. "
             f"{report['seconds']:.0f} s in all{' (quick sizes)' if report['quick'] else ''}.\n\n"
-            f"Each time is the median of at least three calls, and of as many as fit in {MIN_SECONDS} s (one call "
-            f"when a call takes over {SLOW_CALL} s), each after emptying SymPy's cache (so that a repeated call "
-            f"costs what a new problem of that size costs), through "
-            f"`impactsym.lawbook.resolve`, after one warm-up call at each size; memory is the {report['memory']}. "
+            f"Each time is the median of at least three calls, and of as many as fit in {MIN_SECONDS} s (one call, "
+            f"the first at that size, when it takes over {SLOW_CALL} s), each after emptying SymPy's cache (so "
+            f"that a repeated call costs what a new problem of that size costs), through "
+            f"`impactsym.lawbook.resolve`, after one warm-up call at the first size of each series; memory is "
+            f"the {report['memory']}. "
             f"Exact path: SymPy integers and rationals in; float path: the same problem as float64 arrays. "
             f"k is the least-squares slope of log(cost) against log(size) (cost ~ size^k) with its standard "
             f"error and the rms of the log residuals; a fit with rms above {POOR_RMS} is called poor, and no "
