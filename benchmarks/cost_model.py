@@ -1,54 +1,55 @@
-"""The cost model of every law (issue 15): time and peak memory against problem size, with the
+"""The cost model of every law (issue 15): time and peak memory against problem size (balls,
+dimension of a dense M, digits of the numbers, reflection count), exact and float paths, with the
 fitted growth. Run from the repository root::
 
-    python benchmarks/cost_model.py            # writes benchmarks/results/cost_model.{md,json}
-    python benchmarks/cost_model.py --quick    # small sizes, printed only (not committed)
+    python benchmarks/cost_model.py                 # every law -> benchmarks/results/cost_model.md,
+                                                    #   cost_model.json, cost_model/<law>.png
+    python benchmarks/cost_model.py --law newton    # some laws only (repeatable; still written there)
+    python benchmarks/cost_model.py --quick         # small sizes, printed only (nothing written)
+    python benchmarks/cost_model.py --out DIR       # write into DIR instead
 
-The same measurement, one law at a time: ``impactsym bench --law NAME [--sizes 3,4,6] [--json]``
-(:mod:`impactsym.cost_model` says which problem family each law is measured on). Each time is the
-median of repeated calls in one run (``time.perf_counter``), on a shared 2-core machine (the load
-is printed with the results); the exponents, not the absolute times, are what to compare.
+One law from the command line: ``impactsym bench --law NAME [--quick] [--axis A --sizes N,N]
+[--out DIR] [--json]``. :mod:`impactsym.cost_model` says which problems each law is measured on and
+how. Every problem comes from a fixed seed; the measurement goes through
+``impactsym.lawbook.resolve``, so faster laws show here without a change. A series stops before a
+call predicted to take more than ``--max-call`` seconds (default 4), which bounds the run (about 5
+minutes on the shared 2-core machine).
 """
 
 from __future__ import annotations
 
-import json
-import os
+import argparse
 import sys
-import time
 from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
 
-from impactsym.cost_model import DEFAULT_SIZES, LAWS, QUICK_SIZES, law_cost, markdown  # noqa: E402
+from impactsym.cost_model import COST_LAWS, MAX_CALL, markdown, run, write_results  # noqa: E402
 
 RESULTS = Path(__file__).resolve().parent / "results"
 
 
-def main(quick: bool = False) -> None:
-    load0 = os.getloadavg()[0]
-    t0 = time.perf_counter()
-    results = []
-    for law in LAWS:
-        r = law_cost(law, (QUICK_SIZES if quick else DEFAULT_SIZES)[law])
-        results.append(r)
-        print(f"{law:14s} time ~ size^{r['time_exponent']}  memory ~ size^{r['memory_exponent']}", file=sys.stderr)
-    head = (f"# Cost model of every law\n\n`python benchmarks/cost_model.py` (one law: `impactsym bench --law NAME`). "
-            f"One run on {results[0]['machine']}, load average {load0:.1f} at the start and "
-            f"{os.getloadavg()[0]:.1f} at the end (a shared machine: other jobs were running), "
-            f"{time.perf_counter() - t0:.0f} s in all. Exact path throughout. The exponent k is the least-squares "
-            f"slope of log(cost) against log(size): cost ~ size^k over the sizes measured (for a cradle, size = "
-            f"balls = coordinates = contacts + 1; for two surfaces, the reflection count). Times of a few "
-            f"milliseconds are noisy on a loaded machine: compare exponents, not absolute times.\n\n")
-    text = head + markdown(results) + "\n"
-    if quick:
-        print(text)
-        return
-    RESULTS.mkdir(exist_ok=True)
-    (RESULTS / "cost_model.md").write_text(text)
-    (RESULTS / "cost_model.json").write_text(json.dumps({"results": results}, indent=1) + "\n")
-    print(f"wrote {RESULTS / 'cost_model.md'} and cost_model.json", file=sys.stderr)
+def main(argv=None) -> int:
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    ap.add_argument("--law", action="append", choices=list(COST_LAWS), help="only this law (repeatable)")
+    ap.add_argument("--quick", action="store_true", help="small sizes; printed, not written (unless --out)")
+    ap.add_argument("--out", type=Path, help=f"write here instead of {RESULTS}")
+    ap.add_argument("--max-call", type=float, default=MAX_CALL, help="seconds: stop a series before a call "
+                                                                     "predicted to take longer")
+    args = ap.parse_args(argv)
+    if args.max_call <= 0:
+        ap.error(f"--max-call must be > 0, got {args.max_call}")
+    report = run(args.law, quick=args.quick, max_call=args.max_call, progress=lambda s: print(s, file=sys.stderr))
+    out = args.out or (None if args.quick else RESULTS)
+    if out is None:
+        print(markdown(report))
+        return 0
+    command = "python benchmarks/cost_model.py" + "".join(f" --law {x}" for x in args.law or ()) + (
+        " --quick" if args.quick else "")
+    for path in write_results(report, out, command):
+        print(f"wrote {path}", file=sys.stderr)
+    return 0
 
 
 if __name__ == "__main__":
-    main(quick="--quick" in sys.argv[1:])
+    sys.exit(main())

@@ -4,9 +4,11 @@
 minute); the full run (all formulas, batches of 10⁶) is what ``benchmarks/run.py`` commits under
 ``benchmarks/results/``.
 
-``--law NAME`` measures instead how the cost of one law grows with its problem (contacts and
-coordinates of a cradle, the reflection count of two surfaces): time and peak memory per size and
-the fitted exponent (:mod:`impactsym.cost_model`; ``benchmarks/cost_model.py`` commits every law's).
+``--law NAME`` (or ``all``) measures instead how the cost of a law grows with its problem (balls of a
+cradle, dimension of a dense M, digits of the numbers, the reflection count of two surfaces), on the
+exact and the float path: time and peak memory per size and the fitted growth
+(:mod:`impactsym.cost_model`; ``--out DIR`` writes the table, JSON and plots;
+``benchmarks/cost_model.py`` commits every law's).
 """
 
 from __future__ import annotations
@@ -19,15 +21,23 @@ from .plot import add_plot_option, plot_path
 
 
 def register(sub) -> None:
-    p = sub.add_parser("bench", help="throughput and error of SymPy, mpmath, lambdify, NumPy and C evaluation",
+    p = sub.add_parser("bench", help="throughput and error of SymPy, mpmath, lambdify, NumPy and C evaluation; "
+                                     "--law: the cost model of a law",
                        description="Measure every backend on every formula, on a uniform sample of the valid "
-                                   "domain and on the hard-case set.")
-    p.add_argument("--quick", action="store_true", help="three formulas, smaller batches (about a minute)")
+                                   "domain and on the hard-case set. With --law: how the time and peak memory of "
+                                   "a law grow with its problem (balls, dimension, digits, reflection count), "
+                                   "exact and float paths, with the fitted growth.")
+    p.add_argument("--quick", action="store_true", help="three formulas, smaller batches (about a minute); "
+                                                        "with --law: the small sizes")
     p.add_argument("--formula", action="append", metavar="NAME", help="restrict to a formula (kernel name); repeatable")
-    p.add_argument("--law", metavar="NAME", help="instead: the cost model of one law (sequential, two-surface, newton, "
-                                                 "poisson, energetic, han-gilmore, impulse-ratio)")
-    p.add_argument("--sizes", metavar="N,N,...", help="with --law: the problem sizes (balls; for two-surface d of "
-                                                      "the mass ratio 1:100^d)")
+    p.add_argument("--law", metavar="NAME", help="instead: the cost model of one law (a name of the lawbook: "
+                                                 "sequential, two-surface, newton, ..., lzb), or all")
+    p.add_argument("--axis", metavar="NAME", help="with --law: only this axis (balls, approaching, dimension, "
+                                                  "digits, reflections; which ones a law has depends on the law)")
+    p.add_argument("--sizes", metavar="N,N,...", help="with --law and one axis: the problem sizes (balls, "
+                                                      "dimension, digits; for reflections d of the mass ratio 1:100^d)")
+    p.add_argument("--out", metavar="DIR", help="with --law: write cost_model.md, cost_model.json and "
+                                                "cost_model/<law>.png into DIR (checked before the work)")
     add_plot_option(p, "the log-log plot of throughput against error")
     add_json_flag(p)
     p.set_defaults(func=run, _bench_parser=p)
@@ -46,21 +56,29 @@ def _sizes_arg(text: str | None):
 
 
 def run_law(args) -> dict:
+    from .common import writable_dir
     from .. import cost_model
 
-    refuse_inapplicable(args, args._bench_parser, ("law", "sizes", "quick"), "--law (the cost model of one law)")
-    if args.law not in cost_model.LAWS:
-        raise ImpactInputError("law", f"unknown {args.law!r}; known: {', '.join(cost_model.LAWS)}")
-    sizes = _sizes_arg(args.sizes) or (cost_model.QUICK_SIZES if args.quick else cost_model.DEFAULT_SIZES)[args.law]
-    if args.law == "sequential" and max(sizes) > 40:
-        raise ImpactInputError("sizes", "sequential: at most 40 balls here (the search is exact)")
-    if args.law == "two-surface" and max(sizes) > 200:
-        raise ImpactInputError("sizes", "two-surface: d at most 200 (mass ratio 1:100^d)")
-    if args.law != "two-surface" and max(sizes) > 64:
-        raise ImpactInputError("sizes", f"{args.law}: at most 64 balls here")
-    if args.law != "two-surface" and min(sizes) < 2:
-        raise ImpactInputError("sizes", "a cradle needs at least 2 balls")
-    return {"cost_model": cost_model.law_cost(args.law, sizes)}
+    refuse_inapplicable(args, args._bench_parser, ("law", "axis", "sizes", "quick", "out"),
+                        "--law (the cost model of a law)")
+    if args.law != "all" and args.law not in cost_model.COST_LAWS:
+        raise ImpactInputError("law", f"unknown {args.law!r}; known: {', '.join(cost_model.COST_LAWS)}, or all")
+    laws = list(cost_model.COST_LAWS) if args.law == "all" else [args.law]
+    sizes = _sizes_arg(args.sizes)
+    if (args.axis is not None or sizes is not None) and len(laws) > 1:
+        raise ImpactInputError("axis" if args.axis is not None else "sizes", "applies to one law, not --law all")
+    out = writable_dir(args.out, "out")
+    axes = None if args.axis is None else [args.axis]
+    if laws and (axes or sizes):  # checked before the work: an unknown axis, sizes out of range
+        cost_model.check_request(laws[0], axes, sizes)
+    progress = None if args.json else (lambda line: sys.stderr.write(line + "\n"))
+    report = cost_model.run(laws, quick=args.quick, progress=progress, axes=axes, sizes=sizes)
+    if out is not None:
+        cmd = "impactsym bench --law " + args.law + (" --quick" if args.quick else "")
+        for path in cost_model.write_results(report, out, cmd):
+            if not args.json:
+                sys.stderr.write(f"wrote {path}\n")
+    return {"cost_model": report}
 
 
 def run(args) -> dict:
@@ -68,8 +86,9 @@ def run(args) -> dict:
 
     if args.law is not None:
         return run_law(args)
-    if args.sizes is not None:
-        raise ImpactInputError("sizes", "applies with --law only")
+    for opt in ("sizes", "axis", "out"):
+        if getattr(args, opt) is not None:
+            raise ImpactInputError(opt, "applies with --law only")
 
     from .. import bench as benchmark
 
@@ -94,7 +113,7 @@ def render(result: dict) -> str:
     if "cost_model" in result:
         from ..cost_model import markdown
 
-        return markdown([result["cost_model"]])
+        return markdown(result["cost_model"])
     from ..bench import table
 
     return table(result)
