@@ -70,6 +70,8 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 from typing import Any, Sequence
 
+import math
+
 import numpy as np
 import sympy as sp
 
@@ -304,12 +306,30 @@ def energy_balance_along(Mx, Hx, vx, ex, a, *, exact: bool, allow_invalid: bool 
                                   not violations, violations, notes)
     Mf, Hf, vf, af = (np.asarray(x, dtype=float) for x in (Mx, Hx, vx, a))
     ef = float(ex)
-    rf = Hf.T @ af
-    wf = np.linalg.solve(Mf, rf)
-    Af = 0.5 * float(rf @ wf)
-    Bf = float(af @ (Hf @ vf))
-    Cf = (1.0 - ef) * 0.5 * float(vf @ Mf @ vf)
-    Df = Bf * Bf - 4.0 * Af * Cf
+    ratios_given = list(af)
+
+    def coefficients(af):
+        with np.errstate(over="ignore", invalid="ignore"):
+            rf = Hf.T @ af
+            wf = np.linalg.solve(Mf, rf)
+            Af = 0.5 * float(rf @ wf)
+            Bf = float(af @ (Hf @ vf))
+            Cf = (1.0 - ef) * 0.5 * float(vf @ Mf @ vf)
+            return wf, Af, Bf, Cf, Bf * Bf - 4.0 * Af * Cf
+
+    wf, Af, Bf, Cf, Df = coefficients(af)
+    amax = float(np.max(np.abs(af))) if af.size else 0.0
+    if not all(math.isfinite(x) for x in (Af, Bf, Cf, Df)) and math.isfinite(amax) and amax > 0:
+        # Only the direction of a matters (p = p1 a): an exact direction with huge entries (1e168,
+        # the elastic impulse of a dense 64x64 M) overflows a^T H M^-1 H^T a. Scale it by a power
+        # of two (exact) to a largest entry in [1/2, 1); A, B, C are then the scaled direction's.
+        af = np.ldexp(af, -math.frexp(amax)[1])
+        wf, Af, Bf, Cf, Df = coefficients(af)
+        notes = notes + ["float path: the ratio direction was scaled by a power of two to avoid overflow; "
+                         "the coefficients (A, B, C) are those of the scaled direction"]
+    if not all(math.isfinite(x) for x in (Af, Bf, Cf, Df)):
+        raise DomainError(f"{law}: the float path overflowed (A, B, C or the discriminant of the energy "
+                          "balance is not finite in float64 for this M, H, v); give exact input for the exact path")
     dnorm = None if sB == 0 else Df / (Bf * Bf)
     if sD < 0:
         p = vplus = None
@@ -323,7 +343,10 @@ def energy_balance_along(Mx, Hx, vx, ex, a, *, exact: bool, allow_invalid: bool 
             p1 = -Bf / (2.0 * Af) if Bf != 0 else 0.0
         p = p1 * af
         vplus = vf + p1 * wf
-    return ImpulseRatioResult(p, vplus, Df, dnorm, (Af, Bf, Cf), list(af), False, not violations, violations, notes)
+        if not (np.all(np.isfinite(p)) and np.all(np.isfinite(vplus))):
+            raise DomainError(f"{law}: the float path overflowed (an impulse or velocity is not finite in "
+                              "float64 for this M, H, v); give exact input for the exact path")
+    return ImpulseRatioResult(p, vplus, Df, dnorm, (Af, Bf, Cf), ratios_given, False, not violations, violations, notes)
 
 
 def _verify(law, kind, Mq, Hq, vq, aq, w, A, B, D, e_q, valid):
