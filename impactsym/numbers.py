@@ -29,6 +29,7 @@ from __future__ import annotations
 
 import math
 import re
+import sys
 from numbers import Integral, Rational as _NumRational
 from typing import Any, Iterable
 
@@ -418,7 +419,18 @@ def exact_str(x: Any) -> str:
     >>> exact_str(sp.Rational(-1, 3)), exact_str(sp.sqrt(3) / 2)
     ('-1/3', 'sqrt(3)/2')
     """
-    return str(sp.nsimplify(x) if isinstance(x, sp.Float) else x)
+    if isinstance(x, sp.Rational):
+        # flint prints integers of any length; Python's int -> str stops at 4,300 digits
+        # (sys.get_int_max_str_digits), which exact answers from 1,000-digit input exceed.
+        from flint import fmpz
+        return str(fmpz(int(x.p))) if x.q == 1 else f"{fmpz(int(x.p))}/{fmpz(int(x.q))}"
+    y = sp.nsimplify(x) if isinstance(x, sp.Float) else x
+    old = sys.get_int_max_str_digits()
+    try:
+        sys.set_int_max_str_digits(0)  # an exact expression is printed whole, however long
+        return str(y)
+    finally:
+        sys.set_int_max_str_digits(old)
 
 
 def _float_of(x: Any) -> float:
