@@ -47,6 +47,8 @@ from pathlib import Path
 
 import sympy as sp
 
+from .rational_zero import is_zero
+
 from impactsym.models.acary_taha import chain3, pool
 
 from .codegen import ScalarKernel, render_expressions, render_family
@@ -105,7 +107,7 @@ def admissibility_conditions(scene, ratios, restitution=e) -> dict:
     law = general_quadratic(scene.M, scene.H, scene.v, restitution, list(ratios))
     T = sp.simplify((scene.v.T * scene.M * scene.v)[0, 0] / 2)
     # Δ is linear in e: Δ = B² − 4A(1 − e)T⁻ (checked, not assumed)
-    if not (sp.simplify(law.D - (law.B**2 - 4 * law.A * (1 - restitution) * T)) == 0):
+    if not (is_zero(law.D - (law.B**2 - 4 * law.A * (1 - restitution) * T))):
         raise DerivationError('derivation check failed: sp.simplify(law.D - (law.B**2 - 4 * law.A * (1 - restitution) * T)) == 0')
     h = _tidy(1 - law.B**2 / (4 * law.A * T))
     b = scene.H * scene.v
@@ -159,10 +161,10 @@ def chain3_domain() -> dict:
     amax = chain3_alpha_max_expr()
     printed = (2 * e - 2 - sp.sqrt(6 * e - 2)) / (e - 3)
     verified = (
-        sp.simplify(amax - printed) == 0
+        is_zero(amax - printed)
         and e_min == sp.Rational(1, 3)
-        and sp.simplify(g.subs(alpha, 1) - 1) == 0
-        and sp.simplify(sp.factor(g - h) - alpha**2 * (2 * alpha - 1) ** 2 / (2 * cond["A"] * (2 - alpha) ** 2)) == 0
+        and is_zero(g.subs(alpha, 1) - 1)
+        and is_zero(sp.factor(g - h) - alpha**2 * (2 * alpha - 1) ** 2 / (2 * cond["A"] * (2 - alpha) ** 2))
         and bool(g_increasing)
     )
     return {"g": g, "h": h, "g_minus_h": sp.factor(g - h), "alpha_min": alpha_min, "alpha_max": amax,
@@ -197,7 +199,7 @@ def chain3_alpha_max_expr():
     a = sp.Symbol("a", real=True)
     roots = sp.solve(sp.numer(sp.together(g.subs(alpha, a) - e)), a)
     # choose the root that is 1 at e = 1 and 1/2 at e = 1/3 (the branch inside [1/2, 1])
-    picked = [r for r in roots if sp.simplify(r.subs(e, 1) - 1) == 0 and sp.simplify(r.subs(e, sp.Rational(1, 3)) - sp.Rational(1, 2)) == 0]
+    picked = [r for r in roots if is_zero(r.subs(e, 1) - 1) and is_zero(r.subs(e, sp.Rational(1, 3)) - sp.Rational(1, 2))]
     if not (len(picked) == 1):
         raise DerivationError(roots)
     r = picked[0]
@@ -278,7 +280,7 @@ def pool_claims() -> dict:
     crit = sp.solve(sp.numer(dg), alpha)
     d2 = sp.factor(sp.diff(g, alpha, 2).subs(alpha, c / 2))
     gmin = sp.factor(g.subs(alpha, c / 2))
-    out["g_minimum"] = {"verdict": "confirmed" if (crit == [c / 2] and sp.simplify(gmin - (2 - c**2) / (4 - c**2)) == 0) else "refuted",
+    out["g_minimum"] = {"verdict": "confirmed" if (crit == [c / 2] and is_zero(gmin - (2 - c**2) / (4 - c**2))) else "refuted",
                         "proof": {"dg": dg, "critical_points": crit, "second_derivative_at_c/2": d2, "g(c/2)": gmin,
                                   "h(c/2)": sp.factor(h.subs(alpha, c / 2)),
                                   "note": "minimum over alpha >= 0 only when c >= 0; for c < 0, g increases on [0, oo[ and min is g(0) = 1/2"}}
@@ -377,9 +379,9 @@ def pool_tau_conditions() -> dict:
     s2, c2 = sp.sin(tau) ** 2, sp.cos(tau) ** 2
     mapped_g = s2 + c2 * pool_g(sp.cos(theta))
     mapped_h = s2 + c2 * pool_h(sp.cos(theta))
-    if not (sp.simplify(k1["g"] - mapped_g) == 0):
+    if not (is_zero(k1["g"] - mapped_g)):
         raise DerivationError(k1["g"])
-    if not (sp.simplify(cond["h"] - mapped_h) == 0):
+    if not (is_zero(cond["h"] - mapped_h)):
         raise DerivationError(cond["h"])
     if not (k2["b"] == 0 and sp.expand(k2["c"] - (2 * alpha - sp.cos(theta))) == 0):
         raise DerivationError(k2)

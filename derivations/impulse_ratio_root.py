@@ -35,6 +35,8 @@ from pathlib import Path
 
 import sympy as sp
 
+from .rational_zero import is_zero
+
 from .codegen import ScalarKernel, render_family
 
 from impactsym.errors import DerivationError
@@ -53,8 +55,8 @@ def naive_roots():
     p = sp.Symbol("p_1")
     roots = sp.solve(A * p**2 + B * p + C, p)
     D = B**2 - 4 * A * C
-    plus = [r for r in roots if sp.simplify(r - (-B + sp.sqrt(D)) / (2 * A)) == 0]
-    minus = [r for r in roots if sp.simplify(r - (-B - sp.sqrt(D)) / (2 * A)) == 0]
+    plus = [r for r in roots if is_zero(r - (-B + sp.sqrt(D)) / (2 * A))]
+    minus = [r for r in roots if is_zero(r - (-B - sp.sqrt(D)) / (2 * A))]
     if not (len(plus) == 1 and len(minus) == 1):
         raise DerivationError(roots)
     return plus[0], minus[0]

@@ -31,7 +31,7 @@ from __future__ import annotations
 import flint
 import sympy as sp
 
-__all__ = ["is_zero_rational_function", "to_fraction"]
+__all__ = ["is_zero_rational_function", "is_zero_algebraic", "is_zero", "to_fraction"]
 
 
 class _NotRational(TypeError):
@@ -121,3 +121,226 @@ def is_zero_rational_function(expr) -> bool | None:
     except _NotRational:
         return None
     return n == 0
+
+
+# --------------------------------------------------------------------------- algebraic generators
+class _Gen:
+    """A generator of the coefficient ring with its defining relation ``g² = value``: a square
+    root of a positive rational (``value`` rational), the imaginary unit (``value`` −1), or the
+    sine of an angle (``value`` ``1 − cos²``, the cosine being another generator)."""
+
+    def __init__(self, kind, key):
+        self.kind, self.key = kind, key
+
+
+def _generators(expr):
+    """The atoms of ``expr`` that become polynomial variables, or raise :class:`_NotRational`:
+    symbols, ``√q`` (``q`` a positive rational), ``I``, and ``cos x``, ``sin x`` of a symbol."""
+    symbols, roots, angles, unit = set(), set(), set(), False
+    for node in sp.preorder_traversal(expr):
+        if node.is_Symbol:
+            symbols.add(node)
+        elif node is sp.I:
+            unit = True
+        elif node.is_Pow and not node.exp.is_Integer:
+            b, x = node.base, node.exp
+            if not (b.is_Rational and b > 0 and x.is_Rational and x.q == 2):
+                raise _NotRational(f"not an algebraic power: {node}")
+            roots.add(b)
+        elif isinstance(node, (sp.cos, sp.sin)):
+            if not node.args[0].is_Symbol:
+                raise _NotRational(f"trigonometric function of a non-symbol: {node}")
+            angles.add(node.args[0])
+        elif node.is_Function or node.is_Relational or isinstance(node, sp.MatrixBase):
+            raise _NotRational(f"not a rational function: {type(node).__name__}")
+    return sorted(symbols - angles, key=str), sorted(roots), sorted(angles, key=str), unit
+
+
+def _reduce(poly, ctx, rel):
+    """``poly`` with every ``g^k`` (``k ≥ 2``) of a generator rewritten by its relation
+    ``g² = value`` (``rel``: generator index -> value as a polynomial of ``ctx``), until no
+    generator occurs squared. Each rewrite replaces a polynomial by an equal one, so a result 0
+    proves ``poly`` zero at the generators' values."""
+    for gi, value in rel.items():
+        out = ctx.from_dict({})
+        pending = {}
+        for exps, c in poly.to_dict().items():
+            k = exps[gi]
+            if k < 2:
+                pending[exps] = pending.get(exps, 0) + c
+                continue
+            e = list(exps)
+            e[gi] = k % 2
+            out += ctx.from_dict({tuple(e): c}) * value ** (k // 2)
+        poly = out + ctx.from_dict({e: c for e, c in pending.items() if c != 0})
+    return poly
+
+
+def is_zero_algebraic(expr) -> bool | None:
+    """Whether ``expr`` is identically zero, proved exactly, for rational functions over
+    ``Q(√q₁, √q₂, …, i)`` in symbols and in ``cos x``, ``sin x`` of symbols ``x``.
+
+    The expression is written as one fraction ``N / D`` of polynomials in the symbols and in one
+    generator per square root, ``i``, cosine and sine (no gcd, as :func:`to_fraction`); ``N`` is
+    reduced by the true relations ``(√q)² = q``, ``i² = −1``, ``sin²x = 1 − cos²x``. A reduced
+    ``N`` equal to the zero polynomial proves ``N = 0`` at the generators' values; ``D`` is
+    proved not identically zero by one certified evaluation (an Arb ball excluding 0 at an exact
+    rational point). Then ``expr`` is identically zero.
+
+    Returns
+    -------
+    True when proved zero; None otherwise (the expression may still be zero: generators such as
+    ``√2``, ``√3`` and ``√6`` are related in ways the reduction does not use). Never False.
+
+    Examples
+    --------
+    >>> x, t = sp.symbols("x t", real=True)
+    >>> is_zero_algebraic((sp.sqrt(3) * x + 1) * (sp.sqrt(3) * x - 1) - 3 * x**2 + 1)
+    True
+    >>> is_zero_algebraic(sp.cos(t)**2 + sp.sin(t)**2 - 1)
+    True
+    >>> is_zero_algebraic(sp.sqrt(3) / 3 - 1 / sp.sqrt(3))
+    True
+    >>> is_zero_algebraic(sp.sqrt(2 + sp.sqrt(3)) - (sp.sqrt(6) + sp.sqrt(2)) / 2) is None  # nested: undecided
+    True
+    >>> is_zero_algebraic(sp.sqrt(x) - 1) is None
+    True
+    """
+    expr = sp.sympify(expr)
+    if not expr.is_commutative or isinstance(expr, sp.MatrixBase):
+        return None
+    try:
+        symbols, roots, angles, unit = _generators(expr)
+        atoms = list(symbols) + [sp.sqrt(q) for q in roots] + [f(x) for x in angles for f in (sp.cos, sp.sin)]
+        atoms += [sp.I] if unit else []
+        if not atoms:
+            return True if expr == 0 else None
+        names = tuple(f"x{i}" for i in range(len(atoms)))
+        ctx = flint.fmpq_mpoly_ctx.get(names, "lex")
+        gens = ctx.gens()
+        index = {a: i for i, a in enumerate(atoms)}
+        n, d = _conv(expr, ctx, gens, index)
+    except _NotRational:
+        return None
+    if d == 0:
+        return None
+    rel = {}
+    for q in roots:
+        rel[index[sp.sqrt(q)]] = ctx.from_dict({}) + flint.fmpq(int(q.p), int(q.q))
+    for x in angles:
+        c = gens[index[sp.cos(x)]]
+        rel[index[sp.sin(x)]] = 1 - c * c
+    if unit:
+        rel[index[sp.I]] = ctx.from_dict({}) - 1
+    if _reduce(n, ctx, rel) != 0:
+        return None
+    return True if _certainly_nonzero(d, atoms) else None
+
+
+def _conv(expr, ctx, gens, index):
+    """``(N, D)`` over ``ctx`` with the atoms of ``index`` as variables (as :func:`to_fraction`;
+    half-integer powers of a root atom become powers of its generator)."""
+    one = ctx.from_dict({}) + 1
+    memo: dict = {}
+
+    def conv(e):
+        hit = memo.get(e)
+        if hit is not None:
+            return hit
+        i = index.get(e)
+        if i is not None:
+            out = (gens[i], one)
+        elif e.is_Rational:
+            out = (one * flint.fmpq(int(e.p), int(e.q)), one)
+        elif e.is_Add:
+            n, d = conv(e.args[0])
+            for a in e.args[1:]:
+                n2, d2 = conv(a)
+                if d2 == d:
+                    n = n + n2
+                else:
+                    n, d = n * d2 + n2 * d, d * d2
+            out = (n, d)
+        elif e.is_Mul:
+            n, d = one, one
+            for a in e.args:
+                n2, d2 = conv(a)
+                n, d = n * n2, d * d2
+            out = (n, d)
+        elif e.is_Pow and (e.exp.is_Integer or (e.base.is_Rational and e.exp.is_Rational and e.exp.q == 2)):
+            if e.exp.is_Integer:
+                n, d = conv(e.base)
+                k = int(e.exp)
+            else:  # q**(k/2) = sqrt(q)**k
+                n, d = conv(sp.sqrt(e.base)), one
+                k = int(e.exp.p)
+            if k < 0 and n == 0:
+                raise _NotRational("division by the zero polynomial")
+            out = (n ** k, d ** k) if k >= 0 else (d ** (-k), n ** (-k))
+        else:
+            raise _NotRational(f"not a rational function: {type(e).__name__}")
+        memo[e] = out
+        return out
+
+    return conv(expr)
+
+
+def _certainly_nonzero(poly, atoms) -> bool:
+    """Whether the polynomial ``poly`` (variables ``atoms``) is certifiably non-zero at one point:
+    symbols at distinct small rationals, angles at 2/7, 3/7, ..., square roots and ``i`` at their
+    values (an Arb ball, 128 bits, that excludes 0; ``i`` handled by complex balls)."""
+    ctx = flint.ctx
+    old = ctx.prec
+    try:
+        ctx.prec = 128
+        vals = []
+        k = 0
+        for a in atoms:
+            k += 1
+            if a is sp.I:
+                vals.append(flint.acb(0, 1))
+            elif a.is_Symbol:
+                vals.append(flint.acb(flint.arb(flint.fmpq(k + 2, 7 * k + 3))))
+            elif a.is_Pow:
+                vals.append(flint.acb(flint.arb(flint.fmpq(int(a.base.p), int(a.base.q))).sqrt()))
+            else:
+                ang = flint.arb(flint.fmpq(2 + index_of(atoms, a), 7))
+                vals.append(flint.acb(ang.cos() if isinstance(a, sp.cos) else ang.sin()))
+        total = flint.acb(0)
+        for exps, c in poly.to_dict().items():
+            term = flint.acb(flint.arb(c))
+            for v, x in zip(vals, exps):
+                if x:
+                    term *= v ** x
+            total += term
+        return not total.contains(0)
+    finally:
+        ctx.prec = old
+
+
+def index_of(atoms, a) -> int:
+    """The position of the angle of ``a`` (``cos x`` or ``sin x``) among the angles of ``atoms``:
+    the cosine and sine of one angle are evaluated at the same point."""
+    angles = []
+    for b in atoms:
+        if isinstance(b, (sp.cos, sp.sin)) and b.args[0] not in angles:
+            angles.append(b.args[0])
+    return angles.index(a.args[0])
+
+
+def is_zero(expr) -> bool:
+    """``simplify(expr) == 0``, decided first by the exact tests of this module: True when
+    :func:`is_zero_algebraic` proves ``expr`` zero, False when :func:`is_zero_rational_function`
+    proves it a non-zero rational function (which no simplification makes 0), and otherwise
+    SymPy's ``simplify(expr) == 0``.
+
+    >>> x = sp.Symbol("x")
+    >>> is_zero((x + sp.sqrt(2))**2 - x**2 - 2*sp.sqrt(2)*x - 2), is_zero(x**2 - x), is_zero(sp.sqrt(x**2) - x)
+    (True, False, False)
+    """
+    expr = sp.sympify(expr)
+    if is_zero_algebraic(expr):
+        return True
+    if is_zero_rational_function(expr) is False:
+        return False
+    return sp.simplify(expr) == 0

@@ -40,7 +40,7 @@ import sympy as sp
 
 from .algebra import block_determinant_lemma, nc_symbols, rewrite
 from .codegen import ArrayKernel, ScalarKernel, numpy_code, render_family
-from .rational_zero import is_zero_rational_function
+from .rational_zero import is_zero, is_zero_rational_function
 
 from impactsym.errors import DerivationError
 
@@ -187,8 +187,8 @@ def derive_single_impact(n: int) -> Derivation:
     energy = (qp_of_lam.T * M * qp_of_lam)[0, 0] - (qm.T * M * qm)[0, 0]  # eq. 1b
     energy_num = sp.factor(sp.numer(sp.together(energy)))
     roots = sp.solve(energy_num, lam)
-    discarded = [(r, TRIVIAL_ROOT_REASON) for r in roots if sp.simplify(r) == 0]
-    kept = [r for r in roots if sp.simplify(r) != 0]
+    discarded = [(r, TRIVIAL_ROOT_REASON) for r in roots if is_zero(r)]
+    kept = [r for r in roots if not is_zero(r)]
     if not (len(kept) == 1):
         raise DerivationError(f"expected one non-trivial root, got {kept}")
     lam_star = sp.factor(kept[0])
@@ -283,7 +283,7 @@ def derive_general(restitution: bool = False) -> Derivation:
         raise DerivationError(check)
     d = Derivation("n", MM, U, Q, lam_star, Q - lam_star * W, G, roots,
                    [(r, _short(reason)) for r, reason in discarded])
-    d.matches_printed_lambda = sp.simplify(lam_star - coeff * c_ / s_) == 0
+    d.matches_printed_lambda = is_zero(lam_star - coeff * c_ / s_)
     d.matches_printed_G = True  # G is read off in the printed form I - coeff M^-1 u^T u/(u M^-1 u^T)
     d.seconds = time.perf_counter() - t0
     return d
@@ -465,7 +465,7 @@ def _general_restitution():
     Gt = G_matrix(Ut, Wt, s_, e, identity=1)
     dT = rewrite((Qt * Gt * MM * G * Q - Qt * MM * Q) / 2, RULES)
     target = -(1 - e**2) * c_**2 / (2 * s_)
-    return sp.simplify(dT - target) == 0, [
+    return is_zero(dT - target), [
         "G(e) = 1 - (1+e) W U / s (derived from u q+ = -e u q-)",
         f"T+ - T- = (Q^T G^T M G Q - Q^T M Q)/2 rewrites to {sp.factor(dT)}",
     ]
@@ -541,7 +541,7 @@ def kernels() -> list:
     """The kernels this derivation emits (general n, and closed forms for n = 2 and 3)."""
     e, s = e_, s_
     coeff = _coefficient()  # (e + 1)/s
-    if not (sp.simplify(coeff - (1 + e) / s) == 0):
+    if not (is_zero(coeff - (1 + e) / s)):
         raise DerivationError('derivation check failed: sp.simplify(coeff - (1 + e) / s) == 0')
     cs = numpy_code(coeff.subs({e: sp.Symbol("restitution"), s: sp.Symbol("s")}))
     general_map = ArrayKernel(

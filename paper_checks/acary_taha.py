@@ -31,6 +31,8 @@ from functools import lru_cache
 
 import sympy as sp
 
+from derivations.rational_zero import is_zero
+
 from impactsym.exact import certified_sign
 from impactsym.mechanics import kinetic_angle_cos, m_normal
 from impactsym.models.acary_taha import bernoulli, chain3, pool
@@ -343,9 +345,9 @@ def _eq18_claim(key: str, quantity: str):
                        note=note)
     res_p = momentum_energy_residuals(printed)
     res_d = momentum_energy_residuals(derived)
-    if any(sp.simplify(x) != 0 for x in res_d.values()):
+    if any(not is_zero(x) for x in res_d.values()):
         raise ValueError(f"the derived eq. 18 state violates momentum or energy ({res_d}): no baseline for an erratum")
-    if sp.simplify(res_p["momentum"]) == 0:
+    if is_zero(res_p["momentum"]):
         raise ValueError(f"the printed {quantity} differs from the derived one yet conserves momentum: not a sign misprint")
     return Finding("erratum", published=str(printed[key]), published_expr=printed[key], derived=derived[key],
                    corrected=derived[key],
@@ -868,7 +870,7 @@ def theta0():
     ok = True
     for pk, ck in (("x1+", "q1+"), ("x2+", "q2+"), ("x3+", "q3+")):
         ok &= bool(identical(d[pk].subs(th, 0), chain[ck]))
-    ok &= all(sp.simplify(d[k].subs(th, 0)) == 0 for k in ("y1+", "y2+", "y3+"))
+    ok &= all(is_zero(d[k].subs(th, 0)) for k in ("y1+", "y2+", "y3+"))
     return Finding("exact-match" if ok else "refuted", published="the solution of the monodimensional 3-ball chain is found again when we set θ = 0",
                    derived={k: sp.simplify(d[k].subs(th, 0)) for k in ("x1+", "x2+", "x3+")},
                    note="derivations.pool.pool_tau0 at θ = 0 against derivations.chain3 (x-components equal, y-components 0).")
@@ -882,7 +884,7 @@ def eq33_label():
     thetas = r["theta"]
     if not thetas:
         raise ValueError("no θ in [0, 2π/3] reproduces eq. 33's entries: the label cannot be decided")
-    label_ok = any(sp.simplify(t - sp.pi / 2) == 0 for t in thetas)
+    label_ok = any(is_zero(t - sp.pi / 2) for t in thetas)
     return Finding("exact-match" if label_ok else "erratum", published="Case 2. θ = π/2. For e = 1, we have the following solution ... (33)",
                    derived={"theta solving the correctly printed entries": r["theta"], "misprinted at that theta": r["misprinted"],
                             "entries matching at theta = pi/2": [k for k, v in at_pi2.items() if v]},
@@ -901,7 +903,7 @@ def _derived_state_holds(d: dict, vminus, eps=None, restitution=1) -> None:
     vals = [res["px"], res["py"], res["energy"]]
     if eps is not None:
         vals = [x.subs(eps, sgn) for x in vals for sgn in (1, -1)]
-    bad = [x for x in vals if sp.simplify(x) != 0]
+    bad = [x for x in vals if not is_zero(x)]
     if bad:
         raise ValueError(f"the derived state violates momentum or energy ({res}): no baseline to compare the print with")
 

@@ -7,6 +7,8 @@ from __future__ import annotations
 
 import sympy as sp
 
+from derivations.rational_zero import is_zero
+
 from impactsym.mechanics import kinetic_angle_cos
 from impactsym.models.acary_taha import pool
 
@@ -41,5 +43,5 @@ def pool_kinetic_angle_check():
     for constraint in ("distance", "squared"):
         sc = pool(theta, constraint=constraint)
         c = sp.simplify(kinetic_angle_cos(sc.M, sc.H[0, :], sc.H[1, :]))
-        out[constraint] = (c, sp.simplify(c - printed) == 0)
+        out[constraint] = (c, is_zero(c - printed))
     return out

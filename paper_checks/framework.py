@@ -493,7 +493,9 @@ def identical(a, b, *, domain: dict | None = None, points: int = 8, seed: int = 
         ``status`` (``proved``, ``different``, ``samples`` or ``inconclusive``), the ``method``
         that decided it, and a counterexample point when different.
 
-    First ``simplify(a − b) == 0`` (a proof). For numbers, an exact zero test or a certified
+    First an exact zero test of ``a − b`` (:func:`derivations.rational_zero.is_zero_algebraic`:
+    its numerator, reduced by ``(√q)² = q``, ``sin² = 1 − cos²``, is the zero polynomial), then
+    ``simplify(a − b) == 0`` (both proofs). For numbers, an exact zero test or a certified
     sign (:func:`impactsym.exact.certified_sign`: rationals exactly, algebraic numbers by their
     minimal polynomial, others by rigorous enclosures). For expressions with symbols,
     ``a − b`` is evaluated *exactly* at ``points`` random rational points of ``domain``: an
@@ -518,8 +520,20 @@ def identical(a, b, *, domain: dict | None = None, points: int = 8, seed: int = 
         diffs = list(A - B)
     else:
         diffs = [A - B]
+    from derivations.rational_zero import is_zero_algebraic, is_zero_rational_function
+
     rest = []
+    simplified = False
     for d in diffs:
+        # exact zero tests first (python-flint, milliseconds): a rational function over Q(√q, i)
+        # in symbols and cos/sin of symbols whose reduced numerator is the zero polynomial is 0;
+        # a rational function over Q with a non-zero numerator is not (simplify cannot close it)
+        if is_zero_algebraic(d):
+            continue
+        if is_zero_rational_function(d) is False:
+            rest.append(d)
+            continue
+        simplified = True
         try:
             if sp.simplify(d) == 0:
                 continue
@@ -527,7 +541,8 @@ def identical(a, b, *, domain: dict | None = None, points: int = 8, seed: int = 
             pass
         rest.append(d)
     if not rest:
-        return Identity(True, "simplify(a - b) == 0", status="proved")
+        return Identity(True, "simplify(a - b) == 0" if simplified else
+                        "a - b is exactly zero (exact zero test)", status="proved")
     free = sorted(set().union(*[d.free_symbols for d in rest]), key=str)
     if not free:
         undecided = []

@@ -24,6 +24,8 @@ from functools import lru_cache
 
 import sympy as sp
 
+from derivations.rational_zero import is_zero
+
 from derivations import reflection as drefl
 from impactsym.laws.reflection import reflection_map
 from impactsym.exact import certified_sign
@@ -636,7 +638,7 @@ def b1_v1():
     v0 = _mat([-x, -x - y])  # u v0 = -x <= 0, v v0 = -y <= 0
     v1 = _G(I2, "1,0") * v0
     uv, vv = (_mat([[1, 0]]) * v1)[0, 0], (_mat([[-1, 1]]) * v1)[0, 0]
-    ok = sp.simplify(uv - x) == 0 and sp.simplify(vv + 2 * x + y) == 0
+    ok = is_zero(uv - x) and is_zero(vv + 2 * x + y)
     return Finding("exact-match" if ok else "refuted", published=r"v v_1 \le 0,\ u v_1 \ge 0",
                    derived={"u v1": uv, "v v1": vv}, note="Every v0 with u v0 ≤ 0, v v0 ≤ 0 is (−x, −x−y), x, y ≥ 0.")
 
@@ -1206,7 +1208,7 @@ def S_relations():
             Sv = S / 2
             Sup = Snew / 2  # S_new = 2 max{S_u+, S_u-} (asserted inside reachable_arc_lengths)
             Sum = S - Sup
-            ok &= sp.simplify(Sup - (Sv + S0)) == 0 and sp.simplify(Sum - (Sv - S0)) == 0
+            ok &= is_zero(Sup - (Sv + S0)) and is_zero(Sum - (Sv - S0))
         rows[str(bp)] = L
     return Finding("supported-by-samples" if ok else "refuted", published=r"S_u^+ = S_v + S_0,\ S_u^- = S_v - S_0",
                    derived=rows, note=f"Sampled at {len(rows)} wedge openings β (exact at each, not proved for every β). Exact arc lengths of the reachable set (derivations.two_surface.reachable_arc_lengths, "
@@ -1219,11 +1221,11 @@ def S_new():
     ok = True
     for bp, L in _arcs().items():
         S0 = bp * sp.pi
-        ok &= sp.simplify(L[1] - 2 * S0) == 0  # the first iteration adds only S_0
+        ok &= is_zero(L[1] - 2 * S0)  # the first iteration adds only S_0
         for k in range(1, len(L) - 1):
             if L[k + 1] >= 2 * sp.pi:
                 break
-            ok &= sp.simplify(L[k + 1] - (L[k] + 2 * S0)) == 0
+            ok &= is_zero(L[k + 1] - (L[k] + 2 * S0))
     return Finding("supported-by-samples" if ok else "refuted", published=r"S_{new} = 2\max\{S_u^+,S_u^-\} = 2S_v + 2S_0 = S + 2S_0",
                    derived={str(k): v for k, v in _arcs().items()},
                    note=f"Sampled at {len(_arcs())} wedge openings β/π = 1/4, 1/5, 2/7 (exact at each, not proved for every β). "
