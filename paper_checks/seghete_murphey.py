@@ -24,7 +24,7 @@ from functools import lru_cache
 
 import sympy as sp
 
-from derivations.rational_zero import is_zero
+from derivations.rational_zero import cancel, is_zero
 
 from derivations import reflection as drefl
 from impactsym.laws.reflection import reflection_map
@@ -85,7 +85,7 @@ def _alternate(M, surfaces, v0, first: int, cap: int = 64):
     vs, hits = [sp.Matrix(v0)], []
     nxt = first
     for _ in range(cap):
-        v = (Gs[nxt] * vs[-1]).applyfunc(sp.cancel)
+        v = (Gs[nxt] * vs[-1]).applyfunc(cancel)
         vs.append(v)
         hits.append(nxt)
         bad = [i for i, u in enumerate(us) if _sign((u * v)[0, 0]) < 0]
@@ -769,9 +769,9 @@ def _G(M, u):
 def _reflection_checks(G, M) -> dict:
     """The properties every G_u has (sec. III-C), computed exactly: G² = I, GᵀMG = M, det G = −1."""
     n = G.rows
-    return {"G^2 = I": (G * G).applyfunc(sp.cancel) == sp.eye(n),
-            "G^T M G = M": (G.T * M * G).applyfunc(sp.cancel) == M,
-            "det G = -1": sp.cancel(G.det()) == -1}
+    return {"G^2 = I": (G * G).applyfunc(cancel) == sp.eye(n),
+            "G^T M G = M": (G.T * M * G).applyfunc(cancel) == M,
+            "det G = -1": cancel(G.det()) == -1}
 
 
 @_cl("sm-III-B3-G_u", "sec. III-B.3", "G_u (M = diag(1.1,1))", "erratum", REFL)
@@ -976,8 +976,8 @@ def _det_chain():
     out = {}
     M, u = drefl.symbolic_mass_matrix(2), drefl.symbolic_covector(2)
     pr, co = _det_lines(M, u)
-    out["n=2 symbolic"] = ([sp.cancel(sp.together(x + 1)) == 0 for x in pr],
-                           [sp.cancel(sp.together(x + 1)) == 0 for x in co])
+    out["n=2 symbolic"] = ([cancel(sp.together(x + 1)) == 0 for x in pr],
+                           [cancel(sp.together(x + 1)) == 0 for x in co])
     for n in (2, 3, 4):
         for k in range(3):
             Mn = _random_spd(n, rng)
@@ -1146,7 +1146,7 @@ def cross_product():
     # product), M = diag(1, 2, 3), u = [1, 2, 3], symbolic v, G_u from impactsym
     M, u = sp.diag(1, 2, 3), _mat([[1, 2, 3]])
     v = drefl.symbolic_vector(3, "v")
-    Gv = (reflection_map(M, u) * v).applyfunc(sp.cancel)
+    Gv = (reflection_map(M, u) * v).applyfunc(cancel)
     alpha = (u * v)[0, 0]
     display = -alpha  # the value the display arrives at
     dot = sp.expand((u * Gv)[0, 0])  # Euclidean dot product u·(G_u v)
