@@ -47,6 +47,7 @@ from pathlib import Path
 
 import sympy as sp
 
+from .memo import simplify
 from .rational_zero import is_zero
 
 from impactsym.models.acary_taha import chain3, pool
@@ -105,7 +106,7 @@ def admissibility_conditions(scene, ratios, restitution=e) -> dict:
     [(-1, 2 - alpha), (0, 2*alpha - 1)]
     """
     law = general_quadratic(scene.M, scene.H, scene.v, restitution, list(ratios))
-    T = sp.simplify((scene.v.T * scene.M * scene.v)[0, 0] / 2)
+    T = simplify((scene.v.T * scene.M * scene.v)[0, 0] / 2)
     # Δ is linear in e: Δ = B² − 4A(1 − e)T⁻ (checked, not assumed)
     if not (is_zero(law.D - (law.B**2 - 4 * law.A * (1 - restitution) * T))):
         raise DerivationError('derivation check failed: sp.simplify(law.D - (law.B**2 - 4 * law.A * (1 - restitution) * T)) == 0')
@@ -128,7 +129,7 @@ def _tidy(x):
     x = sp.sympify(x)
     if x.has(sp.sin, sp.cos):
         x = sp.trigsimp(sp.expand(x).subs(sp.sin(theta) ** 2, 1 - sp.cos(theta) ** 2))
-    return sp.factor(sp.simplify(x))
+    return sp.factor(simplify(x))
 
 
 # ------------------------------------------------------------------ the chain (eq. 19)
@@ -157,7 +158,7 @@ def chain3_domain() -> dict:
     dg = sp.factor(sp.diff(g, alpha))
     # g′ = 4(2α − 1)/(2 − α)³ > 0 on (1/2, 2): no root of numerator or denominator inside
     g_increasing = _positive_on(dg, sp.Rational(1, 2), 2)
-    e_min = sp.simplify(g.subs(alpha, alpha_min))
+    e_min = simplify(g.subs(alpha, alpha_min))
     amax = chain3_alpha_max_expr()
     printed = (2 * e - 2 - sp.sqrt(6 * e - 2)) / (e - 3)
     verified = (
@@ -203,7 +204,7 @@ def chain3_alpha_max_expr():
     if not (len(picked) == 1):
         raise DerivationError(roots)
     r = picked[0]
-    return sp.simplify(r) if sp.count_ops(sp.simplify(r)) <= sp.count_ops(r) else r
+    return simplify(r) if sp.count_ops(simplify(r)) <= sp.count_ops(r) else r
 
 
 # ------------------------------------------------------------------ the pool (eqs. 29–32)
@@ -292,12 +293,12 @@ def pool_claims() -> dict:
     # θ > π/2: w₂⁺ > 0 always (c₂ = 2α − c > 0); w₁⁺ needs e ≥ g. Counterexample c = −1/4, α = 2, e = 1.
     cx = {c: -sp.Rational(1, 4), alpha: 2}
     p1 = 1 / A.subs(cx)  # e = 1: p₁ = −B/A = 1/A
-    w1 = sp.simplify(-1 + k1["c"].subs(cx) * p1)  # exact: rationals in, a rational out
+    w1 = simplify(-1 + k1["c"].subs(cx) * p1)  # exact: rationals in, a rational out
     out["theta_gt_pi2_always_positive"] = {"verdict": "refuted" if w1 < 0 else "confirmed",
                                            "proof": {"cos_theta": -sp.Rational(1, 4), "alpha": 2, "e": 1, "v1+": w1,
-                                                     "v2+": sp.simplify(k2["c"].subs(cx) * p1),
+                                                     "v2+": simplify(k2["c"].subs(cx) * p1),
                                                      "true_part": "v2+ = (2 alpha - cos theta) p1 > 0 for cos theta < 0"}}
-    g_at_1 = sp.simplify(g.subs(alpha, 1))
+    g_at_1 = simplify(g.subs(alpha, 1))
     out["domain_nonempty"] = {"verdict": "confirmed" if g_at_1 == 1 else "refuted",
                               "proof": {"g(1)": g_at_1, "g <= 1 iff": sp.factor(sp.numer(sp.together(1 - g))),
                                         "statement": "(alpha, e) = (1, 1) is valid for every theta in [0, 2pi/3)"}}
@@ -321,9 +322,9 @@ def pool_domain_at(cos_theta) -> dict:
     cs = sp.sympify(cos_theta)
     lo = sp.Max(0, cs / 2)
     emin_at = lo
-    emin = sp.simplify(pool_g(cs).subs(alpha, emin_at))
-    return {"cos_theta": cs, "alpha_range": (sp.simplify(lo), sp.Integer(1)), "e_min": emin,
-            "e_min_at": sp.simplify(emin_at), "g": pool_g(cs), "h": pool_h(cs)}
+    emin = simplify(pool_g(cs).subs(alpha, emin_at))
+    return {"cos_theta": cs, "alpha_range": (simplify(lo), sp.Integer(1)), "e_min": emin,
+            "e_min_at": simplify(emin_at), "g": pool_g(cs), "h": pool_h(cs)}
 
 
 @lru_cache(maxsize=None)
@@ -350,7 +351,7 @@ def bernoulli_tau0_domain() -> dict:
     a_star = cross[0]
     e_min = g1.subs(alpha, a_star)
     return {"g1": g1, "g3": g3, "R3": k3["R"], "h": cond["h"], "c2": k2["c"], "alpha_range": (sp.Integer(0), sp.Integer(1)),
-            "e_min_at": a_star, "e_min": sp.simplify(e_min)}
+            "e_min_at": a_star, "e_min": simplify(e_min)}
 
 
 @lru_cache(maxsize=None)

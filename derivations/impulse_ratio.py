@@ -32,6 +32,7 @@ from dataclasses import dataclass
 
 import sympy as sp
 
+from .memo import simplify
 from .rational_zero import is_zero
 
 from impactsym.errors import DerivationError
@@ -74,7 +75,7 @@ def general_quadratic(M, H, v, e, alphas) -> QuadraticLaw:
     T_minus = (v.T * M * v)[0, 0] / 2
     balance = sp.expand((vplus_of_p1.T * M * vplus_of_p1)[0, 0] / 2 - e * T_minus)
     poly = sp.Poly(balance, p1)
-    A, B, C = (sp.simplify(poly.coeff_monomial(p1**k)) for k in (2, 1, 0))
+    A, B, C = (simplify(poly.coeff_monomial(p1**k)) for k in (2, 1, 0))
     # identification with the closed forms stated in the docstring (checked, not assumed)
     if not (is_zero(A - (r.T * w)[0, 0] / 2)):
         raise DerivationError('derivation check failed: sp.simplify(A - (r.T * w)[0, 0] / 2) == 0')
@@ -102,8 +103,8 @@ def physical_root_proof():
     B = -Bn
     D = B**2 - 4 * A * C
     plus, minus = (-B + sp.sqrt(D)) / (2 * A), (-B - sp.sqrt(D)) / (2 * A)
-    at_elastic_plus = sp.simplify(plus.subs(C, 0))
-    at_elastic_minus = sp.simplify(minus.subs(C, 0))
+    at_elastic_plus = simplify(plus.subs(C, 0))
+    at_elastic_minus = simplify(minus.subs(C, 0))
     q = (-B + sp.sqrt(D)) / 2
     pair_ok = is_zero(q / A - plus) and is_zero(C / q - minus)
     proven = at_elastic_minus == 0 and is_zero(at_elastic_plus - Bn / A) and pair_ok

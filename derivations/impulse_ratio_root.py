@@ -35,6 +35,7 @@ from pathlib import Path
 
 import sympy as sp
 
+from .memo import simplify
 from .rational_zero import is_zero
 
 from .codegen import ScalarKernel, render_family
@@ -92,7 +93,7 @@ def stable_form_proofs() -> list[dict]:
             expr = expr.replace(lambda x: isinstance(x, sp.Piecewise), lambda x: sp.Integer(sigma))
             diff = (expr - nv).subs(elim)
             diff = diff.subs(sp.sqrt(B**2 - 4 * A * (B**2 - r**2) / (4 * A)), r)
-            diff = sp.cancel(sp.expand(sp.simplify(diff)))
+            diff = sp.cancel(sp.expand(simplify(diff)))
             ok &= diff == 0
             steps.append(f"branch {cond}: stable - naive with C = (B^2 - r^2)/(4A), sqrt(D) = r cancels to {diff}")
         out.append({"kernel": "impulse_ratio_root", "output": label, "proven": bool(ok),

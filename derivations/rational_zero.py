@@ -135,8 +135,9 @@ class _Gen:
 
 def _generators(expr):
     """The atoms of ``expr`` that become polynomial variables, or raise :class:`_NotRational`:
-    symbols, ``√q`` (``q`` a positive rational), ``I``, and ``cos x``, ``sin x`` of a symbol."""
-    symbols, roots, angles, unit = set(), set(), set(), False
+    symbols, ``√q`` (``q`` a positive rational), ``I``, ``cos x`` and ``sin x`` of a symbol, and
+    ``√P`` of an expression ``P`` built from those (not from another ``√P``)."""
+    symbols, roots, angles, polyroots, unit = set(), set(), set(), set(), False
     for node in sp.preorder_traversal(expr):
         if node.is_Symbol:
             symbols.add(node)
@@ -144,16 +145,23 @@ def _generators(expr):
             unit = True
         elif node.is_Pow and not node.exp.is_Integer:
             b, x = node.base, node.exp
-            if not (b.is_Rational and b > 0 and x.is_Rational and x.q == 2):
+            if not (x.is_Rational and x.q == 2):
                 raise _NotRational(f"not an algebraic power: {node}")
-            roots.add(b)
+            if b.is_Rational and b > 0:
+                roots.add(b)
+            elif b.is_Rational or any(not (y.exp.is_Integer or (y.base.is_Rational and y.base > 0))
+                                      for y in b.atoms(sp.Pow)):
+                raise _NotRational(f"nested or negative root: {node}")
+            else:
+                polyroots.add(b)
         elif isinstance(node, (sp.cos, sp.sin)):
             if not node.args[0].is_Symbol:
                 raise _NotRational(f"trigonometric function of a non-symbol: {node}")
             angles.add(node.args[0])
         elif node.is_Function or node.is_Relational or isinstance(node, sp.MatrixBase):
             raise _NotRational(f"not a rational function: {type(node).__name__}")
-    return sorted(symbols - angles, key=str), sorted(roots), sorted(angles, key=str), unit
+    return (sorted(symbols - angles, key=str), sorted(roots), sorted(angles, key=str), unit,
+            sorted(polyroots, key=sp.default_sort_key))
 
 
 def _reduce(poly, ctx, rel):
@@ -210,9 +218,10 @@ def is_zero_algebraic(expr) -> bool | None:
     if not expr.is_commutative or isinstance(expr, sp.MatrixBase):
         return None
     try:
-        symbols, roots, angles, unit = _generators(expr)
+        symbols, roots, angles, unit, polyroots = _generators(expr)
         atoms = list(symbols) + [sp.sqrt(q) for q in roots] + [f(x) for x in angles for f in (sp.cos, sp.sin)]
         atoms += [sp.I] if unit else []
+        atoms += [sp.sqrt(b) for b in polyroots]
         if not atoms:
             return True if expr == 0 else None
         names = tuple(f"x{i}" for i in range(len(atoms)))
@@ -220,11 +229,16 @@ def is_zero_algebraic(expr) -> bool | None:
         gens = ctx.gens()
         index = {a: i for i, a in enumerate(atoms)}
         n, d = _conv(expr, ctx, gens, index)
+        rel = {}
+        for b in polyroots:  # (√P)² = P, P a polynomial in the earlier generators
+            pn, pd = _conv(b, ctx, gens, index)
+            if pd != 1 or any(e[index[sp.sqrt(c)]] for c in polyroots for e in pn.to_dict()):
+                raise _NotRational(f"the square root of a non-polynomial: {b}")
+            rel[index[sp.sqrt(b)]] = pn
     except _NotRational:
         return None
     if d == 0:
         return None
-    rel = {}
     for q in roots:
         rel[index[sp.sqrt(q)]] = ctx.from_dict({}) + flint.fmpq(int(q.p), int(q.q))
     for x in angles:
@@ -234,7 +248,7 @@ def is_zero_algebraic(expr) -> bool | None:
         rel[index[sp.I]] = ctx.from_dict({}) - 1
     if _reduce(n, ctx, rel) != 0:
         return None
-    return True if _certainly_nonzero(d, atoms) else None
+    return True if _certainly_nonzero(d, atoms, {index[sp.sqrt(b)]: rel[index[sp.sqrt(b)]] for b in polyroots}) else None
 
 
 def _conv(expr, ctx, gens, index):
@@ -267,12 +281,12 @@ def _conv(expr, ctx, gens, index):
                 n2, d2 = conv(a)
                 n, d = n * n2, d * d2
             out = (n, d)
-        elif e.is_Pow and (e.exp.is_Integer or (e.base.is_Rational and e.exp.is_Rational and e.exp.q == 2)):
+        elif e.is_Pow and (e.exp.is_Integer or (e.exp.is_Rational and e.exp.q == 2 and sp.sqrt(e.base) in index)):
             if e.exp.is_Integer:
                 n, d = conv(e.base)
                 k = int(e.exp)
-            else:  # q**(k/2) = sqrt(q)**k
-                n, d = conv(sp.sqrt(e.base)), one
+            else:  # b**(k/2) = sqrt(b)**k
+                n, d = gens[index[sp.sqrt(e.base)]], one
                 k = int(e.exp.p)
             if k < 0 and n == 0:
                 raise _NotRational("division by the zero polynomial")
@@ -285,19 +299,23 @@ def _conv(expr, ctx, gens, index):
     return conv(expr)
 
 
-def _certainly_nonzero(poly, atoms) -> bool:
+def _certainly_nonzero(poly, atoms, squares=None) -> bool:
     """Whether the polynomial ``poly`` (variables ``atoms``) is certifiably non-zero at one point:
     symbols at distinct small rationals, angles at 2/7, 3/7, ..., square roots and ``i`` at their
-    values (an Arb ball, 128 bits, that excludes 0; ``i`` handled by complex balls)."""
+    values, ``√P`` (``squares``: variable index -> ``P``) at the principal root of ``P`` there (an
+    Arb ball, 128 bits, that excludes 0; complex balls throughout)."""
+    squares = squares or {}
     ctx = flint.ctx
     old = ctx.prec
     try:
         ctx.prec = 128
         vals = []
         k = 0
-        for a in atoms:
+        for i, a in enumerate(atoms):
             k += 1
-            if a is sp.I:
+            if i in squares:
+                vals.append(_evaluate(squares[i], vals + [flint.acb(0)] * (len(atoms) - len(vals))).sqrt())
+            elif a is sp.I:
                 vals.append(flint.acb(0, 1))
             elif a.is_Symbol:
                 vals.append(flint.acb(flint.arb(flint.fmpq(k + 2, 7 * k + 3))))
@@ -306,16 +324,21 @@ def _certainly_nonzero(poly, atoms) -> bool:
             else:
                 ang = flint.arb(flint.fmpq(2 + index_of(atoms, a), 7))
                 vals.append(flint.acb(ang.cos() if isinstance(a, sp.cos) else ang.sin()))
-        total = flint.acb(0)
-        for exps, c in poly.to_dict().items():
-            term = flint.acb(flint.arb(c))
-            for v, x in zip(vals, exps):
-                if x:
-                    term *= v ** x
-            total += term
-        return not total.contains(0)
+        return not _evaluate(poly, vals).contains(0)
     finally:
         ctx.prec = old
+
+
+def _evaluate(poly, vals):
+    """``poly`` at the complex balls ``vals`` (one per variable)."""
+    total = flint.acb(0)
+    for exps, c in poly.to_dict().items():
+        term = flint.acb(flint.arb(c))
+        for v, x in zip(vals, exps):
+            if x:
+                term *= v ** x
+        total += term
+    return total
 
 
 def index_of(atoms, a) -> int:

@@ -38,6 +38,7 @@ from typing import Callable
 
 import sympy as sp
 
+from .memo import simplify
 from .algebra import block_determinant_lemma, nc_symbols, rewrite
 from .codegen import ArrayKernel, ScalarKernel, numpy_code, render_family
 from .rational_zero import cancel, factored_numerator, is_zero, is_zero_rational_function
@@ -586,7 +587,7 @@ def _coefficient() -> sp.Expr:
     """The scalar of the rank-one term, read off the derived general-n map: ``G = 1 − c W U``."""
     G = derive_general(restitution=True).G
     c = -sp.expand(G - 1).coeff(W * U)
-    return sp.simplify(c)
+    return simplify(c)
 
 
 def kernels() -> list:

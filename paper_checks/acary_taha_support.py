@@ -7,6 +7,7 @@ from __future__ import annotations
 
 import sympy as sp
 
+from derivations.memo import simplify
 from derivations.rational_zero import is_zero
 
 from impactsym.mechanics import kinetic_angle_cos
@@ -42,6 +43,6 @@ def pool_kinetic_angle_check():
     out = {}
     for constraint in ("distance", "squared"):
         sc = pool(theta, constraint=constraint)
-        c = sp.simplify(kinetic_angle_cos(sc.M, sc.H[0, :], sc.H[1, :]))
+        c = simplify(kinetic_angle_cos(sc.M, sc.H[0, :], sc.H[1, :]))
         out[constraint] = (c, is_zero(c - printed))
     return out

@@ -56,6 +56,7 @@ from typing import Any, Callable
 import mpmath
 import sympy as sp
 
+from derivations.memo import simplify
 __all__ = [
     "VERDICTS", "EVIDENCE_KINDS", "PAPERS", "DIGITS", "Finding", "Claim", "Registered", "REGISTRY", "claim",
     "evaluate", "evaluate_all", "identical", "Identity", "Inconclusive", "compare_decimal", "compare_decimals",
@@ -535,7 +536,7 @@ def identical(a, b, *, domain: dict | None = None, points: int = 8, seed: int = 
             continue
         simplified = True
         try:
-            if sp.simplify(d) == 0:
+            if simplify(d) == 0:
                 continue
         except Exception:
             pass
@@ -672,14 +673,14 @@ def conservation(M, H, vminus, vplus, e=1) -> dict:
     p_syms = sp.symbols(f"p0:{H.rows}")
     sol = sp.solve(list(H.T * sp.Matrix(p_syms) - rhs), p_syms, dict=True)
     momentum = bool(sol)
-    p = [sp.radsimp(sp.simplify(sol[0].get(s, s))) for s in p_syms] if sol else None
+    p = [sp.radsimp(simplify(sol[0].get(s, s))) for s in p_syms] if sol else None
     free = bool(p) and any(x.free_symbols for x in p)
     nonneg = None if (p is None or free) else all(certified_sign(x) >= 0 for x in p)
-    Tm = sp.simplify((vm.T * M * vm)[0, 0] / 2)
-    Tp = sp.simplify((vp.T * M * vp)[0, 0] / 2)
-    res = sp.radsimp(sp.simplify(Tp - e * Tm))
+    Tm = simplify((vm.T * M * vm)[0, 0] / 2)
+    Tp = simplify((vp.T * M * vp)[0, 0] / 2)
+    res = sp.radsimp(simplify(Tp - e * Tm))
     energy = certified_sign(res) == 0 if not res.free_symbols else None
-    w = [sp.radsimp(sp.simplify(x)) for x in H * vp]
+    w = [sp.radsimp(simplify(x)) for x in H * vp]
     contacts = all(certified_sign(x) >= 0 for x in w) if not any(x.free_symbols for x in w) else None
     return {"momentum": momentum, "p": p, "impulses_nonnegative": nonneg, "energy_residual": res,
             "energy": energy, "T_minus": Tm, "T_plus": Tp, "Hv_plus": w, "contacts": contacts,
@@ -704,8 +705,8 @@ def extremum(f, x, x0, *, kind: str = "min") -> dict:
     >>> extremum((x - 1)**2, x, 1)["holds"]
     True
     """
-    d1 = sp.simplify(sp.diff(f, x).subs(x, x0))
-    d2 = sp.simplify(sp.diff(f, x, 2).subs(x, x0))
+    d1 = simplify(sp.diff(f, x).subs(x, x0))
+    d2 = simplify(sp.diff(f, x, 2).subs(x, x0))
     stationary = identical(d1, 0).equal
     sign = None
     if not d2.free_symbols:
