@@ -32,7 +32,7 @@ from functools import lru_cache
 import sympy as sp
 
 from derivations.memo import simplify
-from derivations.rational_zero import is_zero
+from derivations.rational_zero import is_zero, is_zero_algebraic
 
 from impactsym.exact import certified_sign
 from impactsym.mechanics import kinetic_angle_cos, m_normal
@@ -130,7 +130,9 @@ def _consistent(M, H, v, r, law: str):
     if r.impulses is None:
         raise ValueError(f"{law} returned a velocity without impulses")
     M_, H_, v_ = sp.Matrix(M), sp.Matrix(H), sp.Matrix(v)
-    resid = (M_ * (sp.Matrix(r.velocity) - v_) - H_.T * sp.Matrix(r.impulses)).applyfunc(sp.radsimp)
+    resid = M_ * (sp.Matrix(r.velocity) - v_) - H_.T * sp.Matrix(r.impulses)
+    # an entry proved zero exactly (flint, milliseconds) needs no certified sign
+    resid = [sp.Integer(0) if is_zero_algebraic(x) else sp.radsimp(x) for x in resid]
     if any(certified_sign(x) != 0 for x in resid):
         raise ValueError(f"{law}'s impulses {list(r.impulses)} and velocity {list(r.velocity)} violate "
                          f"M(v+ - v-) = H^T p: {list(resid)}")

@@ -665,26 +665,52 @@ def conservation(M, H, vminus, vplus, e=1) -> dict:
     ...              sp.Matrix([1 + sp.Rational(1, 10**20)]))["energy"]
     False
     """
+    from derivations.rational_zero import is_zero_algebraic
     from impactsym.exact import certified_sign
 
     M, H = sp.Matrix(M), sp.Matrix(H)
     vm, vp = sp.Matrix(vminus), sp.Matrix(vplus)
     rhs = M * (vp - vm)
     p_syms = sp.symbols(f"p0:{H.rows}")
-    sol = sp.solve(list(H.T * sp.Matrix(p_syms) - rhs), p_syms, dict=True)
-    momentum = bool(sol)
-    p = [sp.radsimp(simplify(sol[0].get(s, s))) for s in p_syms] if sol else None
+    rational = _rational_unique_solution(H.T, rhs)
+    if rational is not None:  # rational data, H^T of full column rank: the one solution, or none
+        momentum = rational is not False
+        p = list(rational) if momentum else None
+    else:
+        sol = sp.solve(list(H.T * sp.Matrix(p_syms) - rhs), p_syms, dict=True)
+        momentum = bool(sol)
+        p = [sp.radsimp(simplify(sol[0].get(s, s))) for s in p_syms] if sol else None
     free = bool(p) and any(x.free_symbols for x in p)
     nonneg = None if (p is None or free) else all(certified_sign(x) >= 0 for x in p)
     Tm = simplify((vm.T * M * vm)[0, 0] / 2)
     Tp = simplify((vp.T * M * vp)[0, 0] / 2)
-    res = sp.radsimp(simplify(Tp - e * Tm))
+    res = sp.Integer(0) if is_zero_algebraic(Tp - e * Tm) else sp.radsimp(simplify(Tp - e * Tm))
     energy = certified_sign(res) == 0 if not res.free_symbols else None
     w = [sp.radsimp(simplify(x)) for x in H * vp]
     contacts = all(certified_sign(x) >= 0 for x in w) if not any(x.free_symbols for x in w) else None
     return {"momentum": momentum, "p": p, "impulses_nonnegative": nonneg, "energy_residual": res,
             "energy": energy, "T_minus": Tm, "T_plus": Tp, "Hv_plus": w, "contacts": contacts,
             "holds": bool(momentum and nonneg and energy and contacts)}
+
+
+def _rational_unique_solution(A: sp.Matrix, b: sp.Matrix):
+    """For rational ``A`` (of full column rank) and ``b``: the solution ``x`` of ``A x = b`` as a
+    list of Rationals, or False when there is none (exact row reduction over QQ, SymPy's
+    ``DomainMatrix``). None when the data are not all rational or ``A`` is rank-deficient (the
+    caller then solves symbolically)."""
+    from sympy.polys.matrices import DomainMatrix
+
+    if not all(x.is_Rational for x in list(A) + list(b)):
+        return None
+    aug = DomainMatrix.from_Matrix(A.row_join(b)).convert_to(sp.QQ)
+    rref, pivots = aug.rref()
+    k = A.cols
+    if len(pivots) > 0 and pivots[-1] == k:
+        return False  # a pivot in the right-hand column: inconsistent
+    if list(pivots) != list(range(k)):
+        return None  # rank-deficient: free parameters, solved symbolically
+    R = rref.to_Matrix()
+    return [R[i, k] for i in range(k)]
 
 
 # --------------------------------------------------------------------------- extrema

@@ -65,8 +65,8 @@ def _certified_sign(expr, max_digits: int) -> int:
     s = _rational_sign(x)
     if s is not None:
         return s
-    if x.is_zero:
-        return 0
+    # (no early ``x.is_zero``: SymPy's assumption inference on a large expression costs more than
+    # the enclosure below, and a zero is still recognized by ``_exact_zero`` after it)
     # Interval evaluation: mpmath-backed evalf with the error estimate; accept only when the
     # value's magnitude exceeds its error bound (sympy's evalf is rigorous for the closed-form
     # functions it knows: its result carries accuracy, and strict=True refuses otherwise).
