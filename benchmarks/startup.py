@@ -3,7 +3,7 @@
 Run from the repository root::
 
     python benchmarks/startup.py                 # start-up medians -> benchmarks/results/startup.md
-    python benchmarks/startup.py --reproduce     # also `impactsym reproduce` at -j 1 and -j 2 (minutes)
+    python benchmarks/startup.py --reproduce     # also `impactsym reproduce` at -j 1 and -j 2, and its phases
 
 Each command runs in a fresh interpreter (this checkout first on ``PYTHONPATH``, from a neutral
 working directory so that no other checkout shadows it), interleaved, ``N`` times; the table gives
@@ -74,6 +74,36 @@ def _previous_rows(path: Path) -> dict[str, str]:
     return {m.group(1): line for line in path.read_text().splitlines() if (m := _ROW.match(line))}
 
 
+PHASES = r"""
+import json, time
+t = time.process_time()
+from paper_checks import framework as fw
+from paper_checks.audit import derivation_summary
+from paper_checks.crosscheck import run_crosschecks
+fw.load_all()
+out = {"imports and registration": time.process_time() - t}
+for paper in ("seghete-murphey", "acary-taha"):
+    t = time.process_time()
+    for cid, reg in fw.REGISTRY.items():
+        if reg.paper == paper:
+            fw.evaluate(cid)
+    out[f"claims of {paper}"] = time.process_time() - t
+t = time.process_time(); derivation_summary(); out["G_u derivation summary (after the claims)"] = time.process_time() - t
+t = time.process_time(); run_crosschecks(); out["cross-check"] = time.process_time() - t
+print(json.dumps(out))
+"""
+
+
+def _phases(cwd) -> dict:
+    """CPU seconds of each phase of a serial audit in one fresh process (``-j 1``'s work, in the
+    order it runs: the claims share memoized derivations, so a later phase may reuse an earlier's)."""
+    import json
+
+    out = subprocess.run([sys.executable, "-c", PHASES], cwd=cwd, env={**os.environ, "PYTHONPATH": str(ROOT)},
+                         capture_output=True, text=True, check=True)
+    return json.loads(out.stdout)
+
+
 def main(reproduce: bool) -> None:
     load0 = os.getloadavg()[0]
     samples = {k: [] for k in COMMANDS}
@@ -82,9 +112,11 @@ def main(reproduce: bool) -> None:
             for label, argv in COMMANDS.items():
                 samples[label].append(_time(argv, cwd))
         rows = {k: (statistics.median(w for w, _ in v), statistics.median(c for _, c in v)) for k, v in samples.items()}
+        phases = {}
         if reproduce:
             for jobs in ("1", "2"):
                 rows[f"impactsym reproduce -j {jobs} (one run)"] = _time(["-m", "impactsym", "reproduce", "-j", jobs], cwd)
+            phases = _phases(cwd)
     load1 = os.getloadavg()[0]
     base_wall, base_cpu = rows[BASELINE]
     path = RESULTS / "startup.md"
@@ -109,6 +141,13 @@ def main(reproduce: bool) -> None:
         rw, rc = wall / base_wall, cpu / base_cpu
         met = "yes" if max(rw, rc) <= target else ("wall only" if rw <= target else ("CPU only" if rc <= target else "no"))
         lines.append(f"| {label} | {target:g}x | {rw:.1f} | {rc:.1f} | {met} |")
+    if phases:
+        lines += ["", "Phases of the serial audit (`-j 1`'s work, one process, CPU seconds; the default `-j 2` runs "
+                  "Seghete & Murphey's claims with the G_u summary in one worker and Acary & Taha's with the "
+                  "cross-check in the other, so it costs about the same CPU):", "",
+                  "| phase | CPU (s) |", "|---|---:|"]
+        lines += [f"| {k} | {v:.2f} |" for k, v in phases.items()]
+        lines.append(f"| total | {sum(phases.values()):.2f} |")
     text = "\n".join(lines) + "\n"
     print(text)
     RESULTS.mkdir(exist_ok=True)

@@ -48,6 +48,7 @@ from pathlib import Path
 
 import sympy as sp
 
+from .memo import simplify
 from impactsym.models.acary_taha import chain3
 
 from .codegen import ScalarKernel, render_family
@@ -133,7 +134,7 @@ def closed_form(scene, law: QuadraticLaw, velocity_names, impulse_names=None) ->
     2/3
     """
     A = sp.factor(law.A)
-    B = sp.simplify(law.B)
+    B = simplify(law.B)
     C = sp.factor(law.C)
     Delta = sp.expand(law.D)
     p1 = (-B + sp.sqrt(Delta)) / (2 * A)
@@ -143,8 +144,8 @@ def closed_form(scene, law: QuadraticLaw, velocity_names, impulse_names=None) ->
         out[name] = p1 if r == 1 else sp.factor(r) * p1
     direction = scene.M.LUsolve(scene.H.T * law.ratios)
     for name, vm, c in zip(velocity_names, scene.v, direction):
-        c = sp.factor(sp.simplify(c))
-        out[name] = sp.simplify(vm) + c * p1 if c != 0 else sp.simplify(vm)
+        c = sp.factor(simplify(c))
+        out[name] = simplify(vm) + c * p1 if c != 0 else simplify(vm)
     return out
 
 
@@ -264,7 +265,7 @@ def momentum_energy_residuals(velocities: dict, masses=(m, m, m), vminus=(1, 0, 
     qp = [velocities[k] for k in VELOCITY_NAMES]
     mom = sum(mi * (q - v) for mi, q, v in zip(masses, qp, vminus))
     en = sum(mi * q**2 for mi, q in zip(masses, qp)) / 2 - e * sum(mi * v**2 for mi, v in zip(masses, vminus)) / 2
-    return {"momentum": sp.simplify(mom), "energy": sp.simplify(sp.expand(en))}
+    return {"momentum": simplify(mom), "energy": simplify(sp.expand(en))}
 
 
 def stable_root(A, B, C, D=None):

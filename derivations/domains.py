@@ -47,6 +47,9 @@ from pathlib import Path
 
 import sympy as sp
 
+from .memo import simplify
+from .rational_zero import is_zero
+
 from impactsym.models.acary_taha import chain3, pool
 
 from .codegen import ScalarKernel, render_expressions, render_family
@@ -103,9 +106,9 @@ def admissibility_conditions(scene, ratios, restitution=e) -> dict:
     [(-1, 2 - alpha), (0, 2*alpha - 1)]
     """
     law = general_quadratic(scene.M, scene.H, scene.v, restitution, list(ratios))
-    T = sp.simplify((scene.v.T * scene.M * scene.v)[0, 0] / 2)
+    T = simplify((scene.v.T * scene.M * scene.v)[0, 0] / 2)
     # Δ is linear in e: Δ = B² − 4A(1 − e)T⁻ (checked, not assumed)
-    if not (sp.simplify(law.D - (law.B**2 - 4 * law.A * (1 - restitution) * T)) == 0):
+    if not (is_zero(law.D - (law.B**2 - 4 * law.A * (1 - restitution) * T))):
         raise DerivationError('derivation check failed: sp.simplify(law.D - (law.B**2 - 4 * law.A * (1 - restitution) * T)) == 0')
     h = _tidy(1 - law.B**2 / (4 * law.A * T))
     b = scene.H * scene.v
@@ -126,7 +129,7 @@ def _tidy(x):
     x = sp.sympify(x)
     if x.has(sp.sin, sp.cos):
         x = sp.trigsimp(sp.expand(x).subs(sp.sin(theta) ** 2, 1 - sp.cos(theta) ** 2))
-    return sp.factor(sp.simplify(x))
+    return sp.factor(simplify(x))
 
 
 # ------------------------------------------------------------------ the chain (eq. 19)
@@ -155,14 +158,14 @@ def chain3_domain() -> dict:
     dg = sp.factor(sp.diff(g, alpha))
     # g′ = 4(2α − 1)/(2 − α)³ > 0 on (1/2, 2): no root of numerator or denominator inside
     g_increasing = _positive_on(dg, sp.Rational(1, 2), 2)
-    e_min = sp.simplify(g.subs(alpha, alpha_min))
+    e_min = simplify(g.subs(alpha, alpha_min))
     amax = chain3_alpha_max_expr()
     printed = (2 * e - 2 - sp.sqrt(6 * e - 2)) / (e - 3)
     verified = (
-        sp.simplify(amax - printed) == 0
+        is_zero(amax - printed)
         and e_min == sp.Rational(1, 3)
-        and sp.simplify(g.subs(alpha, 1) - 1) == 0
-        and sp.simplify(sp.factor(g - h) - alpha**2 * (2 * alpha - 1) ** 2 / (2 * cond["A"] * (2 - alpha) ** 2)) == 0
+        and is_zero(g.subs(alpha, 1) - 1)
+        and is_zero(sp.factor(g - h) - alpha**2 * (2 * alpha - 1) ** 2 / (2 * cond["A"] * (2 - alpha) ** 2))
         and bool(g_increasing)
     )
     return {"g": g, "h": h, "g_minus_h": sp.factor(g - h), "alpha_min": alpha_min, "alpha_max": amax,
@@ -197,11 +200,11 @@ def chain3_alpha_max_expr():
     a = sp.Symbol("a", real=True)
     roots = sp.solve(sp.numer(sp.together(g.subs(alpha, a) - e)), a)
     # choose the root that is 1 at e = 1 and 1/2 at e = 1/3 (the branch inside [1/2, 1])
-    picked = [r for r in roots if sp.simplify(r.subs(e, 1) - 1) == 0 and sp.simplify(r.subs(e, sp.Rational(1, 3)) - sp.Rational(1, 2)) == 0]
+    picked = [r for r in roots if is_zero(r.subs(e, 1) - 1) and is_zero(r.subs(e, sp.Rational(1, 3)) - sp.Rational(1, 2))]
     if not (len(picked) == 1):
         raise DerivationError(roots)
     r = picked[0]
-    return sp.simplify(r) if sp.count_ops(sp.simplify(r)) <= sp.count_ops(r) else r
+    return simplify(r) if sp.count_ops(simplify(r)) <= sp.count_ops(r) else r
 
 
 # ------------------------------------------------------------------ the pool (eqs. 29–32)
@@ -278,7 +281,7 @@ def pool_claims() -> dict:
     crit = sp.solve(sp.numer(dg), alpha)
     d2 = sp.factor(sp.diff(g, alpha, 2).subs(alpha, c / 2))
     gmin = sp.factor(g.subs(alpha, c / 2))
-    out["g_minimum"] = {"verdict": "confirmed" if (crit == [c / 2] and sp.simplify(gmin - (2 - c**2) / (4 - c**2)) == 0) else "refuted",
+    out["g_minimum"] = {"verdict": "confirmed" if (crit == [c / 2] and is_zero(gmin - (2 - c**2) / (4 - c**2))) else "refuted",
                         "proof": {"dg": dg, "critical_points": crit, "second_derivative_at_c/2": d2, "g(c/2)": gmin,
                                   "h(c/2)": sp.factor(h.subs(alpha, c / 2)),
                                   "note": "minimum over alpha >= 0 only when c >= 0; for c < 0, g increases on [0, oo[ and min is g(0) = 1/2"}}
@@ -290,12 +293,12 @@ def pool_claims() -> dict:
     # θ > π/2: w₂⁺ > 0 always (c₂ = 2α − c > 0); w₁⁺ needs e ≥ g. Counterexample c = −1/4, α = 2, e = 1.
     cx = {c: -sp.Rational(1, 4), alpha: 2}
     p1 = 1 / A.subs(cx)  # e = 1: p₁ = −B/A = 1/A
-    w1 = sp.simplify(-1 + k1["c"].subs(cx) * p1)  # exact: rationals in, a rational out
+    w1 = simplify(-1 + k1["c"].subs(cx) * p1)  # exact: rationals in, a rational out
     out["theta_gt_pi2_always_positive"] = {"verdict": "refuted" if w1 < 0 else "confirmed",
                                            "proof": {"cos_theta": -sp.Rational(1, 4), "alpha": 2, "e": 1, "v1+": w1,
-                                                     "v2+": sp.simplify(k2["c"].subs(cx) * p1),
+                                                     "v2+": simplify(k2["c"].subs(cx) * p1),
                                                      "true_part": "v2+ = (2 alpha - cos theta) p1 > 0 for cos theta < 0"}}
-    g_at_1 = sp.simplify(g.subs(alpha, 1))
+    g_at_1 = simplify(g.subs(alpha, 1))
     out["domain_nonempty"] = {"verdict": "confirmed" if g_at_1 == 1 else "refuted",
                               "proof": {"g(1)": g_at_1, "g <= 1 iff": sp.factor(sp.numer(sp.together(1 - g))),
                                         "statement": "(alpha, e) = (1, 1) is valid for every theta in [0, 2pi/3)"}}
@@ -319,9 +322,9 @@ def pool_domain_at(cos_theta) -> dict:
     cs = sp.sympify(cos_theta)
     lo = sp.Max(0, cs / 2)
     emin_at = lo
-    emin = sp.simplify(pool_g(cs).subs(alpha, emin_at))
-    return {"cos_theta": cs, "alpha_range": (sp.simplify(lo), sp.Integer(1)), "e_min": emin,
-            "e_min_at": sp.simplify(emin_at), "g": pool_g(cs), "h": pool_h(cs)}
+    emin = simplify(pool_g(cs).subs(alpha, emin_at))
+    return {"cos_theta": cs, "alpha_range": (simplify(lo), sp.Integer(1)), "e_min": emin,
+            "e_min_at": simplify(emin_at), "g": pool_g(cs), "h": pool_h(cs)}
 
 
 @lru_cache(maxsize=None)
@@ -348,7 +351,7 @@ def bernoulli_tau0_domain() -> dict:
     a_star = cross[0]
     e_min = g1.subs(alpha, a_star)
     return {"g1": g1, "g3": g3, "R3": k3["R"], "h": cond["h"], "c2": k2["c"], "alpha_range": (sp.Integer(0), sp.Integer(1)),
-            "e_min_at": a_star, "e_min": sp.simplify(e_min)}
+            "e_min_at": a_star, "e_min": simplify(e_min)}
 
 
 @lru_cache(maxsize=None)
@@ -377,9 +380,9 @@ def pool_tau_conditions() -> dict:
     s2, c2 = sp.sin(tau) ** 2, sp.cos(tau) ** 2
     mapped_g = s2 + c2 * pool_g(sp.cos(theta))
     mapped_h = s2 + c2 * pool_h(sp.cos(theta))
-    if not (sp.simplify(k1["g"] - mapped_g) == 0):
+    if not (is_zero(k1["g"] - mapped_g)):
         raise DerivationError(k1["g"])
-    if not (sp.simplify(cond["h"] - mapped_h) == 0):
+    if not (is_zero(cond["h"] - mapped_h)):
         raise DerivationError(cond["h"])
     if not (k2["b"] == 0 and sp.expand(k2["c"] - (2 * alpha - sp.cos(theta))) == 0):
         raise DerivationError(k2)

@@ -32,6 +32,9 @@ from dataclasses import dataclass
 
 import sympy as sp
 
+from .memo import simplify
+from .rational_zero import is_zero
+
 from impactsym.errors import DerivationError
 
 __all__ = ["QuadraticLaw", "general_quadratic", "physical_root_proof", "general_coefficients_proof", "moreau_energy_proof", "poisson_energy_proof"]
@@ -72,13 +75,13 @@ def general_quadratic(M, H, v, e, alphas) -> QuadraticLaw:
     T_minus = (v.T * M * v)[0, 0] / 2
     balance = sp.expand((vplus_of_p1.T * M * vplus_of_p1)[0, 0] / 2 - e * T_minus)
     poly = sp.Poly(balance, p1)
-    A, B, C = (sp.simplify(poly.coeff_monomial(p1**k)) for k in (2, 1, 0))
+    A, B, C = (simplify(poly.coeff_monomial(p1**k)) for k in (2, 1, 0))
     # identification with the closed forms stated in the docstring (checked, not assumed)
-    if not (sp.simplify(A - (r.T * w)[0, 0] / 2) == 0):
+    if not (is_zero(A - (r.T * w)[0, 0] / 2)):
         raise DerivationError('derivation check failed: sp.simplify(A - (r.T * w)[0, 0] / 2) == 0')
-    if not (sp.simplify(B - (a.T * H * v)[0, 0]) == 0):
+    if not (is_zero(B - (a.T * H * v)[0, 0])):
         raise DerivationError('derivation check failed: sp.simplify(B - (a.T * H * v)[0, 0]) == 0')
-    if not (sp.simplify(C - (1 - e) * T_minus) == 0):
+    if not (is_zero(C - (1 - e) * T_minus)):
         raise DerivationError('derivation check failed: sp.simplify(C - (1 - e) * T_minus) == 0')
     D = sp.expand(B**2 - 4 * A * C)
     root = (-B + sp.sqrt(D)) / (2 * A)
@@ -100,11 +103,11 @@ def physical_root_proof():
     B = -Bn
     D = B**2 - 4 * A * C
     plus, minus = (-B + sp.sqrt(D)) / (2 * A), (-B - sp.sqrt(D)) / (2 * A)
-    at_elastic_plus = sp.simplify(plus.subs(C, 0))
-    at_elastic_minus = sp.simplify(minus.subs(C, 0))
+    at_elastic_plus = simplify(plus.subs(C, 0))
+    at_elastic_minus = simplify(minus.subs(C, 0))
     q = (-B + sp.sqrt(D)) / 2
-    pair_ok = sp.simplify(q / A - plus) == 0 and sp.simplify(C / q - minus) == 0
-    proven = at_elastic_minus == 0 and sp.simplify(at_elastic_plus - Bn / A) == 0 and pair_ok
+    pair_ok = is_zero(q / A - plus) and is_zero(C / q - minus)
+    proven = at_elastic_minus == 0 and is_zero(at_elastic_plus - Bn / A) and pair_ok
     return {"plus_at_e1": at_elastic_plus, "minus_at_e1": at_elastic_minus, "stable_pair": pair_ok,
             "proven": bool(proven)}
 

@@ -35,6 +35,9 @@ from pathlib import Path
 
 import sympy as sp
 
+from .memo import simplify
+from .rational_zero import is_zero
+
 from .codegen import ScalarKernel, render_family
 
 from impactsym.errors import DerivationError
@@ -53,8 +56,8 @@ def naive_roots():
     p = sp.Symbol("p_1")
     roots = sp.solve(A * p**2 + B * p + C, p)
     D = B**2 - 4 * A * C
-    plus = [r for r in roots if sp.simplify(r - (-B + sp.sqrt(D)) / (2 * A)) == 0]
-    minus = [r for r in roots if sp.simplify(r - (-B - sp.sqrt(D)) / (2 * A)) == 0]
+    plus = [r for r in roots if is_zero(r - (-B + sp.sqrt(D)) / (2 * A))]
+    minus = [r for r in roots if is_zero(r - (-B - sp.sqrt(D)) / (2 * A))]
     if not (len(plus) == 1 and len(minus) == 1):
         raise DerivationError(roots)
     return plus[0], minus[0]
@@ -90,7 +93,7 @@ def stable_form_proofs() -> list[dict]:
             expr = expr.replace(lambda x: isinstance(x, sp.Piecewise), lambda x: sp.Integer(sigma))
             diff = (expr - nv).subs(elim)
             diff = diff.subs(sp.sqrt(B**2 - 4 * A * (B**2 - r**2) / (4 * A)), r)
-            diff = sp.cancel(sp.expand(sp.simplify(diff)))
+            diff = sp.cancel(sp.expand(simplify(diff)))
             ok &= diff == 0
             steps.append(f"branch {cond}: stable - naive with C = (B^2 - r^2)/(4A), sqrt(D) = r cancels to {diff}")
         out.append({"kernel": "impulse_ratio_root", "output": label, "proven": bool(ok),

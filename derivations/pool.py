@@ -50,6 +50,9 @@ from pathlib import Path
 
 import sympy as sp
 
+from .memo import simplify
+from .rational_zero import is_zero, is_zero_algebraic
+
 from impactsym.models.acary_taha import pool
 
 from .chain3 import closed_form, stable_root
@@ -119,7 +122,7 @@ def pool_law(theta_=theta, tau_=0, restitution=e, ratios=(alpha,), *, third_cont
 
 
 def _clean(d: dict) -> dict:
-    return {k: sp.simplify(v) if k not in ("A", "Delta") else v for k, v in d.items()}
+    return {k: simplify(v) if k not in ("A", "Delta") else v for k, v in d.items()}
 
 
 @lru_cache(maxsize=None)
@@ -160,7 +163,7 @@ def pool_at_theta(theta_value, restitution=e) -> dict:
     """
     sc, law = pool_law(sp.sympify(theta_value), 0, restitution)
     cf = closed_form(sc, law, VELOCITY_NAMES)
-    return {k: (v if k in ("A", "Delta") else sp.factor(sp.simplify(v))) for k, v in cf.items()}
+    return {k: (v if k in ("A", "Delta") else sp.factor(simplify(v))) for k, v in cf.items()}
 
 
 @lru_cache(maxsize=None)
@@ -190,7 +193,7 @@ def pool_any_tau(theta_value=theta, restitution=1) -> dict:
             out[k] = v
             continue
         v = v.subs(sp.Abs(sp.cos(tau)), eps * sp.cos(tau)).subs(sp.sqrt(sp.cos(tau) ** 2), eps * sp.cos(tau))
-        out[k] = sp.factor(sp.simplify(v))
+        out[k] = sp.factor(simplify(v))
     return out
 
 
@@ -223,14 +226,14 @@ def epsilon_device(theta_value=theta) -> dict:
     # the law's own root at the two sides of cos τ = 0, with √(cos²τ) evaluated exactly
     at = {}
     for name, t in (("impact", sp.pi / 4), ("no_impact", 3 * sp.pi / 4)):
-        at[name] = sp.simplify(law.p1.subs(tau, t))
+        at[name] = simplify(law.p1.subs(tau, t))
     ok = (
-        sp.simplify(law.B + sp.cos(tau)) == 0
-        and sp.simplify(law.D - sp.cos(tau) ** 2) == 0
-        and set(sp.simplify(r) for r in roots) == {0, sp.simplify(sp.cos(tau) / law.A)}
-        and sp.simplify(at["impact"] - (sp.cos(sp.pi / 4) / law.A)) == 0
+        is_zero(law.B + sp.cos(tau))
+        and is_zero(law.D - sp.cos(tau) ** 2)
+        and set(simplify(r) for r in roots) == {0, simplify(sp.cos(tau) / law.A)}
+        and is_zero(at["impact"] - (sp.cos(sp.pi / 4) / law.A))
         and at["no_impact"] == 0
-        and sp.simplify(phys.subs(eps, 1) - sp.cos(tau) / law.A) == 0
+        and is_zero(phys.subs(eps, 1) - sp.cos(tau) / law.A)
         and phys.subs(eps, -1) == 0
     )
     return {"B": law.B, "roots": roots, "physical_root": phys, "selects_impact": at["impact"],
@@ -273,7 +276,7 @@ def bernoulli_closed_form(tau_value=-sp.pi / 6, restitution=1, *, independent=Fa
         elif k in ("Delta", "B", "C"):
             out[k] = v
         else:
-            out[k] = sp.factor(sp.radsimp(sp.simplify(v)))
+            out[k] = sp.factor(sp.radsimp(simplify(v)))
     return out
 
 
@@ -357,7 +360,8 @@ def compare(derived: dict, printed: dict) -> dict:
     for k, b in printed.items():
         d = _sqrt_delta_to_symbol(sp.sympify(derived[k]) - sp.sympify(b), Delta) if k != "Delta" else \
             sp.sympify(derived[k]) - sp.sympify(b)
-        out[k] = sp.simplify(sp.cancel(sp.together(sp.expand_trig(d)))) == 0
+        t = sp.expand_trig(d)
+        out[k] = bool(is_zero_algebraic(t)) or simplify(sp.cancel(sp.together(t))) == 0
     return out
 
 
@@ -375,6 +379,12 @@ def _sqrt_delta_to_symbol(expr, Delta):
     return expr.replace(is_sqrt_delta, lambda x: s)
 
 
+def _simplified(x):
+    """``simplify(x)``, or 0 at once when the exact zero test proves ``x`` zero (what simplify
+    would return then, in milliseconds instead of a second)."""
+    return sp.Integer(0) if is_zero_algebraic(x) else simplify(x)
+
+
 def momentum_energy_residuals(velocities: dict, vminus=None, restitution=1) -> dict:
     """Momentum (x, y) and energy residuals of a pool state (unit masses): ``Σq̇⁺ − Σq̇⁻`` per
     axis and ``T⁺ − e T⁻``; ``vminus`` is ball 1's pre-impact velocity (balls 2, 3 at rest).
@@ -385,9 +395,9 @@ def momentum_energy_residuals(velocities: dict, vminus=None, restitution=1) -> d
     """
     vx, vy = vminus
     q = [sp.sympify(velocities[k]) for k in VELOCITY_NAMES]
-    px = sp.simplify(q[0] + q[2] + q[4] - vx)
-    py = sp.simplify(q[1] + q[3] + q[5] - vy)
-    energy = sp.simplify(sum(x**2 for x in q) / 2 - restitution * (vx**2 + vy**2) / 2)
+    px = _simplified(q[0] + q[2] + q[4] - vx)
+    py = _simplified(q[1] + q[3] + q[5] - vy)
+    energy = _simplified(sum(x**2 for x in q) / 2 - restitution * (vx**2 + vy**2) / 2)
     return {"px": px, "py": py, "energy": energy}
 
 
@@ -415,7 +425,7 @@ def eq33_theta() -> dict:
     at_e1 = pool_tau0()
     for k, v in derived.items():
         gen = at_e1[k].subs(e, 1).subs({sp.cos(theta): c, sp.sin(theta): s})
-        if not (sp.simplify(gen - v) == 0):
+        if not (is_zero(gen - v)):
             raise DerivationError(k)
     printed = printed_eq33()
     eqs = []
@@ -441,7 +451,7 @@ def _identical_states(a: dict, b: dict) -> bool:
     for k in VELOCITY_NAMES:
         if certified_sign(sp.radsimp(sp.sympify(a[k] - b[k]).subs(alpha, sp.Rational(1, 3)))) != 0:
             return False
-    return all(sp.simplify(a[k] - b[k]) == 0 for k in VELOCITY_NAMES)
+    return all(is_zero(a[k] - b[k]) for k in VELOCITY_NAMES)
 
 
 @lru_cache(maxsize=None)
@@ -490,11 +500,11 @@ def eq37_analysis() -> dict:
     sol = sp.solve(list(sp.Matrix([repaired["x2+"], repaired["y2+"]]) - (P1 * n12 - P2 * sp.Matrix([1, 0])))
                    + list(sp.Matrix([repaired["x3+"], repaired["y3+"]]) - (P2 * sp.Matrix([1, 0]) + P3 * n13)),
                    [P1, P2, P3], dict=True)[0]
-    implied = (sp.simplify(sol[P2] / sol[P1]), sp.simplify(sol[P3] / sol[P1]))
+    implied = (simplify(sol[P2] / sol[P1]), simplify(sol[P3] / sol[P1]))
     q = sp.Matrix([repaired[k] for k in VELOCITY_NAMES])
-    energy_ratio = sp.factor(sp.simplify(q.dot(q)))  # |v⁻|² = 1
+    energy_ratio = sp.factor(simplify(q.dot(q)))  # |v⁻|² = 1
     return {"readings": readings, "matches": matches, "px_printed": sp.factor(res_p["px"] + vm[0]),
-            "py_printed": sp.simplify(res_p["py"] + vm[1]), "momentum_repaired": (res_r["px"], res_r["py"]),
+            "py_printed": simplify(res_p["py"] + vm[1]), "momentum_repaired": (res_r["px"], res_r["py"]),
             "implied_impulses": (sol[P1], sol[P2], sol[P3]), "implied_ratios": implied,
             "energy_ratio": energy_ratio}
 
@@ -507,11 +517,11 @@ no closed contact approaches (criterion 41; at e = 1 this is the epsilon = sign(
 
 
 def _velocity_direction(sc, ratios):
-    return [sp.factor(sp.simplify(x)) for x in sc.M.LUsolve(sc.H.T * sp.Matrix([1, *ratios]))]
+    return [sp.factor(simplify(x)) for x in sc.M.LUsolve(sc.H.T * sp.Matrix([1, *ratios]))]
 
 
 def _trig_zero(expr) -> bool:
-    return sp.simplify(sp.expand_trig(sp.expand(expr))) == 0
+    return is_zero(sp.expand_trig(sp.expand(expr)))
 
 
 def _pool_emitted(th, ta, ee, a12, A, B, C, sc):
@@ -534,7 +544,7 @@ def _pool_emitted(th, ta, ee, a12, A, B, C, sc):
     if not (_trig_zero(D - (B**2 - 4 * A * C))):
         raise DerivationError('derivation check failed: _trig_zero(D - (B**2 - 4 * A * C))')
     Ae = a12 * (a12 - c) + 1
-    if not (sp.simplify(Ae - A) == 0):
+    if not (is_zero(Ae - A)):
         raise DerivationError('derivation check failed: sp.simplify(Ae - A) == 0')
     r = sp.Symbol("r", positive=True)
     root_impact = (ct + r) / (2 * Ae)
@@ -573,12 +583,12 @@ def kernels():
     names = ["w1x", "w1y", "w2x", "w2y", "w3x", "w3y"]
     # two contacts, any θ, τ
     sc, law = pool_law(th, ta, ee, (a12,))
-    A, B, C = sp.factor(law.A), sp.simplify(law.B), sp.factor(law.C)
-    if not (sp.simplify(B + sp.cos(ta)) == 0):
+    A, B, C = sp.factor(law.A), simplify(law.B), sp.factor(law.C)
+    if not (is_zero(B + sp.cos(ta))):
         raise DerivationError('derivation check failed: sp.simplify(B + sp.cos(ta)) == 0')
     # contact 1–2 approaches iff H₁q̇⁻ = −cos τ < 0; contact 2–3 has H₂q̇⁻ = 0 (balls 2, 3 at rest)
-    hv = (sc.H * sc.v).applyfunc(lambda x: sp.simplify(sp.expand_trig(x)))
-    if not (sp.simplify(hv[0] + sp.cos(ta)) == 0 and hv[1] == 0):
+    hv = (sc.H * sc.v).applyfunc(lambda x: simplify(sp.expand_trig(x)))
+    if not (is_zero(hv[0] + sp.cos(ta)) and hv[1] == 0):
         raise DerivationError('derivation check failed: sp.simplify(hv[0] + sp.cos(ta)) == 0 and hv[1] == 0')
     p1, w = _pool_emitted(th, ta, ee, a12, A, B, C, sc)
     pool_k = ScalarKernel(
@@ -592,9 +602,9 @@ D = cos(tau)^2 - 2A(1 - e)); p1 = 0 (no impact) for cos(tau) <= 0. Returns
 """)
     # Bernoulli: θ = 2π/3, three contacts, independent ratios
     sc3, law3 = pool_law(2 * sp.pi / 3, ta, ee, (a12, a13), third_contact=True)
-    A3, B3, C3 = sp.factor(law3.A), sp.simplify(law3.B), sp.factor(law3.C)
+    A3, B3, C3 = sp.factor(law3.A), simplify(law3.B), sp.factor(law3.C)
     hv = sc3.H * sc3.v
-    b1, b3 = sp.simplify(hv[0]), sp.simplify(hv[2])
+    b1, b3 = simplify(hv[0]), simplify(hv[2])
     root = stable_root(A3, B3, C3)
     p1b = sp.Piecewise((0, sp.And(b1 >= 0, b3 >= 0)), *[(ex, cond) for ex, cond in root.args])
     wb = [vi + ci * p1b for vi, ci in zip(sc3.v, _velocity_direction(sc3, (a12, a13)))]

@@ -31,7 +31,7 @@ from __future__ import annotations
 import flint
 import sympy as sp
 
-__all__ = ["is_zero_rational_function", "to_fraction"]
+__all__ = ["is_zero_rational_function", "is_zero_algebraic", "is_zero", "cancel", "factored_numerator", "to_fraction"]
 
 
 class _NotRational(TypeError):
@@ -121,3 +121,341 @@ def is_zero_rational_function(expr) -> bool | None:
     except _NotRational:
         return None
     return n == 0
+
+
+# --------------------------------------------------------------------------- algebraic generators
+class _Gen:
+    """A generator of the coefficient ring with its defining relation ``g² = value``: a square
+    root of a positive rational (``value`` rational), the imaginary unit (``value`` −1), or the
+    sine of an angle (``value`` ``1 − cos²``, the cosine being another generator)."""
+
+    def __init__(self, kind, key):
+        self.kind, self.key = kind, key
+
+
+def _generators(expr):
+    """The atoms of ``expr`` that become polynomial variables, or raise :class:`_NotRational`:
+    symbols, ``√q`` (``q`` a positive rational), ``I``, ``cos x`` and ``sin x`` of a symbol, and
+    ``√P`` of an expression ``P`` built from those (not from another ``√P``)."""
+    symbols, roots, angles, polyroots, unit = set(), set(), set(), set(), False
+    for node in sp.preorder_traversal(expr):
+        if node.is_Symbol:
+            symbols.add(node)
+        elif node is sp.I:
+            unit = True
+        elif node.is_Pow and not node.exp.is_Integer:
+            b, x = node.base, node.exp
+            if not (x.is_Rational and x.q == 2):
+                raise _NotRational(f"not an algebraic power: {node}")
+            if b.is_Rational and b > 0:
+                roots.add(b)
+            elif b.is_Rational or any(not (y.exp.is_Integer or (y.base.is_Rational and y.base > 0))
+                                      for y in b.atoms(sp.Pow)):
+                raise _NotRational(f"nested or negative root: {node}")
+            else:
+                polyroots.add(b)
+        elif isinstance(node, (sp.cos, sp.sin)):
+            if not node.args[0].is_Symbol:
+                raise _NotRational(f"trigonometric function of a non-symbol: {node}")
+            angles.add(node.args[0])
+        elif node.is_Function or node.is_Relational or isinstance(node, sp.MatrixBase):
+            raise _NotRational(f"not a rational function: {type(node).__name__}")
+    return (sorted(symbols - angles, key=str), sorted(roots), sorted(angles, key=str), unit,
+            sorted(polyroots, key=sp.default_sort_key))
+
+
+def _reduce(poly, ctx, rel):
+    """``poly`` with every ``g^k`` (``k ≥ 2``) of a generator rewritten by its relation
+    ``g² = value`` (``rel``: generator index -> value as a polynomial of ``ctx``), until no
+    generator occurs squared. Each rewrite replaces a polynomial by an equal one, so a result 0
+    proves ``poly`` zero at the generators' values."""
+    for gi, value in rel.items():
+        out = ctx.from_dict({})
+        pending = {}
+        for exps, c in poly.to_dict().items():
+            k = exps[gi]
+            if k < 2:
+                pending[exps] = pending.get(exps, 0) + c
+                continue
+            e = list(exps)
+            e[gi] = k % 2
+            out += ctx.from_dict({tuple(e): c}) * value ** (k // 2)
+        poly = out + ctx.from_dict({e: c for e, c in pending.items() if c != 0})
+    return poly
+
+
+def is_zero_algebraic(expr) -> bool | None:
+    """Whether ``expr`` is identically zero, proved exactly, for rational functions over
+    ``Q(√q₁, √q₂, …, i)`` in symbols and in ``cos x``, ``sin x`` of symbols ``x``.
+
+    The expression is written as one fraction ``N / D`` of polynomials in the symbols and in one
+    generator per square root, ``i``, cosine and sine (no gcd, as :func:`to_fraction`); ``N`` is
+    reduced by the true relations ``(√q)² = q``, ``i² = −1``, ``sin²x = 1 − cos²x``. A reduced
+    ``N`` equal to the zero polynomial proves ``N = 0`` at the generators' values; ``D`` is
+    proved not identically zero by one certified evaluation (an Arb ball excluding 0 at an exact
+    rational point). Then ``expr`` is identically zero.
+
+    Returns
+    -------
+    True when proved zero; None otherwise (the expression may still be zero: generators such as
+    ``√2``, ``√3`` and ``√6`` are related in ways the reduction does not use). Never False.
+
+    Examples
+    --------
+    >>> x, t = sp.symbols("x t", real=True)
+    >>> is_zero_algebraic((sp.sqrt(3) * x + 1) * (sp.sqrt(3) * x - 1) - 3 * x**2 + 1)
+    True
+    >>> is_zero_algebraic(sp.cos(t)**2 + sp.sin(t)**2 - 1)
+    True
+    >>> is_zero_algebraic(sp.sqrt(3) / 3 - 1 / sp.sqrt(3))
+    True
+    >>> is_zero_algebraic(sp.sqrt(2 + sp.sqrt(3)) - (sp.sqrt(6) + sp.sqrt(2)) / 2) is None  # nested: undecided
+    True
+    >>> is_zero_algebraic(sp.sqrt(x) - 1) is None
+    True
+    """
+    expr = sp.sympify(expr)
+    if not expr.is_commutative or isinstance(expr, sp.MatrixBase):
+        return None
+    try:
+        symbols, roots, angles, unit, polyroots = _generators(expr)
+        atoms = list(symbols) + [sp.sqrt(q) for q in roots] + [f(x) for x in angles for f in (sp.cos, sp.sin)]
+        atoms += [sp.I] if unit else []
+        atoms += [sp.sqrt(b) for b in polyroots]
+        if not atoms:
+            return True if expr == 0 else None
+        names = tuple(f"x{i}" for i in range(len(atoms)))
+        ctx = flint.fmpq_mpoly_ctx.get(names, "lex")
+        gens = ctx.gens()
+        index = {a: i for i, a in enumerate(atoms)}
+        n, d = _conv(expr, ctx, gens, index)
+        rel = {}
+        for b in polyroots:  # (√P)² = P, P a polynomial in the earlier generators
+            pn, pd = _conv(b, ctx, gens, index)
+            if pd != 1 or any(e[index[sp.sqrt(c)]] for c in polyroots for e in pn.to_dict()):
+                raise _NotRational(f"the square root of a non-polynomial: {b}")
+            rel[index[sp.sqrt(b)]] = pn
+    except _NotRational:
+        return None
+    if d == 0:
+        return None
+    for q in roots:
+        rel[index[sp.sqrt(q)]] = ctx.from_dict({}) + flint.fmpq(int(q.p), int(q.q))
+    for x in angles:
+        c = gens[index[sp.cos(x)]]
+        rel[index[sp.sin(x)]] = 1 - c * c
+    if unit:
+        rel[index[sp.I]] = ctx.from_dict({}) - 1
+    if _reduce(n, ctx, rel) != 0:
+        return None
+    return True if _certainly_nonzero(d, atoms, {index[sp.sqrt(b)]: rel[index[sp.sqrt(b)]] for b in polyroots}) else None
+
+
+def _conv(expr, ctx, gens, index):
+    """``(N, D)`` over ``ctx`` with the atoms of ``index`` as variables (as :func:`to_fraction`;
+    half-integer powers of a root atom become powers of its generator)."""
+    one = ctx.from_dict({}) + 1
+    memo: dict = {}
+
+    def conv(e):
+        hit = memo.get(e)
+        if hit is not None:
+            return hit
+        i = index.get(e)
+        if i is not None:
+            out = (gens[i], one)
+        elif e.is_Rational:
+            out = (one * flint.fmpq(int(e.p), int(e.q)), one)
+        elif e.is_Add:
+            n, d = conv(e.args[0])
+            for a in e.args[1:]:
+                n2, d2 = conv(a)
+                if d2 == d:
+                    n = n + n2
+                else:
+                    n, d = n * d2 + n2 * d, d * d2
+            out = (n, d)
+        elif e.is_Mul:
+            n, d = one, one
+            for a in e.args:
+                n2, d2 = conv(a)
+                n, d = n * n2, d * d2
+            out = (n, d)
+        elif e.is_Pow and (e.exp.is_Integer or (e.exp.is_Rational and e.exp.q == 2 and sp.sqrt(e.base) in index)):
+            if e.exp.is_Integer:
+                n, d = conv(e.base)
+                k = int(e.exp)
+            else:  # b**(k/2) = sqrt(b)**k
+                n, d = gens[index[sp.sqrt(e.base)]], one
+                k = int(e.exp.p)
+            if k < 0 and n == 0:
+                raise _NotRational("division by the zero polynomial")
+            out = (n ** k, d ** k) if k >= 0 else (d ** (-k), n ** (-k))
+        else:
+            raise _NotRational(f"not a rational function: {type(e).__name__}")
+        memo[e] = out
+        return out
+
+    return conv(expr)
+
+
+def _certainly_nonzero(poly, atoms, squares=None) -> bool:
+    """Whether the polynomial ``poly`` (variables ``atoms``) is certifiably non-zero at one point:
+    symbols at distinct small rationals, angles at 2/7, 3/7, ..., square roots and ``i`` at their
+    values, ``√P`` (``squares``: variable index -> ``P``) at the principal root of ``P`` there (an
+    Arb ball, 128 bits, that excludes 0; complex balls throughout)."""
+    squares = squares or {}
+    ctx = flint.ctx
+    old = ctx.prec
+    try:
+        ctx.prec = 128
+        vals = []
+        k = 0
+        for i, a in enumerate(atoms):
+            k += 1
+            if i in squares:
+                vals.append(_evaluate(squares[i], vals + [flint.acb(0)] * (len(atoms) - len(vals))).sqrt())
+            elif a is sp.I:
+                vals.append(flint.acb(0, 1))
+            elif a.is_Symbol:
+                vals.append(flint.acb(flint.arb(flint.fmpq(k + 2, 7 * k + 3))))
+            elif a.is_Pow:
+                vals.append(flint.acb(flint.arb(flint.fmpq(int(a.base.p), int(a.base.q))).sqrt()))
+            else:
+                ang = flint.arb(flint.fmpq(2 + index_of(atoms, a), 7))
+                vals.append(flint.acb(ang.cos() if isinstance(a, sp.cos) else ang.sin()))
+        return not _evaluate(poly, vals).contains(0)
+    finally:
+        ctx.prec = old
+
+
+def _evaluate(poly, vals):
+    """``poly`` at the complex balls ``vals`` (one per variable)."""
+    total = flint.acb(0)
+    for exps, c in poly.to_dict().items():
+        term = flint.acb(flint.arb(c))
+        for v, x in zip(vals, exps):
+            if x:
+                term *= v ** x
+        total += term
+    return total
+
+
+def index_of(atoms, a) -> int:
+    """The position of the angle of ``a`` (``cos x`` or ``sin x``) among the angles of ``atoms``:
+    the cosine and sine of one angle are evaluated at the same point."""
+    angles = []
+    for b in atoms:
+        if isinstance(b, (sp.cos, sp.sin)) and b.args[0] not in angles:
+            angles.append(b.args[0])
+    return angles.index(a.args[0])
+
+
+def is_zero(expr) -> bool:
+    """``simplify(expr) == 0``, decided first by the exact tests of this module: True when
+    :func:`is_zero_algebraic` proves ``expr`` zero, False when :func:`is_zero_rational_function`
+    proves it a non-zero rational function (which no simplification makes 0), and otherwise
+    SymPy's ``simplify(expr) == 0``.
+
+    >>> x = sp.Symbol("x")
+    >>> is_zero((x + sp.sqrt(2))**2 - x**2 - 2*sp.sqrt(2)*x - 2), is_zero(x**2 - x), is_zero(sp.sqrt(x**2) - x)
+    (True, False, False)
+    """
+    expr = sp.sympify(expr)
+    if is_zero_algebraic(expr):
+        return True
+    if is_zero_rational_function(expr) is False:
+        return False
+    return sp.simplify(expr) == 0
+
+
+def cancel(expr):
+    """SymPy's ``cancel(expr)`` (the same expression, term for term), computed with python-flint
+    for rational functions with rational coefficients; anything else goes to ``sympy.cancel``.
+
+    ``sympy.cancel`` of such a function returns ``P/Q`` with ``P, Q`` coprime integer polynomials
+    in the free symbols (ordered as SymPy orders generators), ``gcd(cont P, cont Q) = 1`` and the
+    leading coefficient of ``Q`` (lex) positive: a normal form, which is computed here by one
+    flint gcd instead of SymPy's (often a second or more on a 3×3 symbolic derivation).
+
+    >>> x, y = sp.symbols("x y")
+    >>> e = (x**2 - y**2) / (2*y - 2*x) + x / 3
+    >>> cancel(e), sp.cancel(e)
+    (-x/6 - y/2, -x/6 - y/2)
+    """
+    expr = sp.sympify(expr)
+    if not isinstance(expr, sp.Expr) or expr.is_Number or not expr.free_symbols or not expr.is_commutative:
+        return sp.cancel(expr)
+    from sympy.polys.domains import ZZ
+    from sympy.polys.polyutils import _sort_gens
+    from sympy.polys.rings import PolyRing
+
+    gens = _sort_gens(list(expr.free_symbols))
+    try:
+        n, d = to_fraction(expr, gens)
+    except _NotRational:
+        return sp.cancel(expr)
+    if n == 0:
+        return sp.Integer(0)
+    g = n.gcd(d)
+    p, q = n / g, d / g
+    # integer coefficients with coprime joint content, then the sign of Q's leading coefficient
+    coeffs = list(p.coeffs()) + list(q.coeffs())
+    den = 1
+    for c in coeffs:
+        den = den * int(c.q) // _igcd(den, int(c.q))
+    nums = [int(c.p) * (den // int(c.q)) for c in coeffs]
+    content = 0
+    for v in nums:
+        content = _igcd(content, v)
+    scale = flint.fmpq(den, content)
+    if q.leading_coefficient() < 0:
+        scale = -scale
+    p, q = p * scale, q * scale
+    ring = PolyRing(gens, ZZ)
+    P = ring.from_dict({k: ZZ(int(c.p)) for k, c in p.to_dict().items()}).as_expr()
+    Q = ring.from_dict({k: ZZ(int(c.p)) for k, c in q.to_dict().items()}).as_expr()
+    return P / Q
+
+
+def _igcd(a: int, b: int) -> int:
+    import math
+
+    return math.gcd(a, b)
+
+
+def factored_numerator(expr, free_of=()):
+    """The numerator ``N`` of ``expr = N / D`` (:func:`to_fraction`: ``D`` the product of the
+    denominators, no gcd), factored over Q by python-flint, as a SymPy product of expanded
+    factors (generators in SymPy's order). What ``sympy.factor(sympy.numer(sympy.together(expr)))``
+    computes, up to factors of ``D``, in a fraction of its time.
+
+    ``free_of``: symbols that ``D`` must not contain (raises ``ValueError`` otherwise), so that
+    the roots of ``N`` in them are exactly those of ``expr``.
+
+    >>> x, y = sp.symbols("x y")
+    >>> factored_numerator(x / y - y / x, free_of=[x])
+    Traceback (most recent call last):
+    ...
+    ValueError: the denominator x*y involves x
+    >>> factored_numerator((x**2 - y**2) / (x + 1) ** 2, free_of=[x])
+    Traceback (most recent call last):
+    ...
+    ValueError: the denominator x^2 + 2*x + 1 involves x
+    >>> factored_numerator((x**2 - y**2) / y, free_of=[x])
+    (x - y)*(x + y)
+    """
+    from sympy.polys.polyutils import _sort_gens
+
+    expr = sp.sympify(expr)
+    gens = _sort_gens(list(expr.free_symbols))
+    n, d = to_fraction(expr, gens)
+    for s in free_of:
+        if s in gens and d.degrees()[gens.index(s)] > 0:
+            raise ValueError(f"the denominator {d} involves {s}")
+    c, factors = n.factor()
+    out = sp.Rational(int(c.p), int(c.q))
+    for f, m in factors:
+        poly = sp.Poly.from_dict({k: sp.Rational(int(v.p), int(v.q)) for k, v in f.to_dict().items()}, gens)
+        out *= poly.as_expr() ** m
+    return out

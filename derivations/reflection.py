@@ -38,9 +38,10 @@ from typing import Callable
 
 import sympy as sp
 
+from .memo import simplify
 from .algebra import block_determinant_lemma, nc_symbols, rewrite
 from .codegen import ArrayKernel, ScalarKernel, numpy_code, render_family
-from .rational_zero import is_zero_rational_function
+from .rational_zero import cancel, factored_numerator, is_zero, is_zero_rational_function
 
 from impactsym.errors import DerivationError
 
@@ -185,15 +186,16 @@ def derive_single_impact(n: int) -> Derivation:
         raise DerivationError("the momentum equation is linear in qdot+ with an invertible M")
     qp_of_lam = qp_syms.subs(sol[0])
     energy = (qp_of_lam.T * M * qp_of_lam)[0, 0] - (qm.T * M * qm)[0, 0]  # eq. 1b
-    energy_num = sp.factor(sp.numer(sp.together(energy)))
+    # its numerator over the denominators' product (det M powers, free of lambda), factored by flint
+    energy_num = factored_numerator(energy, free_of=[lam])
     roots = sp.solve(energy_num, lam)
-    discarded = [(r, TRIVIAL_ROOT_REASON) for r in roots if sp.simplify(r) == 0]
-    kept = [r for r in roots if sp.simplify(r) != 0]
+    discarded = [(r, TRIVIAL_ROOT_REASON) for r in roots if is_zero(r)]
+    kept = [r for r in roots if not is_zero(r)]
     if not (len(kept) == 1):
         raise DerivationError(f"expected one non-trivial root, got {kept}")
     lam_star = sp.factor(kept[0])
-    qplus = qp_of_lam.subs(lam, lam_star).applyfunc(sp.cancel)
-    G = qplus.jacobian(qm).applyfunc(sp.cancel)
+    qplus = qp_of_lam.subs(lam, lam_star).applyfunc(cancel)  # sympy.cancel's normal form, by flint
+    G = qplus.jacobian(qm).applyfunc(cancel)
     d = Derivation(n, M, u, qm, lam_star, qplus, G, roots,
                    [(r, _short(reason)) for r, reason in discarded])
     d.matches_printed_G = _matrix_is_zero(G - printed_G(M, u))
@@ -216,12 +218,18 @@ def derive_restitution(n: int) -> Derivation:
     sol = sp.solve(list(M * qp_syms - M * qm + lam * u.T), list(qp_syms), dict=True)
     qp_of_lam = qp_syms.subs(sol[0])
     restitution = (u * qp_of_lam)[0, 0] + e * (u * qm)[0, 0]
-    roots = sp.solve(sp.numer(sp.together(restitution)), lam)
-    if not (len(roots) == 1):
-        raise DerivationError('derivation check failed: len(roots) == 1')
+    # the condition is linear in lambda: a lambda + b = 0 with a != 0 (its numerator over the
+    # denominators' product, which is free of lambda), so the one root is -b/a
+    linear = sp.Poly(factored_numerator(restitution, free_of=[lam]), lam)
+    if linear.degree() != 1:
+        raise DerivationError(f"u q+ = -e u q- is not linear in lambda: degree {linear.degree()}")
+    a, b = linear.all_coeffs()
+    if is_zero_rational_function(a) is not False:
+        raise DerivationError("u q+ = -e u q- does not involve lambda (a = 0)")
+    roots = [-b / a]
     lam_star = sp.factor(roots[0])
-    qplus = qp_of_lam.subs(lam, lam_star).applyfunc(sp.cancel)
-    G = qplus.jacobian(qm).applyfunc(sp.cancel)
+    qplus = qp_of_lam.subs(lam, lam_star).applyfunc(cancel)  # sympy.cancel's normal form, by flint
+    G = qplus.jacobian(qm).applyfunc(cancel)
     dT = ((qplus.T * M * qplus)[0, 0] - (qm.T * M * qm)[0, 0]) / 2
     s = (u * M.adjugate() * u.T)[0, 0] / M.det()
     printed_dT = -(1 - e**2) * (u * qm)[0, 0] ** 2 / (2 * s)
@@ -283,7 +291,7 @@ def derive_general(restitution: bool = False) -> Derivation:
         raise DerivationError(check)
     d = Derivation("n", MM, U, Q, lam_star, Q - lam_star * W, G, roots,
                    [(r, _short(reason)) for r, reason in discarded])
-    d.matches_printed_lambda = sp.simplify(lam_star - coeff * c_ / s_) == 0
+    d.matches_printed_lambda = is_zero(lam_star - coeff * c_ / s_)
     d.matches_printed_G = True  # G is read off in the printed form I - coeff M^-1 u^T u/(u M^-1 u^T)
     d.seconds = time.perf_counter() - t0
     return d
@@ -331,11 +339,57 @@ def _step0(n: int) -> tuple[bool, str]:
                 f"(derivation and check {secs:.2f} s, once per n)")
 
 
+def _all_zero_polynomials(entries) -> bool:
+    """Every entry (a polynomial) expands to the zero polynomial, expanded exactly by python-flint
+    (:func:`derivations.rational_zero.is_zero_rational_function`; SymPy's ``expand`` when an entry
+    is not a rational function over Q)."""
+    for x in entries:
+        fast = is_zero_rational_function(x)
+        if fast is None:
+            fast = sp.expand(x) == 0
+        if not fast:
+            return False
+    return True
+
+
+def _bareiss_det_plus_is_zero(N: sp.Matrix, c) -> bool:
+    """Whether ``det(N) + c`` is the zero polynomial: ``det N`` by fraction-free (Bareiss)
+    elimination in python-flint's exact polynomials (every division exact), then compared with
+    ``-c`` exactly. SymPy's ``det(method="bareiss")`` and ``expand`` when an entry is not a
+    polynomial over Q."""
+    from .rational_zero import to_fraction
+
+    syms = sorted(set().union(*[x.free_symbols for x in N], sp.sympify(c).free_symbols), key=str)
+    try:
+        fr = [[to_fraction(N[i, j], syms) for j in range(N.cols)] for i in range(N.rows)]
+        cn, cd = to_fraction(c, syms)
+    except TypeError:
+        return sp.expand(N.det(method="bareiss") + c) == 0
+    if any(d != 1 for row in fr for _, d in row) or cd != 1:
+        return sp.expand(N.det(method="bareiss") + c) == 0
+    A = [[x for x, _ in row] for row in fr]
+    n = len(A)
+    sign, prev = 1, A[0][0] ** 0 if n else None
+    for k in range(n - 1):
+        if A[k][k] == 0:
+            swap = next((i for i in range(k + 1, n) if A[i][k] != 0), None)
+            if swap is None:
+                return cn == 0
+            A[k], A[swap] = A[swap], A[k]
+            sign = -sign
+        for i in range(k + 1, n):
+            for j in range(k + 1, n):
+                A[i][j] = (A[i][j] * A[k][k] - A[i][k] * A[k][j]) / prev  # exact (Sylvester's identity)
+        prev = A[k][k]
+    det = sign * A[n - 1][n - 1]
+    return det + cn == 0
+
+
 def _direct_square(n: int):
     M, u, w, s = _adjugate_G(n)
     N = scaled_G(w, u, s)  # N = s G
-    residual = (N * N - s**2 * sp.eye(n)).applyfunc(sp.expand)
-    return residual == sp.zeros(n, n), [
+    residual = N * N - s**2 * sp.eye(n)
+    return _all_zero_polynomials(residual), [
         "cleared denominators: (sG)^2 - s^2 I expands to the zero polynomial matrix",
     ]
 
@@ -343,8 +397,8 @@ def _direct_square(n: int):
 def _direct_metric(n: int):
     M, u, w, s = _adjugate_G(n)
     N = scaled_G(w, u, s)
-    residual = (N.T * M * N - s**2 * M).applyfunc(sp.expand)
-    return residual == sp.zeros(n, n), [
+    residual = N.T * M * N - s**2 * M
+    return _all_zero_polynomials(residual), [
         "cleared denominators: (sG)^T M (sG) - s^2 M expands to the zero polynomial matrix"
     ]
 
@@ -352,8 +406,7 @@ def _direct_metric(n: int):
 def _direct_det(n: int):
     M, u, w, s = _adjugate_G(n)
     N = scaled_G(w, u, s)
-    det_N = N.det(method="bareiss")  # fraction-free elimination of a polynomial matrix
-    ok = sp.expand(det_N + s**n) == 0
+    ok = _bareiss_det_plus_is_zero(N, s**n)  # fraction-free elimination of a polynomial matrix
     return ok, [
         "det(sG) = s^n det(G) computed by fraction-free (Bareiss) elimination on the polynomial "
         "matrix sI - 2wu (w = adj(M)u^T), instead of det of the rational matrix G",
@@ -465,7 +518,7 @@ def _general_restitution():
     Gt = G_matrix(Ut, Wt, s_, e, identity=1)
     dT = rewrite((Qt * Gt * MM * G * Q - Qt * MM * Q) / 2, RULES)
     target = -(1 - e**2) * c_**2 / (2 * s_)
-    return sp.simplify(dT - target) == 0, [
+    return is_zero(dT - target), [
         "G(e) = 1 - (1+e) W U / s (derived from u q+ = -e u q-)",
         f"T+ - T- = (Q^T G^T M G Q - Q^T M Q)/2 rewrites to {sp.factor(dT)}",
     ]
@@ -534,14 +587,14 @@ def _coefficient() -> sp.Expr:
     """The scalar of the rank-one term, read off the derived general-n map: ``G = 1 − c W U``."""
     G = derive_general(restitution=True).G
     c = -sp.expand(G - 1).coeff(W * U)
-    return sp.simplify(c)
+    return simplify(c)
 
 
 def kernels() -> list:
     """The kernels this derivation emits (general n, and closed forms for n = 2 and 3)."""
     e, s = e_, s_
     coeff = _coefficient()  # (e + 1)/s
-    if not (sp.simplify(coeff - (1 + e) / s) == 0):
+    if not (is_zero(coeff - (1 + e) / s)):
         raise DerivationError('derivation check failed: sp.simplify(coeff - (1 + e) / s) == 0')
     cs = numpy_code(coeff.subs({e: sp.Symbol("restitution"), s: sp.Symbol("s")}))
     general_map = ArrayKernel(

@@ -7,6 +7,9 @@ from __future__ import annotations
 
 import sympy as sp
 
+from derivations.memo import simplify
+from derivations.rational_zero import is_zero
+
 from impactsym.mechanics import kinetic_angle_cos
 from impactsym.models.acary_taha import pool
 
@@ -40,6 +43,6 @@ def pool_kinetic_angle_check():
     out = {}
     for constraint in ("distance", "squared"):
         sc = pool(theta, constraint=constraint)
-        c = sp.simplify(kinetic_angle_cos(sc.M, sc.H[0, :], sc.H[1, :]))
-        out[constraint] = (c, sp.simplify(c - printed) == 0)
+        c = simplify(kinetic_angle_cos(sc.M, sc.H[0, :], sc.H[1, :]))
+        out[constraint] = (c, is_zero(c - printed))
     return out

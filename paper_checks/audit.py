@@ -103,18 +103,20 @@ def derivation_summary() -> dict:
 
 # --------------------------------------------------------------------------- processes
 def _task(task):
-    """One unit of work of a worker process: a list of claim ids, or the derivation summary, or the
-    cross-check."""
-    kind, payload = task
-    if kind == "claims":
-        from .framework import evaluate
+    """One unit of work of a worker process: a list of claim ids, and with them the ``G_u``
+    derivation summary and/or the cross-check when the task carries them."""
+    ids, with_derivation, with_crosscheck = task
+    from .framework import evaluate
 
-        return kind, [evaluate(cid).rendered_copy() for cid in payload]
-    if kind == "derivation":
-        return kind, derivation_summary()
-    from .crosscheck import run_crosschecks
+    claims = [evaluate(cid).rendered_copy() for cid in ids]
+    derivation = derivation_summary() if with_derivation else None
+    if with_crosscheck:
+        from .crosscheck import run_crosschecks
 
-    return kind, run_crosschecks()
+        cross = run_crosschecks()
+    else:
+        cross = None
+    return claims, derivation, cross
 
 
 def _groups(paper: str | None) -> list[list[str]]:
@@ -136,22 +138,48 @@ def _groups(paper: str | None) -> list[list[str]]:
     return groups
 
 
+def _tasks(paper: str | None, jobs: int) -> tuple[list[list[str]], list[tuple]]:
+    """The section groups and the worker tasks ``(claim ids, with the G_u derivation, with the
+    cross-check)``, largest first.
+
+    Claims of one paper share memoized derivations across sections (the G_u derivation of
+    Seghete & Murphey sec. II-A is used again in sec. III; the pool closed forms of Acary & Taha
+    sec. 4 again in sec. 5), and a worker computes a shared derivation once for every claim it
+    evaluates. So with ``jobs`` up to the number of papers, each paper is one task (Seghete &
+    Murphey's with the G_u derivation summary, which reuses the same derivations; Acary & Taha's
+    with the cross-check): ``-j 2`` then costs about the CPU of ``-j 1``. With more processes
+    than papers, the section groups are the tasks (more parallel, some derivations computed in
+    more than one worker).
+    """
+    groups = _groups(paper)
+    from .framework import REGISTRY
+
+    papers = [p for p in PAPER_ORDER if paper in (None, p)]
+    if jobs <= len(papers):
+        by_paper = {p: [cid for g in groups for cid in g if REGISTRY[cid].paper == p] for p in papers}
+        tasks = [(by_paper[p], p == "seghete-murphey", p == "acary-taha") for p in papers]
+        if paper == "seghete-murphey":
+            tasks.append(([], False, True))
+        elif paper == "acary-taha":
+            tasks.append(([], True, False))
+    else:
+        tasks = [([], True, False), ([], False, True)] + [(g, False, False) for g in groups]
+    tasks.sort(key=lambda t: -len(t[0]))
+    return groups, tasks
+
+
 def _run_parallel(paper: str | None, jobs: int):
     import multiprocessing
 
-    groups = _groups(paper)
-    tasks = [("derivation", None), ("crosscheck", None)] + [("claims", g) for g in groups]
+    groups, tasks = _tasks(paper, jobs)
     method = "fork" if "fork" in multiprocessing.get_all_start_methods() else "spawn"
     by_id, derivation, cross = {}, None, None
     # a Pool's exit terminates its workers: an exception here (--timeout's) stops them at once
-    with multiprocessing.get_context(method).Pool(jobs) as pool:
-        for kind, out in pool.imap_unordered(_task, tasks):
-            if kind == "claims":
-                by_id.update((c.id, c) for c in out)
-            elif kind == "derivation":
-                derivation = out
-            else:
-                cross = out
+    with multiprocessing.get_context(method).Pool(min(jobs, len(tasks))) as pool:
+        for claims, d, c in pool.imap_unordered(_task, tasks):
+            by_id.update((cl.id, cl) for cl in claims)
+            derivation = d if d is not None else derivation
+            cross = c if c is not None else cross
     claims = [by_id[cid] for g in groups for cid in g]
     return claims, derivation, cross
 
@@ -164,8 +192,9 @@ def run_audit(paper: str | None = None, jobs: int = 1) -> AuditResult:
     ----------
     paper : ``"seghete-murphey"``, ``"acary-taha"`` or None (both)
     jobs : number of processes. With ``jobs > 1`` the claims are evaluated on that many worker
-        processes (the claims of one section together, so that they share their derivations), and
-        so are the ``G_u`` derivation and the cross-check; the records are the same as a serial
+        processes (each paper's claims together while ``jobs`` is at most the number of papers, so
+        that they share their derivations; else each section's), and so are the ``G_u``
+        derivation and the cross-check; the records are the same as a serial
         run's, in registration order (each is rendered to JSON in the process that evaluated it).
 
     Returns

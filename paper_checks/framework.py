@@ -56,6 +56,7 @@ from typing import Any, Callable
 import mpmath
 import sympy as sp
 
+from derivations.memo import simplify
 __all__ = [
     "VERDICTS", "EVIDENCE_KINDS", "PAPERS", "DIGITS", "Finding", "Claim", "Registered", "REGISTRY", "claim",
     "evaluate", "evaluate_all", "identical", "Identity", "Inconclusive", "compare_decimal", "compare_decimals",
@@ -493,7 +494,9 @@ def identical(a, b, *, domain: dict | None = None, points: int = 8, seed: int = 
         ``status`` (``proved``, ``different``, ``samples`` or ``inconclusive``), the ``method``
         that decided it, and a counterexample point when different.
 
-    First ``simplify(a − b) == 0`` (a proof). For numbers, an exact zero test or a certified
+    First an exact zero test of ``a − b`` (:func:`derivations.rational_zero.is_zero_algebraic`:
+    its numerator, reduced by ``(√q)² = q``, ``sin² = 1 − cos²``, is the zero polynomial), then
+    ``simplify(a − b) == 0`` (both proofs). For numbers, an exact zero test or a certified
     sign (:func:`impactsym.exact.certified_sign`: rationals exactly, algebraic numbers by their
     minimal polynomial, others by rigorous enclosures). For expressions with symbols,
     ``a − b`` is evaluated *exactly* at ``points`` random rational points of ``domain``: an
@@ -518,16 +521,29 @@ def identical(a, b, *, domain: dict | None = None, points: int = 8, seed: int = 
         diffs = list(A - B)
     else:
         diffs = [A - B]
+    from derivations.rational_zero import is_zero_algebraic, is_zero_rational_function
+
     rest = []
+    simplified = False
     for d in diffs:
+        # exact zero tests first (python-flint, milliseconds): a rational function over Q(√q, i)
+        # in symbols and cos/sin of symbols whose reduced numerator is the zero polynomial is 0;
+        # a rational function over Q with a non-zero numerator is not (simplify cannot close it)
+        if is_zero_algebraic(d):
+            continue
+        if is_zero_rational_function(d) is False:
+            rest.append(d)
+            continue
+        simplified = True
         try:
-            if sp.simplify(d) == 0:
+            if simplify(d) == 0:
                 continue
         except Exception:
             pass
         rest.append(d)
     if not rest:
-        return Identity(True, "simplify(a - b) == 0", status="proved")
+        return Identity(True, "simplify(a - b) == 0" if simplified else
+                        "a - b is exactly zero (exact zero test)", status="proved")
     free = sorted(set().union(*[d.free_symbols for d in rest]), key=str)
     if not free:
         undecided = []
@@ -649,26 +665,52 @@ def conservation(M, H, vminus, vplus, e=1) -> dict:
     ...              sp.Matrix([1 + sp.Rational(1, 10**20)]))["energy"]
     False
     """
+    from derivations.rational_zero import is_zero_algebraic
     from impactsym.exact import certified_sign
 
     M, H = sp.Matrix(M), sp.Matrix(H)
     vm, vp = sp.Matrix(vminus), sp.Matrix(vplus)
     rhs = M * (vp - vm)
     p_syms = sp.symbols(f"p0:{H.rows}")
-    sol = sp.solve(list(H.T * sp.Matrix(p_syms) - rhs), p_syms, dict=True)
-    momentum = bool(sol)
-    p = [sp.radsimp(sp.simplify(sol[0].get(s, s))) for s in p_syms] if sol else None
+    rational = _rational_unique_solution(H.T, rhs)
+    if rational is not None:  # rational data, H^T of full column rank: the one solution, or none
+        momentum = rational is not False
+        p = list(rational) if momentum else None
+    else:
+        sol = sp.solve(list(H.T * sp.Matrix(p_syms) - rhs), p_syms, dict=True)
+        momentum = bool(sol)
+        p = [sp.radsimp(simplify(sol[0].get(s, s))) for s in p_syms] if sol else None
     free = bool(p) and any(x.free_symbols for x in p)
     nonneg = None if (p is None or free) else all(certified_sign(x) >= 0 for x in p)
-    Tm = sp.simplify((vm.T * M * vm)[0, 0] / 2)
-    Tp = sp.simplify((vp.T * M * vp)[0, 0] / 2)
-    res = sp.radsimp(sp.simplify(Tp - e * Tm))
+    Tm = simplify((vm.T * M * vm)[0, 0] / 2)
+    Tp = simplify((vp.T * M * vp)[0, 0] / 2)
+    res = sp.Integer(0) if is_zero_algebraic(Tp - e * Tm) else sp.radsimp(simplify(Tp - e * Tm))
     energy = certified_sign(res) == 0 if not res.free_symbols else None
-    w = [sp.radsimp(sp.simplify(x)) for x in H * vp]
+    w = [sp.radsimp(simplify(x)) for x in H * vp]
     contacts = all(certified_sign(x) >= 0 for x in w) if not any(x.free_symbols for x in w) else None
     return {"momentum": momentum, "p": p, "impulses_nonnegative": nonneg, "energy_residual": res,
             "energy": energy, "T_minus": Tm, "T_plus": Tp, "Hv_plus": w, "contacts": contacts,
             "holds": bool(momentum and nonneg and energy and contacts)}
+
+
+def _rational_unique_solution(A: sp.Matrix, b: sp.Matrix):
+    """For rational ``A`` (of full column rank) and ``b``: the solution ``x`` of ``A x = b`` as a
+    list of Rationals, or False when there is none (exact row reduction over QQ, SymPy's
+    ``DomainMatrix``). None when the data are not all rational or ``A`` is rank-deficient (the
+    caller then solves symbolically)."""
+    from sympy.polys.matrices import DomainMatrix
+
+    if not all(x.is_Rational for x in list(A) + list(b)):
+        return None
+    aug = DomainMatrix.from_Matrix(A.row_join(b)).convert_to(sp.QQ)
+    rref, pivots = aug.rref()
+    k = A.cols
+    if len(pivots) > 0 and pivots[-1] == k:
+        return False  # a pivot in the right-hand column: inconsistent
+    if list(pivots) != list(range(k)):
+        return None  # rank-deficient: free parameters, solved symbolically
+    R = rref.to_Matrix()
+    return [R[i, k] for i in range(k)]
 
 
 # --------------------------------------------------------------------------- extrema
@@ -689,8 +731,8 @@ def extremum(f, x, x0, *, kind: str = "min") -> dict:
     >>> extremum((x - 1)**2, x, 1)["holds"]
     True
     """
-    d1 = sp.simplify(sp.diff(f, x).subs(x, x0))
-    d2 = sp.simplify(sp.diff(f, x, 2).subs(x, x0))
+    d1 = simplify(sp.diff(f, x).subs(x, x0))
+    d2 = simplify(sp.diff(f, x, 2).subs(x, x0))
     stationary = identical(d1, 0).equal
     sign = None
     if not d2.free_symbols:

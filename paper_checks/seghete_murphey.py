@@ -24,6 +24,9 @@ from functools import lru_cache
 
 import sympy as sp
 
+from derivations.memo import simplify
+from derivations.rational_zero import cancel, is_zero
+
 from derivations import reflection as drefl
 from impactsym.laws.reflection import reflection_map
 from impactsym.exact import certified_sign
@@ -83,7 +86,7 @@ def _alternate(M, surfaces, v0, first: int, cap: int = 64):
     vs, hits = [sp.Matrix(v0)], []
     nxt = first
     for _ in range(cap):
-        v = (Gs[nxt] * vs[-1]).applyfunc(sp.cancel)
+        v = (Gs[nxt] * vs[-1]).applyfunc(cancel)
         vs.append(v)
         hits.append(nxt)
         bad = [i for i, u in enumerate(us) if _sign((u * v)[0, 0]) < 0]
@@ -115,7 +118,7 @@ def _outcomes(M, H, v0, **kwargs):
 
 def _sign(x) -> int:
     """Exact sign: certified for numbers, from SymPy's assumptions for symbolic expressions."""
-    x = sp.simplify(x)
+    x = simplify(x)
     if x.free_symbols:
         if x.is_positive:
             return 1
@@ -157,7 +160,7 @@ def eq1a():
         _misprint(lit, jmp, "eq. 1a"),
         published=r"\frac{\partial L}{\partial \dot q}\Big|_{t_A^+} + \lambda_A D\phi_A(q_A) = 0",
         published_expr=sp.Eq(sp.Symbol("p(t_A^+)") + L_sym * sp.Symbol("Dphi_A"), 0),
-        derived=sp.simplify(jump),
+        derived=simplify(jump),
         corrected=r"\left[\frac{\partial L}{\partial \dot q}\right]_{t_A^-}^{t_A^+} + \lambda_A D\phi_A(q_A) = 0",
         note="The printed evaluation at t_A^+ alone is not the impact equation: the derived solution "
              "(symbolic 2×2 M, u, q̇⁻; derivations.reflection) satisfies the jump form identically "
@@ -177,7 +180,7 @@ def eq1b():
     return Finding(
         _misprint(lit, jmp, "eq. 1b"),
         published=r"\left[\frac{\partial L}{\partial \dot q}\cdot\dot q - L\right]_{t_A^+} = 0",
-        derived=sp.simplify(E(qp) - E(qm)),
+        derived=simplify(E(qp) - E(qm)),
         corrected=r"\left[\frac{\partial L}{\partial \dot q}\cdot\dot q - L\right]_{t_A^-}^{t_A^+} = 0",
         note="Literally, the energy T⁺ + V would vanish at t_A^+; the derived post-impact state has "
              f"T⁺ = T⁻ (jump zero: {jmp.method}; literal: {lit.method}). The jump is meant, as in eq. 2b.",
@@ -636,7 +639,7 @@ def b1_v1():
     v0 = _mat([-x, -x - y])  # u v0 = -x <= 0, v v0 = -y <= 0
     v1 = _G(I2, "1,0") * v0
     uv, vv = (_mat([[1, 0]]) * v1)[0, 0], (_mat([[-1, 1]]) * v1)[0, 0]
-    ok = sp.simplify(uv - x) == 0 and sp.simplify(vv + 2 * x + y) == 0
+    ok = is_zero(uv - x) and is_zero(vv + 2 * x + y)
     return Finding("exact-match" if ok else "refuted", published=r"v v_1 \le 0,\ u v_1 \ge 0",
                    derived={"u v1": uv, "v v1": vv}, note="Every v0 with u v0 ≤ 0, v v0 ≤ 0 is (−x, −x−y), x, y ≥ 0.")
 
@@ -767,9 +770,9 @@ def _G(M, u):
 def _reflection_checks(G, M) -> dict:
     """The properties every G_u has (sec. III-C), computed exactly: G² = I, GᵀMG = M, det G = −1."""
     n = G.rows
-    return {"G^2 = I": (G * G).applyfunc(sp.cancel) == sp.eye(n),
-            "G^T M G = M": (G.T * M * G).applyfunc(sp.cancel) == M,
-            "det G = -1": sp.cancel(G.det()) == -1}
+    return {"G^2 = I": (G * G).applyfunc(cancel) == sp.eye(n),
+            "G^T M G = M": (G.T * M * G).applyfunc(cancel) == M,
+            "det G = -1": cancel(G.det()) == -1}
 
 
 @_cl("sm-III-B3-G_u", "sec. III-B.3", "G_u (M = diag(1.1,1))", "erratum", REFL)
@@ -974,8 +977,8 @@ def _det_chain():
     out = {}
     M, u = drefl.symbolic_mass_matrix(2), drefl.symbolic_covector(2)
     pr, co = _det_lines(M, u)
-    out["n=2 symbolic"] = ([sp.cancel(sp.together(x + 1)) == 0 for x in pr],
-                           [sp.cancel(sp.together(x + 1)) == 0 for x in co])
+    out["n=2 symbolic"] = ([cancel(sp.together(x + 1)) == 0 for x in pr],
+                           [cancel(sp.together(x + 1)) == 0 for x in co])
     for n in (2, 3, 4):
         for k in range(3):
             Mn = _random_spd(n, rng)
@@ -1144,7 +1147,7 @@ def cross_product():
     # product), M = diag(1, 2, 3), u = [1, 2, 3], symbolic v, G_u from impactsym
     M, u = sp.diag(1, 2, 3), _mat([[1, 2, 3]])
     v = drefl.symbolic_vector(3, "v")
-    Gv = (reflection_map(M, u) * v).applyfunc(sp.cancel)
+    Gv = (reflection_map(M, u) * v).applyfunc(cancel)
     alpha = (u * v)[0, 0]
     display = -alpha  # the value the display arrives at
     dot = sp.expand((u * Gv)[0, 0])  # Euclidean dot product u·(G_u v)
@@ -1206,7 +1209,7 @@ def S_relations():
             Sv = S / 2
             Sup = Snew / 2  # S_new = 2 max{S_u+, S_u-} (asserted inside reachable_arc_lengths)
             Sum = S - Sup
-            ok &= sp.simplify(Sup - (Sv + S0)) == 0 and sp.simplify(Sum - (Sv - S0)) == 0
+            ok &= is_zero(Sup - (Sv + S0)) and is_zero(Sum - (Sv - S0))
         rows[str(bp)] = L
     return Finding("supported-by-samples" if ok else "refuted", published=r"S_u^+ = S_v + S_0,\ S_u^- = S_v - S_0",
                    derived=rows, note=f"Sampled at {len(rows)} wedge openings β (exact at each, not proved for every β). Exact arc lengths of the reachable set (derivations.two_surface.reachable_arc_lengths, "
@@ -1219,11 +1222,11 @@ def S_new():
     ok = True
     for bp, L in _arcs().items():
         S0 = bp * sp.pi
-        ok &= sp.simplify(L[1] - 2 * S0) == 0  # the first iteration adds only S_0
+        ok &= is_zero(L[1] - 2 * S0)  # the first iteration adds only S_0
         for k in range(1, len(L) - 1):
             if L[k + 1] >= 2 * sp.pi:
                 break
-            ok &= sp.simplify(L[k + 1] - (L[k] + 2 * S0)) == 0
+            ok &= is_zero(L[k + 1] - (L[k] + 2 * S0))
     return Finding("supported-by-samples" if ok else "refuted", published=r"S_{new} = 2\max\{S_u^+,S_u^-\} = 2S_v + 2S_0 = S + 2S_0",
                    derived={str(k): v for k, v in _arcs().items()},
                    note=f"Sampled at {len(_arcs())} wedge openings β/π = 1/4, 1/5, 2/7 (exact at each, not proved for every β). "

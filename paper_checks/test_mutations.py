@@ -6,12 +6,25 @@ from __future__ import annotations
 
 import pytest
 
-from paper_checks import mutations
+from paper_checks import framework, mutations
 from paper_checks.framework import REGISTRY, Finding, claim, evaluate, load_all
 
 load_all()
 IDS = sorted(REGISTRY, key=lambda k: REGISTRY[k].order)
 EXEMPT = ("definition", "not-checkable")
+
+
+def _memo_snapshot() -> dict:
+    """The claim findings memoized so far, minus the test's own claim (computed by the original
+    functions: a mutation's findings are never memoized past :func:`mutations.applied`)."""
+    return {k: v for k, v in framework._MEMO.items() if k[0] in REGISTRY}
+
+
+def _memo_restore(saved: dict) -> None:
+    """Put the findings of :func:`_memo_snapshot` back after a cache clear: the rest of the
+    session (``tests/test_cli_reproduce.py``'s audit) reuses them instead of evaluating every
+    claim a second time."""
+    framework._MEMO.update(saved)
 
 
 def _needs_mutations(cid: str) -> bool:
@@ -50,10 +63,12 @@ def test_mutation_moves_every_claim_that_declares_it(name):
                 still.append(cid)
     assert not still, f"under mutation {name!r} these claims kept their pinned verdict: {still}"
     # the mutation is undone: the claims, computed afresh, are back at their pins
+    saved = _memo_snapshot()
     mutations.clear_caches()
     for cid in ids[:3]:
         c = evaluate(cid)
         assert c.status == "ok", (cid, c.verdict, c.error)
+    _memo_restore(saved)
 
 
 def test_the_mutation_test_catches_a_fixed_verdict():
@@ -70,7 +85,9 @@ def test_the_mutation_test_catches_a_fixed_verdict():
         assert c.status == "ok" and c.verdict == "erratum"  # unmoved: the parametrized test would fail
     finally:
         del REGISTRY["test-fixed"]
+        saved = _memo_snapshot()
         mutations.clear_caches()
+        _memo_restore(saved)
 
 
 # `assert` in claim modules (stripped by python -O) is refused by tests/test_no_assert.py.

@@ -18,6 +18,7 @@ minimal polynomial when the number may be zero. A sign that cannot be certified 
 from __future__ import annotations
 
 from fractions import Fraction
+from functools import lru_cache
 
 import sympy as sp
 
@@ -49,14 +50,23 @@ def certified_sign(expr, *, max_digits: int = _MAX_DIGITS) -> int:
     UndecidableSign
         When neither an exact zero test nor interval evaluation up to ``max_digits`` decides.
     """
+    try:
+        return _certified_sign_cached(expr, max_digits)
+    except TypeError as exc:  # an unhashable argument: decided without the memo
+        if "unhashable" not in str(exc):
+            raise
+        return _certified_sign(expr, max_digits)
+
+
+def _certified_sign(expr, max_digits: int) -> int:
     x = sp.sympify(expr)
     if x.free_symbols:
         raise UndecidableSign(f"cannot take the sign of an expression with free symbols {x.free_symbols}")
     s = _rational_sign(x)
     if s is not None:
         return s
-    if x.is_zero:
-        return 0
+    # (no early ``x.is_zero``: SymPy's assumption inference on a large expression costs more than
+    # the enclosure below, and a zero is still recognized by ``_exact_zero`` after it)
     # Interval evaluation: mpmath-backed evalf with the error estimate; accept only when the
     # value's magnitude exceeds its error bound (sympy's evalf is rigorous for the closed-form
     # functions it knows: its result carries accuracy, and strict=True refuses otherwise).
@@ -118,6 +128,15 @@ def tidy(x):
     >>> tidy(sp.sympify("7/29 + (-8*sqrt(5) + 5*sqrt(2*sqrt(5) + 6) + 11*sqrt(10*sqrt(5) + 30))/116"))
     2*sqrt(5)/29 + 22/29
     """
+    try:
+        return _tidy_cached(x)
+    except TypeError as exc:  # an unhashable argument: computed without the memo
+        if "unhashable" not in str(exc):
+            raise
+        return _tidy(x)
+
+
+def _tidy(x):
     x = sp.sympify(x)
     if x.is_Rational:
         return x
@@ -138,3 +157,9 @@ def tidy(x):
     except Exception:  # noqa: BLE001 - a number SymPy cannot evaluate: keep the simplified form
         pass
     return y
+
+
+#: memos of the two pure functions above (typed: an Integer and a Float never share an entry);
+#: the laws and the paper checks ask the same signs and canonical forms again and again
+_certified_sign_cached = lru_cache(maxsize=8192, typed=True)(_certified_sign)
+_tidy_cached = lru_cache(maxsize=8192, typed=True)(_tidy)
