@@ -37,6 +37,8 @@ Examples
 
 from __future__ import annotations
 
+from functools import lru_cache
+
 import sympy as sp
 
 from ..errors import ImpactInputError
@@ -126,25 +128,35 @@ def pool(theta, tau=0, *, incidence="theta-minus-tau", constraint="distance", th
             third_contact = certified_sign(theta - 2 * sp.pi / 3) == 0
             if not theta.free_symbols and (certified_sign(theta) < 0 or certified_sign(theta - 2 * sp.pi / 3) > 0):
                 raise ImpactInputError("theta", f"must lie in [0, 2*pi/3] (balls 1 and 3 would overlap), got {theta}")
-    q, names = _coords(3, planar=True)
-    G = [sp.Matrix(q[0:2]), sp.Matrix(q[2:4]), sp.Matrix(q[4:6])]
+    _, names = _coords(3, planar=True)
     pairs = [(0, 1), (1, 2)] + ([(0, 2)] if third_contact else [])
     a = sp.sympify(a)
-    hs = []
-    for i, j in pairs:
-        d2 = (G[j] - G[i]).dot(G[j] - G[i])
-        hs.append(sp.sqrt(d2) - 2 * a if constraint == "distance" else d2 - 4 * a**2)
     if constraint not in ("distance", "squared"):
         raise ImpactInputError("constraint", f"must be 'distance' or 'squared', got {constraint!r}")
-    P = pool_positions(theta, a)
-    at = dict(zip(q, [*P[0], *P[1], *P[2]]))
-    H = sp.Matrix([[sp.simplify(sp.diff(h, qj).subs(at)) for qj in q] for h in hs])
+    H = sp.Matrix(_pool_gradients(theta, a, tuple(pairs), constraint))
     vx, vy = _incidence_velocity(theta, tau, incidence)
     v = sp.Matrix([vx, vy, 0, 0, 0, 0])
     contacts = [f"{i + 1}-{j + 1}" for i, j in pairs]
     return Scene(sp.eye(6), H, v, names, contacts, _approaching(H, v),
                  {"paper": "acary-taha", "ref": "sec. 4, eqs. 24-27", "scene": "pool",
                   "theta": theta, "tau": tau, "incidence": incidence, "constraint": constraint})
+
+
+@lru_cache(maxsize=256)
+def _pool_gradients(theta, a, pairs, constraint) -> sp.ImmutableMatrix:
+    """The gradient rows ``∂h/∂q`` of the pool's contacts ``pairs`` at the contact configuration
+    (θ, ``a``), differentiated and simplified by SymPy. Cached: it is a function of these four
+    alone, and the scene is rebuilt for every τ, ratio and law (an immutable matrix is cached; each
+    scene gets its own mutable copy)."""
+    q, _ = _coords(3, planar=True)
+    G = [sp.Matrix(q[0:2]), sp.Matrix(q[2:4]), sp.Matrix(q[4:6])]
+    hs = []
+    for i, j in pairs:
+        d2 = (G[j] - G[i]).dot(G[j] - G[i])
+        hs.append(sp.sqrt(d2) - 2 * a if constraint == "distance" else d2 - 4 * a**2)
+    P = pool_positions(theta, a)
+    at = dict(zip(q, [*P[0], *P[1], *P[2]]))
+    return sp.ImmutableMatrix([[sp.simplify(sp.diff(h, qj).subs(at)) for qj in q] for h in hs])
 
 
 def bernoulli(tau=-sp.pi / 6, **kw):
