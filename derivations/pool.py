@@ -573,10 +573,17 @@ def kernels():
     ``bernoulli_impulse_ratio(tau, e, alpha12, alpha13)``.
 
     Outputs ``(p1, p2[, p3], w1x, w1y, w2x, w2y, w3x, w3y)``: impulses and post-impact velocities.
+    Derived once per process (cached like the rest of this module; a new list of the same kernels
+    each call).
 
     >>> [k.name for k in kernels()]
     ['pool_impulse_ratio', 'bernoulli_impulse_ratio']
     """
+    return list(_kernels())
+
+
+@lru_cache(maxsize=None)
+def _kernels():
     th, ta = sp.symbols("theta tau", real=True)
     a12, a13 = sp.symbols("alpha alpha13", real=True)
     ee = sp.Symbol("e", real=True)

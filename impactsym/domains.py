@@ -196,12 +196,13 @@ def _chain_or_pool(cs, scene: str, theta) -> ValidityDomain:
     (root,) = sp.solve(c2s, alpha)  # c2 = 0
     lo = sp.Max(0, root.subs(_c, cs))
     emin = sp.simplify(g.subs(alpha, lo))
+    g_s, lo_s = sp.simplify(g), sp.simplify(lo)  # each simplified once (simplify is the cost here)
     pool_ = scene == "pool"
     text_c = None if pool_ else sp.Integer(1)  # the text reads c as cos(theta) for the pool
     bnds = [
         Boundary("alpha_min", "alpha", lo,
                  f"alpha >= {exact_str(lo)}: v2+ >= 0 at contact 2-3 (v2+ = ({_words(c2s, text_c)}) p1) and p2 = alpha p1 >= 0"),
-        Boundary("g", "e", sp.simplify(g),
+        Boundary("g", "e", g_s,
                  f"e >= g(alpha): v1+ >= 0 at contact 1-2 ({'eq. 29' if pool_ else 'eq. 19'}); g <= 1 iff alpha <= 1, "
                  "so alpha <= 1"),
         Boundary("h", "e", sp.simplify(h),
@@ -210,13 +211,13 @@ def _chain_or_pool(cs, scene: str, theta) -> ValidityDomain:
                  f"alpha = {_words(root, text_c)}"),
         Boundary("e_max", "e", sp.Integer(1), "e <= 1: dissipative energetic coefficient (eq. 12)"),
     ]
-    ineq = [f"alpha >= {exact_str(lo)}", f"{exact_str(sp.simplify(g))} <= e <= 1"]
+    ineq = [f"alpha >= {exact_str(lo)}", f"{exact_str(g_s)} <= e <= 1"]
     if scene == "chain3":
         ineq.append(f"equivalently (eq. 19): 1/3 <= e <= 1 and 1/2 <= alpha <= {exact_str(_boundary('chain3_alpha_max'))}")
-    region = {"alpha": (sp.simplify(lo), sp.Integer(1)), "e": (emin, sp.Integer(1)), "e_min_at": sp.simplify(lo),
+    region = {"alpha": (lo_s, sp.Integer(1)), "e": (emin, sp.Integer(1)), "e_min_at": lo_s,
               "empty": False,
-              "description": (f"the set above the curve e = g(alpha) for {exact_str(sp.simplify(lo))} <= alpha <= 1, "
-                              f"e up to 1; lowest point (alpha, e) = ({exact_str(sp.simplify(lo))}, {exact_str(emin)}), "
+              "description": (f"the set above the curve e = g(alpha) for {exact_str(lo_s)} <= alpha <= 1, "
+                              f"e up to 1; lowest point (alpha, e) = ({exact_str(lo_s)}, {exact_str(emin)}), "
                               "g(1) = 1 closes it at (1, 1)")}
 
     def member(a, ee):
@@ -352,9 +353,10 @@ def _pool_tau(theta, tau) -> ValidityDomain:
                   and b2 == 0 and sp.simplify(c2__ - (2 * alpha - cs)) == 0)
     if not derived_ok:  # pragma: no cover - a failed identity is a bug in the derivation
         raise RuntimeError(f"pool domain at tau = {tau}: the derived conditions differ from the mapped tau = 0 curves")
+    g_tau_s = sp.simplify(g_tau)
     bnds = [
         base.boundaries[0],
-        Boundary("g_tau", "e", sp.simplify(g_tau),
+        Boundary("g_tau", "e", g_tau_s,
                  "e >= sin^2(tau) + cos^2(tau) g(alpha): v1+ >= 0 at contact 1-2 (derived for this (theta, tau); "
                  "equal to eq. 29's curve mapped by e -> sin^2(tau) + cos^2(tau) e)"),
         Boundary("h_tau", "e", sp.simplify(h_tau),
@@ -371,7 +373,7 @@ def _pool_tau(theta, tau) -> ValidityDomain:
     def member(a, ee):
         return _ge(ee, 0) and _ge(1, ee) and base._member(a, (ee - s2) / c2)
 
-    ineq = [f"alpha >= {exact_str(lo)}", f"{exact_str(sp.simplify(g_tau))} <= e <= 1"]
+    ineq = [f"alpha >= {exact_str(lo)}", f"{exact_str(g_tau_s)} <= e <= 1"]
     return ValidityDomain("pool", theta, bnds, ineq, region, member, tau=tau)
 
 

@@ -38,6 +38,7 @@ Examples
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from functools import lru_cache
 
 import sympy as sp
 from flint import fmpq
@@ -421,8 +422,21 @@ def realize_ordering(M, H, v0, order, *, scale=sp.Rational(1, 10**6)):
     >>> import sympy as sp
     >>> realize_ordering(sp.eye(2), sp.Matrix([[1, 0], [-1, 1]]), sp.Matrix([-1, -2]), [1, 0, 1, 0])
     [1/1000000, 1/7000000]
+
+    The answer is a function of the exact data alone; the last 512 are remembered (SymPy's exact
+    simplex takes about 0.2 s per ordering, and a scene's orderings are asked for again by the
+    figures and the findings that draw on them).
     """
+    gaps = _realize_ordering(sp.ImmutableMatrix(M), sp.ImmutableMatrix(H), sp.ImmutableMatrix(v0),
+                             tuple(int(c) for c in order), sp.sympify(scale))
+    return None if gaps is None else list(gaps)
+
+
+@lru_cache(maxsize=512)
+def _realize_ordering(M, H, v0, order, scale):
     from sympy.solvers.simplex import InfeasibleLPError, linprog
+
+    M, H, v0 = sp.Matrix(M), sp.Matrix(H), sp.Matrix(v0)
 
     from .laws.reflection import reflect
 
@@ -479,7 +493,7 @@ def realize_ordering(M, H, v0, order, *, scale=sp.Rational(1, 10**6)):
         return None
     gaps = [z[i] for i in range(k)]
     top = max(gaps)
-    return [sp.Rational(g) / top * scale for g in gaps]
+    return tuple(sp.Rational(g) / top * scale for g in gaps)
 
 
 def perturbed_scene_positions(scene, gaps):

@@ -62,19 +62,31 @@ def test_rust_compiles_and_matches_reference(tmp_path):
     _check([float(x) for x in subprocess.run([str(exe)], capture_output=True, text=True).stdout.split()])
 
 
+@pytest.fixture(scope="module")
+def fortran_objects(tmp_path_factory):
+    """Every committed Fortran module compiled once for this file, with ``-std=f2008 -Wall -Werror``
+    (each must compile so); the folder holds the objects and the ``.mod`` files."""
+    out = tmp_path_factory.mktemp("fortran")
+    failed = []
+    for f in sorted((KERNEL_DIR / "fortran").glob("*.f90")):
+        res = subprocess.run(["gfortran", "-std=f2008", "-Wall", "-Werror", "-c", str(f), "-J", str(out),
+                              "-o", str(out / (f.stem + ".o"))], capture_output=True, text=True)
+        if res.returncode != 0:
+            failed.append((f.name, res.stderr))
+    return out, failed
+
+
 @pytest.mark.skipif(shutil.which("gfortran") is None,
                     reason="gfortran not on PATH (Debian package gfortran; .ci/run installs it as root)")
-def test_fortran_compiles_and_matches_reference(tmp_path):
-    for f in sorted((KERNEL_DIR / "fortran").glob("*.f90")):
-        res = subprocess.run(["gfortran", "-std=f2008", "-Wall", "-Werror", "-c", str(f), "-J", str(tmp_path),
-                              "-o", str(tmp_path / (f.stem + ".o"))], capture_output=True, text=True)
-        assert res.returncode == 0, (f.name, res.stderr)
+def test_fortran_compiles_and_matches_reference(tmp_path, fortran_objects):
+    objs, failed = fortran_objects
+    assert not failed, failed
     prog = tmp_path / "p.f90"
     prog.write_text("program p\n use impactsym_impulse_ratio_root\n use, intrinsic :: iso_c_binding\n"
                     " real(c_double) :: a, b\n call impulse_ratio_root(0.75d0, -1.0d0, 1d-13, a, b)\n"
                     " print '(2ES26.17)', a, b\nend program p\n")
     exe = tmp_path / "p"
-    res = subprocess.run(["gfortran", "-I", str(tmp_path), str(prog), str(tmp_path / "impulse_ratio_root.o"),
+    res = subprocess.run(["gfortran", "-I", str(objs), str(prog), str(objs / "impulse_ratio_root.o"),
                           "-o", str(exe)], capture_output=True, text=True)
     assert res.returncode == 0, res.stderr
     _check([float(x) for x in subprocess.run([str(exe)], capture_output=True, text=True).stdout.split()])
@@ -188,10 +200,12 @@ def _fortran_literal(x: float) -> str:
 
 @pytest.mark.skipif(shutil.which("gfortran") is None,
                     reason="gfortran not on PATH (Debian package gfortran; .ci/run installs it as root)")
-def test_fortran_every_closed_form_matches_numpy(tmp_path):
+def test_fortran_every_closed_form_matches_numpy(tmp_path, fortran_objects):
     """Every closed-form kernel's Fortran form, on one in-domain input each, equals the NumPy kernel."""
     import numpy as np
 
+    objs, failed = fortran_objects
+    assert not failed, failed
     _, samples = _closed_form_samples("fortran")
     calls, expected = [], []
     for k, inputs, want in samples:
@@ -200,17 +214,13 @@ def test_fortran_every_closed_form_matches_numpy(tmp_path):
         outs = ", ".join(f"o({i + 1})" for i in range(n))
         calls.append(f"    call {k['name']}({args}, &\n        {outs})\n    print '(*(ES26.17E3,1x))', o(1:{n})")
         expected.append((k["name"], want))
-    for f in sorted((KERNEL_DIR / "fortran").glob("*.f90")):
-        res = subprocess.run(["gfortran", "-c", str(f), "-J", str(tmp_path), "-o", str(tmp_path / (f.stem + ".o"))],
-                             capture_output=True, text=True)
-        assert res.returncode == 0, res.stderr
     mods = sorted(f.stem for f in (KERNEL_DIR / "fortran").glob("*.f90"))
     prog = ("program allk\n    use, intrinsic :: iso_c_binding, only: c_double\n"
             + "".join(f"    use impactsym_{m}\n" for m in mods)
             + "    implicit none\n    real(c_double) :: o(16)\n" + "\n".join(calls) + "\nend program allk\n")
     (tmp_path / "allk.f90").write_text(prog)
-    res = subprocess.run(["gfortran", "-I", str(tmp_path), str(tmp_path / "allk.f90"),
-                          *[str(tmp_path / (m + ".o")) for m in mods], "-o", str(tmp_path / "allk")],
+    res = subprocess.run(["gfortran", "-I", str(objs), str(tmp_path / "allk.f90"),
+                          *[str(objs / (m + ".o")) for m in mods], "-o", str(tmp_path / "allk")],
                          capture_output=True, text=True)
     assert res.returncode == 0, res.stderr
     lines = subprocess.run([str(tmp_path / "allk")], capture_output=True, text=True).stdout.splitlines()

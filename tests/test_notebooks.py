@@ -1,5 +1,12 @@
 """Notebooks are tests (galgebra's habit): each one runs top to bottom without error, and is
-committed without outputs (the policy in notebooks/README.md)."""
+committed without outputs (the policy in notebooks/README.md).
+
+The notebooks run in one real Jupyter kernel (nbclient, ``python3``), started once for the module:
+before each notebook the kernel's namespace is reset (``%reset -f``) and its figures closed, so a
+notebook that forgets an import or a definition still fails. What the kernel keeps between
+notebooks is only what Python itself caches (imported modules), which spares each notebook the
+kernel start and the imports of SymPy, NumPy and impactsym.
+"""
 
 from pathlib import Path
 
@@ -7,7 +14,11 @@ import nbformat
 import pytest
 from nbclient import NotebookClient
 
-NOTEBOOKS = sorted((Path(__file__).resolve().parent.parent / "notebooks").glob("*.ipynb"))
+ROOT = Path(__file__).resolve().parent.parent
+NOTEBOOKS = sorted((ROOT / "notebooks").glob("*.ipynb"))
+
+#: run before every notebook: an empty namespace and no open figure (a fresh kernel's state)
+RESET = "%reset -f\nimport matplotlib.pyplot as _plt\n_plt.close('all')\ndel _plt\n%reset -f"
 
 
 def test_there_are_notebooks():
@@ -21,10 +32,32 @@ def test_notebook_committed_without_outputs(path):
     assert not dirty, f"{path.name}: cells {dirty} carry outputs; strip them before committing"
 
 
+@pytest.fixture(scope="module")
+def kernel():
+    """One python3 kernel, started in the repository root (where every notebook runs), for the module."""
+    from jupyter_client.manager import KernelManager
+
+    km = KernelManager(kernel_name="python3")
+    km.start_kernel(cwd=str(ROOT))
+    yield km
+    km.shutdown_kernel(now=True)
+
+
+def test_reset_leaves_no_name_behind(kernel):
+    """The reset really empties the namespace: a name defined by one notebook is gone for the next."""
+    nb = nbformat.v4.new_notebook(cells=[nbformat.v4.new_code_cell("leftover = 1")])
+    NotebookClient(nb, km=kernel, timeout=60).execute()
+    nb = nbformat.v4.new_notebook(cells=[nbformat.v4.new_code_cell(RESET),
+                                         nbformat.v4.new_code_cell("leftover")])
+    NotebookClient(nb, km=kernel, timeout=60, allow_errors=True).execute()
+    errors = [o for o in nb.cells[1].outputs if o.output_type == "error"]
+    assert errors and errors[0].ename == "NameError"
+
+
 @pytest.mark.parametrize("path", NOTEBOOKS, ids=lambda p: p.name)
-def test_notebook_executes(path):
+def test_notebook_executes(path, kernel):
     nb = nbformat.read(path, as_version=4)
-    NotebookClient(nb, timeout=600, kernel_name="python3",
-                   resources={"metadata": {"path": str(path.parent.parent)}}).execute()
+    nb.cells.insert(0, nbformat.v4.new_code_cell(RESET))
+    NotebookClient(nb, km=kernel, timeout=600).execute()
     errors = [o for c in nb.cells if c.cell_type == "code" for o in c.outputs if o.output_type == "error"]
     assert not errors

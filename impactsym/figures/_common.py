@@ -96,10 +96,14 @@ def _shade_cone(ax, L, H, *, either=False, color="C2", alpha=0.25, radius=2.5, l
     Hf = np.array(sp.Matrix(H).evalf(17).tolist(), dtype=float)
     w = Hf @ v
     ok = (w >= 0).any(axis=0) if either else (w >= 0).all(axis=0)
-    for k in range(len(t) - 1):
-        if ok[k] and ok[k + 1]:
-            ax.fill([0, radius * xs[0, k], radius * xs[0, k + 1]], [0, radius * xs[1, k], radius * xs[1, k + 1]],
-                    color=color, alpha=alpha, lw=0)
+    # the shaded wedges are the sample steps k -> k+1 with both ends valid; each run of consecutive
+    # wedges is drawn as one fan (origin, then the arc), the same region as its wedges
+    wedge = np.concatenate([[False], ok[:-1] & ok[1:], [False]])
+    starts = np.flatnonzero(wedge[1:] & ~wedge[:-1])
+    ends = np.flatnonzero(wedge[:-1] & ~wedge[1:])  # one past the run's last wedge
+    for k0, k1 in zip(starts, ends):
+        ax.fill(np.r_[0, radius * xs[0, k0:k1 + 1]], np.r_[0, radius * xs[1, k0:k1 + 1]], color=color, alpha=alpha,
+                lw=0)
     if label:
         ax.fill([], [], color=color, alpha=alpha, label=label)
 

@@ -29,11 +29,37 @@ import flint
 import numpy as np
 import sympy as sp
 
-from ..arithmetic import (ExactLinearAlgebra, exact_data, exact_rank, rational_matrix, sign_of, sign_surd, tidy,
+from functools import lru_cache
+
+from ..arithmetic import (ExactLinearAlgebra, exact_data, exact_rank, rational_matrix, sign_of, sign_surd,
                           to_sympy_matrix, to_sympy_rational)
+from ..arithmetic import tidy as _tidy_afresh
 
 __all__ = ["ExactLinearAlgebra", "exact_data", "exact_rank", "rational_matrix", "to_sympy_rational", "to_sympy_matrix",
            "sign_of", "sign_surd", "tidy", "delassus"]
+
+
+@lru_cache(maxsize=4096)
+def _tidy_remembered(x):
+    return _tidy_afresh(x)
+
+
+def tidy(x):
+    """:func:`impactsym.arithmetic.tidy` (a canonical exact form, value unchanged), remembered.
+
+    ``tidy`` is a pure function of a SymPy expression (immutable and hashable; equal expressions
+    have the same canonical arguments, so they tidy alike), and the laws meet the same numbers
+    again and again: every ``(α, e)`` of a grid on one scene has the same ``W`` and ``H v``, every
+    law on one scene the same Delassus entries. The last 4096 are kept; an unhashable argument is
+    tidied afresh.
+
+    >>> tidy(sp.sqrt(8) / 2 - sp.sqrt(2)), tidy(sp.sqrt(2) * (sp.sqrt(2) + 1))
+    (0, sqrt(2) + 2)
+    """
+    try:
+        return _tidy_remembered(x)
+    except TypeError:
+        return _tidy_afresh(x)
 
 
 def delassus(M, H):

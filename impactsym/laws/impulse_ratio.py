@@ -68,6 +68,7 @@ Acary & Taha, eqs. 7, 8, 12, 17, 18, 26, 27, 38.
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from functools import lru_cache
 from typing import Any, Sequence
 
 import math
@@ -247,12 +248,12 @@ def energy_balance_along(Mx, Hx, vx, ex, a, *, exact: bool, allow_invalid: bool 
         Ms, Hs, vs, as_ = Mq, Hq, vq, aq
         r = Hs.T * as_
         w = Ms.LUsolve(r)
-        A = tidy((r.T * w)[0, 0] / 2)
-        b = (Hs * vs).applyfunc(tidy)
-        B = tidy((as_.T * b)[0, 0])
-        T = sp.simplify((vs.T * Ms * vs)[0, 0] / 2)
-        C = tidy((1 - e_q) * T)
-        c = (Hs * w).applyfunc(tidy)
+        A = _tidy((r.T * w)[0, 0] / 2)
+        b = (Hs * vs).applyfunc(_tidy)
+        B = _tidy((as_.T * b)[0, 0])
+        T = _simplify((vs.T * Ms * vs)[0, 0] / 2)
+        C = _tidy((1 - e_q) * T)
+        c = (Hs * w).applyfunc(_tidy)
     if sign_of(A) == 0:
         raise DomainError("ratios: H^T a = 0 (the impulse direction changes no velocity); "
                           "the energy balance cannot fix p_1")
@@ -371,7 +372,21 @@ def _verify(law, kind, Mq, Hq, vq, aq, w, A, B, D, e_q, valid):
 
 
 def _tidy(x):
-    return tidy(x)
+    return tidy(x)  # remembered (impactsym.laws.delassus.tidy)
+
+
+@lru_cache(maxsize=1024)
+def _simplify_remembered(x):
+    return sp.simplify(x)
+
+
+def _simplify(x):
+    """``sp.simplify``, remembered like :func:`impactsym.laws.delassus.tidy` (a pure function of an
+    immutable expression: every ``(α, e)`` on one scene has the same ``T⁻``)."""
+    try:
+        return _simplify_remembered(x)
+    except TypeError:  # not hashable: computed afresh
+        return sp.simplify(x)
 
 
 def _show(x) -> str:
