@@ -26,12 +26,11 @@ LANGS = ("numpy", "python", "c") if (shutil.which("gcc") or shutil.which("cc")) 
 
 #: kernels the corner grid still breaks (issue 15 left open: found by this grid, not yet fixed).
 #: Each grid test is a strict xfail, run only with ``-m slow`` (their grids take 20-30 s each), so a
-#: fix makes it XPASS and fail until it is moved out of this dict.
-KNOWN_OPEN = {
-    "two_surface_resolution": "2 of 144 corners (s_a, s_b) = (1e-12, 1) or (1, 1e-12), right-angle wedge, "
-                              "c = (-1, -1e-12): psi/beta = 2 + 4e-17, so the float count is 2 (exact 3, "
-                              "accepted as within rounding) and the exit is the 2-reflection one: 2e15 eps",
-}
+#: fix makes it XPASS and fail until it is moved out of this dict. Empty: the two-surface kernels
+#: (a float ceiling of psi/beta one short at a right-angle wedge, 4.5e15; H^-1 c' at a valid velocity
+#: and at nearly parallel rows, 2.25e15) now decide counts 1-3 by the signs of the rational iterates
+#: and take the velocity and its reflections for counts 0-3.
+KNOWN_OPEN: dict = {}
 
 
 def _params(strict=True):
@@ -114,3 +113,96 @@ def test_chain3_search_find_w3(impls):
          "v2": 0.0, "v3": -1.0, "e": 0.00016015363183792005, "alpha": 0.9999999999989996}
     v = accuracy_check("chain3_impulse_ratio", x, impls["chain3_impulse_ratio"], BOUND, screen=False)
     assert not v.problems, v.problems
+
+
+# --------------------------------------------------------------------------- counts (jumps)
+def _with_count(impl, idx, delta):
+    """``impl`` with output ``idx`` (a count) moved by ``delta`` reflections: a wrong kernel."""
+    def f(inputs):
+        out = list(impl(inputs))
+        out[idx] += delta
+        return out
+    return f
+
+
+@pytest.mark.parametrize("delta", [-1, 1])
+def test_a_count_off_by_one_away_from_every_boundary_is_caught(impls, delta):
+    """60-degree wedge, c = (-1, -1): both branches need 3 reflections at every input within
+    64 eps (the iterates' tested components are O(1)); one reflection more or less is a problem,
+    in each language, while the kernel itself passes."""
+    x = dict(s_a=1.0, s_b=1.0, g=-0.5, c_a=-1.0, c_b=-1.0)
+    for kernel in ("two_surface_reflection_count", "two_surface_resolution"):
+        good = accuracy_check(kernel, x, impls[kernel], BOUND, screen=False)
+        assert not good.problems, good.problems
+        bad = {lang: _with_count(f, 0, delta) for lang, f in impls[kernel].items()}
+        v = accuracy_check(kernel, x, bad, BOUND)
+        assert len(v.problems) == len(bad) and all("count count_a" in p for p in v.problems), v.problems
+
+
+def test_a_count_off_by_one_is_caught_in_the_matrix_kernel(impls):
+    """The (M, H, v) kernel: M = diag(11/10, 1), rows (1, 0), (-1, 1), v = (-1, -2) (the paper's
+    sec. III-B.3 example, 4 reflections each way): counts 3 and 5 are no nearby input's."""
+    x = dict(m_00=1.1, m_01=0.0, m_11=1.0, h_00=1.0, h_01=0.0, h_10=-1.0, h_11=1.0, v_0=-1.0, v_1=-2.0)
+    k = "two_surface_resolution_2"
+    assert K.two_surface_resolution_2(**x)[0] == K.two_surface_resolution_2(**x)[3] == 4
+    assert not accuracy_check(k, x, impls[k], BOUND, screen=False).problems
+    for idx in (0, 3):
+        for delta in (-1, 1):
+            bad = {"numpy": _with_count(impls[k]["numpy"], idx, delta)}
+            assert accuracy_check(k, x, bad, BOUND).problems, (idx, delta)
+
+
+def test_a_count_at_a_boundary_may_be_either_neighbour(impls):
+    """120-degree wedge, c_b = 2 g c_a / s_a exactly: after one reflection the velocity grazes B
+    (count 1, exact); an input one ulp away needs 2. Both are accepted, 3 is not."""
+    x = dict(s_a=1.0, s_b=1.0, g=0.5, c_a=-1.0, c_b=-1.0)
+    kernel = "two_surface_reflection_count"
+    assert K.two_surface_reflection_count(**x)[0] == 1
+    for delta, accepted in ((1, True), (2, False)):
+        bad = {"numpy": _with_count(impls[kernel]["numpy"], 0, delta)}
+        assert (not accuracy_check(kernel, x, bad, BOUND).problems) is accepted, delta
+
+
+def test_right_angle_wedge_float_ceiling_is_not_within_rounding(impls):
+    """The old emitted count ceil(psi/beta) at s = (1e-12, 1), g = -6.1e-23, c = (-1, -1e-12): psi_B/beta
+    = 2 + 8e-17 exactly, 2 in float; but after two reflections c_b = -1.2e-10 against c_b = -1e-12,
+    so every input within 64 eps (relative, per input) needs 3. The float ceiling is caught; the
+    kernel (rational iterates' signs) answers 3 and its exits are within the bound (they were off
+    by 2.2e15 eps)."""
+    x = {"s_a": 1e-12, "s_b": 1.0, "g": -6.123233995736766e-23, "c_a": -1.0, "c_b": -1e-12}
+
+    def float_ceiling(inputs):
+        sa, sb, g, ca, cb = (inputs[k] for k in ("s_a", "s_b", "g", "c_a", "c_b"))
+        r = math.sqrt(sa * sb - g * g)
+        beta = math.atan2(r, -g)
+        return [float(math.ceil(math.atan2(-ca * r, cb * sa - g * ca) / beta)),
+                float(math.ceil(math.atan2(-cb * r, ca * sb - g * cb) / beta))]
+
+    assert float_ceiling(x)[1] == 2
+    v = accuracy_check("two_surface_reflection_count", x, {"float ceiling": float_ceiling}, BOUND)
+    assert v.problems and "count count_b = 2 (exact 3)" in v.problems[0], v.problems
+    assert K.two_surface_reflection_count(**x)[1] == 3.0
+    for kernel in ("two_surface_reflection_count", "two_surface_resolution"):
+        v = accuracy_check(kernel, x, impls[kernel], BOUND, screen=False)
+        assert not v.problems and v.worst <= 4, v
+
+
+def test_matrix_kernel_valid_velocity_is_returned_as_is(impls):
+    """Found by the bench's search (2.25e15): a valid velocity v = (1e-12, 1e12) came back through
+    H^-1 (H v) with v_0 = 0; a valid velocity is its own exit."""
+    x = {"m_00": 999999999999.9999, "m_01": 0.0, "m_11": 1.0000000000000777, "h_00": 0.955336489125606,
+         "h_01": 0.29552020666133955, "h_10": 1.0000000339875186, "h_11": 0.3333333223409499,
+         "v_0": 9.999999921847224e-13, "v_1": 999999999993.8527}
+    out = K.two_surface_resolution_2(**x)
+    assert out == (0.0, x["v_0"], x["v_1"], 0.0, x["v_0"], x["v_1"])
+    assert not accuracy_check("two_surface_resolution_2", x, impls["two_surface_resolution_2"], BOUND).problems
+
+
+def test_matrix_kernel_nearly_parallel_rows_one_reflection(impls):
+    """Full grid (1.07e6 eps): M = I, rows (1, 0) and (cos 1e-6, -sin 1e-6) (a wedge of pi - 1e-6),
+    v = (-1, 0.5): one reflection each way; H^-1 c' amplified the rounding of c' by 1/det H = 1e6,
+    the reflection v - 2 (H_i v) M^-1 H_i^T / s_i does not."""
+    x = {"m_00": 1.0, "m_01": 0.0, "m_11": 1.0, "h_00": 1.0, "h_01": 0.0, "h_10": 0.9999999999995,
+         "h_11": -1.000000000262076e-06, "v_0": -1.0, "v_1": 0.5}
+    v = accuracy_check("two_surface_resolution_2", x, impls["two_surface_resolution_2"], BOUND, screen=False)
+    assert not v.problems and v.worst <= 4, v
