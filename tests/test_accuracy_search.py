@@ -206,3 +206,54 @@ def test_matrix_kernel_nearly_parallel_rows_one_reflection(impls):
          "h_11": -1.000000000262076e-06, "v_0": -1.0, "v_1": 0.5}
     v = accuracy_check("two_surface_resolution_2", x, impls["two_surface_resolution_2"], BOUND, screen=False)
     assert not v.problems and v.worst <= 4, v
+
+
+def _with_value(impl, idx, f):
+    def g(inputs):
+        out = list(impl(inputs))
+        out[idx] = f(out[idx])
+        return out
+    return g
+
+
+def test_a_number_where_the_branch_does_not_exist_is_caught(impls):
+    """c = (1, -1): the branch starting with A does not exist (its exits are NaN); a number there
+    was read as a NaN ratio and passed. It is a problem, and so is NaN where the branch exists."""
+    x = dict(s_a=1.0, s_b=1.0, g=-0.5, c_a=1.0, c_b=-1.0)
+    k = "two_surface_resolution"
+    assert math.isnan(K.two_surface_resolution(**x)[1])
+    assert not accuracy_check(k, x, impls[k], BOUND).problems
+    v = accuracy_check(k, x, {"numpy": _with_value(impls[k]["numpy"], 1, lambda _: 0.0)}, BOUND)
+    assert v.problems and "ca_a" in v.problems[0], v.problems
+    x2 = dict(x, c_a=-1.0)
+    v = accuracy_check(k, x2, {"numpy": _with_value(impls[k]["numpy"], 4, lambda _: math.nan)}, BOUND)
+    assert v.problems and "ca_b" in v.problems[0], v.problems
+
+
+def test_an_exit_off_away_from_every_boundary_is_caught(impls):
+    """One box, one count (3): the mixed criterion does not apply; cb_a = 1 has cond 7, so 1000 eps
+    relative is 125 eps (1 + cond), a problem (and 400 eps, 50, is not)."""
+    x = dict(s_a=1.0, s_b=1.0, g=-0.5, c_a=-1.0, c_b=-1.0)
+    k = "two_surface_resolution"
+    ok = accuracy_check(k, x, {"numpy": _with_value(impls[k]["numpy"], 2, lambda y: y * (1 + 400 * 2.0**-52))}, BOUND)
+    assert not ok.problems and 40 < ok.worst <= BOUND, ok
+    v = accuracy_check(k, x, {"numpy": _with_value(impls[k]["numpy"], 2, lambda y: y * (1 + 1000 * 2.0**-52))}, BOUND)
+    assert v.problems and "cb_a" in v.problems[0], v.problems
+
+
+def test_matrix_kernel_branch_edge_inside_the_box(impls):
+    """Found by a random stress of the (M, H, v) kernel: c_a = H_0 v = 5.94e-8 - 5.94e-8 cancels, so
+    the branch starting with row 0 exists at the input (347289 reflections) and not at inputs
+    within 64 eps; the kernel's count -1 and NaN exits are those inputs' (certified), while NaN at a
+    robust branch is still a problem."""
+    x = dict(m_00=6475250.422021984, m_01=0.006475250421957788, m_11=6.41958116266222e-05,
+             h_00=-7.282075233607068e-06, h_01=5.2319443147251045e-06, h_10=34347.544377025006,
+             h_11=-8053.65760667581, v_0=-0.008159842593245486, v_1=-0.011357266836951626)
+    k = "two_surface_resolution_2"
+    out = K.two_surface_resolution_2(**x)
+    assert out[0] == -1 and math.isnan(out[1])
+    v = accuracy_check(k, x, impls[k], BOUND)
+    assert not v.problems and v.worst <= BOUND, v
+    x2 = dict(m_00=1.1, m_01=0.0, m_11=1.0, h_00=1.0, h_01=0.0, h_10=-1.0, h_11=1.0, v_0=-1.0, v_1=-2.0)
+    v = accuracy_check(k, x2, {"numpy": _with_value(impls[k]["numpy"], 1, lambda _: math.nan)}, BOUND)
+    assert v.problems and "v0_a" in v.problems[0], v.problems
