@@ -800,10 +800,12 @@ def kernels() -> list:
                      sp.Piecewise((cb, valid), (eb, c_first < 0), (nan, True))]
     doc_c = ("Reflection counts (count_a, count_b) of the branches that start with surface A, B\n"
              "(Seghete & Murphey sec. III-B/C): ceil(psi/beta), psi = atan2(-c_i sqrt(Delta), s_i c_j - g c_i),\n"
-             "beta = atan2(sqrt(Delta), -g), Delta = s_a s_b - g^2; 0 when c >= 0 (valid), -1 when the branch\n"
-             "does not exist. Float arithmetic, uncertified: impactsym.laws.two_surface certifies the count.")
+             "beta = atan2(sqrt(Delta), -g), Delta = s_a s_b - g^2; counts 1, 2, 3 from the signs of the\n"
+             "iterates themselves (rational in s, g, c), equal to the ceiling; 0 when c >= 0 (valid), -1 when\n"
+             "the branch does not exist. Float arithmetic, uncertified: impactsym.laws.two_surface certifies.")
     doc_r = ("Counts and exit relative velocities (H v+) of both branches: (count_a, ca_a, cb_a,\n"
-             "count_b, ca_b, cb_b). c' = (sqrt(s_a)|p| sin th, sqrt(s_b)|p| sin(beta - th)),\n"
+             "count_b, ca_b, cb_b). After 1-3 reflections the reflections themselves (rational);\n"
+             "above, c' = (sqrt(s_a)|p| sin th, sqrt(s_b)|p| sin(beta - th)),\n"
              "th = sigma (m beta - psi) + (1 - sigma) beta / 2, sigma = (-1)^m (A-first frame).\n"
              "Float: the angle error grows like m * eps; the law gives certified values.")
     out = [
@@ -926,7 +928,8 @@ def kernels() -> list:
         "two_surface_resolution_2", [m00, m01, m11, *h, v0, v1], outs2, names2,
         "n = 2 closed form: M by its upper triangle, H = [[h_00, h_01], [h_10, h_11]], v = (v_0, v_1).\n"
         "Returns (count_a, v0_a, v1_a, count_b, v0_b, v1_b): counts and exit velocities of the branches\n"
-        "starting with row 0 (a) and row 1 (b). Float, uncertified (see impactsym.laws.two_surface).",
+        "starting with row 0 (a) and row 1 (b): v itself when valid, its reflections for counts 1-3,\n"
+        "H^-1 c' above. Float, uncertified (see impactsym.laws.two_surface).",
     ))
     return out
 

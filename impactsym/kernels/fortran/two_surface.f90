@@ -15,8 +15,9 @@ module impactsym_two_surface
 contains
 ! Reflection counts (count_a, count_b) of the branches that start with surface A, B
 ! (Seghete & Murphey sec. III-B/C): ceil(psi/beta), psi = atan2(-c_i sqrt(Delta), s_i c_j - g c_i),
-! beta = atan2(sqrt(Delta), -g), Delta = s_a s_b - g^2; 0 when c >= 0 (valid), -1 when the branch
-! does not exist. Float arithmetic, uncertified: impactsym.laws.two_surface certifies the count.
+! beta = atan2(sqrt(Delta), -g), Delta = s_a s_b - g^2; counts 1, 2, 3 from the signs of the
+! iterates themselves (rational in s, g, c), equal to the ceiling; 0 when c >= 0 (valid), -1 when
+! the branch does not exist. Float arithmetic, uncertified: impactsym.laws.two_surface certifies.
 pure subroutine two_surface_reflection_count(s_a, s_b, g, c_a, c_b, count_a, count_b) bind(C, &
     name="f_two_surface_reflection_count")
     real(c_double), value, intent(in) :: s_a, s_b, g, c_a, c_b
@@ -50,7 +51,8 @@ pure subroutine two_surface_reflection_count(s_a, s_b, g, c_a, c_b, count_a, cou
 end subroutine two_surface_reflection_count
 
 ! Counts and exit relative velocities (H v+) of both branches: (count_a, ca_a, cb_a,
-! count_b, ca_b, cb_b). c' = (sqrt(s_a)|p| sin th, sqrt(s_b)|p| sin(beta - th)),
+! count_b, ca_b, cb_b). After 1-3 reflections the reflections themselves (rational);
+! above, c' = (sqrt(s_a)|p| sin th, sqrt(s_b)|p| sin(beta - th)),
 ! th = sigma (m beta - psi) + (1 - sigma) beta / 2, sigma = (-1)^m (A-first frame).
 ! Float: the angle error grows like m * eps; the law gives certified values.
 pure subroutine two_surface_resolution(s_a, s_b, g, c_a, c_b, count_a, ca_a, cb_a, count_b, ca_b, &
@@ -144,7 +146,8 @@ end subroutine two_surface_resolution
 
 ! n = 2 closed form: M by its upper triangle, H = [[h_00, h_01], [h_10, h_11]], v = (v_0, v_1).
 ! Returns (count_a, v0_a, v1_a, count_b, v0_b, v1_b): counts and exit velocities of the branches
-! starting with row 0 (a) and row 1 (b). Float, uncertified (see impactsym.laws.two_surface).
+! starting with row 0 (a) and row 1 (b): v itself when valid, its reflections for counts 1-3,
+! H^-1 c' above. Float, uncertified (see impactsym.laws.two_surface).
 pure subroutine two_surface_resolution_2(m_00, m_01, m_11, h_00, h_01, h_10, h_11, v_0, v_1, &
     count_a, v0_a, v1_a, count_b, v0_b, v1_b) bind(C, name="f_two_surface_resolution_2")
     real(c_double), value, intent(in) :: m_00, m_01, m_11, h_00, h_01, h_10, h_11, v_0, v_1

@@ -4,8 +4,9 @@
 function [count_a, count_b] = two_surface_reflection_count(s_a, s_b, g, c_a, c_b)
   % Reflection counts (count_a, count_b) of the branches that start with surface A, B
   % (Seghete & Murphey sec. III-B/C): ceil(psi/beta), psi = atan2(-c_i sqrt(Delta), s_i c_j - g c_i),
-  % beta = atan2(sqrt(Delta), -g), Delta = s_a s_b - g^2; 0 when c >= 0 (valid), -1 when the branch
-  % does not exist. Float arithmetic, uncertified: impactsym.laws.two_surface certifies the count.
+  % beta = atan2(sqrt(Delta), -g), Delta = s_a s_b - g^2; counts 1, 2, 3 from the signs of the
+  % iterates themselves (rational in s, g, c), equal to the ceiling; 0 when c >= 0 (valid), -1 when
+  % the branch does not exist. Float arithmetic, uncertified: impactsym.laws.two_surface certifies.
   x0 = c_a >= 0 & c_b >= 0;
   x1 = c_a.*g;
   x2 = 2./s_a;

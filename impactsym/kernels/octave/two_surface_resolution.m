@@ -3,7 +3,8 @@
 % tests/test_codegen_sync.py regenerates this file and fails on any difference.
 function [count_a, ca_a, cb_a, count_b, ca_b, cb_b] = two_surface_resolution(s_a, s_b, g, c_a, c_b)
   % Counts and exit relative velocities (H v+) of both branches: (count_a, ca_a, cb_a,
-  % count_b, ca_b, cb_b). c' = (sqrt(s_a)|p| sin th, sqrt(s_b)|p| sin(beta - th)),
+  % count_b, ca_b, cb_b). After 1-3 reflections the reflections themselves (rational);
+  % above, c' = (sqrt(s_a)|p| sin th, sqrt(s_b)|p| sin(beta - th)),
   % th = sigma (m beta - psi) + (1 - sigma) beta / 2, sigma = (-1)^m (A-first frame).
   % Float: the angle error grows like m * eps; the law gives certified values.
   x0 = c_a >= 0 & c_b >= 0;

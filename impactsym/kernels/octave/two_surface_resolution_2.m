@@ -4,7 +4,8 @@
 function [count_a, v0_a, v1_a, count_b, v0_b, v1_b] = two_surface_resolution_2(m_00, m_01, m_11, h_00, h_01, h_10, h_11, v_0, v_1)
   % n = 2 closed form: M by its upper triangle, H = [[h_00, h_01], [h_10, h_11]], v = (v_0, v_1).
   % Returns (count_a, v0_a, v1_a, count_b, v0_b, v1_b): counts and exit velocities of the branches
-  % starting with row 0 (a) and row 1 (b). Float, uncertified (see impactsym.laws.two_surface).
+  % starting with row 0 (a) and row 1 (b): v itself when valid, its reflections for counts 1-3,
+  % H^-1 c' above. Float, uncertified (see impactsym.laws.two_surface).
   x0 = h_00.*v_0 + h_01.*v_1;
   x1 = h_10.*v_0 + h_11.*v_1;
   x2 = x0 >= 0 & x1 >= 0;
