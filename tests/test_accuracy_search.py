@@ -4,6 +4,9 @@ plain Python and C (the C kernels compiled with gcc where it exists).
 
 The references are the ladder-checked mpmath values of the emitted formulas
 (:mod:`impactsym.reference_values`); ``cond`` is the componentwise condition number over every input.
+A reflection count must be the certified count of some input within 64 eps (relative, per input):
+the mixed forward-backward criterion of a jump (:func:`impactsym.accuracy.count_in_neighbourhood`);
+the tests below check that it still catches a count one off away from every boundary.
 The bench runs the full grid and a larger search (``python benchmarks/accuracy.py``).
 """
 
@@ -257,3 +260,18 @@ def test_matrix_kernel_branch_edge_inside_the_box(impls):
     x2 = dict(m_00=1.1, m_01=0.0, m_11=1.0, h_00=1.0, h_01=0.0, h_10=-1.0, h_11=1.0, v_0=-1.0, v_1=-2.0)
     v = accuracy_check(k, x2, {"numpy": _with_value(impls[k]["numpy"], 1, lambda _: math.nan)}, BOUND)
     assert v.problems and "v0_a" in v.problems[0], v.problems
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("kernel", ["two_surface_reflection_count", "two_surface_resolution", "two_surface_resolution_2"])
+def test_two_surface_full_corner_grid(kernel, impls):
+    """The bench's full grid for the two-surface kernels (576, 576 and 160 corners, about 75 s in all):
+    where the right-angle wedges (ceil(psi/beta) one short) and the nearly parallel rows (H^-1 c') broke
+    the bound by up to 2.2e15."""
+    ref = kernel_reference(kernel)
+    problems = []
+    for case in corner_cases(kernel, full=True):
+        v = accuracy_check(kernel, case.inputs, impls[kernel], BOUND, ref)
+        if v.problems:
+            problems.append((case.inputs, v.problems))
+    assert not problems, f"{len(problems)} corners: {problems[:3]}"
