@@ -566,7 +566,7 @@ def count_in_neighbourhood(kernel: str, inputs: dict, i: int, got: float, ref=No
     """
     from fractions import Fraction
 
-    from .reference_values import EPS, kernel_reference
+    from .reference_values import kernel_reference
 
     ref = ref or kernel_reference(kernel)
     oracle = COUNT_ORACLES[kernel]
