@@ -327,7 +327,7 @@ def _counts_from_law(kernel: str, x: dict):
     """
     import sympy as sp
 
-    from .errors import ImpactInputError
+    from .errors import ImpactInputError, UndecidableSign
     from .laws.two_surface import branch_counts
 
     q = {k: sp.Rational(v.numerator, v.denominator) for k, v in x.items()}
@@ -343,7 +343,7 @@ def _counts_from_law(kernel: str, x: dict):
         v = sp.Matrix([q["v_0"], q["v_1"]])
     try:
         found = branch_counts(M, H, v)
-    except ImpactInputError:
+    except (ImpactInputError, UndecidableSign):  # refused, or a count the law cannot certify: no witness
         return None
     c = H * v
     if c[0] >= 0 and c[1] >= 0:
@@ -399,8 +399,10 @@ def _continuous_on_segment(x: dict, y: dict, i: int) -> bool:
     return True
 
 
-def _last_on_branch(x: dict, y: dict, i: int, steps: int = 48) -> dict:
-    """The point of ``[x, y]`` nearest ``y`` that bisection finds on the branch (``x`` is on it)."""
+def _last_on_branch(x: dict, y: dict, i: int, steps: int = 64):
+    """The point of ``[x, y]`` nearest ``y`` that bisection finds on the branch (``x`` on it, ``y``
+    not), exact (rounding it to floats would move ``Δ`` by about an ulp of ``s_a s_b``, as much as
+    ``Δ`` itself where the box crosses ``Δ = 0``)."""
     from fractions import Fraction
 
     lo, hi = Fraction(0), Fraction(1)
@@ -411,6 +413,12 @@ def _last_on_branch(x: dict, y: dict, i: int, steps: int = 48) -> dict:
         else:
             hi = mid
     return _point(x, y, lo)
+
+
+def _in_domain(x: dict) -> bool:
+    """Exact: the wedge is proper (``Δ > 0``; for the ``(M, H, v)`` kernel ``M`` positive definite
+    and ``det H ≠ 0``), where the two-surface formulas are real."""
+    return all(v * sg > 0 for v, sg in _branch_polynomials(x, 0)[:-1])
 
 
 def _witness_vertices(ref, inputs: dict, i: int, r) -> list:
@@ -463,7 +471,8 @@ def _certified_witnesses(kernel, ref, inputs, i, bound, branch_from=None):
     relative radius ``bound · eps``: the vertices of :func:`_witness_vertices` (radius
     ``(bound − 1) · eps`` before rounding to floats, so that they stay in the box) and, with
     ``branch_from`` (the exact input, on the branch), the last point on the branch towards each
-    vertex that leaves it. Points are exact Fractions (of floats); points the law refuses are left out."""
+    vertex that leaves it. Points are exact Fractions (the vertices of floats; the edges not);
+    points the law refuses are left out."""
     from fractions import Fraction
 
     from .reference_values import EPS
@@ -474,10 +483,7 @@ def _certified_witnesses(kernel, ref, inputs, i, bound, branch_from=None):
         y = {n: Fraction(v) for n, v in vx.items()}
         pts = [y]
         if branch_from is not None and not _on_branch(y, k):  # the branch or the wedge ends in the box
-            edge = _last_on_branch(branch_from, y, k)
-            edge = {n: Fraction(float(v)) for n, v in edge.items()}
-            if _on_branch(edge, k):
-                pts.append(edge)
+            pts.append(_last_on_branch(branch_from, y, k))
         for pt in pts:
             c = oracle(kernel, pt)
             if c is not None:
@@ -501,7 +507,8 @@ def value_in_neighbourhood(kernel: str, inputs: dict, i: int, got: float, ref=No
     ``N(x)`` crosses a count boundary or the branch's edge: whether ``got`` is within
     ``bound · eps · (|f| + Σ_j |y_j ∂f/∂y_j|)`` of the exact output ``f(y)`` at a witness ``y`` of
     ``N(x)`` whose certified count differs from the count at ``inputs`` (a certified crossing;
-    where the box holds one count, nothing is relaxed). Returns ``(accepted, how, ratio)``, ``ratio``
+    where the box holds one count, nothing is relaxed); NaN where a vertex of ``N(x)`` lies off the
+    formula's domain (``Δ ≤ 0`` exactly: there the exact value is not real). Returns ``(accepted, how, ratio)``, ``ratio``
     the error ratio against that witness.
 
     >>> x = dict(m_00=6475250.422021984, m_01=0.006475250421957788, m_11=6.41958116266222e-05,
@@ -512,7 +519,7 @@ def value_in_neighbourhood(kernel: str, inputs: dict, i: int, got: float, ref=No
     """
     from fractions import Fraction
 
-    from .reference_values import ReferenceUnstable, error_ratio, kernel_reference
+    from .reference_values import EPS, ReferenceUnstable, error_ratio, kernel_reference
 
     ref = ref or kernel_reference(kernel)
     names = _catalog_outputs(kernel)
@@ -525,11 +532,19 @@ def value_in_neighbourhood(kernel: str, inputs: dict, i: int, got: float, ref=No
     at_x = COUNT_ORACLES[kernel](kernel, fx)
     if at_x is None:
         return False, "the law refuses the input", math.inf
+    if math.isnan(got):  # NaN is the answer wherever the formula is not real: a point of the box off its domain
+        for vx in _witness_vertices(ref, inputs, ci, Fraction(bound - 1) * Fraction(EPS)):
+            if not _in_domain({n: Fraction(v) for n, v in vx.items()}):
+                return True, "the exact value is not real at a point of the box (a degenerate wedge)", 0.0
     for y, c in _certified_witnesses(kernel, ref, inputs, ci, bound, fx if _on_branch(fx, k) else None):
         if c[k] == at_x[k]:
             continue
+        yf = {n: float(v) for n, v in y.items()}  # the reference reads floats: the rounded point's own count
+        if Fraction(bound) * Fraction(EPS) < max(abs(Fraction(yf[n]) - fx[n]) / abs(fx[n]) for n in fx if fx[n]) or \
+                (COUNT_ORACLES[kernel](kernel, {n: Fraction(v) for n, v in yf.items()}) or at_x)[k] == at_x[k]:
+            continue
         try:
-            ry = ref.evaluate({n: float(v) for n, v in y.items()})
+            ry = ref.evaluate(yf)
         except (ReferenceUnstable, ArithmeticError):
             continue
         ratio = error_ratio(ry, [got if j == i else 0.0 for j in range(len(names))])[i]

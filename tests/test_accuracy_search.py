@@ -275,3 +275,33 @@ def test_two_surface_full_corner_grid(kernel, impls):
         if v.problems:
             problems.append((case.inputs, v.problems))
     assert not problems, f"{len(problems)} corners: {problems[:3]}"
+
+
+def test_thin_wedge_whose_box_crosses_the_degenerate_wedge(impls):
+    """Random stress: s_a s_b - g^2 = 3.0e-30 against products of 1.3e-14 (the float Delta is one ulp
+    of them, 1.6e-30): within 64 eps the wedge degenerates (Delta = 0, psi near pi, the count grows
+    without bound), so the kernel's 286742977 (exact 207133968) is the count of an input of the box:
+    found at the branch's edge, exactly (rounded to floats the edge's Delta is noise). A count below
+    every count of the box (1000) is still a problem."""
+    x = {"s_a": 7.145731100901334e-11, "s_b": 0.0001839372091915346, "g": -1.1464579522742835e-07,
+         "c_a": -5.927403828976862e-16, "c_b": -1.1453045120959009e-05}
+    k = "two_surface_resolution"
+    assert K.two_surface_resolution(**x)[0] == 286742977
+    v = accuracy_check(k, x, impls[k], BOUND)
+    assert not v.problems, v.problems
+    v = accuracy_check(k, x, {"numpy": _with_count(impls[k]["numpy"], 0, 1000 - 286742977)}, BOUND)
+    assert v.problems and "count count_a = 1000" in v.problems[0], v.problems
+
+
+def test_nan_exit_where_the_box_leaves_the_domain(impls):
+    """Random stress: Delta = 1.3e-13 against s_a s_b = 2094: the float quadratic form under |p|'s root
+    cancels below 0 and the exits are NaN; a vertex of the box has Delta < 0 exactly (no real exit),
+    so NaN is that input's answer. Where every point of the box is a proper wedge, NaN is a problem
+    (test_matrix_kernel_branch_edge_inside_the_box)."""
+    x = {"s_a": 53.49800109711754, "s_b": 39.13458054744433, "g": -45.75611252130595, "c_a": -16915.99920281996,
+         "c_b": 14468.024012598453}
+    k = "two_surface_resolution"
+    with np.errstate(invalid="ignore"):  # the root of the cancelled form: NaN, as judged below
+        assert math.isnan(K.two_surface_resolution(**x)[1])
+    v = accuracy_check(k, x, impls[k], BOUND)
+    assert not v.problems, v.problems
