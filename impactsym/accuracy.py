@@ -59,7 +59,7 @@ import numpy as np
 from .hard_cases import HardCase, _spd
 
 __all__ = ["corner_cases", "CORNER_KERNELS", "DISCONTINUOUS", "COUNT_ORACLES", "count_in_neighbourhood",
-           "value_in_neighbourhood",
+           "value_in_neighbourhood", "wedge_samples",
            "kernel_implementations", "Verdict", "accuracy_check", "SearchResult", "SEARCH_DOMAIN", "adversarial_search"]
 
 
@@ -716,6 +716,64 @@ def accuracy_check(kernel: str, inputs: dict, impls: dict, bound: float = 64.0, 
                     problems.append(f"{lang}: count {names[i]} = {g[i]:g} (exact {exact[i]:g}): {how}")
     return Verdict(kernel, dict(inputs), {k: v[0] for k, v in ratios.items()}, {k: v[1] for k, v in ratios.items()},
                    problems)
+
+
+def wedge_samples(kernel: str, n: int, seed: int = 0):
+    """Random inputs of a two-surface kernel where its float angles are hardest: wedge openings
+    ``β`` near ``π/2``, ``π/3 … π/8``, ``π`` and down to ``1e-9``, velocity angles ``ψ`` near ``π``,
+    ``π/2`` and multiples of ``β`` (count boundaries), scales ``1e-12 … 1e12`` (a generator of
+    input dicts; the corner grid fixes a few of each, the search climbs from those).
+
+    >>> xs = list(wedge_samples("two_surface_resolution", 3, seed=1))
+    >>> len(xs), sorted(xs[0])
+    (3, ['c_a', 'c_b', 'g', 's_a', 's_b'])
+    """
+    rng = np.random.default_rng(seed)
+    pi = math.pi
+
+    def tiny():
+        return float(rng.choice([-1, 1])) * 10.0 ** -rng.uniform(3, 17)
+
+    made = 0
+    while made < n:
+        kind = rng.integers(4)
+        beta = (pi / 2 * (1 + tiny()) if kind == 0 else pi / int(rng.integers(3, 9)) * (1 + tiny()) if kind == 1
+                else pi * (1 - 10.0 ** -rng.uniform(1, 12)) if kind == 2 else 10.0 ** -rng.uniform(0, 9))
+        if kernel != "two_surface_resolution_2":
+            pk = rng.integers(4)
+            if pk == 0:
+                psi = pi * (1 - 10.0 ** -rng.uniform(1, 16))
+            elif pk == 1:
+                psi = pi / 2 * (1 + tiny())
+            elif pk == 2:
+                j = int(rng.integers(1, max(2, min(50, int(pi / beta)) + 1)))
+                psi = min(j * beta * (1 + tiny()), pi * (1 - 1e-16))
+            else:
+                psi = rng.uniform(0, pi)
+            sa, sb = 10.0 ** rng.uniform(-12, 12), 10.0 ** rng.uniform(-12, 12)
+            r = 10.0 ** rng.uniform(-6, 6)
+            g, ca, cb = -math.cos(beta) * math.sqrt(sa * sb), -math.sqrt(sa) * r * math.sin(psi), \
+                math.sqrt(sb) * r * math.sin(beta + psi)
+            if rng.integers(2):
+                sa, sb, ca, cb = sb, sa, cb, ca
+            x = dict(s_a=sa, s_b=sb, g=g, c_a=ca, c_b=cb)
+        else:
+            a, b = 10.0 ** rng.uniform(-12, 12, size=2)
+            rot = float(rng.choice([0.0, rng.uniform(0, pi), 1e-9]))
+            R = np.array([[math.cos(rot), -math.sin(rot)], [math.sin(rot), math.cos(rot)]])
+            M = np.diag([a, b]) if rng.integers(3) == 0 else R @ np.diag([a, b]) @ R.T
+            phi = rng.uniform(0, 2 * pi)
+            sc = 10.0 ** rng.uniform(-6, 6, size=2)
+            th = float(rng.choice([rng.uniform(0, 2 * pi), phi + pi / 2 * (1 + tiny()), phi + beta + tiny(),
+                                   phi + pi + tiny()]))
+            sp_ = 10.0 ** rng.uniform(-6, 6)
+            x = dict(m_00=M[0, 0], m_01=(M[0, 1] + M[1, 0]) / 2, m_11=M[1, 1], h_00=sc[0] * math.cos(phi),
+                     h_01=sc[0] * math.sin(phi), h_10=-sc[1] * math.cos(phi + beta), h_11=-sc[1] * math.sin(phi + beta),
+                     v_0=sp_ * math.cos(th), v_1=sp_ * math.sin(th))
+        x = {k: float(v) for k, v in x.items()}
+        if _in_search_domain(kernel, x):
+            made += 1
+            yield x
 
 
 @dataclass
