@@ -5,7 +5,8 @@ A generator of every combination of each kernel's extreme corners (:func:`corner
 implementations of one kernel in every language (:func:`kernel_implementations`: NumPy, plain
 Python, C); the check of every output of every implementation against the bound
 ``|f̂ − f| ≤ bound · eps · (|f| + Σ_j |x_j ∂f/∂x_j|)`` (:func:`accuracy_check`); and a seeded
-adversarial hill-climb on that ratio (:func:`adversarial_search`). Run by
+adversarial hill-climb on that ratio (:func:`adversarial_search`); random hard wedges for the
+two-surface kernels (:func:`wedge_samples`). Run by
 ``tests/test_accuracy_search.py`` and ``benchmarks/accuracy.py``. The fixed hard-case list the
 grid complements is :mod:`impactsym.hard_cases`.
 

@@ -20,7 +20,7 @@ import pytest
 
 from impactsym import kernels as K
 from impactsym.accuracy import (CORNER_KERNELS, accuracy_check, adversarial_search, corner_cases,
-                                kernel_implementations)
+                                kernel_implementations, wedge_samples)
 from impactsym.reference_values import kernel_reference
 
 BOUND = 64.0
@@ -305,3 +305,17 @@ def test_nan_exit_where_the_box_leaves_the_domain(impls):
         assert math.isnan(K.two_surface_resolution(**x)[1])
     v = accuracy_check(k, x, impls[k], BOUND)
     assert not v.problems, v.problems
+
+
+@pytest.mark.parametrize("kernel,n", [("two_surface_resolution", 24), ("two_surface_resolution_2", 6)])
+def test_two_surface_random_hard_wedges(kernel, n, impls):
+    """A fixed-seed sample of wedge_samples (the bench runs 2 x 500): openings near pi/2, pi/k, pi and
+    1e-9, velocity angles near pi, pi/2 and the count boundaries, scales 1e-12..1e12."""
+    ref = kernel_reference(kernel)
+    problems = []
+    with np.errstate(all="ignore"):
+        for x in wedge_samples(kernel, n, seed=15):
+            v = accuracy_check(kernel, x, impls[kernel], BOUND, ref)
+            if v.problems:
+                problems.append((x, v.problems))
+    assert not problems, problems[:3]
