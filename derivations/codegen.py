@@ -379,11 +379,29 @@ class _FortranPrinter(FCodePrinter):
         return code
 
 
+class _OctavePrinter(OctaveCodePrinter):
+    """Octave printer whose Piecewise with a NaN branch selects with ``merge(c, a, b)``: the stock
+    inline form ``(c).*(a) + (~(c)).*(b)`` multiplies the branch not taken by 0, and 0·NaN is NaN,
+    so every output with a NaN branch (a two-surface branch that does not exist) came out NaN.
+    Piecewise without NaN print as before (their files are unchanged)."""
+
+    def __init__(self):
+        super().__init__({"inline": True})
+
+    def _print_Piecewise(self, expr):
+        if not expr.has(sp.nan) or expr.args[-1].cond != True:  # noqa: E712 - SymPy's true
+            return super()._print_Piecewise(expr)
+        code = self._print(expr.args[-1].expr)
+        for e, c in reversed(expr.args[:-1]):
+            code = f"merge({self._print(c)}, {self._print(e)}, {code})"
+        return code
+
+
 def _printers():
     return {
         "c": _CPrinter(),
         "julia": JuliaCodePrinter({"inline": True}),
-        "octave": OctaveCodePrinter({"inline": True}),
+        "octave": _OctavePrinter(),
         "fortran": _FortranPrinter(),
         "rust": _RustPrinter(),
         "python": _PythonPrinter(),

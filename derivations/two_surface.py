@@ -631,14 +631,14 @@ def _emitted_exit(mm):
     pn = sp.sqrt(p2)
     ca = sp.sqrt(s_A) * pn * sp.Piecewise((sa_, sp.And(odd, small_a)), (sa2, odd), (sb2, small_a), (sb_, True))
     cb = sp.sqrt(s_B) * pn * sp.Piecewise((sb2, sp.And(odd, small_a)), (sb_, odd), (sa_, small_a), (sa2, True))
-    # one and two reflections (every wedge with beta >= pi/2 needs at most two) as the reflections
-    # themselves, rational in the data: no angle, no pi (a right-angle wedge put 2 beta - psi ~ 1e-12 next to
-    # atan2 values ~ pi, 1e15 eps); equal to the trigonometric form (asserted in _check_few_reflections)
-    one = (-c_A, c_B - 2 * g * c_A / s_A)
-    two = (one[0] - 2 * g * one[1] / s_B, -one[1])
-    _check_few_reflections(one, two)
-    ca = sp.Piecewise((one[0], sp.Eq(mm, 1)), (two[0], sp.Eq(mm, 2)), (ca, True))
-    cb = sp.Piecewise((one[1], sp.Eq(mm, 1)), (two[1], sp.Eq(mm, 2)), (cb, True))
+    # one, two and three reflections (every wedge with beta >= pi/3 needs at most three) as the
+    # reflections themselves, rational in the data: no angle, no pi (a right-angle wedge put
+    # 2 beta - psi ~ 1e-17 next to atan2 values ~ pi, 1e15 eps); equal to the trigonometric form
+    # (asserted in _check_few_reflections)
+    one, two, three = few_reflections(s_A, s_B, g, c_A, c_B)
+    _check_few_reflections(one, two, three)
+    ca = sp.Piecewise((one[0], sp.Eq(mm, 1)), (two[0], sp.Eq(mm, 2)), (three[0], sp.Eq(mm, 3)), (ca, True))
+    cb = sp.Piecewise((one[1], sp.Eq(mm, 1)), (two[1], sp.Eq(mm, 2)), (three[1], sp.Eq(mm, 3)), (cb, True))
     k = sp.Symbol("k", integer=True)
     ca_t, cb_t = ca.args[-1].expr, cb.args[-1].expr  # the general (trigonometric) branch
     ca, cb = ca_t, cb_t
@@ -653,20 +653,95 @@ def _emitted_exit(mm):
                 raise DerivationError((m_val, pick))
             if not (sp.simplify(sp.expand_trig(sp.expand(new_b - old_b))) == 0):
                 raise DerivationError((m_val, pick))
-    return (sp.Piecewise((one[0], sp.Eq(mm, 1)), (two[0], sp.Eq(mm, 2)), (ca_t, True)),
-            sp.Piecewise((one[1], sp.Eq(mm, 1)), (two[1], sp.Eq(mm, 2)), (cb_t, True)))
+    # the branch is chosen by the count's own tests (emitted_count), not by comparing a count with
+    # 1, 2, 3 (SymPy folds Eq(Piecewise, j) into conditions C cannot print); the trigonometric
+    # branch (count >= 4) takes m = ceiling(psi/beta)
+    t1, t2, t3 = count_tests(s_A, s_B, g, c_A, c_B)
+    return (sp.Piecewise((one[0], t1), (two[0], t2), (three[0], t3), (ca_t, True)),
+            sp.Piecewise((one[1], t1), (two[1], t2), (three[1], t3), (cb_t, True)))
 
 
-def _check_few_reflections(one, two):
-    """The trigonometric exit (:func:`exit_relative_velocity`) after one and two reflections equals
-    the rational ``one``, ``two``: with ``cos β = −g/√(s_A s_B)``, ``sin β = √Δ/√(s_A s_B)`` and
+def few_reflections(sa, sb, gg, ca, cb):
+    """``(c_A, c_B)`` after one, two and three reflections of the branch that starts with A, as
+    the reflections themselves (``G_A``: ``c_A ↦ −c_A``, ``c_B ↦ c_B − 2g c_A/s_A``; ``G_B``
+    symmetrically), nested so that a float evaluation errs by a few eps of the magnitudes of its
+    terms (componentwise backward stable in ``s, g, c``).
+
+    >>> one, two, three = few_reflections(*sp.symbols("s_A s_B g c_A c_B"))
+    >>> one
+    (-c_A, -2*c_A*g/s_A + c_B)
+    """
+    one = (-ca, cb - 2 * gg * ca / sa)
+    two = (one[0] - 2 * gg * one[1] / sb, -one[1])
+    three = (-two[0], two[1] - 2 * gg * two[0] / sa)
+    return one, two, three
+
+
+def count_tests(sa, sb, gg, ca, cb):
+    """The conditions ``count = 1``, ``= 2``, ``= 3`` of the A-first branch, each read where the
+    previous ones fail: the component the next reflection would act on is ``≥ 0`` (valid)."""
+    one, two, three = few_reflections(sa, sb, gg, ca, cb)
+    return one[1] >= 0, two[0] >= 0, three[1] >= 0
+
+
+def emitted_count(sa, sb, gg, ca, cb, ratio):
+    """The reflection count ``⌈ψ/β⌉`` of the A-first branch (``c_A < 0``) as the kernels evaluate
+    it: the signs of the rational iterates for counts 1, 2, 3, the ceiling of ``ratio = ψ/β`` above.
+
+    ``ψ/β`` near 1, 2 or 3 happens with ``ψ`` or ``β`` near ``π/2`` or ``π``, where a float angle
+    carries an absolute error ``eps·π`` that the inputs do not (``ψ/β = 2 + 4e-17`` at a right-angle
+    wedge whose iterate after two reflections violates A by ``1e-10``: the float ceiling said 2, the
+    exact count is 3 at every input within 1e13 eps). The sign of a rational iterate errs only within
+    a few eps (componentwise) of its zero, i.e. of the count boundary itself. Equal to
+    ``⌈ψ/β⌉`` (proved in :func:`count_form_steps`).
+    """
+    t1, t2, t3 = count_tests(sa, sb, gg, ca, cb)
+    return sp.Piecewise((1, t1), (2, t2), (3, t3), (sp.ceiling(ratio), True))
+
+
+def count_form_steps() -> dict:
+    """Prove that :func:`emitted_count` equals ``⌈ψ/β⌉`` on the branch ``c_A < 0``.
+
+    * The j-th iterate's component that the next reflection tests is ``√s |p| sin(jβ − ψ)``
+      (``j = 1``: ``c_B' = √s_B|p| sin(β − ψ)``; ``j = 2``: ``c_A'' = √s_A|p| sin(2β − ψ)``; ``j = 3``:
+      ``c_B''' = √s_B|p| sin(3β − ψ)``): the trigonometric exit of :func:`exit_relative_velocity`
+      with ``θ_f = ψ``, ``2β − ψ``, ``ψ − 2β`` (checked here), and the rational iterates equal it
+      (:func:`_check_few_reflections`).
+    * ``|p| > 0`` (``c ≠ 0``) and ``√s > 0``: the component has the sign of ``sin(jβ − ψ)``.
+    * When the earlier tests failed, ``ψ > (j − 1)β``; with ``0 < ψ < π`` and ``β > 0``,
+      ``jβ − ψ ∈ (−π, β) ⊂ (−π, π)`` (``jβ − ψ < β < π`` and ``jβ − ψ > −ψ > −π``), where
+      ``sin ≥ 0`` exactly when ``jβ − ψ ≥ 0``: the test says ``ψ ≤ jβ``, i.e. ``⌈ψ/β⌉ = j``.
+    * All three failed: ``ψ > 3β``, and the count is the ceiling itself.
+
+    >>> count_form_steps()["proven"]
+    True
+    """
+    pn = sp.sqrt((s_B * c_A**2 - 2 * g * c_A * c_B + s_A * c_B**2) / Delta)
+    tests = [(1, 1, sp.sqrt(s_B)), (2, 0, sp.sqrt(s_A)), (3, 1, sp.sqrt(s_B))]
+    ok = True
+    steps = []
+    for j, comp, root in tests:
+        got = exit_relative_velocity(j)[comp]
+        want = root * pn * sp.sin(j * beta - psi)
+        same = sp.simplify(sp.expand_trig(got - want)) == 0
+        ok &= bool(same)
+        steps.append(f"after {j} reflection(s) the tested component is {root}|p| sin({j} beta - psi): {same}")
+    # the interval argument (linear, stated): j beta - psi < beta < pi since psi > (j-1) beta, and
+    # j beta - psi > -psi > -pi since beta > 0 and psi < pi
+    steps.append("with psi in (0, pi) and psi > (j-1) beta: j beta - psi in (-pi, beta), where sin >= 0 iff >= 0")
+    return {"proven": bool(ok), "steps": steps}
+
+
+def _check_few_reflections(one, two, three):
+    """The trigonometric exit (:func:`exit_relative_velocity`) after one, two and three reflections
+    equals the rational ``one``, ``two``, ``three``: with ``cos β = −g/√(s_A s_B)``, ``sin β = √Δ/√(s_A s_B)`` and
     ``cos ψ = x/r``, ``sin ψ = y/r`` (``ψ = atan2(y, x)``, ``y = −c_A √Δ``, ``x = s_A c_B − g c_A``,
     ``r² = x² + y² = s_A (s_B c_A² − 2g c_A c_B + s_A c_B²)``), after ``Δ = s_A s_B − g²``."""
     y, x = -c_A * sp.sqrt(Delta), s_A * c_B - g * c_A
     r = sp.sqrt(s_A * (s_B * c_A**2 - 2 * g * c_A * c_B + s_A * c_B**2))
     sub = {sp.cos(beta): -g / sp.sqrt(s_A * s_B), sp.sin(beta): sp.sqrt(Delta) / sp.sqrt(s_A * s_B),
            sp.cos(psi): x / r, sp.sin(psi): y / r}
-    for m_val, want in ((1, one), (2, two)):
+    for m_val, want in ((1, one), (2, two), (3, three)):
         got = exit_relative_velocity(m_val)
         for gexpr, w in zip(got, want):
             d = sp.expand_trig(gexpr).subs(sub) - w
@@ -685,13 +760,14 @@ def _branch_expressions(first_is_a: bool):
     sub = {s_A: sa, s_B: sb, g: gg, c_A: ca, c_B: cb, Delta: D}
     psi_e = der["psi_A"].subs(sub)
     beta_e = der["beta"].subs(sub)
-    count = sp.ceiling(psi_e / beta_e)
+    count = emitted_count(sa, sb, gg, ca, cb, psi_e / beta_e)
     mm = sp.Symbol("m_count", real=True)
     ea, eb = _emitted_exit(mm)
     ea = ea.subs({psi: sp.Symbol("psi_x"), beta: sp.Symbol("beta_x")})
     eb = eb.subs({psi: sp.Symbol("psi_x"), beta: sp.Symbol("beta_x")})
     ea, eb = (e.subs(sub).subs({sp.Symbol("psi_x"): psi_e, sp.Symbol("beta_x"): beta_e}) for e in (ea, eb))
-    ea, eb = (e.subs(mm, count) for e in (ea, eb))
+    # the trigonometric branch is the count's last one (above 3): m = ceiling(psi/beta) there
+    ea, eb = (e.subs(mm, sp.ceiling(psi_e / beta_e)) for e in (ea, eb))
     if not first_is_a:
         ea, eb = eb, ea
     return count, ea, eb
@@ -710,6 +786,8 @@ def kernels() -> list:
     * ``two_surface_resolution_2``: the n = 2 closed form from ``M`` (upper triangle), ``H``, ``v``.
     """
     sa, sb, gg, ca, cb = _ARGS
+    if not count_form_steps()["proven"]:
+        raise DerivationError("derivation check failed: the emitted count is not ceiling(psi/beta)")
     valid = sp.And(ca >= 0, cb >= 0)
     outs_count, outs_res = [], []
     for first_is_a, c_first in ((True, ca), (False, cb)):
@@ -722,10 +800,12 @@ def kernels() -> list:
                      sp.Piecewise((cb, valid), (eb, c_first < 0), (nan, True))]
     doc_c = ("Reflection counts (count_a, count_b) of the branches that start with surface A, B\n"
              "(Seghete & Murphey sec. III-B/C): ceil(psi/beta), psi = atan2(-c_i sqrt(Delta), s_i c_j - g c_i),\n"
-             "beta = atan2(sqrt(Delta), -g), Delta = s_a s_b - g^2; 0 when c >= 0 (valid), -1 when the branch\n"
-             "does not exist. Float arithmetic, uncertified: impactsym.laws.two_surface certifies the count.")
+             "beta = atan2(sqrt(Delta), -g), Delta = s_a s_b - g^2; counts 1, 2, 3 from the signs of the\n"
+             "iterates themselves (rational in s, g, c), equal to the ceiling; 0 when c >= 0 (valid), -1 when\n"
+             "the branch does not exist. Float arithmetic, uncertified: impactsym.laws.two_surface certifies.")
     doc_r = ("Counts and exit relative velocities (H v+) of both branches: (count_a, ca_a, cb_a,\n"
-             "count_b, ca_b, cb_b). c' = (sqrt(s_a)|p| sin th, sqrt(s_b)|p| sin(beta - th)),\n"
+             "count_b, ca_b, cb_b). After 1-3 reflections the reflections themselves (rational);\n"
+             "above, c' = (sqrt(s_a)|p| sin th, sqrt(s_b)|p| sin(beta - th)),\n"
              "th = sigma (m beta - psi) + (1 - sigma) beta / 2, sigma = (-1)^m (A-first frame).\n"
              "Float: the angle error grows like m * eps; the law gives certified values.")
     out = [
@@ -809,6 +889,7 @@ def kernels() -> list:
             raise DerivationError('derivation check failed: not expr.has(sa * sb - gg**2) and not expr.has(quad)')
         return expr.subs(sub).subs({dsym: delta_f, qsym: quad_f, lsym[0]: adjc[0], lsym[1]: adjc[1]})
 
+    adjM = M.adjugate()
     for k, tag in ((0, "a"), (3, "b")):
         cnt = _factored(outs_res[k])
         cprime = sp.Matrix([_factored(outs_res[k + 1]), _factored(outs_res[k + 2])])
@@ -816,13 +897,39 @@ def kernels() -> list:
         # (checked below), so v+ = H^-1 c' = adj(H) c' / det(H); the general form adds and cancels
         # terms of size |Gamma^-1| ~ 1/Delta ~ 1/beta^2 around an O(1) result.
         vexit = H.adjugate() * cprime / H.det()
+        # Issue 15: H^-1 c' amplifies the rounding of c' by cond(H), which a valid velocity (v+ = v:
+        # v_0 = 1e-12 next to v_1 = 1e12 came back as 0) or nearly parallel rows with one or two
+        # reflections (beta near pi, cond(H) ~ 1/(pi - beta)) do not have. Counts 0..3 take the
+        # velocity itself and its reflections v <- v - 2 (H_i v) u_i, u_i = adj(M) H_i^T / (H_i adj(M) H_i^T)
+        # (M^-1 H_i^T / s_i with det M cancelled), with the tested components H_i v of the rational
+        # iterates (the count's own signs); H v_j equals the j-th rational iterate (asserted), so
+        # each equals H^-1 c' on its count.
+        first, other = (0, 1) if k == 0 else (1, 0)
+        rows = [H[first, :], H[other, :]]
+        u = [adjM * r.T / (r * adjM * r.T)[0, 0] for r in rows]
+        iters = few_reflections(sa, sb, gg, ca, cb) if k == 0 else \
+            [(b, a) for a, b in few_reflections(sb, sa, gg, cb, ca)]
+        iters = [tuple(_factored(x) for x in it) for it in iters]  # (c_A, c_B) in the rows' order
+        c_first, tested = cvec[first], [iters[0][other], iters[1][first]]
+        vr1 = v - 2 * c_first * u[0]
+        vr2 = vr1 - 2 * tested[0] * u[1]
+        vr3 = vr2 - 2 * tested[1] * u[0]
+        for j, (vj, it) in enumerate(((vr1, iters[0]), (vr2, iters[1]), (vr3, iters[2])), start=1):
+            if not ((H * vj - sp.Matrix(it)).applyfunc(sp.simplify) == sp.zeros(2, 1)):
+                raise DerivationError(f"derivation check failed: H v_{j} != the rational iterate {j} ({tag})")
+        t1, t2, t3 = (_factored(t) for t in (count_tests(sa, sb, gg, ca, cb) if k == 0 else
+                                              count_tests(sb, sa, gg, cb, ca)))
+        valid2, approach = sp.And(cvec[0] >= 0, cvec[1] >= 0), cvec[first] < 0
+        vexit = [sp.Piecewise((v[i], valid2), (sp.Piecewise((vr1[i], t1), (vr2[i], t2), (vr3[i], t3), (vexit[i], True)),
+                                               approach), (vexit[i], True)) for i in range(2)]
         outs2 += [cnt, vexit[0], vexit[1]]
         names2 += [f"count_{tag}", f"v0_{tag}", f"v1_{tag}"]
     out.append(ScalarKernel(
         "two_surface_resolution_2", [m00, m01, m11, *h, v0, v1], outs2, names2,
         "n = 2 closed form: M by its upper triangle, H = [[h_00, h_01], [h_10, h_11]], v = (v_0, v_1).\n"
         "Returns (count_a, v0_a, v1_a, count_b, v0_b, v1_b): counts and exit velocities of the branches\n"
-        "starting with row 0 (a) and row 1 (b). Float, uncertified (see impactsym.laws.two_surface).",
+        "starting with row 0 (a) and row 1 (b): v itself when valid, its reflections for counts 1-3,\n"
+        "H^-1 c' above. Float, uncertified (see impactsym.laws.two_surface).",
     ))
     return out
 

@@ -5,9 +5,44 @@ A generator of every combination of each kernel's extreme corners (:func:`corner
 implementations of one kernel in every language (:func:`kernel_implementations`: NumPy, plain
 Python, C); the check of every output of every implementation against the bound
 ``|f̂ − f| ≤ bound · eps · (|f| + Σ_j |x_j ∂f/∂x_j|)`` (:func:`accuracy_check`); and a seeded
-adversarial hill-climb on that ratio (:func:`adversarial_search`). Run by
+adversarial hill-climb on that ratio (:func:`adversarial_search`); random hard wedges for the
+two-surface kernels (:func:`wedge_samples`). Run by
 ``tests/test_accuracy_search.py`` and ``benchmarks/accuracy.py``. The fixed hard-case list the
 grid complements is :mod:`impactsym.hard_cases`.
+
+The criterion, output by output
+-------------------------------
+Let ``x`` be the input, ``eps = 2^-52``, ``bound = 64`` and ``N(x)`` the box of inputs ``x'`` with
+``|x'_j − x_j| ≤ bound · eps · |x_j|`` for every ``j`` (zeros stay zero).
+
+* **Continuous outputs** (every output except those in :data:`DISCONTINUOUS`): pointwise,
+  ``|f̂(x) − f(x)| ≤ bound · eps · (|f(x)| + Σ_j |x_j ∂f/∂x_j(x)|)``, with ``f`` and the
+  sensitivity computed from the emitted SymPy formula at ≥ 50 digits, precision-ladder checked
+  (:mod:`impactsym.reference_values`). A number where the exact value is NaN (a branch that does
+  not exist) and NaN where it is a number are violations. The two-surface exits are continuous
+  where their count jumps (the extra reflection acts on a component that is exactly 0 there), but
+  NaN off their branch; only where ``N(x)`` certifiably crosses a count boundary or the branch's
+  edge (a witness of ``N(x)`` whose certified count differs from the count at ``x``) the value is
+  instead held to the bound around the exact value at such a witness
+  (:func:`value_in_neighbourhood`, mixed forward-backward). Where ``N(x)`` holds one count nothing
+  is relaxed.
+* **Where the exact value is not real** (a formula's domain): the kernel must answer NaN, unless
+  the exact value is real at some input of ``N(x)`` (sampled corners of the box).
+* **Discontinuous outputs** (integer counts ``⌈ψ/β⌉``, :data:`DISCONTINUOUS`): at an input within
+  rounding of a count boundary no float evaluation is forward accurate (the count jumps under a
+  relative perturbation ``eps``: the condition number is infinite there), so the criterion is
+  mixed forward-backward: the kernel's count must be the exact count at *some* input of
+  ``N(x)``. Away from every boundary ``N(x)`` holds one count, and the kernel must return it
+  exactly. Decided with certainty (:func:`count_in_neighbourhood`): the counts compared are the
+  law's certified counts (:data:`COUNT_ORACLES`: Arb enclosures and exact tie tests) at exact
+  rational points of ``N(x)``; a count is accepted only when a certified witness in ``N(x)`` has
+  it, or it lies between the counts of witnesses joined to ``x`` by segments on which ``ψ/β`` is
+  continuous (sign conditions checked exactly along each segment), by the intermediate value
+  theorem. ``N(x)`` is componentwise in the kernel's own inputs: a right-angle wedge
+  whose ``ψ/β = 2 + 8e-17`` (``s = (1e-12, 1)``, ``g = −6e-23``, ``c = (−1, −1e-12)``, the branch
+  that starts with B) is not within rounding of the boundary: the iterate after two reflections
+  still violates B by ``1.2e-10``, against ``c_b = −1e-12`` (moving the count takes a relative
+  change of order ``1e2`` in an input, not ``eps``), and the kernel must answer 3 there.
 
 Examples
 --------
@@ -24,8 +59,9 @@ import numpy as np
 
 from .hard_cases import HardCase, _spd
 
-__all__ = ["corner_cases", "CORNER_KERNELS", "DISCONTINUOUS", "kernel_implementations", "Verdict", "accuracy_check",
-           "SearchResult", "SEARCH_DOMAIN", "adversarial_search"]
+__all__ = ["corner_cases", "CORNER_KERNELS", "DISCONTINUOUS", "COUNT_ORACLES", "count_in_neighbourhood",
+           "value_in_neighbourhood", "wedge_samples",
+           "kernel_implementations", "Verdict", "accuracy_check", "SearchResult", "SEARCH_DOMAIN", "adversarial_search"]
 
 
 # Issue 15: a fixed list never combined the corners that break a form (masses (1, 1e-12, 1) with
@@ -33,8 +69,9 @@ __all__ = ["corner_cases", "CORNER_KERNELS", "DISCONTINUOUS", "kernel_implementa
 # argument's extreme values (kernel by kernel, arguments that only make sense together, such as a
 # mass matrix or a wedge, vary as one axis); the search climbs from the worst grid points.
 
-#: outputs that are integers and jump (reflection counts): no condition number bounds their error;
-#: they are checked by :func:`count_consistent` instead of the ratio
+#: outputs that are integers and jump (reflection counts): no condition number bounds their error
+#: at a jump; each must be the certified count of some input within ``bound · eps`` (relative) of
+#: the given one (:func:`count_in_neighbourhood`), instead of the ratio
 DISCONTINUOUS = {"two_surface_reflection_count": ("count_a", "count_b"),
                  "two_surface_resolution": ("count_a", "count_b"),
                  "two_surface_resolution_2": ("count_a", "count_b")}
@@ -244,9 +281,11 @@ class Verdict:
 
     ``ratio[lang]`` is the largest error ratio (:func:`impactsym.reference_values.error_ratio`) over the
     continuous outputs (with ``screen``, an upper bound, ``|f̂ − f| / (eps |f|)``, where that bound
-    already shows the point within ``bound``); ``output[lang]`` names the output where it occurs. ``problems`` lists
+    already shows the point within ``bound``; an exit accepted by :func:`value_in_neighbourhood`
+    counts with its ratio against the witness); ``output[lang]`` names the output where it occurs. ``problems`` lists
     every violation: a ratio above the bound, a number where the exact value is not real, or a
-    reflection count that no input within ``bound · eps`` (relative) has.
+    reflection count that no input within ``bound · eps`` (relative, per input) has, certified
+    (:func:`count_in_neighbourhood`).
     """
 
     kernel: str
@@ -259,24 +298,6 @@ class Verdict:
     @property
     def worst(self) -> float:
         return max(self.ratio.values(), default=0.0)
-
-
-def _perturbed_counts(ref, inputs, idx, bound, seed=0) -> set:
-    """Reflection counts of the exact formula at inputs moved by ``± bound · eps`` relative."""
-    from .reference_values import EPS, OutsideDomain
-
-    rng = np.random.default_rng(seed)
-    names = ref.names
-    patterns = [np.ones(len(names)), -np.ones(len(names))] + [rng.choice([-1.0, 1.0], len(names)) for _ in range(8)]
-    seen = set()
-    for pat in patterns:
-        moved = {n: float(inputs[n]) * (1 + s * bound * EPS) for n, s in zip(names, pat)}
-        try:
-            vals, _ = ref.values(moved)
-        except OutsideDomain:
-            continue
-        seen |= {float(vals[i]) for i in idx}
-    return seen
 
 
 def _near_domain(ref, inputs, bound, seed=0) -> bool:
@@ -295,49 +316,311 @@ def _near_domain(ref, inputs, bound, seed=0) -> bool:
     return False
 
 
-def _count_within_rounding(ref, inputs, i, got, bound) -> bool:
-    """Whether ``got`` is ``ceil`` of a value within ``bound · eps`` (relative) of the exact
-    argument ``X`` of the output's ceiling (``ψ/β`` for a reflection count): a float kernel
-    computes ``X`` to a few ulps and no evaluation can round a ceiling better than that
-    (``X = 2 + 4e-17`` is 3 exactly and 2 in every float evaluation)."""
+def _counts_from_law(kernel: str, x: dict):
+    """``(count_a, count_b)`` of a two-surface kernel at the exact rational inputs ``x`` (name ->
+    Fraction), certified by :func:`impactsym.laws.two_surface.branch_counts` (Arb enclosures of
+    ``ψ/β`` at rising precision, exact tie tests), in the kernel's convention (0: valid, -1: the
+    branch does not exist); ``None`` where the law refuses the inputs (parallel rows, M not
+    positive definite).
+
+    The ``(s, g, c)`` kernels are the law at ``M = Γ⁻¹``, ``H = I``, ``v = c`` (then
+    ``H M⁻¹ Hᵀ = Γ`` and ``H v = c``).
+    """
+    import sympy as sp
+
+    from .errors import ImpactInputError, UndecidableSign
+    from .laws.two_surface import branch_counts
+
+    q = {k: sp.Rational(v.numerator, v.denominator) for k, v in x.items()}
+    if "s_a" in q:
+        D = q["s_a"] * q["s_b"] - q["g"] ** 2
+        if not (q["s_a"] > 0 and D > 0):
+            return None
+        M = sp.Matrix([[q["s_b"], -q["g"]], [-q["g"], q["s_a"]]]) / D
+        H, v = sp.eye(2), sp.Matrix([q["c_a"], q["c_b"]])
+    else:
+        M = sp.Matrix([[q["m_00"], q["m_01"]], [q["m_01"], q["m_11"]]])
+        H = sp.Matrix([[q["h_00"], q["h_01"]], [q["h_10"], q["h_11"]]])
+        v = sp.Matrix([q["v_0"], q["v_1"]])
+    try:
+        found = branch_counts(M, H, v)
+    except (ImpactInputError, UndecidableSign):  # refused, or a count the law cannot certify: no witness
+        return None
+    c = H * v
+    if c[0] >= 0 and c[1] >= 0:
+        return (0, 0)
+    return tuple(found.get(i, -1) for i in (0, 1))
+
+
+#: kernel -> its certified oracle of the discontinuous outputs (in :data:`DISCONTINUOUS` order)
+COUNT_ORACLES = {k: _counts_from_law for k in DISCONTINUOUS}
+
+
+def _branch_polynomials(x: dict, i: int) -> list:
+    """The quantities whose signs make the branch of count output ``i`` (0: starts with A, 1: with
+    B) exist with a proper wedge, as ``(value, sign)``: each value is a polynomial of degree ≤ 2 in
+    the inputs (so of degree ≤ 2 along a segment), ``sign`` +1 (must be > 0) or -1 (< 0). Where all
+    hold, ``ψ/β`` is continuous (``ψ = atan2(y, ·)`` with ``y = −c_first √Δ > 0``,
+    ``β = atan2(√Δ, −g)``, ``Δ > 0``)."""
+    if "s_a" in x:
+        return [(x["s_a"], 1), (x["s_a"] * x["s_b"] - x["g"] ** 2, 1), (x["c_a"] if i == 0 else x["c_b"], -1)]
+    det_h = x["h_00"] * x["h_11"] - x["h_01"] * x["h_10"]
+    row = ("h_00", "h_01") if i == 0 else ("h_10", "h_11")
+    return [(x["m_00"], 1), (x["m_00"] * x["m_11"] - x["m_01"] ** 2, 1), (det_h, 1 if det_h > 0 else -1),
+            (x[row[0]] * x["v_0"] + x[row[1]] * x["v_1"], -1)]
+
+
+def _on_branch(x: dict, i: int) -> bool:
+    return all(v * sg > 0 for v, sg in _branch_polynomials(x, i))
+
+
+def _point(x: dict, y: dict, lam) -> dict:
+    return {k: x[k] + lam * (y[k] - x[k]) for k in x}
+
+
+def _continuous_on_segment(x: dict, y: dict, i: int) -> bool:
+    """Certified (exact rationals): every quantity of :func:`_branch_polynomials` keeps its sign on
+    the whole segment ``[x, y]``. Each is a quadratic ``q(λ)`` along it, recovered exactly from three
+    values; its extreme on ``[0, 1]`` is at an end or at the vertex ``−b/(2a)``."""
+    from fractions import Fraction
+
+    half = Fraction(1, 2)
+    at = [_branch_polynomials(_point(x, y, lam), i) for lam in (Fraction(0), half, Fraction(1))]
+    for k, (_, sg) in enumerate(at[0]):
+        q0, qh, q1 = (sg * at[j][k][0] for j in range(3))
+        # q(λ) = a λ² + b λ + c from q(0), q(1/2), q(1)
+        c, a = q0, 2 * (q1 - 2 * qh + q0)
+        b = q1 - q0 - a
+        vals = [q0, q1]
+        if a > 0 and 0 < -b / (2 * a) < 1:
+            lam = -b / (2 * a)
+            vals.append(a * lam * lam + b * lam + c)
+        if min(vals) <= 0:
+            return False
+    return True
+
+
+def _last_on_branch(x: dict, y: dict, i: int, steps: int = 64):
+    """The point of ``[x, y]`` nearest ``y`` that bisection finds on the branch (``x`` on it, ``y``
+    not), exact (rounding it to floats would move ``Δ`` by about an ulp of ``s_a s_b``, as much as
+    ``Δ`` itself where the box crosses ``Δ = 0``)."""
+    from fractions import Fraction
+
+    lo, hi = Fraction(0), Fraction(1)
+    for _ in range(steps):
+        mid = (lo + hi) / 2
+        if _on_branch(_point(x, y, mid), i):
+            lo = mid
+        else:
+            hi = mid
+    return _point(x, y, lo)
+
+
+def _in_domain(x: dict) -> bool:
+    """Exact: the wedge is proper (``Δ > 0``; for the ``(M, H, v)`` kernel ``M`` positive definite
+    and ``det H ≠ 0``), where the two-surface formulas are real."""
+    return all(v * sg > 0 for v, sg in _branch_polynomials(x, 0)[:-1])
+
+
+def _witness_vertices(ref, inputs: dict, i: int, r) -> list:
+    """Vertices of the box ``|x'_j − x_j| ≤ r|x_j|`` (rounded to floats) that push each quantity the
+    discontinuous output ``i`` jumps with (the argument of each ``ceiling``, ``lhs − rhs`` of each
+    condition) down and up the most (signs of ``x_j ∂a/∂x_j`` at 60 digits, inside their own
+    precision block), plus the two diagonal vertices."""
+    from fractions import Fraction
+
     import mpmath
     import sympy as sp
 
-    from .reference_values import EPS, _mpmath_printer
+    from .reference_values import _mpmath_printer
 
-    ceilings = sorted(sp.sympify(ref.outputs[i]).atoms(sp.ceiling), key=sp.default_sort_key)
-    if len(ceilings) == 0 or math.isnan(got):
-        return False
-    xs = [mpmath.mpf(float(inputs[n])) for n in ref.names]
-    for c in ceilings:
-        f = sp.lambdify(ref.args, c.args[0], modules="mpmath", printer=_mpmath_printer())
+    expr = sp.sympify(ref.outputs[i])
+    args = [c.args[0] for c in expr.atoms(sp.ceiling)]
+    args += [rel.lhs - rel.rhs for rel in expr.atoms(sp.core.relational.Relational)]
+    names = ref.names
+    fx = {n: Fraction(float(inputs[n])) for n in names}
+    signs = [[1] * len(names), [-1] * len(names)]
+    for a in sorted(set(args), key=sp.default_sort_key):
+        f = sp.lambdify(ref.args, a, modules="mpmath", printer=_mpmath_printer())
         with mpmath.workdps(60):
-            try:
-                x = f(*xs)
-            except (ZeroDivisionError, ValueError):
-                continue
-            if isinstance(x, mpmath.mpc):
-                if x.imag != 0:
-                    continue
-                x = x.real
-            lo, hi = x - abs(x) * bound * EPS, x + abs(x) * bound * EPS
-            if int(mpmath.ceil(lo)) <= got <= int(mpmath.ceil(hi)):
-                return True
-    return False
+            h = mpmath.mpf(10) ** -30
+            xs = [mpmath.mpf(float(inputs[n])) for n in names]
+            grad = []
+            for j in range(len(names)):
+                up, dn = list(xs), list(xs)
+                up[j], dn[j] = xs[j] * (1 + h), xs[j] * (1 - h)
+                try:
+                    d = f(*up) - f(*dn)
+                    d = d.real if isinstance(d, mpmath.mpc) else d
+                    grad.append(1 if d > 0 else -1 if d < 0 else 0)
+                except (ZeroDivisionError, ValueError, TypeError, AttributeError):
+                    grad.append(0)
+        signs += [grad, [-s for s in grad]]
+    out, seen = [], set()
+    for sg in signs:
+        key = tuple(sg)
+        if key in seen:
+            continue
+        seen.add(key)
+        # rounded to floats (the reference reads floats): within (r + eps/2) |x_j| of x_j
+        out.append({n: float(fx[n] * (1 + s * r)) for n, s in zip(names, sg)})
+    return out
 
 
-def _count_attained(got: float, exact: float, seen: set) -> bool:
-    """Whether a count between the counts at the corners of the ``± bound · eps`` box is attained
-    in it: ``ceil(ψ/β)`` along a segment inside the (convex) box takes every integer between its
-    ends, so every integer in ``[min, max]`` of the counts seen is some input's count."""
-    vals = [x for x in seen | {exact} if not math.isnan(x)]
-    return not math.isnan(got) and bool(vals) and min(vals) <= got <= max(vals) and got == int(got)
+def _certified_witnesses(kernel, ref, inputs, i, bound, branch_from=None):
+    """``(point, certified counts)`` at the witness points of count output ``i`` in the box of
+    relative radius ``bound · eps``: the vertices of :func:`_witness_vertices` (radius
+    ``(bound − 1) · eps`` before rounding to floats, so that they stay in the box) and, with
+    ``branch_from`` (the exact input, on the branch), the last point on the branch towards each
+    vertex that leaves it. Points are exact Fractions (the vertices of floats; the edges not);
+    points the law refuses are left out."""
+    from fractions import Fraction
+
+    from .reference_values import EPS
+
+    oracle = COUNT_ORACLES[kernel]
+    k = list(DISCONTINUOUS[kernel]).index(_catalog_outputs(kernel)[i])
+    for vx in _witness_vertices(ref, inputs, i, Fraction(bound - 1) * Fraction(EPS)):
+        y = {n: Fraction(v) for n, v in vx.items()}
+        pts = [y]
+        if branch_from is not None and not _on_branch(y, k):  # the branch or the wedge ends in the box
+            pts.append(_last_on_branch(branch_from, y, k))
+        for pt in pts:
+            c = oracle(kernel, pt)
+            if c is not None:
+                yield pt, c
+
+
+def _branch_output_pairs(kernel: str) -> dict:
+    """Continuous output name -> the count output of its branch (``ca_a`` -> ``count_a``): outputs
+    that are NaN where their branch does not exist, and so jump at the branch's edge."""
+    counts = DISCONTINUOUS.get(kernel, ())
+    out = {}
+    for name in _catalog_outputs(kernel):
+        for c in counts:
+            if name not in counts and name.endswith("_" + c.rsplit("_", 1)[1]):
+                out[name] = c
+    return out
+
+
+def value_in_neighbourhood(kernel: str, inputs: dict, i: int, got: float, ref=None, bound: float = 64.0):
+    """The mixed criterion for a continuous output ``i`` of a branch (a two-surface exit) where the box
+    ``N(x)`` crosses a count boundary or the branch's edge: whether ``got`` is within
+    ``bound · eps · (|f| + Σ_j |y_j ∂f/∂y_j|)`` of the exact output ``f(y)`` at a witness ``y`` of
+    ``N(x)`` whose certified count differs from the count at ``inputs`` (a certified crossing;
+    where the box holds one count, nothing is relaxed); NaN where a vertex of ``N(x)`` lies off the
+    formula's domain (``Δ ≤ 0`` exactly: there the exact value is not real). Returns ``(accepted, how, ratio)``, ``ratio``
+    the error ratio against that witness.
+
+    >>> x = dict(m_00=6475250.422021984, m_01=0.006475250421957788, m_11=6.41958116266222e-05,
+    ...          h_00=-7.282075233607068e-06, h_01=5.2319443147251045e-06, h_10=34347.544377025006,
+    ...          h_11=-8053.65760667581, v_0=-0.008159842593245486, v_1=-0.011357266836951626)
+    >>> value_in_neighbourhood("two_surface_resolution_2", x, 1, float("nan"))[0]   # c_a = H_0 v cancels
+    True
+    """
+    from fractions import Fraction
+
+    from .reference_values import EPS, ReferenceUnstable, error_ratio, kernel_reference
+
+    ref = ref or kernel_reference(kernel)
+    names = _catalog_outputs(kernel)
+    pairs = _branch_output_pairs(kernel)
+    if names[i] not in pairs:
+        return False, "not an output of a branch", math.inf
+    ci = names.index(pairs[names[i]])
+    k = list(DISCONTINUOUS[kernel]).index(pairs[names[i]])
+    fx = {n: Fraction(float(inputs[n])) for n in ref.names}
+    at_x = COUNT_ORACLES[kernel](kernel, fx)
+    if at_x is None:
+        return False, "the law refuses the input", math.inf
+    if math.isnan(got):  # NaN is the answer wherever the formula is not real: a point of the box off its domain
+        for vx in _witness_vertices(ref, inputs, ci, Fraction(bound - 1) * Fraction(EPS)):
+            if not _in_domain({n: Fraction(v) for n, v in vx.items()}):
+                return True, "the exact value is not real at a point of the box (a degenerate wedge)", 0.0
+    for y, c in _certified_witnesses(kernel, ref, inputs, ci, bound, fx if _on_branch(fx, k) else None):
+        if c[k] == at_x[k]:
+            continue
+        yf = {n: float(v) for n, v in y.items()}  # the reference reads floats: the rounded point's own count
+        if Fraction(bound) * Fraction(EPS) < max(abs(Fraction(yf[n]) - fx[n]) / abs(fx[n]) for n in fx if fx[n]) or \
+                (COUNT_ORACLES[kernel](kernel, {n: Fraction(v) for n, v in yf.items()}) or at_x)[k] == at_x[k]:
+            continue
+        try:
+            ry = ref.evaluate(yf)
+        except (ReferenceUnstable, ArithmeticError):
+            continue
+        ratio = error_ratio(ry, [got if j == i else 0.0 for j in range(len(names))])[i]
+        if ratio <= bound:
+            return True, f"the exact value at a point of the box with count {c[k]} (count {at_x[k]} at the input)", ratio
+    return False, "no point of the box across a count boundary has it", math.inf
+
+
+def count_in_neighbourhood(kernel: str, inputs: dict, i: int, got: float, ref=None, bound: float = 64.0):
+    """Whether the count ``got`` of discontinuous output ``i`` is the exact count at some input
+    within ``bound · eps`` (relative, per input) of ``inputs``: the mixed forward-backward criterion
+    of a jump (see :func:`accuracy_check`). Returns ``(accepted, how)``.
+
+    Certified: the counts compared are the law's certified counts (:data:`COUNT_ORACLES`) at exact
+    rational points of the box (``inputs`` itself, then the vertices of :func:`_witness_vertices`);
+    ``got`` is accepted when one of them has that count, or when it lies between the counts of
+    points joined to ``inputs`` by segments on which the branch exists and ``ψ/β`` is continuous
+    (:func:`_continuous_on_segment`: every sign condition is a quadratic along a segment, checked
+    exactly), by the intermediate value theorem along the path through ``inputs``. Where a vertex
+    leaves the branch (``Δ`` or ``c_first`` changes sign inside the box: a nearly degenerate
+    wedge), the last point on the branch towards it (bisection) is a witness too.
+
+    Examples
+    --------
+    At ``(s_a, s_b, g, c_a, c_b) = (1, 1, -1/2, -1, -1)`` (a wedge of 60 degrees) the A-first
+    branch needs 3 reflections at every input within 64 eps. With ``g = 1/2`` (120 degrees) the
+    velocity after one reflection, ``c_b − 2 g c_a/s_a = 0``, grazes B: the count is 1 there and 2
+    at inputs as near as one ulp:
+
+    >>> count_in_neighbourhood("two_surface_reflection_count", dict(s_a=1.0, s_b=1.0, g=-0.5, c_a=-1.0, c_b=-1.0), 0, 4.0)
+    (False, 'no input within 64 eps has count 4 (counts seen: [3])')
+    >>> count_in_neighbourhood("two_surface_reflection_count", dict(s_a=1.0, s_b=1.0, g=0.5, c_a=-1.0, c_b=-1.0), 0, 2.0)
+    (True, 'the certified count at a point of the box')
+    """
+    from fractions import Fraction
+
+    from .reference_values import kernel_reference
+
+    ref = ref or kernel_reference(kernel)
+    oracle = COUNT_ORACLES[kernel]
+    k = list(DISCONTINUOUS[kernel]).index(_catalog_outputs(kernel)[i])
+    if math.isnan(got) or got != int(got):
+        return False, f"not an integer: {got}"
+    got = int(got)
+    fx = {n: Fraction(float(inputs[n])) for n in ref.names}
+    at_x = oracle(kernel, fx)
+    if at_x is not None and at_x[k] == got:
+        return True, "the certified count at the input"
+    seen = [] if at_x is None else [at_x[k]]
+    # counts of points joined to x by a segment on which psi/beta is continuous (certified)
+    joined = [at_x[k]] if at_x is not None and at_x[k] >= 1 and _on_branch(fx, k) else []
+    for y, c in _certified_witnesses(kernel, ref, inputs, i, bound, fx if joined else None):
+        if c[k] == got:
+            return True, "the certified count at a point of the box"
+        seen.append(c[k])
+        if joined and c[k] >= 1 and _continuous_on_segment(fx, y, k):
+            joined.append(c[k])
+    if got >= 1 and joined and min(joined) <= got <= max(joined):
+        return True, "between the certified counts of two points of the box joined through the input " \
+                     "by segments on which psi/beta is continuous"
+    return False, f"no input within {bound:g} eps has count {got} (counts seen: {sorted(set(seen))})"
+
+
+def _catalog_outputs(kernel: str) -> list:
+    from .bench import _catalog
+
+    return _catalog()[kernel]["outputs"]
 
 
 def accuracy_check(kernel: str, inputs: dict, impls: dict, bound: float = 64.0, ref=None,
                    screen: bool = True) -> Verdict:
     """Check every output of every implementation of ``kernel`` at ``inputs`` against the
-    ladder-checked mpmath reference: ``|f̂ − f| ≤ bound · eps · (|f| + Σ_j |x_j ∂f/∂x_j|)``.
+    ladder-checked mpmath reference: ``|f̂ − f| ≤ bound · eps · (|f| + Σ_j |x_j ∂f/∂x_j|)``; a
+    discontinuous output (a count) must be the certified count of some input within ``bound · eps``
+    (relative, per input) of ``inputs`` (the criterion is stated in the module docstring).
 
     With ``screen`` (the default), the condition numbers (``2n + 1`` reference evaluations per
     rung) are computed only where the relative error exceeds ``bound · eps``; the ratio reported
@@ -378,6 +661,7 @@ def accuracy_check(kernel: str, inputs: dict, impls: dict, bound: float = 64.0, 
     except ReferenceUnstable:
         vals, dps = None, None
     ratios: dict = {}
+    mixed: dict = {}
     full = None
     for lang, g in got.items():
         screened = None
@@ -388,7 +672,7 @@ def accuracy_check(kernel: str, inputs: dict, impls: dict, bound: float = 64.0, 
                     v, c = vals[i], g[i]
                     if mpmath.isnan(v) and math.isnan(c):
                         screened.append(0.0)
-                    elif not math.isfinite(c) or v == 0:
+                    elif not math.isfinite(c) or v == 0 or mpmath.isnan(v):
                         screened = None
                         break
                     else:
@@ -403,20 +687,94 @@ def accuracy_check(kernel: str, inputs: dict, impls: dict, bound: float = 64.0, 
             r = [er[i] for i in smooth]
         k = int(np.argmax(r)) if r else 0
         ratios[lang] = (float(r[k]) if r else 0.0, names[smooth[k]] if r else None)
-        if r and r[k] > bound:
-            problems.append(f"{lang}: {names[smooth[k]]} off by {r[k]:.3g} eps (1 + cond) > {bound:g}")
+        over = [j for j, x in enumerate(r) if not x <= bound]
+        if over and jumps:  # an exit where the box crosses a count boundary or its branch's edge
+            r = list(r)
+            for j in list(over):
+                ok, _, ratio = mixed.setdefault((smooth[j], g[smooth[j]]), value_in_neighbourhood(
+                    kernel, inputs, smooth[j], g[smooth[j]], ref, bound))
+                if ok:  # judged (and reported) against the witness
+                    r[j] = ratio
+                    over.remove(j)
+            k = int(np.argmax(r))
+            ratios[lang] = (float(r[k]), names[smooth[k]])
+        if over:
+            j = max(over, key=lambda j: r[j])
+            problems.append(f"{lang}: {names[smooth[j]]} off by {r[j]:.3g} eps (1 + cond) > {bound:g}")
     if jumps and vals is not None:
         with mpmath.workdps(dps or 50):
             exact = {i: float(vals[i]) for i in jumps}
+        decided: dict = {}
         for lang, g in got.items():
-            wrong = [i for i in jumps if not (g[i] == exact[i] or (math.isnan(g[i]) and math.isnan(exact[i])))]
-            if wrong and not all(_count_within_rounding(ref, inputs, i, g[i], bound)
-                                 or _count_attained(g[i], exact[i], _perturbed_counts(ref, inputs, [i], bound))
-                                 for i in wrong):
-                problems.append(f"{lang}: count {', '.join(names[i] for i in wrong)} is no input's within "
-                                f"{bound:g} eps: {[g[i] for i in wrong]} vs exact {[exact[i] for i in wrong]}")
+            for i in jumps:
+                if g[i] == exact[i] or (math.isnan(g[i]) and math.isnan(exact[i])):
+                    continue
+                key = (i, g[i])
+                if key not in decided:
+                    decided[key] = count_in_neighbourhood(kernel, inputs, i, g[i], ref, bound)
+                ok, how = decided[key]
+                if not ok:
+                    problems.append(f"{lang}: count {names[i]} = {g[i]:g} (exact {exact[i]:g}): {how}")
     return Verdict(kernel, dict(inputs), {k: v[0] for k, v in ratios.items()}, {k: v[1] for k, v in ratios.items()},
                    problems)
+
+
+def wedge_samples(kernel: str, n: int, seed: int = 0):
+    """Random inputs of a two-surface kernel where its float angles are hardest: wedge openings
+    ``β`` near ``π/2``, ``π/3 … π/8``, ``π`` and down to ``1e-9``, velocity angles ``ψ`` near ``π``,
+    ``π/2`` and multiples of ``β`` (count boundaries), scales ``1e-12 … 1e12`` (a generator of
+    input dicts; the corner grid fixes a few of each, the search climbs from those).
+
+    >>> xs = list(wedge_samples("two_surface_resolution", 3, seed=1))
+    >>> len(xs), sorted(xs[0])
+    (3, ['c_a', 'c_b', 'g', 's_a', 's_b'])
+    """
+    rng = np.random.default_rng(seed)
+    pi = math.pi
+
+    def tiny():
+        return float(rng.choice([-1, 1])) * 10.0 ** -rng.uniform(3, 17)
+
+    made = 0
+    while made < n:
+        kind = rng.integers(4)
+        beta = (pi / 2 * (1 + tiny()) if kind == 0 else pi / int(rng.integers(3, 9)) * (1 + tiny()) if kind == 1
+                else pi * (1 - 10.0 ** -rng.uniform(1, 12)) if kind == 2 else 10.0 ** -rng.uniform(0, 9))
+        if kernel != "two_surface_resolution_2":
+            pk = rng.integers(4)
+            if pk == 0:
+                psi = pi * (1 - 10.0 ** -rng.uniform(1, 16))
+            elif pk == 1:
+                psi = pi / 2 * (1 + tiny())
+            elif pk == 2:
+                j = int(rng.integers(1, max(2, min(50, int(pi / beta)) + 1)))
+                psi = min(j * beta * (1 + tiny()), pi * (1 - 1e-16))
+            else:
+                psi = rng.uniform(0, pi)
+            sa, sb = 10.0 ** rng.uniform(-12, 12), 10.0 ** rng.uniform(-12, 12)
+            r = 10.0 ** rng.uniform(-6, 6)
+            g, ca, cb = -math.cos(beta) * math.sqrt(sa * sb), -math.sqrt(sa) * r * math.sin(psi), \
+                math.sqrt(sb) * r * math.sin(beta + psi)
+            if rng.integers(2):
+                sa, sb, ca, cb = sb, sa, cb, ca
+            x = dict(s_a=sa, s_b=sb, g=g, c_a=ca, c_b=cb)
+        else:
+            a, b = 10.0 ** rng.uniform(-12, 12, size=2)
+            rot = float(rng.choice([0.0, rng.uniform(0, pi), 1e-9]))
+            R = np.array([[math.cos(rot), -math.sin(rot)], [math.sin(rot), math.cos(rot)]])
+            M = np.diag([a, b]) if rng.integers(3) == 0 else R @ np.diag([a, b]) @ R.T
+            phi = rng.uniform(0, 2 * pi)
+            sc = 10.0 ** rng.uniform(-6, 6, size=2)
+            th = float(rng.choice([rng.uniform(0, 2 * pi), phi + pi / 2 * (1 + tiny()), phi + beta + tiny(),
+                                   phi + pi + tiny()]))
+            sp_ = 10.0 ** rng.uniform(-6, 6)
+            x = dict(m_00=M[0, 0], m_01=(M[0, 1] + M[1, 0]) / 2, m_11=M[1, 1], h_00=sc[0] * math.cos(phi),
+                     h_01=sc[0] * math.sin(phi), h_10=-sc[1] * math.cos(phi + beta), h_11=-sc[1] * math.sin(phi + beta),
+                     v_0=sp_ * math.cos(th), v_1=sp_ * math.sin(th))
+        x = {k: float(v) for k, v in x.items()}
+        if _in_search_domain(kernel, x):
+            made += 1
+            yield x
 
 
 @dataclass

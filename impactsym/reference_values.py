@@ -264,7 +264,8 @@ def error_ratio(ref: ReferenceValue, computed: Sequence[float]) -> list[float]:
     """``|f̂_i − f_i| / (eps · (|f_i| + Σ_j |x_j ∂f_i/∂x_j|))`` per component: the error in units of
     what a backward-stable evaluation may commit (≈ ``rel_err / (eps · (1 + κ_i))``).
 
-    A non-finite computed value gives ``inf``.
+    A non-finite computed value gives ``inf``, and so does a number where the exact value is NaN
+    (a branch that does not exist).
     """
     out = []
     with mpmath.workdps(ref.dps):
@@ -273,7 +274,7 @@ def error_ratio(ref: ReferenceValue, computed: Sequence[float]) -> list[float]:
             if mpmath.isnan(v) and np.isnan(c):  # "no such branch" (NaN) in both
                 out.append(0.0)
                 continue
-            if not np.isfinite(c):
+            if not np.isfinite(c) or mpmath.isnan(v):  # NaN against a number, either way round
                 out.append(float("inf"))
                 continue
             d = abs(mpmath.mpf(c) - v)

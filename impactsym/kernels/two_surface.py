@@ -28,16 +28,28 @@ from ..kernel_dispatch import _chunked, _large, _scalars
 
 def _two_surface_reflection_count_python(s_a, s_b, g, c_a, c_b):
     x0 = (c_a >= 0) and (c_b >= 0)
-    x1 = math.sqrt(-g**2 + s_a*s_b)
-    x2 = 1/math.atan2(x1, -g)
-    return (float(((0) if x0 else (math.ceil(x2*math.atan2(-c_a*x1, -c_a*g + c_b*s_a))) if (c_a < 0) else (-1))), float(((0) if x0 else (math.ceil(x2*math.atan2(-c_b*x1, c_a*s_b - c_b*g))) if (c_b < 0) else (-1))))
+    x1 = c_a*g
+    x2 = 2/s_a
+    x3 = -c_b + x1*x2
+    x4 = 2/s_b
+    x5 = g*x4
+    x6 = c_a - x3*x5
+    x7 = g*x2
+    x8 = math.sqrt(-g**2 + s_a*s_b)
+    x9 = 1/math.atan2(x8, -g)
+    x10 = c_b*g
+    x11 = x10*x4
+    x12 = c_a - x11
+    x13 = c_b + x12*x7
+    return (float(((0) if x0 else (((1) if (x3 <= 0) else (2) if (x6 <= 0) else (3) if (x3 + x6*x7 >= 0) else (math.ceil(x9*math.atan2(-c_a*x8, c_b*s_a - x1))))) if (c_a < 0) else (-1))), float(((0) if x0 else (((1) if (x12 >= 0) else (2) if (x13 <= 0) else (3) if (-c_a + x11 + x13*x5 >= 0) else (math.ceil(x9*math.atan2(-c_b*x8, c_a*s_b - x10))))) if (c_b < 0) else (-1))))
 
 
 def two_surface_reflection_count(s_a, s_b, g, c_a, c_b):
     """Reflection counts (count_a, count_b) of the branches that start with surface A, B
     (Seghete & Murphey sec. III-B/C): ceil(psi/beta), psi = atan2(-c_i sqrt(Delta), s_i c_j - g c_i),
-    beta = atan2(sqrt(Delta), -g), Delta = s_a s_b - g^2; 0 when c >= 0 (valid), -1 when the branch
-    does not exist. Float arithmetic, uncertified: impactsym.laws.two_surface certifies the count.
+    beta = atan2(sqrt(Delta), -g), Delta = s_a s_b - g^2; counts 1, 2, 3 from the signs of the
+    iterates themselves (rational in s, g, c), equal to the ceiling; 0 when c >= 0 (valid), -1 when
+    the branch does not exist. Float arithmetic, uncertified: impactsym.laws.two_surface certifies.
     """
     if _scalars(s_a, s_b, g, c_a, c_b):  # plain Python: ~40-300x faster than NumPy on one point
         try:
@@ -52,64 +64,85 @@ def two_surface_reflection_count(s_a, s_b, g, c_a, c_b):
     c_a = numpy.asarray(c_a, dtype=float)
     c_b = numpy.asarray(c_b, dtype=float)
     x0 = numpy.logical_and.reduce((numpy.greater_equal(c_a, 0),numpy.greater_equal(c_b, 0)))
-    x1 = numpy.sqrt(-g**2 + s_a*s_b)
-    x2 = numpy.arctan2(x1, -g)**(-1.0)
-    count_a = numpy.select([x0,numpy.less(c_a, 0),True], [0,numpy.ceil(x2*numpy.arctan2(-c_a*x1, -c_a*g + c_b*s_a)),-1], default=numpy.nan)
-    count_b = numpy.select([x0,numpy.less(c_b, 0),True], [0,numpy.ceil(x2*numpy.arctan2(-c_b*x1, c_a*s_b - c_b*g)),-1], default=numpy.nan)
+    x1 = c_a*g
+    x2 = 2/s_a
+    x3 = -c_b + x1*x2
+    x4 = 2/s_b
+    x5 = g*x4
+    x6 = c_a - x3*x5
+    x7 = g*x2
+    x8 = numpy.sqrt(-g**2 + s_a*s_b)
+    x9 = numpy.arctan2(x8, -g)**(-1.0)
+    x10 = c_b*g
+    x11 = x10*x4
+    x12 = c_a - x11
+    x13 = c_b + x12*x7
+    count_a = numpy.select([x0,numpy.less(c_a, 0),True], [0,numpy.select([numpy.less_equal(x3, 0),numpy.less_equal(x6, 0),numpy.greater_equal(x3 + x6*x7, 0),True], [1,2,3,numpy.ceil(x9*numpy.arctan2(-c_a*x8, c_b*s_a - x1))], default=numpy.nan),-1], default=numpy.nan)
+    count_b = numpy.select([x0,numpy.less(c_b, 0),True], [0,numpy.select([numpy.greater_equal(x12, 0),numpy.less_equal(x13, 0),numpy.greater_equal(-c_a + x11 + x13*x5, 0),True], [1,2,3,numpy.ceil(x9*numpy.arctan2(-c_b*x8, c_a*s_b - x10))], default=numpy.nan),-1], default=numpy.nan)
     return (count_a, count_b)
 
 
 def _two_surface_resolution_python(s_a, s_b, g, c_a, c_b):
     x0 = (c_a >= 0) and (c_b >= 0)
-    x1 = math.sqrt(-g**2 + s_a*s_b)
-    x2 = math.atan2(x1, -g)
-    x3 = 1/x2
-    x4 = c_a*g
-    x5 = math.atan2(-c_a*x1, c_b*s_a - x4)
-    x6 = math.ceil(x3*x5)
-    x7 = (c_a < 0)
-    x8 = (x6 == 1)
-    x9 = 1/s_b
-    x10 = -c_b
-    x11 = 1/s_a
-    x12 = 2*x4
-    x13 = x10 + x11*x12
-    x14 = (x6 == 2)
-    x15 = math.sqrt(c_a**2*s_b + c_b**2*s_a - c_b*x12)/x1
-    x16 = math.sqrt(s_a)*x15
-    x17 = x2*(x6 - 1) - x5
-    x18 = -math.sin(x17)
-    x19 = ((x6 % 2) == 1)
-    x20 = (1/2)*x2
-    x21 = (x5 <= x20*(2*x6 - 1))
-    x22 = x19 and x21
-    x23 = -x2*x6 + x5
-    x24 = math.sin(x2 - (-x23))
-    x25 = math.sin(x2 - (-x17))
-    x26 = -math.sin(x23)
-    x27 = math.sqrt(s_b)*x15
-    x28 = c_b*g
-    x29 = math.atan2(-c_b*x1, c_a*s_b - x28)
-    x30 = math.ceil(x29*x3)
-    x31 = (c_b < 0)
-    x32 = c_a - 2*x28*x9
-    x33 = (x30 == 1)
-    x34 = (x30 == 2)
-    x35 = x2*(x30 - 1) - x29
-    x36 = math.sin(x2 - (-x35))
-    x37 = ((x30 % 2) == 1)
-    x38 = (x29 <= x20*(2*x30 - 1))
-    x39 = x37 and x38
-    x40 = -x2*x30 + x29
-    x41 = -math.sin(x40)
-    x42 = -math.sin(x35)
-    x43 = math.sin(x2 - (-x40))
-    return (float(((0) if x0 else (x6) if x7 else (-1))), float(((c_a) if x0 else (((-c_a) if x8 else (-c_a + 2*g*x13*x9) if x14 else (x16*((x18) if x22 else (x24) if x19 else (x25) if x21 else (x26))))) if x7 else (math.nan))), float(((c_b) if x0 else (((-x13) if x8 else (x13) if x14 else (x27*((x25) if x22 else (x26) if x19 else (x18) if x21 else (x24))))) if x7 else (math.nan))), float(((0) if x0 else (x30) if x31 else (-1))), float(((c_a) if x0 else (((x32) if x33 else (-x32) if x34 else (x16*((x36) if x39 else (x41) if x37 else (x42) if x38 else (x43))))) if x31 else (math.nan))), float(((c_b) if x0 else (((x10) if x33 else (-c_b - 2*g*x11*x32) if x34 else (x27*((x42) if x39 else (x43) if x37 else (x36) if x38 else (x41))))) if x31 else (math.nan))))
+    x1 = -c_b
+    x2 = c_a*g
+    x3 = 2/s_a
+    x4 = x1 + x2*x3
+    x5 = (x4 <= 0)
+    x6 = 2/s_b
+    x7 = g*x6
+    x8 = c_a - x4*x7
+    x9 = (x8 <= 0)
+    x10 = g*x3
+    x11 = (x10*x8 + x4 >= 0)
+    x12 = math.sqrt(-g**2 + s_a*s_b)
+    x13 = math.atan2(x12, -g)
+    x14 = 1/x13
+    x15 = math.atan2(-c_a*x12, c_b*s_a - x2)
+    x16 = math.ceil(x14*x15)
+    x17 = (c_a < 0)
+    x18 = -c_a
+    x19 = math.sqrt(c_a**2*s_b + c_b**2*s_a - 2*c_b*x2)/x12
+    x20 = math.sqrt(s_a)*x19
+    x21 = x13*(x16 - 1) - x15
+    x22 = -math.sin(x21)
+    x23 = ((x16 % 2) == 1)
+    x24 = (1/2)*x13
+    x25 = (x15 <= x24*(2*x16 - 1))
+    x26 = x23 and x25
+    x27 = -x13*x16 + x15
+    x28 = math.sin(x13 - (-x27))
+    x29 = math.sin(x13 - (-x21))
+    x30 = -math.sin(x27)
+    x31 = -x4
+    x32 = math.sqrt(s_b)*x19
+    x33 = c_b*g
+    x34 = x33*x6
+    x35 = c_a - x34
+    x36 = (x35 >= 0)
+    x37 = c_b + x10*x35
+    x38 = (x37 <= 0)
+    x39 = x18 + x34 + x37*x7
+    x40 = (x39 >= 0)
+    x41 = math.atan2(-c_b*x12, c_a*s_b - x33)
+    x42 = math.ceil(x14*x41)
+    x43 = (c_b < 0)
+    x44 = x13*(x42 - 1) - x41
+    x45 = math.sin(x13 - (-x44))
+    x46 = ((x42 % 2) == 1)
+    x47 = (x41 <= x24*(2*x42 - 1))
+    x48 = x46 and x47
+    x49 = -x13*x42 + x41
+    x50 = -math.sin(x49)
+    x51 = -math.sin(x44)
+    x52 = math.sin(x13 - (-x49))
+    return (float(((0) if x0 else (((1) if x5 else (2) if x9 else (3) if x11 else (x16))) if x17 else (-1))), float(((c_a) if x0 else (((x18) if x5 else (-x8) if x9 else (x8) if x11 else (x20*((x22) if x26 else (x28) if x23 else (x29) if x25 else (x30))))) if x17 else (math.nan))), float(((c_b) if x0 else (((x31) if x5 else (x4) if x9 else (x10*(c_a + x31*x7) + x4) if x11 else (x32*((x29) if x26 else (x30) if x23 else (x22) if x25 else (x28))))) if x17 else (math.nan))), float(((0) if x0 else (((1) if x36 else (2) if x38 else (3) if x40 else (x42))) if x43 else (-1))), float(((c_a) if x0 else (((x35) if x36 else (-x35) if x38 else (x39) if x40 else (x20*((x45) if x48 else (x50) if x46 else (x51) if x47 else (x52))))) if x43 else (math.nan))), float(((c_b) if x0 else (((x1) if x36 else (-x37) if x38 else (x37) if x40 else (x32*((x51) if x48 else (x52) if x46 else (x45) if x47 else (x50))))) if x43 else (math.nan))))
 
 
 def two_surface_resolution(s_a, s_b, g, c_a, c_b):
     """Counts and exit relative velocities (H v+) of both branches: (count_a, ca_a, cb_a,
-    count_b, ca_b, cb_b). c' = (sqrt(s_a)|p| sin th, sqrt(s_b)|p| sin(beta - th)),
+    count_b, ca_b, cb_b). After 1-3 reflections the reflections themselves (rational);
+    above, c' = (sqrt(s_a)|p| sin th, sqrt(s_b)|p| sin(beta - th)),
     th = sigma (m beta - psi) + (1 - sigma) beta / 2, sigma = (-1)^m (A-first frame).
     Float: the angle error grows like m * eps; the law gives certified values.
     """
@@ -126,55 +159,64 @@ def two_surface_resolution(s_a, s_b, g, c_a, c_b):
     c_a = numpy.asarray(c_a, dtype=float)
     c_b = numpy.asarray(c_b, dtype=float)
     x0 = numpy.logical_and.reduce((numpy.greater_equal(c_a, 0),numpy.greater_equal(c_b, 0)))
-    x1 = numpy.sqrt(-g**2 + s_a*s_b)
-    x2 = numpy.arctan2(x1, -g)
-    x3 = x2**(-1.0)
-    x4 = c_a*g
-    x5 = numpy.arctan2(-c_a*x1, c_b*s_a - x4)
-    x6 = numpy.ceil(x3*x5)
-    x7 = numpy.less(c_a, 0)
-    x8 = numpy.equal(x6, 1)
-    x9 = s_b**(-1.0)
-    x10 = -c_b
-    x11 = s_a**(-1.0)
-    x12 = 2*x4
-    x13 = x10 + x11*x12
-    x14 = numpy.equal(x6, 2)
-    x15 = numpy.sqrt(c_a**2*s_b + c_b**2*s_a - c_b*x12)/x1
-    x16 = numpy.sqrt(s_a)*x15
-    x17 = x2*(x6 - 1) - x5
-    x18 = -numpy.sin(x17)
-    x19 = numpy.equal(numpy.mod(x6, 2), 1)
-    x20 = (1/2)*x2
-    x21 = numpy.less_equal(x5, x20*(2*x6 - 1))
-    x22 = numpy.logical_and.reduce((x19,x21))
-    x23 = -x2*x6 + x5
-    x24 = numpy.sin(x2 - (-x23))
-    x25 = numpy.sin(x2 - (-x17))
-    x26 = -numpy.sin(x23)
-    x27 = numpy.sqrt(s_b)*x15
-    x28 = c_b*g
-    x29 = numpy.arctan2(-c_b*x1, c_a*s_b - x28)
-    x30 = numpy.ceil(x29*x3)
-    x31 = numpy.less(c_b, 0)
-    x32 = c_a - 2*x28*x9
-    x33 = numpy.equal(x30, 1)
-    x34 = numpy.equal(x30, 2)
-    x35 = x2*(x30 - 1) - x29
-    x36 = numpy.sin(x2 - (-x35))
-    x37 = numpy.equal(numpy.mod(x30, 2), 1)
-    x38 = numpy.less_equal(x29, x20*(2*x30 - 1))
-    x39 = numpy.logical_and.reduce((x37,x38))
-    x40 = -x2*x30 + x29
-    x41 = -numpy.sin(x40)
-    x42 = -numpy.sin(x35)
-    x43 = numpy.sin(x2 - (-x40))
-    count_a = numpy.select([x0,x7,True], [0,x6,-1], default=numpy.nan)
-    ca_a = numpy.select([x0,x7,True], [c_a,numpy.select([x8,x14,True], [-c_a,-c_a + 2*g*x13*x9,x16*numpy.select([x22,x19,x21,True], [x18,x24,x25,x26], default=numpy.nan)], default=numpy.nan),numpy.nan], default=numpy.nan)
-    cb_a = numpy.select([x0,x7,True], [c_b,numpy.select([x8,x14,True], [-x13,x13,x27*numpy.select([x22,x19,x21,True], [x25,x26,x18,x24], default=numpy.nan)], default=numpy.nan),numpy.nan], default=numpy.nan)
-    count_b = numpy.select([x0,x31,True], [0,x30,-1], default=numpy.nan)
-    ca_b = numpy.select([x0,x31,True], [c_a,numpy.select([x33,x34,True], [x32,-x32,x16*numpy.select([x39,x37,x38,True], [x36,x41,x42,x43], default=numpy.nan)], default=numpy.nan),numpy.nan], default=numpy.nan)
-    cb_b = numpy.select([x0,x31,True], [c_b,numpy.select([x33,x34,True], [x10,-c_b - 2*g*x11*x32,x27*numpy.select([x39,x37,x38,True], [x42,x43,x36,x41], default=numpy.nan)], default=numpy.nan),numpy.nan], default=numpy.nan)
+    x1 = -c_b
+    x2 = c_a*g
+    x3 = 2/s_a
+    x4 = x1 + x2*x3
+    x5 = numpy.less_equal(x4, 0)
+    x6 = 2/s_b
+    x7 = g*x6
+    x8 = c_a - x4*x7
+    x9 = numpy.less_equal(x8, 0)
+    x10 = g*x3
+    x11 = numpy.greater_equal(x10*x8 + x4, 0)
+    x12 = numpy.sqrt(-g**2 + s_a*s_b)
+    x13 = numpy.arctan2(x12, -g)
+    x14 = x13**(-1.0)
+    x15 = numpy.arctan2(-c_a*x12, c_b*s_a - x2)
+    x16 = numpy.ceil(x14*x15)
+    x17 = numpy.less(c_a, 0)
+    x18 = -c_a
+    x19 = numpy.sqrt(c_a**2*s_b + c_b**2*s_a - 2*c_b*x2)/x12
+    x20 = numpy.sqrt(s_a)*x19
+    x21 = x13*(x16 - 1) - x15
+    x22 = -numpy.sin(x21)
+    x23 = numpy.equal(numpy.mod(x16, 2), 1)
+    x24 = (1/2)*x13
+    x25 = numpy.less_equal(x15, x24*(2*x16 - 1))
+    x26 = numpy.logical_and.reduce((x23,x25))
+    x27 = -x13*x16 + x15
+    x28 = numpy.sin(x13 - (-x27))
+    x29 = numpy.sin(x13 - (-x21))
+    x30 = -numpy.sin(x27)
+    x31 = -x4
+    x32 = numpy.sqrt(s_b)*x19
+    x33 = c_b*g
+    x34 = x33*x6
+    x35 = c_a - x34
+    x36 = numpy.greater_equal(x35, 0)
+    x37 = c_b + x10*x35
+    x38 = numpy.less_equal(x37, 0)
+    x39 = x18 + x34 + x37*x7
+    x40 = numpy.greater_equal(x39, 0)
+    x41 = numpy.arctan2(-c_b*x12, c_a*s_b - x33)
+    x42 = numpy.ceil(x14*x41)
+    x43 = numpy.less(c_b, 0)
+    x44 = x13*(x42 - 1) - x41
+    x45 = numpy.sin(x13 - (-x44))
+    x46 = numpy.equal(numpy.mod(x42, 2), 1)
+    x47 = numpy.less_equal(x41, x24*(2*x42 - 1))
+    x48 = numpy.logical_and.reduce((x46,x47))
+    x49 = -x13*x42 + x41
+    x50 = -numpy.sin(x49)
+    x51 = -numpy.sin(x44)
+    x52 = numpy.sin(x13 - (-x49))
+    count_a = numpy.select([x0,x17,True], [0,numpy.select([x5,x9,x11,True], [1,2,3,x16], default=numpy.nan),-1], default=numpy.nan)
+    ca_a = numpy.select([x0,x17,True], [c_a,numpy.select([x5,x9,x11,True], [x18,-x8,x8,x20*numpy.select([x26,x23,x25,True], [x22,x28,x29,x30], default=numpy.nan)], default=numpy.nan),numpy.nan], default=numpy.nan)
+    cb_a = numpy.select([x0,x17,True], [c_b,numpy.select([x5,x9,x11,True], [x31,x4,x10*(c_a + x31*x7) + x4,x32*numpy.select([x26,x23,x25,True], [x29,x30,x22,x28], default=numpy.nan)], default=numpy.nan),numpy.nan], default=numpy.nan)
+    count_b = numpy.select([x0,x43,True], [0,numpy.select([x36,x38,x40,True], [1,2,3,x42], default=numpy.nan),-1], default=numpy.nan)
+    ca_b = numpy.select([x0,x43,True], [c_a,numpy.select([x36,x38,x40,True], [x35,-x35,x39,x20*numpy.select([x48,x46,x47,True], [x45,x50,x51,x52], default=numpy.nan)], default=numpy.nan),numpy.nan], default=numpy.nan)
+    cb_b = numpy.select([x0,x43,True], [c_b,numpy.select([x36,x38,x40,True], [x1,-x37,x37,x32*numpy.select([x48,x46,x47,True], [x51,x52,x45,x50], default=numpy.nan)], default=numpy.nan),numpy.nan], default=numpy.nan)
     return (count_a, ca_a, cb_a, count_b, ca_b, cb_b)
 
 
@@ -204,71 +246,103 @@ def _two_surface_resolution_2_python(m_00, m_01, m_11, h_00, h_01, h_10, h_11, v
     x0 = h_00*v_0 + h_01*v_1
     x1 = h_10*v_0 + h_11*v_1
     x2 = (x0 >= 0) and (x1 >= 0)
-    x3 = h_00*h_11 - h_01*h_10
-    x4 = 1/(m_00*m_11 - m_01**2)
-    x5 = math.sqrt(x4)
-    x6 = x5*abs(x3)
+    x3 = h_00*m_11 - h_01*m_01
+    x4 = h_00*m_01 - h_01*m_00
+    x5 = h_00*x3 - h_01*x4
+    x6 = 1/x5
     x7 = h_10*m_11 - h_11*m_01
     x8 = h_10*m_01 - h_11*m_00
     x9 = h_00*x7 - h_01*x8
-    x10 = math.atan2(x6, -x4*x9)
-    x11 = 1/x10
-    x12 = h_00*m_01 - h_01*m_00
-    x13 = h_00*m_11 - h_01*m_01
-    x14 = x3*x4
-    x15 = math.atan2(-x0*x6, x14*(v_0*x12 + v_1*x13))
-    x16 = math.ceil(x11*x15)
-    x17 = (x0 < 0)
-    x18 = 1/x3
-    x19 = h_00*x13 - h_01*x12
-    x20 = 2*x9
-    x21 = x20/x19
-    x22 = -x0*x21 + x1
-    x23 = (x16 == 1)
-    x24 = (x16 == 2)
-    x25 = h_10*x7 - h_11*x8
-    x26 = math.sqrt(x4*(v_0*(m_00*v_0 + m_01*v_1) + v_1*(m_01*v_0 + m_11*v_1)))/x5
-    x27 = x26*math.sqrt(x25*x4)
-    x28 = -x15
-    x29 = x10*(x16 - 1) + x28
-    x30 = math.sin(x10 - (-x29))
-    x31 = ((x16 % 2) == 1)
-    x32 = (1/2)*x10
-    x33 = (x15 <= x32*(2*x16 - 1))
-    x34 = x31 and x33
-    x35 = x10*x16 + x28
-    x36 = math.sin(x35)
-    x37 = -math.sin(x29)
-    x38 = math.sin(x10 - x35)
-    x39 = ((x1) if x2 else (((x22) if x23 else (-x22) if x24 else (x27*((x30) if x34 else (x36) if x31 else (x37) if x33 else (x38))))) if x17 else (math.nan))
-    x40 = x20/x25
-    x41 = x26*math.sqrt(x19*x4)
-    x42 = ((x0) if x2 else (((-x0) if x23 else (-x0 - x22*x40) if x24 else (x41*((x37) if x34 else (x38) if x31 else (x30) if x33 else (x36))))) if x17 else (math.nan))
-    x43 = math.atan2(-x1*x6, -x14*(v_0*x8 + v_1*x7))
-    x44 = math.ceil(x11*x43)
-    x45 = (x1 < 0)
-    x46 = x0 - x1*x40
-    x47 = (x44 == 1)
-    x48 = (x44 == 2)
-    x49 = -x43
-    x50 = x10*(x44 - 1) + x49
-    x51 = math.sin(x10 - (-x50))
-    x52 = ((x44 % 2) == 1)
-    x53 = (x43 <= x32*(2*x44 - 1))
-    x54 = x52 and x53
-    x55 = x10*x44 + x49
-    x56 = math.sin(x55)
-    x57 = -math.sin(x50)
-    x58 = math.sin(x10 - x55)
-    x59 = ((x0) if x2 else (((x46) if x47 else (-x46) if x48 else (x41*((x51) if x54 else (x56) if x52 else (x57) if x53 else (x58))))) if x45 else (math.nan))
-    x60 = ((x1) if x2 else (((-x1) if x47 else (-x1 - x21*x46) if x48 else (x27*((x57) if x54 else (x58) if x52 else (x51) if x53 else (x56))))) if x45 else (math.nan))
-    return (float(((0) if x2 else (x16) if x17 else (-1))), float(x18*(-h_01*x39 + h_11*x42)), float(x18*(h_00*x39 - h_10*x42)), float(((0) if x2 else (x44) if x45 else (-1))), float(x18*(-h_01*x60 + h_11*x59)), float(x18*(h_00*x60 - h_10*x59)))
+    x10 = 2*x9
+    x11 = x10*x6
+    x12 = -x0*x11 + x1
+    x13 = (x12 >= 0)
+    x14 = h_10*x7 - h_11*x8
+    x15 = 1/x14
+    x16 = x12*x15
+    x17 = x0 + x10*x16
+    x18 = (x17 <= 0)
+    x19 = -x11*x17 + x12
+    x20 = (x19 <= 0)
+    x21 = h_00*h_11 - h_01*h_10
+    x22 = 1/(m_00*m_11 - m_01**2)
+    x23 = math.sqrt(x22)
+    x24 = x23*abs(x21)
+    x25 = math.atan2(x24, -x22*x9)
+    x26 = 1/x25
+    x27 = x21*x22
+    x28 = math.atan2(-x0*x24, x27*(v_0*x4 + v_1*x3))
+    x29 = math.ceil(x26*x28)
+    x30 = (x0 < 0)
+    x31 = 2*x6
+    x32 = x3*x31
+    x33 = x0*x32
+    x34 = v_0 - x33
+    x35 = -v_0
+    x36 = 2*x16
+    x37 = x36*x7
+    x38 = 1/x21
+    x39 = math.sqrt(x22*(v_0*(m_00*v_0 + m_01*v_1) + v_1*(m_01*v_0 + m_11*v_1)))/x23
+    x40 = x39*math.sqrt(x22*x5)
+    x41 = -x28
+    x42 = x25*(x29 - 1) + x41
+    x43 = -math.sin(x42)
+    x44 = ((x29 % 2) == 1)
+    x45 = (1/2)*x25
+    x46 = (x28 <= x45*(2*x29 - 1))
+    x47 = x44 and x46
+    x48 = x25*x29 + x41
+    x49 = math.sin(x25 - x48)
+    x50 = math.sin(x25 - (-x42))
+    x51 = math.sin(x48)
+    x52 = ((x0) if x2 else (((-x0) if x13 else (-x17) if x18 else (x17) if x20 else (x40*((x43) if x47 else (x49) if x44 else (x50) if x46 else (x51))))) if x30 else (math.nan))
+    x53 = x39*math.sqrt(x14*x22)
+    x54 = ((x1) if x2 else (((x12) if x13 else (-x12) if x18 else (-x19) if x20 else (x53*((x50) if x47 else (x51) if x44 else (x43) if x46 else (x49))))) if x30 else (math.nan))
+    x55 = x38*(-h_01*x54 + h_11*x52)
+    x56 = x31*x4
+    x57 = v_1 + x0*x56
+    x58 = x36*x8 + x57
+    x59 = x38*(h_00*x54 - h_10*x52)
+    x60 = x10*x15
+    x61 = x0 - x1*x60
+    x62 = (x61 >= 0)
+    x63 = x1 + x11*x61
+    x64 = (x63 <= 0)
+    x65 = -x60*x63 + x61
+    x66 = (x65 <= 0)
+    x67 = math.atan2(-x1*x24, -x27*(v_0*x8 + v_1*x7))
+    x68 = math.ceil(x26*x67)
+    x69 = (x1 < 0)
+    x70 = 2*x15
+    x71 = x7*x70
+    x72 = x1*x71
+    x73 = v_0 - x72
+    x74 = x32*x61
+    x75 = -x67
+    x76 = x25*(x68 - 1) + x75
+    x77 = -math.sin(x76)
+    x78 = ((x68 % 2) == 1)
+    x79 = (x67 <= x45*(2*x68 - 1))
+    x80 = x78 and x79
+    x81 = x25*x68 + x75
+    x82 = math.sin(x25 - x81)
+    x83 = math.sin(x25 - (-x76))
+    x84 = math.sin(x81)
+    x85 = ((x1) if x2 else (((-x1) if x62 else (-x63) if x64 else (x63) if x66 else (x53*((x77) if x80 else (x82) if x78 else (x83) if x79 else (x84))))) if x69 else (math.nan))
+    x86 = ((x0) if x2 else (((x61) if x62 else (-x61) if x64 else (-x65) if x66 else (x40*((x83) if x80 else (x84) if x78 else (x77) if x79 else (x82))))) if x69 else (math.nan))
+    x87 = x38*(-h_01*x85 + h_11*x86)
+    x88 = x70*x8
+    x89 = v_1 + x1*x88
+    x90 = x56*x61 + x89
+    x91 = x38*(h_00*x85 - h_10*x86)
+    return (float(((0) if x2 else (((1) if x13 else (2) if x18 else (3) if x20 else (x29))) if x30 else (-1))), float(((v_0) if x2 else (((x34) if x13 else (-x33 - x35 - x37) if x18 else (x17*x32 + x34 - x37) if x20 else (x55))) if x30 else (x55))), float(((v_1) if x2 else (((x57) if x13 else (x58) if x18 else (-x17*x56 + x58) if x20 else (x59))) if x30 else (x59))), float(((0) if x2 else (((1) if x62 else (2) if x64 else (3) if x66 else (x68))) if x69 else (-1))), float(((v_0) if x2 else (((x73) if x62 else (-x35 - x72 - x74) if x64 else (x63*x71 + x73 - x74) if x66 else (x87))) if x69 else (x87))), float(((v_1) if x2 else (((x89) if x62 else (x90) if x64 else (-x63*x88 + x90) if x66 else (x91))) if x69 else (x91))))
 
 
 def two_surface_resolution_2(m_00, m_01, m_11, h_00, h_01, h_10, h_11, v_0, v_1):
     """n = 2 closed form: M by its upper triangle, H = [[h_00, h_01], [h_10, h_11]], v = (v_0, v_1).
     Returns (count_a, v0_a, v1_a, count_b, v0_b, v1_b): counts and exit velocities of the branches
-    starting with row 0 (a) and row 1 (b). Float, uncertified (see impactsym.laws.two_surface).
+    starting with row 0 (a) and row 1 (b): v itself when valid, its reflections for counts 1-3,
+    H^-1 c' above. Float, uncertified (see impactsym.laws.two_surface).
     """
     if _scalars(m_00, m_01, m_11, h_00, h_01, h_10, h_11, v_0, v_1):  # plain Python: ~40-300x faster than NumPy on one point
         try:
@@ -289,68 +363,99 @@ def two_surface_resolution_2(m_00, m_01, m_11, h_00, h_01, h_10, h_11, v_0, v_1)
     x0 = h_00*v_0 + h_01*v_1
     x1 = h_10*v_0 + h_11*v_1
     x2 = numpy.logical_and.reduce((numpy.greater_equal(x0, 0),numpy.greater_equal(x1, 0)))
-    x3 = h_00*h_11 - h_01*h_10
-    x4 = (m_00*m_11 - m_01**2)**(-1.0)
-    x5 = numpy.sqrt(x4)
-    x6 = x5*abs(x3)
+    x3 = h_00*m_11 - h_01*m_01
+    x4 = h_00*m_01 - h_01*m_00
+    x5 = h_00*x3 - h_01*x4
+    x6 = x5**(-1.0)
     x7 = h_10*m_11 - h_11*m_01
     x8 = h_10*m_01 - h_11*m_00
     x9 = h_00*x7 - h_01*x8
-    x10 = numpy.arctan2(x6, -x4*x9)
-    x11 = x10**(-1.0)
-    x12 = h_00*m_01 - h_01*m_00
-    x13 = h_00*m_11 - h_01*m_01
-    x14 = x3*x4
-    x15 = numpy.arctan2(-x0*x6, x14*(v_0*x12 + v_1*x13))
-    x16 = numpy.ceil(x11*x15)
-    x17 = numpy.less(x0, 0)
-    x18 = x3**(-1.0)
-    x19 = h_00*x13 - h_01*x12
-    x20 = 2*x9
-    x21 = x20/x19
-    x22 = -x0*x21 + x1
-    x23 = numpy.equal(x16, 1)
-    x24 = numpy.equal(x16, 2)
-    x25 = h_10*x7 - h_11*x8
-    x26 = numpy.sqrt(x4*(v_0*(m_00*v_0 + m_01*v_1) + v_1*(m_01*v_0 + m_11*v_1)))/x5
-    x27 = x26*numpy.sqrt(x25*x4)
-    x28 = -x15
-    x29 = x10*(x16 - 1) + x28
-    x30 = numpy.sin(x10 - (-x29))
-    x31 = numpy.equal(numpy.mod(x16, 2), 1)
-    x32 = (1/2)*x10
-    x33 = numpy.less_equal(x15, x32*(2*x16 - 1))
-    x34 = numpy.logical_and.reduce((x31,x33))
-    x35 = x10*x16 + x28
-    x36 = numpy.sin(x35)
-    x37 = -numpy.sin(x29)
-    x38 = numpy.sin(x10 - x35)
-    x39 = numpy.select([x2,x17,True], [x1,numpy.select([x23,x24,True], [x22,-x22,x27*numpy.select([x34,x31,x33,True], [x30,x36,x37,x38], default=numpy.nan)], default=numpy.nan),numpy.nan], default=numpy.nan)
-    x40 = x20/x25
-    x41 = x26*numpy.sqrt(x19*x4)
-    x42 = numpy.select([x2,x17,True], [x0,numpy.select([x23,x24,True], [-x0,-x0 - x22*x40,x41*numpy.select([x34,x31,x33,True], [x37,x38,x30,x36], default=numpy.nan)], default=numpy.nan),numpy.nan], default=numpy.nan)
-    x43 = numpy.arctan2(-x1*x6, -x14*(v_0*x8 + v_1*x7))
-    x44 = numpy.ceil(x11*x43)
-    x45 = numpy.less(x1, 0)
-    x46 = x0 - x1*x40
-    x47 = numpy.equal(x44, 1)
-    x48 = numpy.equal(x44, 2)
-    x49 = -x43
-    x50 = x10*(x44 - 1) + x49
-    x51 = numpy.sin(x10 - (-x50))
-    x52 = numpy.equal(numpy.mod(x44, 2), 1)
-    x53 = numpy.less_equal(x43, x32*(2*x44 - 1))
-    x54 = numpy.logical_and.reduce((x52,x53))
-    x55 = x10*x44 + x49
-    x56 = numpy.sin(x55)
-    x57 = -numpy.sin(x50)
-    x58 = numpy.sin(x10 - x55)
-    x59 = numpy.select([x2,x45,True], [x0,numpy.select([x47,x48,True], [x46,-x46,x41*numpy.select([x54,x52,x53,True], [x51,x56,x57,x58], default=numpy.nan)], default=numpy.nan),numpy.nan], default=numpy.nan)
-    x60 = numpy.select([x2,x45,True], [x1,numpy.select([x47,x48,True], [-x1,-x1 - x21*x46,x27*numpy.select([x54,x52,x53,True], [x57,x58,x51,x56], default=numpy.nan)], default=numpy.nan),numpy.nan], default=numpy.nan)
-    count_a = numpy.select([x2,x17,True], [0,x16,-1], default=numpy.nan)
-    v0_a = x18*(-h_01*x39 + h_11*x42)
-    v1_a = x18*(h_00*x39 - h_10*x42)
-    count_b = numpy.select([x2,x45,True], [0,x44,-1], default=numpy.nan)
-    v0_b = x18*(-h_01*x60 + h_11*x59)
-    v1_b = x18*(h_00*x60 - h_10*x59)
+    x10 = 2*x9
+    x11 = x10*x6
+    x12 = -x0*x11 + x1
+    x13 = numpy.greater_equal(x12, 0)
+    x14 = h_10*x7 - h_11*x8
+    x15 = x14**(-1.0)
+    x16 = x12*x15
+    x17 = x0 + x10*x16
+    x18 = numpy.less_equal(x17, 0)
+    x19 = -x11*x17 + x12
+    x20 = numpy.less_equal(x19, 0)
+    x21 = h_00*h_11 - h_01*h_10
+    x22 = (m_00*m_11 - m_01**2)**(-1.0)
+    x23 = numpy.sqrt(x22)
+    x24 = x23*abs(x21)
+    x25 = numpy.arctan2(x24, -x22*x9)
+    x26 = x25**(-1.0)
+    x27 = x21*x22
+    x28 = numpy.arctan2(-x0*x24, x27*(v_0*x4 + v_1*x3))
+    x29 = numpy.ceil(x26*x28)
+    x30 = numpy.less(x0, 0)
+    x31 = 2*x6
+    x32 = x3*x31
+    x33 = x0*x32
+    x34 = v_0 - x33
+    x35 = -v_0
+    x36 = 2*x16
+    x37 = x36*x7
+    x38 = x21**(-1.0)
+    x39 = numpy.sqrt(x22*(v_0*(m_00*v_0 + m_01*v_1) + v_1*(m_01*v_0 + m_11*v_1)))/x23
+    x40 = x39*numpy.sqrt(x22*x5)
+    x41 = -x28
+    x42 = x25*(x29 - 1) + x41
+    x43 = -numpy.sin(x42)
+    x44 = numpy.equal(numpy.mod(x29, 2), 1)
+    x45 = (1/2)*x25
+    x46 = numpy.less_equal(x28, x45*(2*x29 - 1))
+    x47 = numpy.logical_and.reduce((x44,x46))
+    x48 = x25*x29 + x41
+    x49 = numpy.sin(x25 - x48)
+    x50 = numpy.sin(x25 - (-x42))
+    x51 = numpy.sin(x48)
+    x52 = numpy.select([x2,x30,True], [x0,numpy.select([x13,x18,x20,True], [-x0,-x17,x17,x40*numpy.select([x47,x44,x46,True], [x43,x49,x50,x51], default=numpy.nan)], default=numpy.nan),numpy.nan], default=numpy.nan)
+    x53 = x39*numpy.sqrt(x14*x22)
+    x54 = numpy.select([x2,x30,True], [x1,numpy.select([x13,x18,x20,True], [x12,-x12,-x19,x53*numpy.select([x47,x44,x46,True], [x50,x51,x43,x49], default=numpy.nan)], default=numpy.nan),numpy.nan], default=numpy.nan)
+    x55 = x38*(-h_01*x54 + h_11*x52)
+    x56 = x31*x4
+    x57 = v_1 + x0*x56
+    x58 = x36*x8 + x57
+    x59 = x38*(h_00*x54 - h_10*x52)
+    x60 = x10*x15
+    x61 = x0 - x1*x60
+    x62 = numpy.greater_equal(x61, 0)
+    x63 = x1 + x11*x61
+    x64 = numpy.less_equal(x63, 0)
+    x65 = -x60*x63 + x61
+    x66 = numpy.less_equal(x65, 0)
+    x67 = numpy.arctan2(-x1*x24, -x27*(v_0*x8 + v_1*x7))
+    x68 = numpy.ceil(x26*x67)
+    x69 = numpy.less(x1, 0)
+    x70 = 2*x15
+    x71 = x7*x70
+    x72 = x1*x71
+    x73 = v_0 - x72
+    x74 = x32*x61
+    x75 = -x67
+    x76 = x25*(x68 - 1) + x75
+    x77 = -numpy.sin(x76)
+    x78 = numpy.equal(numpy.mod(x68, 2), 1)
+    x79 = numpy.less_equal(x67, x45*(2*x68 - 1))
+    x80 = numpy.logical_and.reduce((x78,x79))
+    x81 = x25*x68 + x75
+    x82 = numpy.sin(x25 - x81)
+    x83 = numpy.sin(x25 - (-x76))
+    x84 = numpy.sin(x81)
+    x85 = numpy.select([x2,x69,True], [x1,numpy.select([x62,x64,x66,True], [-x1,-x63,x63,x53*numpy.select([x80,x78,x79,True], [x77,x82,x83,x84], default=numpy.nan)], default=numpy.nan),numpy.nan], default=numpy.nan)
+    x86 = numpy.select([x2,x69,True], [x0,numpy.select([x62,x64,x66,True], [x61,-x61,-x65,x40*numpy.select([x80,x78,x79,True], [x83,x84,x77,x82], default=numpy.nan)], default=numpy.nan),numpy.nan], default=numpy.nan)
+    x87 = x38*(-h_01*x85 + h_11*x86)
+    x88 = x70*x8
+    x89 = v_1 + x1*x88
+    x90 = x56*x61 + x89
+    x91 = x38*(h_00*x85 - h_10*x86)
+    count_a = numpy.select([x2,x30,True], [0,numpy.select([x13,x18,x20,True], [1,2,3,x29], default=numpy.nan),-1], default=numpy.nan)
+    v0_a = numpy.select([x2,x30,True], [v_0,numpy.select([x13,x18,x20,True], [x34,-x33 - x35 - x37,x17*x32 + x34 - x37,x55], default=numpy.nan),x55], default=numpy.nan)
+    v1_a = numpy.select([x2,x30,True], [v_1,numpy.select([x13,x18,x20,True], [x57,x58,-x17*x56 + x58,x59], default=numpy.nan),x59], default=numpy.nan)
+    count_b = numpy.select([x2,x69,True], [0,numpy.select([x62,x64,x66,True], [1,2,3,x68], default=numpy.nan),-1], default=numpy.nan)
+    v0_b = numpy.select([x2,x69,True], [v_0,numpy.select([x62,x64,x66,True], [x73,-x35 - x72 - x74,x63*x71 + x73 - x74,x87], default=numpy.nan),x87], default=numpy.nan)
+    v1_b = numpy.select([x2,x69,True], [v_1,numpy.select([x62,x64,x66,True], [x89,x90,-x63*x88 + x90,x91], default=numpy.nan),x91], default=numpy.nan)
     return (count_a, v0_a, v1_a, count_b, v0_b, v1_b)

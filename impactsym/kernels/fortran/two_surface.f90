@@ -15,189 +15,274 @@ module impactsym_two_surface
 contains
 ! Reflection counts (count_a, count_b) of the branches that start with surface A, B
 ! (Seghete & Murphey sec. III-B/C): ceil(psi/beta), psi = atan2(-c_i sqrt(Delta), s_i c_j - g c_i),
-! beta = atan2(sqrt(Delta), -g), Delta = s_a s_b - g^2; 0 when c >= 0 (valid), -1 when the branch
-! does not exist. Float arithmetic, uncertified: impactsym.laws.two_surface certifies the count.
+! beta = atan2(sqrt(Delta), -g), Delta = s_a s_b - g^2; counts 1, 2, 3 from the signs of the
+! iterates themselves (rational in s, g, c), equal to the ceiling; 0 when c >= 0 (valid), -1 when
+! the branch does not exist. Float arithmetic, uncertified: impactsym.laws.two_surface certifies.
 pure subroutine two_surface_reflection_count(s_a, s_b, g, c_a, c_b, count_a, count_b) bind(C, &
     name="f_two_surface_reflection_count")
     real(c_double), value, intent(in) :: s_a, s_b, g, c_a, c_b
     real(c_double), intent(out) :: count_a, count_b
-    real(c_double) :: x1, x2
+    real(c_double) :: x1, x2, x3, x4, x5, x6, x7, x8, x9, x10, x11, x12, x13
     logical :: x0
     x0 = c_a >= 0 .and. c_b >= 0
-    x1 = sqrt(-g**2 + s_a*s_b)
-    x2 = 1d0/atan2(x1, -g)
-    count_a = merge(real(0, c_double), merge(real(merge(aint(x2*atan2(-c_a*x1, -c_a*g + c_b*s_a)) + &
-        1d0, aint(x2*atan2(-c_a*x1, -c_a*g + c_b*s_a)), aint(x2*atan2(-c_a*x1, -c_a*g + c_b*s_a)) < &
-        x2*atan2(-c_a*x1, -c_a*g + c_b*s_a)), c_double), real(-1, c_double), c_a < 0), x0)
-    count_b = merge(real(0, c_double), merge(real(merge(aint(x2*atan2(-c_b*x1, c_a*s_b - c_b*g)) + &
-        1d0, aint(x2*atan2(-c_b*x1, c_a*s_b - c_b*g)), aint( x2*atan2(-c_b*x1, c_a*s_b - c_b*g)) < &
-        x2*atan2(-c_b*x1, c_a*s_b - c_b*g)), c_double), real(-1, c_double), c_b < 0), x0)
+    x1 = c_a*g
+    x2 = 2/s_a
+    x3 = -c_b + x1*x2
+    x4 = 2/s_b
+    x5 = g*x4
+    x6 = c_a - x3*x5
+    x7 = g*x2
+    x8 = sqrt(-g**2 + s_a*s_b)
+    x9 = 1d0/atan2(x8, -g)
+    x10 = c_b*g
+    x11 = x10*x4
+    x12 = c_a - x11
+    x13 = c_b + x12*x7
+    count_a = merge(real(0, c_double), merge(real(merge(real(1, c_double), merge(real( 2, &
+        c_double), merge(real(3, c_double), real(merge(aint(x9*atan2( -c_a*x8, c_b*s_a - x1)) + &
+        1d0, aint(x9*atan2(-c_a*x8, c_b*s_a - x1)), aint(x9*atan2(-c_a*x8, c_b*s_a - x1)) < &
+        x9*atan2(-c_a*x8, c_b*s_a - x1)), c_double), x3 + x6*x7 >= 0), x6 <= 0), x3 <= 0), &
+        c_double), real(-1, c_double), c_a < 0), x0)
+    count_b = merge(real(0, c_double), merge(real(merge(real(1, c_double), merge(real( 2, &
+        c_double), merge(real(3, c_double), real(merge(aint(x9*atan2( -c_b*x8, c_a*s_b - x10)) + &
+        1d0, aint(x9*atan2(-c_b*x8, c_a*s_b - x10)), aint(x9*atan2(-c_b*x8, c_a*s_b - x10)) < &
+        x9*atan2(-c_b*x8, c_a*s_b - x10)), c_double), -c_a + x11 + x13*x5 >= 0), x13 <= 0), x12 >= &
+        0), c_double), real(-1, c_double), c_b < 0), x0)
 end subroutine two_surface_reflection_count
 
 ! Counts and exit relative velocities (H v+) of both branches: (count_a, ca_a, cb_a,
-! count_b, ca_b, cb_b). c' = (sqrt(s_a)|p| sin th, sqrt(s_b)|p| sin(beta - th)),
+! count_b, ca_b, cb_b). After 1-3 reflections the reflections themselves (rational);
+! above, c' = (sqrt(s_a)|p| sin th, sqrt(s_b)|p| sin(beta - th)),
 ! th = sigma (m beta - psi) + (1 - sigma) beta / 2, sigma = (-1)^m (A-first frame).
 ! Float: the angle error grows like m * eps; the law gives certified values.
 pure subroutine two_surface_resolution(s_a, s_b, g, c_a, c_b, count_a, ca_a, cb_a, count_b, ca_b, &
     cb_b) bind(C, name="f_two_surface_resolution")
     real(c_double), value, intent(in) :: s_a, s_b, g, c_a, c_b
     real(c_double), intent(out) :: count_a, ca_a, cb_a, count_b, ca_b, cb_b
-    real(c_double) :: x1, x2, x3, x4, x5, x6, x9, x10, x11, x12, x13, x15, x16, x17, x18, x20, x23, &
-        x24, x25, x26, x27, x28, x29, x30, x32, x35, x36, x40, x41, x42, x43
-    logical :: x0, x7, x8, x14, x19, x21, x22, x31, x33, x34, x37, x38, x39
+    real(c_double) :: x1, x2, x3, x4, x6, x7, x8, x10, x12, x13, x14, x15, x16, x18, x19, x20, x21, &
+        x22, x24, x27, x28, x29, x30, x31, x32, x33, x34, x35, x37, x39, x41, x42, x44, x45, x49, &
+        x50, x51, x52
+    logical :: x0, x5, x9, x11, x17, x23, x25, x26, x36, x38, x40, x43, x46, x47, x48
     x0 = c_a >= 0 .and. c_b >= 0
-    x1 = sqrt(-g**2 + s_a*s_b)
-    x2 = atan2(x1, -g)
-    x3 = 1d0/x2
-    x4 = c_a*g
-    x5 = atan2(-c_a*x1, c_b*s_a - x4)
-    x6 = merge(aint(x3*x5) + 1d0, aint(x3*x5), aint(x3*x5) < x3*x5)
-    x7 = c_a < 0
-    x8 = x6 == 1
-    x9 = 1d0/s_b
-    x10 = -c_b
-    x11 = 1d0/s_a
-    x12 = 2*x4
-    x13 = x10 + x11*x12
-    x14 = x6 == 2
-    x15 = sqrt(c_a**2*s_b + c_b**2*s_a - c_b*x12)/x1
-    x16 = sqrt(s_a)*x15
-    x17 = x2*(x6 - 1) - x5
-    x18 = -sin(x17)
-    x19 = modulo(real(x6, c_double), real(2, c_double)) == 1
-    x20 = (1.0d0/2.0d0)*x2
-    x21 = x5 <= x20*(2*x6 - 1)
-    x22 = x19 .and. x21
-    x23 = -x2*x6 + x5
-    x24 = sin(x2 - (-x23))
-    x25 = sin(x2 - (-x17))
-    x26 = -sin(x23)
-    x27 = sqrt(s_b)*x15
-    x28 = c_b*g
-    x29 = atan2(-c_b*x1, c_a*s_b - x28)
-    x30 = merge(aint(x29*x3) + 1d0, aint(x29*x3), aint(x29*x3) < x29*x3)
-    x31 = c_b < 0
-    x32 = c_a - 2*x28*x9
-    x33 = x30 == 1
-    x34 = x30 == 2
-    x35 = x2*(x30 - 1) - x29
-    x36 = sin(x2 - (-x35))
-    x37 = modulo(real(x30, c_double), real(2, c_double)) == 1
-    x38 = x29 <= x20*(2*x30 - 1)
-    x39 = x37 .and. x38
-    x40 = -x2*x30 + x29
-    x41 = -sin(x40)
-    x42 = -sin(x35)
-    x43 = sin(x2 - (-x40))
-    count_a = merge(real(0, c_double), merge(real(x6, c_double), real(-1, c_double), x7), x0)
-    ca_a = merge(real(c_a, c_double), merge(real(merge(real(-c_a, c_double), merge( real(-c_a + &
-        2*g*x13*x9, c_double), real(x16*merge(real(x18, c_double), merge(real(x24, c_double), &
-        merge(real(x25, c_double), real(x26, c_double), x21), x19), x22), c_double), x14), x8), &
-        c_double), real(ieee_value(0.0_c_double, ieee_quiet_nan), c_double), x7), x0)
-    cb_a = merge(real(c_b, c_double), merge(real(merge(real(-x13, c_double), merge( real(x13, &
-        c_double), real(x27*merge(real(x25, c_double), merge( real(x26, c_double), merge(real(x18, &
-        c_double), real(x24, c_double), x21), x19), x22), c_double), x14), x8), c_double), &
-        real(ieee_value(0.0_c_double, ieee_quiet_nan), c_double), x7), x0 )
-    count_b = merge(real(0, c_double), merge(real(x30, c_double), real(-1, c_double), x31), x0)
-    ca_b = merge(real(c_a, c_double), merge(real(merge(real(x32, c_double), merge( real(-x32, &
-        c_double), real(x16*merge(real(x36, c_double), merge( real(x41, c_double), merge(real(x42, &
-        c_double), real(x43, c_double), x38), x37), x39), c_double), x34), x33), c_double), &
-        real(ieee_value(0.0_c_double, ieee_quiet_nan), c_double), x31), x0)
-    cb_b = merge(real(c_b, c_double), merge(real(merge(real(x10, c_double), merge( real(-c_b - &
-        2*g*x11*x32, c_double), real(x27*merge(real(x42, c_double), merge(real(x43, c_double), &
-        merge(real(x36, c_double), real(x41, c_double), x38), x37), x39), c_double), x34), x33), &
-        c_double), real(ieee_value(0.0_c_double, ieee_quiet_nan), c_double), x31), x0)
+    x1 = -c_b
+    x2 = c_a*g
+    x3 = 2/s_a
+    x4 = x1 + x2*x3
+    x5 = x4 <= 0
+    x6 = 2/s_b
+    x7 = g*x6
+    x8 = c_a - x4*x7
+    x9 = x8 <= 0
+    x10 = g*x3
+    x11 = x10*x8 + x4 >= 0
+    x12 = sqrt(-g**2 + s_a*s_b)
+    x13 = atan2(x12, -g)
+    x14 = 1d0/x13
+    x15 = atan2(-c_a*x12, c_b*s_a - x2)
+    x16 = merge(aint(x14*x15) + 1d0, aint(x14*x15), aint(x14*x15) < x14*x15)
+    x17 = c_a < 0
+    x18 = -c_a
+    x19 = sqrt(c_a**2*s_b + c_b**2*s_a - 2*c_b*x2)/x12
+    x20 = sqrt(s_a)*x19
+    x21 = x13*(x16 - 1) - x15
+    x22 = -sin(x21)
+    x23 = modulo(real(x16, c_double), real(2, c_double)) == 1
+    x24 = (1.0d0/2.0d0)*x13
+    x25 = x15 <= x24*(2*x16 - 1)
+    x26 = x23 .and. x25
+    x27 = -x13*x16 + x15
+    x28 = sin(x13 - (-x27))
+    x29 = sin(x13 - (-x21))
+    x30 = -sin(x27)
+    x31 = -x4
+    x32 = sqrt(s_b)*x19
+    x33 = c_b*g
+    x34 = x33*x6
+    x35 = c_a - x34
+    x36 = x35 >= 0
+    x37 = c_b + x10*x35
+    x38 = x37 <= 0
+    x39 = x18 + x34 + x37*x7
+    x40 = x39 >= 0
+    x41 = atan2(-c_b*x12, c_a*s_b - x33)
+    x42 = merge(aint(x14*x41) + 1d0, aint(x14*x41), aint(x14*x41) < x14*x41)
+    x43 = c_b < 0
+    x44 = x13*(x42 - 1) - x41
+    x45 = sin(x13 - (-x44))
+    x46 = modulo(real(x42, c_double), real(2, c_double)) == 1
+    x47 = x41 <= x24*(2*x42 - 1)
+    x48 = x46 .and. x47
+    x49 = -x13*x42 + x41
+    x50 = -sin(x49)
+    x51 = -sin(x44)
+    x52 = sin(x13 - (-x49))
+    count_a = merge(real(0, c_double), merge(real(merge(real(1, c_double), merge(real( 2, &
+        c_double), merge(real(3, c_double), real(x16, c_double), x11), x9), x5), c_double), &
+        real(-1, c_double), x17), x0)
+    ca_a = merge(real(c_a, c_double), merge(real(merge(real(x18, c_double), merge( real(-x8, &
+        c_double), merge(real(x8, c_double), real(x20*merge( real(x22, c_double), merge(real(x28, &
+        c_double), merge(real(x29, c_double), real(x30, c_double), x25), x23), x26), c_double), &
+        x11) , x9), x5), c_double), real(ieee_value(0.0_c_double, ieee_quiet_nan), c_double), x17), &
+        x0)
+    cb_a = merge(real(c_b, c_double), merge(real(merge(real(x31, c_double), merge( real(x4, &
+        c_double), merge(real(x10*(c_a + x31*x7) + x4, c_double) , real(x32*merge(real(x29, &
+        c_double), merge(real(x30, c_double), merge(real(x22, c_double), real(x28, c_double), x25), &
+        x23), x26), c_double), x11), x9), x5), c_double), real(ieee_value( 0.0_c_double, &
+        ieee_quiet_nan), c_double), x17), x0)
+    count_b = merge(real(0, c_double), merge(real(merge(real(1, c_double), merge(real( 2, &
+        c_double), merge(real(3, c_double), real(x42, c_double), x40), x38), x36), c_double), &
+        real(-1, c_double), x43), x0)
+    ca_b = merge(real(c_a, c_double), merge(real(merge(real(x35, c_double), merge( real(-x35, &
+        c_double), merge(real(x39, c_double), real(x20*merge( real(x45, c_double), merge(real(x50, &
+        c_double), merge(real(x51, c_double), real(x52, c_double), x47), x46), x48), c_double), &
+        x40) , x38), x36), c_double), real(ieee_value(0.0_c_double, ieee_quiet_nan), c_double), &
+        x43), x0)
+    cb_b = merge(real(c_b, c_double), merge(real(merge(real(x1, c_double), merge( real(-x37, &
+        c_double), merge(real(x37, c_double), real(x32*merge( real(x51, c_double), merge(real(x52, &
+        c_double), merge(real(x45, c_double), real(x50, c_double), x47), x46), x48), c_double), &
+        x40) , x38), x36), c_double), real(ieee_value(0.0_c_double, ieee_quiet_nan), c_double), &
+        x43), x0)
 end subroutine two_surface_resolution
 
 ! n = 2 closed form: M by its upper triangle, H = [[h_00, h_01], [h_10, h_11]], v = (v_0, v_1).
 ! Returns (count_a, v0_a, v1_a, count_b, v0_b, v1_b): counts and exit velocities of the branches
-! starting with row 0 (a) and row 1 (b). Float, uncertified (see impactsym.laws.two_surface).
+! starting with row 0 (a) and row 1 (b): v itself when valid, its reflections for counts 1-3,
+! H^-1 c' above. Float, uncertified (see impactsym.laws.two_surface).
 pure subroutine two_surface_resolution_2(m_00, m_01, m_11, h_00, h_01, h_10, h_11, v_0, v_1, &
     count_a, v0_a, v1_a, count_b, v0_b, v1_b) bind(C, name="f_two_surface_resolution_2")
     real(c_double), value, intent(in) :: m_00, m_01, m_11, h_00, h_01, h_10, h_11, v_0, v_1
     real(c_double), intent(out) :: count_a, v0_a, v1_a, count_b, v0_b, v1_b
-    real(c_double) :: x0, x1, x3, x4, x5, x6, x7, x8, x9, x10, x11, x12, x13, x14, x15, x16, x18, &
-        x19, x20, x21, x22, x25, x26, x27, x28, x29, x30, x32, x35, x36, x37, x38, x39, x40, x41, &
-        x42, x43, x44, x46, x49, x50, x51, x55, x56, x57, x58, x59, x60
-    logical :: x2, x17, x23, x24, x31, x33, x34, x45, x47, x48, x52, x53, x54
+    real(c_double) :: x0, x1, x3, x4, x5, x6, x7, x8, x9, x10, x11, x12, x14, x15, x16, x17, x19, &
+        x21, x22, x23, x24, x25, x26, x27, x28, x29, x31, x32, x33, x34, x35, x36, x37, x38, x39, &
+        x40, x41, x42, x43, x45, x48, x49, x50, x51, x52, x53, x54, x55, x56, x57, x58, x59, x60, &
+        x61, x63, x65, x67, x68, x70, x71, x72, x73, x74, x75, x76, x77, x81, x82, x83, x84, x85, &
+        x86, x87, x88, x89, x90, x91
+    logical :: x2, x13, x18, x20, x30, x44, x46, x47, x62, x64, x66, x69, x78, x79, x80
     x0 = h_00*v_0 + h_01*v_1
     x1 = h_10*v_0 + h_11*v_1
     x2 = x0 >= 0 .and. x1 >= 0
-    x3 = h_00*h_11 - h_01*h_10
-    x4 = 1d0/(m_00*m_11 - m_01**2)
-    x5 = sqrt(x4)
-    x6 = x5*abs(x3)
+    x3 = h_00*m_11 - h_01*m_01
+    x4 = h_00*m_01 - h_01*m_00
+    x5 = h_00*x3 - h_01*x4
+    x6 = 1d0/x5
     x7 = h_10*m_11 - h_11*m_01
     x8 = h_10*m_01 - h_11*m_00
     x9 = h_00*x7 - h_01*x8
-    x10 = atan2(x6, -x4*x9)
-    x11 = 1d0/x10
-    x12 = h_00*m_01 - h_01*m_00
-    x13 = h_00*m_11 - h_01*m_01
-    x14 = x3*x4
-    x15 = atan2(-x0*x6, x14*(v_0*x12 + v_1*x13))
-    x16 = merge(aint(x11*x15) + 1d0, aint(x11*x15), aint(x11*x15) < x11*x15)
-    x17 = x0 < 0
-    x18 = 1d0/x3
-    x19 = h_00*x13 - h_01*x12
-    x20 = 2*x9
-    x21 = x20/x19
-    x22 = -x0*x21 + x1
-    x23 = x16 == 1
-    x24 = x16 == 2
-    x25 = h_10*x7 - h_11*x8
-    x26 = sqrt(x4*(v_0*(m_00*v_0 + m_01*v_1) + v_1*(m_01*v_0 + m_11*v_1)))/x5
-    x27 = x26*sqrt(x25*x4)
-    x28 = -x15
-    x29 = x10*(x16 - 1) + x28
-    x30 = sin(x10 - (-x29))
-    x31 = modulo(real(x16, c_double), real(2, c_double)) == 1
-    x32 = (1.0d0/2.0d0)*x10
-    x33 = x15 <= x32*(2*x16 - 1)
-    x34 = x31 .and. x33
-    x35 = x10*x16 + x28
-    x36 = sin(x35)
-    x37 = -sin(x29)
-    x38 = sin(x10 - x35)
-    x39 = merge(real(x1, c_double), merge(real(merge(real(x22, c_double), merge( real(-x22, &
-        c_double), real(x27*merge(real(x30, c_double), merge( real(x36, c_double), merge(real(x37, &
-        c_double), real(x38, c_double), x33), x31), x34), c_double), x24), x23), c_double), &
-        real(ieee_value(0.0_c_double, ieee_quiet_nan), c_double), x17), x2)
-    x40 = x20/x25
-    x41 = x26*sqrt(x19*x4)
-    x42 = merge(real(x0, c_double), merge(real(merge(real(-x0, c_double), merge( real(-x0 - &
-        x22*x40, c_double), real(x41*merge(real(x37, c_double) , merge(real(x38, c_double), &
-        merge(real(x30, c_double), real(x36, c_double), x33), x31), x34), c_double), x24), x23), &
-        c_double), real(ieee_value(0.0_c_double, ieee_quiet_nan), c_double), x17), x2)
-    x43 = atan2(-x1*x6, -x14*(v_0*x8 + v_1*x7))
-    x44 = merge(aint(x11*x43) + 1d0, aint(x11*x43), aint(x11*x43) < x11*x43)
-    x45 = x1 < 0
-    x46 = x0 - x1*x40
-    x47 = x44 == 1
-    x48 = x44 == 2
-    x49 = -x43
-    x50 = x10*(x44 - 1) + x49
-    x51 = sin(x10 - (-x50))
-    x52 = modulo(real(x44, c_double), real(2, c_double)) == 1
-    x53 = x43 <= x32*(2*x44 - 1)
-    x54 = x52 .and. x53
-    x55 = x10*x44 + x49
-    x56 = sin(x55)
-    x57 = -sin(x50)
-    x58 = sin(x10 - x55)
-    x59 = merge(real(x0, c_double), merge(real(merge(real(x46, c_double), merge( real(-x46, &
-        c_double), real(x41*merge(real(x51, c_double), merge( real(x56, c_double), merge(real(x57, &
-        c_double), real(x58, c_double), x53), x52), x54), c_double), x48), x47), c_double), &
-        real(ieee_value(0.0_c_double, ieee_quiet_nan), c_double), x45), x2)
-    x60 = merge(real(x1, c_double), merge(real(merge(real(-x1, c_double), merge( real(-x1 - &
-        x21*x46, c_double), real(x27*merge(real(x57, c_double) , merge(real(x58, c_double), &
-        merge(real(x51, c_double), real(x56, c_double), x53), x52), x54), c_double), x48), x47), &
-        c_double), real(ieee_value(0.0_c_double, ieee_quiet_nan), c_double), x45), x2)
-    count_a = merge(real(0, c_double), merge(real(x16, c_double), real(-1, c_double), x17), x2)
-    v0_a = x18*(-h_01*x39 + h_11*x42)
-    v1_a = x18*(h_00*x39 - h_10*x42)
-    count_b = merge(real(0, c_double), merge(real(x44, c_double), real(-1, c_double), x45), x2)
-    v0_b = x18*(-h_01*x60 + h_11*x59)
-    v1_b = x18*(h_00*x60 - h_10*x59)
+    x10 = 2*x9
+    x11 = x10*x6
+    x12 = -x0*x11 + x1
+    x13 = x12 >= 0
+    x14 = h_10*x7 - h_11*x8
+    x15 = 1d0/x14
+    x16 = x12*x15
+    x17 = x0 + x10*x16
+    x18 = x17 <= 0
+    x19 = -x11*x17 + x12
+    x20 = x19 <= 0
+    x21 = h_00*h_11 - h_01*h_10
+    x22 = 1d0/(m_00*m_11 - m_01**2)
+    x23 = sqrt(x22)
+    x24 = x23*abs(x21)
+    x25 = atan2(x24, -x22*x9)
+    x26 = 1d0/x25
+    x27 = x21*x22
+    x28 = atan2(-x0*x24, x27*(v_0*x4 + v_1*x3))
+    x29 = merge(aint(x26*x28) + 1d0, aint(x26*x28), aint(x26*x28) < x26*x28)
+    x30 = x0 < 0
+    x31 = 2*x6
+    x32 = x3*x31
+    x33 = x0*x32
+    x34 = v_0 - x33
+    x35 = -v_0
+    x36 = 2*x16
+    x37 = x36*x7
+    x38 = 1d0/x21
+    x39 = sqrt(x22*(v_0*(m_00*v_0 + m_01*v_1) + v_1*(m_01*v_0 + m_11*v_1)))/x23
+    x40 = x39*sqrt(x22*x5)
+    x41 = -x28
+    x42 = x25*(x29 - 1) + x41
+    x43 = -sin(x42)
+    x44 = modulo(real(x29, c_double), real(2, c_double)) == 1
+    x45 = (1.0d0/2.0d0)*x25
+    x46 = x28 <= x45*(2*x29 - 1)
+    x47 = x44 .and. x46
+    x48 = x25*x29 + x41
+    x49 = sin(x25 - x48)
+    x50 = sin(x25 - (-x42))
+    x51 = sin(x48)
+    x52 = merge(real(x0, c_double), merge(real(merge(real(-x0, c_double), merge( real(-x17, &
+        c_double), merge(real(x17, c_double), real(x40*merge( real(x43, c_double), merge(real(x49, &
+        c_double), merge(real(x50, c_double), real(x51, c_double), x46), x44), x47), c_double), &
+        x20) , x18), x13), c_double), real(ieee_value(0.0_c_double, ieee_quiet_nan), c_double), &
+        x30), x2)
+    x53 = x39*sqrt(x14*x22)
+    x54 = merge(real(x1, c_double), merge(real(merge(real(x12, c_double), merge( real(-x12, &
+        c_double), merge(real(-x19, c_double), real(x53*merge( real(x50, c_double), merge(real(x51, &
+        c_double), merge(real(x43, c_double), real(x49, c_double), x46), x44), x47), c_double), &
+        x20) , x18), x13), c_double), real(ieee_value(0.0_c_double, ieee_quiet_nan), c_double), &
+        x30), x2)
+    x55 = x38*(-h_01*x54 + h_11*x52)
+    x56 = x31*x4
+    x57 = v_1 + x0*x56
+    x58 = x36*x8 + x57
+    x59 = x38*(h_00*x54 - h_10*x52)
+    x60 = x10*x15
+    x61 = x0 - x1*x60
+    x62 = x61 >= 0
+    x63 = x1 + x11*x61
+    x64 = x63 <= 0
+    x65 = -x60*x63 + x61
+    x66 = x65 <= 0
+    x67 = atan2(-x1*x24, -x27*(v_0*x8 + v_1*x7))
+    x68 = merge(aint(x26*x67) + 1d0, aint(x26*x67), aint(x26*x67) < x26*x67)
+    x69 = x1 < 0
+    x70 = 2*x15
+    x71 = x7*x70
+    x72 = x1*x71
+    x73 = v_0 - x72
+    x74 = x32*x61
+    x75 = -x67
+    x76 = x25*(x68 - 1) + x75
+    x77 = -sin(x76)
+    x78 = modulo(real(x68, c_double), real(2, c_double)) == 1
+    x79 = x67 <= x45*(2*x68 - 1)
+    x80 = x78 .and. x79
+    x81 = x25*x68 + x75
+    x82 = sin(x25 - x81)
+    x83 = sin(x25 - (-x76))
+    x84 = sin(x81)
+    x85 = merge(real(x1, c_double), merge(real(merge(real(-x1, c_double), merge( real(-x63, &
+        c_double), merge(real(x63, c_double), real(x53*merge( real(x77, c_double), merge(real(x82, &
+        c_double), merge(real(x83, c_double), real(x84, c_double), x79), x78), x80), c_double), &
+        x66) , x64), x62), c_double), real(ieee_value(0.0_c_double, ieee_quiet_nan), c_double), &
+        x69), x2)
+    x86 = merge(real(x0, c_double), merge(real(merge(real(x61, c_double), merge( real(-x61, &
+        c_double), merge(real(-x65, c_double), real(x40*merge( real(x83, c_double), merge(real(x84, &
+        c_double), merge(real(x77, c_double), real(x82, c_double), x79), x78), x80), c_double), &
+        x66) , x64), x62), c_double), real(ieee_value(0.0_c_double, ieee_quiet_nan), c_double), &
+        x69), x2)
+    x87 = x38*(-h_01*x85 + h_11*x86)
+    x88 = x70*x8
+    x89 = v_1 + x1*x88
+    x90 = x56*x61 + x89
+    x91 = x38*(h_00*x85 - h_10*x86)
+    count_a = merge(real(0, c_double), merge(real(merge(real(1, c_double), merge(real( 2, &
+        c_double), merge(real(3, c_double), real(x29, c_double), x20), x18), x13), c_double), &
+        real(-1, c_double), x30), x2)
+    v0_a = merge(real(v_0, c_double), merge(real(merge(real(x34, c_double), merge( real(-x33 - x35 &
+        - x37, c_double), merge(real(x17*x32 + x34 - x37, c_double), real(x55, c_double), x20), &
+        x18), x13), c_double), real (x55, c_double), x30), x2)
+    v1_a = merge(real(v_1, c_double), merge(real(merge(real(x57, c_double), merge( real(x58, &
+        c_double), merge(real(-x17*x56 + x58, c_double), real( x59, c_double), x20), x18), x13), &
+        c_double), real(x59, c_double), x30), x2)
+    count_b = merge(real(0, c_double), merge(real(merge(real(1, c_double), merge(real( 2, &
+        c_double), merge(real(3, c_double), real(x68, c_double), x66), x64), x62), c_double), &
+        real(-1, c_double), x69), x2)
+    v0_b = merge(real(v_0, c_double), merge(real(merge(real(x73, c_double), merge( real(-x35 - x72 &
+        - x74, c_double), merge(real(x63*x71 + x73 - x74, c_double), real(x87, c_double), x66), &
+        x64), x62), c_double), real (x87, c_double), x69), x2)
+    v1_b = merge(real(v_1, c_double), merge(real(merge(real(x89, c_double), merge( real(x90, &
+        c_double), merge(real(-x63*x88 + x90, c_double), real( x91, c_double), x66), x64), x62), &
+        c_double), real(x91, c_double), x69), x2)
 end subroutine two_surface_resolution_2
 end module impactsym_two_surface

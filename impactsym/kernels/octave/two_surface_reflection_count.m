@@ -4,11 +4,23 @@
 function [count_a, count_b] = two_surface_reflection_count(s_a, s_b, g, c_a, c_b)
   % Reflection counts (count_a, count_b) of the branches that start with surface A, B
   % (Seghete & Murphey sec. III-B/C): ceil(psi/beta), psi = atan2(-c_i sqrt(Delta), s_i c_j - g c_i),
-  % beta = atan2(sqrt(Delta), -g), Delta = s_a s_b - g^2; 0 when c >= 0 (valid), -1 when the branch
-  % does not exist. Float arithmetic, uncertified: impactsym.laws.two_surface certifies the count.
+  % beta = atan2(sqrt(Delta), -g), Delta = s_a s_b - g^2; counts 1, 2, 3 from the signs of the
+  % iterates themselves (rational in s, g, c), equal to the ceiling; 0 when c >= 0 (valid), -1 when
+  % the branch does not exist. Float arithmetic, uncertified: impactsym.laws.two_surface certifies.
   x0 = c_a >= 0 & c_b >= 0;
-  x1 = sqrt(-g.^2 + s_a.*s_b);
-  x2 = 1./atan2(x1, -g);
-  count_a = ((x0).*(0) + (~(x0)).*( (c_a < 0).*(ceil(x2.*atan2(-c_a.*x1, -c_a.*g + c_b.*s_a))) + (~(c_a < 0)).*(-1)));
-  count_b = ((x0).*(0) + (~(x0)).*( (c_b < 0).*(ceil(x2.*atan2(-c_b.*x1, c_a.*s_b - c_b.*g))) + (~(c_b < 0)).*(-1)));
+  x1 = c_a.*g;
+  x2 = 2./s_a;
+  x3 = -c_b + x1.*x2;
+  x4 = 2./s_b;
+  x5 = g.*x4;
+  x6 = c_a - x3.*x5;
+  x7 = g.*x2;
+  x8 = sqrt(-g.^2 + s_a.*s_b);
+  x9 = 1./atan2(x8, -g);
+  x10 = c_b.*g;
+  x11 = x10.*x4;
+  x12 = c_a - x11;
+  x13 = c_b + x12.*x7;
+  count_a = ((x0).*(0) + (~(x0)).*( (c_a < 0).*(((x3 <= 0).*(1) + (~(x3 <= 0)).*( (x6 <= 0).*(2) + (~(x6 <= 0)).*( (x3 + x6.*x7 >= 0).*(3) + (~(x3 + x6.*x7 >= 0)).*(ceil(x9.*atan2(-c_a.*x8, c_b.*s_a - x1))))))) + (~(c_a < 0)).*(-1)));
+  count_b = ((x0).*(0) + (~(x0)).*( (c_b < 0).*(((x12 >= 0).*(1) + (~(x12 >= 0)).*( (x13 <= 0).*(2) + (~(x13 <= 0)).*( (-c_a + x11 + x13.*x5 >= 0).*(3) + (~(-c_a + x11 + x13.*x5 >= 0)).*(ceil(x9.*atan2(-c_b.*x8, c_a.*s_b - x10))))))) + (~(c_b < 0)).*(-1)));
 end

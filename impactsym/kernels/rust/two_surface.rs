@@ -10,148 +10,202 @@
 
 /// Reflection counts (count_a, count_b) of the branches that start with surface A, B
 /// (Seghete & Murphey sec. III-B/C): ceil(psi/beta), psi = atan2(-c_i sqrt(Delta), s_i c_j - g c_i),
-/// beta = atan2(sqrt(Delta), -g), Delta = s_a s_b - g^2; 0 when c >= 0 (valid), -1 when the branch
-/// does not exist. Float arithmetic, uncertified: impactsym.laws.two_surface certifies the count.
+/// beta = atan2(sqrt(Delta), -g), Delta = s_a s_b - g^2; counts 1, 2, 3 from the signs of the
+/// iterates themselves (rational in s, g, c), equal to the ceiling; 0 when c >= 0 (valid), -1 when
+/// the branch does not exist. Float arithmetic, uncertified: impactsym.laws.two_surface certifies.
 #[allow(non_snake_case, unused_parens, clippy::all)]
 pub fn two_surface_reflection_count(s_a: f64, s_b: f64, g: f64, c_a: f64, c_b: f64) -> (f64, f64) {
     let x0 = c_a >= 0.0_f64 && c_b >= 0.0_f64;
-    let x1 = (-(g).powi(2) + s_a*s_b).sqrt();
-    let x2 = (x1.atan2(-g)).recip();
-    let count_a = (if (x0) { 0_f64 } else if (c_a < 0.0_f64) { (x2*(-c_a*x1).atan2(-c_a*g + c_b*s_a)).ceil() } else { -1_f64 });
-    let count_b = (if (x0) { 0_f64 } else if (c_b < 0.0_f64) { (x2*(-c_b*x1).atan2(c_a*s_b - c_b*g)).ceil() } else { -1_f64 });
+    let x1 = c_a*g;
+    let x2 = 2_f64/s_a;
+    let x3 = -c_b + x1*x2;
+    let x4 = 2_f64/s_b;
+    let x5 = g*x4;
+    let x6 = c_a - x3*x5;
+    let x7 = g*x2;
+    let x8 = (-(g).powi(2) + s_a*s_b).sqrt();
+    let x9 = (x8.atan2(-g)).recip();
+    let x10 = c_b*g;
+    let x11 = x10*x4;
+    let x12 = c_a - x11;
+    let x13 = c_b + x12*x7;
+    let count_a = (if (x0) { 0_f64 } else if (c_a < 0.0_f64) { (if (x3 <= 0.0_f64) { 1_f64 } else if (x6 <= 0.0_f64) { 2_f64 } else if (x3 + x6*x7 >= 0.0_f64) { 3_f64 } else { (x9*(-c_a*x8).atan2(c_b*s_a - x1)).ceil() }) } else { -1_f64 });
+    let count_b = (if (x0) { 0_f64 } else if (c_b < 0.0_f64) { (if (x12 >= 0.0_f64) { 1_f64 } else if (x13 <= 0.0_f64) { 2_f64 } else if (-c_a + x11 + x13*x5 >= 0.0_f64) { 3_f64 } else { (x9*(-c_b*x8).atan2(c_a*s_b - x10)).ceil() }) } else { -1_f64 });
     (count_a, count_b)
 }
 
 /// Counts and exit relative velocities (H v+) of both branches: (count_a, ca_a, cb_a,
-/// count_b, ca_b, cb_b). c' = (sqrt(s_a)|p| sin th, sqrt(s_b)|p| sin(beta - th)),
+/// count_b, ca_b, cb_b). After 1-3 reflections the reflections themselves (rational);
+/// above, c' = (sqrt(s_a)|p| sin th, sqrt(s_b)|p| sin(beta - th)),
 /// th = sigma (m beta - psi) + (1 - sigma) beta / 2, sigma = (-1)^m (A-first frame).
 /// Float: the angle error grows like m * eps; the law gives certified values.
 #[allow(non_snake_case, unused_parens, clippy::all)]
 pub fn two_surface_resolution(s_a: f64, s_b: f64, g: f64, c_a: f64, c_b: f64) -> (f64, f64, f64, f64, f64, f64) {
     let x0 = c_a >= 0.0_f64 && c_b >= 0.0_f64;
-    let x1 = (-(g).powi(2) + s_a*s_b).sqrt();
-    let x2 = x1.atan2(-g);
-    let x3 = (x2).recip();
-    let x4 = c_a*g;
-    let x5 = (-c_a*x1).atan2(c_b*s_a - x4);
-    let x6 = (x3*x5).ceil();
-    let x7 = c_a < 0.0_f64;
-    let x8 = x6 == 1.0_f64;
-    let x9 = (s_b).recip();
-    let x10 = -c_b;
-    let x11 = (s_a).recip();
-    let x12 = 2_f64*x4;
-    let x13 = x10 + x11*x12;
-    let x14 = x6 == 2.0_f64;
-    let x15 = ((c_a).powi(2)*s_b + (c_b).powi(2)*s_a - c_b*x12).sqrt()/x1;
-    let x16 = (s_a).sqrt()*x15;
-    let x17 = x2*(x6 - 1_f64) - x5;
-    let x18 = -x17.sin();
-    let x19 = (x6).rem_euclid(2_f64) == 1.0_f64;
-    let x20 = ((1_f64/2_f64))*x2;
-    let x21 = x5 <= x20*(2_f64*x6 - 1_f64);
-    let x22 = x19 && x21;
-    let x23 = -x2*x6 + x5;
-    let x24 = (x2 - (-x23)).sin();
-    let x25 = (x2 - (-x17)).sin();
-    let x26 = -x23.sin();
-    let x27 = (s_b).sqrt()*x15;
-    let x28 = c_b*g;
-    let x29 = (-c_b*x1).atan2(c_a*s_b - x28);
-    let x30 = (x29*x3).ceil();
-    let x31 = c_b < 0.0_f64;
-    let x32 = c_a - 2_f64*x28*x9;
-    let x33 = x30 == 1.0_f64;
-    let x34 = x30 == 2.0_f64;
-    let x35 = x2*(x30 - 1_f64) - x29;
-    let x36 = (x2 - (-x35)).sin();
-    let x37 = (x30).rem_euclid(2_f64) == 1.0_f64;
-    let x38 = x29 <= x20*(2_f64*x30 - 1_f64);
-    let x39 = x37 && x38;
-    let x40 = -x2*x30 + x29;
-    let x41 = -x40.sin();
-    let x42 = -x35.sin();
-    let x43 = (x2 - (-x40)).sin();
-    let count_a = (if (x0) { 0_f64 } else if (x7) { x6 } else { -1_f64 });
-    let ca_a = (if (x0) { c_a } else if (x7) { (if (x8) { -c_a } else if (x14) { -c_a + 2_f64*g*x13*x9 } else { x16*(if (x22) { x18 } else if (x19) { x24 } else if (x21) { x25 } else { x26 }) }) } else { f64::NAN });
-    let cb_a = (if (x0) { c_b } else if (x7) { (if (x8) { -x13 } else if (x14) { x13 } else { x27*(if (x22) { x25 } else if (x19) { x26 } else if (x21) { x18 } else { x24 }) }) } else { f64::NAN });
-    let count_b = (if (x0) { 0_f64 } else if (x31) { x30 } else { -1_f64 });
-    let ca_b = (if (x0) { c_a } else if (x31) { (if (x33) { x32 } else if (x34) { -x32 } else { x16*(if (x39) { x36 } else if (x37) { x41 } else if (x38) { x42 } else { x43 }) }) } else { f64::NAN });
-    let cb_b = (if (x0) { c_b } else if (x31) { (if (x33) { x10 } else if (x34) { -c_b - 2_f64*g*x11*x32 } else { x27*(if (x39) { x42 } else if (x37) { x43 } else if (x38) { x36 } else { x41 }) }) } else { f64::NAN });
+    let x1 = -c_b;
+    let x2 = c_a*g;
+    let x3 = 2_f64/s_a;
+    let x4 = x1 + x2*x3;
+    let x5 = x4 <= 0.0_f64;
+    let x6 = 2_f64/s_b;
+    let x7 = g*x6;
+    let x8 = c_a - x4*x7;
+    let x9 = x8 <= 0.0_f64;
+    let x10 = g*x3;
+    let x11 = x10*x8 + x4 >= 0.0_f64;
+    let x12 = (-(g).powi(2) + s_a*s_b).sqrt();
+    let x13 = x12.atan2(-g);
+    let x14 = (x13).recip();
+    let x15 = (-c_a*x12).atan2(c_b*s_a - x2);
+    let x16 = (x14*x15).ceil();
+    let x17 = c_a < 0.0_f64;
+    let x18 = -c_a;
+    let x19 = ((c_a).powi(2)*s_b + (c_b).powi(2)*s_a - 2_f64*c_b*x2).sqrt()/x12;
+    let x20 = (s_a).sqrt()*x19;
+    let x21 = x13*(x16 - 1_f64) - x15;
+    let x22 = -x21.sin();
+    let x23 = (x16).rem_euclid(2_f64) == 1.0_f64;
+    let x24 = ((1_f64/2_f64))*x13;
+    let x25 = x15 <= x24*(2_f64*x16 - 1_f64);
+    let x26 = x23 && x25;
+    let x27 = -x13*x16 + x15;
+    let x28 = (x13 - (-x27)).sin();
+    let x29 = (x13 - (-x21)).sin();
+    let x30 = -x27.sin();
+    let x31 = -x4;
+    let x32 = (s_b).sqrt()*x19;
+    let x33 = c_b*g;
+    let x34 = x33*x6;
+    let x35 = c_a - x34;
+    let x36 = x35 >= 0.0_f64;
+    let x37 = c_b + x10*x35;
+    let x38 = x37 <= 0.0_f64;
+    let x39 = x18 + x34 + x37*x7;
+    let x40 = x39 >= 0.0_f64;
+    let x41 = (-c_b*x12).atan2(c_a*s_b - x33);
+    let x42 = (x14*x41).ceil();
+    let x43 = c_b < 0.0_f64;
+    let x44 = x13*(x42 - 1_f64) - x41;
+    let x45 = (x13 - (-x44)).sin();
+    let x46 = (x42).rem_euclid(2_f64) == 1.0_f64;
+    let x47 = x41 <= x24*(2_f64*x42 - 1_f64);
+    let x48 = x46 && x47;
+    let x49 = -x13*x42 + x41;
+    let x50 = -x49.sin();
+    let x51 = -x44.sin();
+    let x52 = (x13 - (-x49)).sin();
+    let count_a = (if (x0) { 0_f64 } else if (x17) { (if (x5) { 1_f64 } else if (x9) { 2_f64 } else if (x11) { 3_f64 } else { x16 }) } else { -1_f64 });
+    let ca_a = (if (x0) { c_a } else if (x17) { (if (x5) { x18 } else if (x9) { -x8 } else if (x11) { x8 } else { x20*(if (x26) { x22 } else if (x23) { x28 } else if (x25) { x29 } else { x30 }) }) } else { f64::NAN });
+    let cb_a = (if (x0) { c_b } else if (x17) { (if (x5) { x31 } else if (x9) { x4 } else if (x11) { x10*(c_a + x31*x7) + x4 } else { x32*(if (x26) { x29 } else if (x23) { x30 } else if (x25) { x22 } else { x28 }) }) } else { f64::NAN });
+    let count_b = (if (x0) { 0_f64 } else if (x43) { (if (x36) { 1_f64 } else if (x38) { 2_f64 } else if (x40) { 3_f64 } else { x42 }) } else { -1_f64 });
+    let ca_b = (if (x0) { c_a } else if (x43) { (if (x36) { x35 } else if (x38) { -x35 } else if (x40) { x39 } else { x20*(if (x48) { x45 } else if (x46) { x50 } else if (x47) { x51 } else { x52 }) }) } else { f64::NAN });
+    let cb_b = (if (x0) { c_b } else if (x43) { (if (x36) { x1 } else if (x38) { -x37 } else if (x40) { x37 } else { x32*(if (x48) { x51 } else if (x46) { x52 } else if (x47) { x45 } else { x50 }) }) } else { f64::NAN });
     (count_a, ca_a, cb_a, count_b, ca_b, cb_b)
 }
 
 /// n = 2 closed form: M by its upper triangle, H = [[h_00, h_01], [h_10, h_11]], v = (v_0, v_1).
 /// Returns (count_a, v0_a, v1_a, count_b, v0_b, v1_b): counts and exit velocities of the branches
-/// starting with row 0 (a) and row 1 (b). Float, uncertified (see impactsym.laws.two_surface).
+/// starting with row 0 (a) and row 1 (b): v itself when valid, its reflections for counts 1-3,
+/// H^-1 c' above. Float, uncertified (see impactsym.laws.two_surface).
 #[allow(non_snake_case, unused_parens, clippy::all)]
 pub fn two_surface_resolution_2(m_00: f64, m_01: f64, m_11: f64, h_00: f64, h_01: f64, h_10: f64, h_11: f64, v_0: f64, v_1: f64) -> (f64, f64, f64, f64, f64, f64) {
     let x0 = h_00*v_0 + h_01*v_1;
     let x1 = h_10*v_0 + h_11*v_1;
     let x2 = x0 >= 0.0_f64 && x1 >= 0.0_f64;
-    let x3 = h_00*h_11 - h_01*h_10;
-    let x4 = (m_00*m_11 - (m_01).powi(2)).recip();
-    let x5 = (x4).sqrt();
-    let x6 = x5*x3.abs();
+    let x3 = h_00*m_11 - h_01*m_01;
+    let x4 = h_00*m_01 - h_01*m_00;
+    let x5 = h_00*x3 - h_01*x4;
+    let x6 = (x5).recip();
     let x7 = h_10*m_11 - h_11*m_01;
     let x8 = h_10*m_01 - h_11*m_00;
     let x9 = h_00*x7 - h_01*x8;
-    let x10 = x6.atan2(-x4*x9);
-    let x11 = (x10).recip();
-    let x12 = h_00*m_01 - h_01*m_00;
-    let x13 = h_00*m_11 - h_01*m_01;
-    let x14 = x3*x4;
-    let x15 = (-x0*x6).atan2(x14*(v_0*x12 + v_1*x13));
-    let x16 = (x11*x15).ceil();
-    let x17 = x0 < 0.0_f64;
-    let x18 = (x3).recip();
-    let x19 = h_00*x13 - h_01*x12;
-    let x20 = 2_f64*x9;
-    let x21 = x20/x19;
-    let x22 = -x0*x21 + x1;
-    let x23 = x16 == 1.0_f64;
-    let x24 = x16 == 2.0_f64;
-    let x25 = h_10*x7 - h_11*x8;
-    let x26 = (x4*(v_0*(m_00*v_0 + m_01*v_1) + v_1*(m_01*v_0 + m_11*v_1))).sqrt()/x5;
-    let x27 = x26*(x25*x4).sqrt();
-    let x28 = -x15;
-    let x29 = x10*(x16 - 1_f64) + x28;
-    let x30 = (x10 - (-x29)).sin();
-    let x31 = (x16).rem_euclid(2_f64) == 1.0_f64;
-    let x32 = ((1_f64/2_f64))*x10;
-    let x33 = x15 <= x32*(2_f64*x16 - 1_f64);
-    let x34 = x31 && x33;
-    let x35 = x10*x16 + x28;
-    let x36 = x35.sin();
-    let x37 = -x29.sin();
-    let x38 = (x10 - x35).sin();
-    let x39 = (if (x2) { x1 } else if (x17) { (if (x23) { x22 } else if (x24) { -x22 } else { x27*(if (x34) { x30 } else if (x31) { x36 } else if (x33) { x37 } else { x38 }) }) } else { f64::NAN });
-    let x40 = x20/x25;
-    let x41 = x26*(x19*x4).sqrt();
-    let x42 = (if (x2) { x0 } else if (x17) { (if (x23) { -x0 } else if (x24) { -x0 - x22*x40 } else { x41*(if (x34) { x37 } else if (x31) { x38 } else if (x33) { x30 } else { x36 }) }) } else { f64::NAN });
-    let x43 = (-x1*x6).atan2(-x14*(v_0*x8 + v_1*x7));
-    let x44 = (x11*x43).ceil();
-    let x45 = x1 < 0.0_f64;
-    let x46 = x0 - x1*x40;
-    let x47 = x44 == 1.0_f64;
-    let x48 = x44 == 2.0_f64;
-    let x49 = -x43;
-    let x50 = x10*(x44 - 1_f64) + x49;
-    let x51 = (x10 - (-x50)).sin();
-    let x52 = (x44).rem_euclid(2_f64) == 1.0_f64;
-    let x53 = x43 <= x32*(2_f64*x44 - 1_f64);
-    let x54 = x52 && x53;
-    let x55 = x10*x44 + x49;
-    let x56 = x55.sin();
-    let x57 = -x50.sin();
-    let x58 = (x10 - x55).sin();
-    let x59 = (if (x2) { x0 } else if (x45) { (if (x47) { x46 } else if (x48) { -x46 } else { x41*(if (x54) { x51 } else if (x52) { x56 } else if (x53) { x57 } else { x58 }) }) } else { f64::NAN });
-    let x60 = (if (x2) { x1 } else if (x45) { (if (x47) { -x1 } else if (x48) { -x1 - x21*x46 } else { x27*(if (x54) { x57 } else if (x52) { x58 } else if (x53) { x51 } else { x56 }) }) } else { f64::NAN });
-    let count_a = (if (x2) { 0_f64 } else if (x17) { x16 } else { -1_f64 });
-    let v0_a = x18*(-h_01*x39 + h_11*x42);
-    let v1_a = x18*(h_00*x39 - h_10*x42);
-    let count_b = (if (x2) { 0_f64 } else if (x45) { x44 } else { -1_f64 });
-    let v0_b = x18*(-h_01*x60 + h_11*x59);
-    let v1_b = x18*(h_00*x60 - h_10*x59);
+    let x10 = 2_f64*x9;
+    let x11 = x10*x6;
+    let x12 = -x0*x11 + x1;
+    let x13 = x12 >= 0.0_f64;
+    let x14 = h_10*x7 - h_11*x8;
+    let x15 = (x14).recip();
+    let x16 = x12*x15;
+    let x17 = x0 + x10*x16;
+    let x18 = x17 <= 0.0_f64;
+    let x19 = -x11*x17 + x12;
+    let x20 = x19 <= 0.0_f64;
+    let x21 = h_00*h_11 - h_01*h_10;
+    let x22 = (m_00*m_11 - (m_01).powi(2)).recip();
+    let x23 = (x22).sqrt();
+    let x24 = x23*x21.abs();
+    let x25 = x24.atan2(-x22*x9);
+    let x26 = (x25).recip();
+    let x27 = x21*x22;
+    let x28 = (-x0*x24).atan2(x27*(v_0*x4 + v_1*x3));
+    let x29 = (x26*x28).ceil();
+    let x30 = x0 < 0.0_f64;
+    let x31 = 2_f64*x6;
+    let x32 = x3*x31;
+    let x33 = x0*x32;
+    let x34 = v_0 - x33;
+    let x35 = -v_0;
+    let x36 = 2_f64*x16;
+    let x37 = x36*x7;
+    let x38 = (x21).recip();
+    let x39 = (x22*(v_0*(m_00*v_0 + m_01*v_1) + v_1*(m_01*v_0 + m_11*v_1))).sqrt()/x23;
+    let x40 = x39*(x22*x5).sqrt();
+    let x41 = -x28;
+    let x42 = x25*(x29 - 1_f64) + x41;
+    let x43 = -x42.sin();
+    let x44 = (x29).rem_euclid(2_f64) == 1.0_f64;
+    let x45 = ((1_f64/2_f64))*x25;
+    let x46 = x28 <= x45*(2_f64*x29 - 1_f64);
+    let x47 = x44 && x46;
+    let x48 = x25*x29 + x41;
+    let x49 = (x25 - x48).sin();
+    let x50 = (x25 - (-x42)).sin();
+    let x51 = x48.sin();
+    let x52 = (if (x2) { x0 } else if (x30) { (if (x13) { -x0 } else if (x18) { -x17 } else if (x20) { x17 } else { x40*(if (x47) { x43 } else if (x44) { x49 } else if (x46) { x50 } else { x51 }) }) } else { f64::NAN });
+    let x53 = x39*(x14*x22).sqrt();
+    let x54 = (if (x2) { x1 } else if (x30) { (if (x13) { x12 } else if (x18) { -x12 } else if (x20) { -x19 } else { x53*(if (x47) { x50 } else if (x44) { x51 } else if (x46) { x43 } else { x49 }) }) } else { f64::NAN });
+    let x55 = x38*(-h_01*x54 + h_11*x52);
+    let x56 = x31*x4;
+    let x57 = v_1 + x0*x56;
+    let x58 = x36*x8 + x57;
+    let x59 = x38*(h_00*x54 - h_10*x52);
+    let x60 = x10*x15;
+    let x61 = x0 - x1*x60;
+    let x62 = x61 >= 0.0_f64;
+    let x63 = x1 + x11*x61;
+    let x64 = x63 <= 0.0_f64;
+    let x65 = -x60*x63 + x61;
+    let x66 = x65 <= 0.0_f64;
+    let x67 = (-x1*x24).atan2(-x27*(v_0*x8 + v_1*x7));
+    let x68 = (x26*x67).ceil();
+    let x69 = x1 < 0.0_f64;
+    let x70 = 2_f64*x15;
+    let x71 = x7*x70;
+    let x72 = x1*x71;
+    let x73 = v_0 - x72;
+    let x74 = x32*x61;
+    let x75 = -x67;
+    let x76 = x25*(x68 - 1_f64) + x75;
+    let x77 = -x76.sin();
+    let x78 = (x68).rem_euclid(2_f64) == 1.0_f64;
+    let x79 = x67 <= x45*(2_f64*x68 - 1_f64);
+    let x80 = x78 && x79;
+    let x81 = x25*x68 + x75;
+    let x82 = (x25 - x81).sin();
+    let x83 = (x25 - (-x76)).sin();
+    let x84 = x81.sin();
+    let x85 = (if (x2) { x1 } else if (x69) { (if (x62) { -x1 } else if (x64) { -x63 } else if (x66) { x63 } else { x53*(if (x80) { x77 } else if (x78) { x82 } else if (x79) { x83 } else { x84 }) }) } else { f64::NAN });
+    let x86 = (if (x2) { x0 } else if (x69) { (if (x62) { x61 } else if (x64) { -x61 } else if (x66) { -x65 } else { x40*(if (x80) { x83 } else if (x78) { x84 } else if (x79) { x77 } else { x82 }) }) } else { f64::NAN });
+    let x87 = x38*(-h_01*x85 + h_11*x86);
+    let x88 = x70*x8;
+    let x89 = v_1 + x1*x88;
+    let x90 = x56*x61 + x89;
+    let x91 = x38*(h_00*x85 - h_10*x86);
+    let count_a = (if (x2) { 0_f64 } else if (x30) { (if (x13) { 1_f64 } else if (x18) { 2_f64 } else if (x20) { 3_f64 } else { x29 }) } else { -1_f64 });
+    let v0_a = (if (x2) { v_0 } else if (x30) { (if (x13) { x34 } else if (x18) { -x33 - x35 - x37 } else if (x20) { x17*x32 + x34 - x37 } else { x55 }) } else { x55 });
+    let v1_a = (if (x2) { v_1 } else if (x30) { (if (x13) { x57 } else if (x18) { x58 } else if (x20) { -x17*x56 + x58 } else { x59 }) } else { x59 });
+    let count_b = (if (x2) { 0_f64 } else if (x69) { (if (x62) { 1_f64 } else if (x64) { 2_f64 } else if (x66) { 3_f64 } else { x68 }) } else { -1_f64 });
+    let v0_b = (if (x2) { v_0 } else if (x69) { (if (x62) { x73 } else if (x64) { -x35 - x72 - x74 } else if (x66) { x63*x71 + x73 - x74 } else { x87 }) } else { x87 });
+    let v1_b = (if (x2) { v_1 } else if (x69) { (if (x62) { x89 } else if (x64) { x90 } else if (x66) { -x63*x88 + x90 } else { x91 }) } else { x91 });
     (count_a, v0_a, v1_a, count_b, v0_b, v1_b)
 }
