@@ -60,6 +60,28 @@ def test_algebraic_zero_test_proves_identities_and_declines_perturbations():
         assert is_zero(e) is True
 
 
+def test_algebraic_zero_test_uses_the_relations_between_square_roots():
+    """Square roots of rationals are products of prime roots (√6 = √2·√3, √(2/3) = √6/3) and a
+    root of an expression is split off its rational content (√(10 + 10√2) = √2·√5·√(1 + √2)):
+    the identities of Q(√2, √3) and the pool's nested radicals are proved, perturbations are not."""
+    x = sp.Symbol("x", real=True)
+    s = sp.sqrt
+    identities = [
+        s(6) - s(2) * s(3),
+        (s(2) + s(3)) ** 2 - 5 - 2 * s(6),
+        s(6) * x / 3 - s(sp.Rational(2, 3)) * x,
+        1 / s(6) - s(6) / 6,
+        s(10 + 10 * s(2)) - s(2) * s(5 + 5 * s(2)),
+        s(x**2 + 1) * s(2 * x**2 + 2) - s(2) * (x**2 + 1),
+        s(sp.Integer(2) ** 101 * 15) - 2**50 * s(30),
+    ]
+    for e in identities:
+        assert is_zero_algebraic(e) is True, e
+        assert is_zero_algebraic(e + sp.Rational(1, 10**30)) is None, e
+        assert is_zero_algebraic(e + s(6) / 10**30) is None, e
+    assert is_zero_algebraic(s(6) - s(2)) is None and is_zero_algebraic(s(3) ** 3 - 9 * s(3)) is None
+
+
 @pytest.mark.parametrize("expr", ["sqrt(x**2) - x", "sqrt(sqrt(x) + 1)", "exp(x) - 1", "cos(x + y) - 1"])
 def test_algebraic_zero_test_declines_what_it_does_not_handle(expr):
     assert is_zero_algebraic(sp.sympify(expr)) is None
