@@ -31,7 +31,7 @@ from __future__ import annotations
 import flint
 import sympy as sp
 
-__all__ = ["is_zero_rational_function", "is_zero_algebraic", "is_zero", "cancel", "factored_numerator", "to_fraction"]
+__all__ = ["is_zero_rational_function", "is_zero_algebraic", "is_zero", "nonzero_at_a_point", "cancel", "factored_numerator", "to_fraction"]
 
 
 class _NotRational(TypeError):
@@ -421,10 +421,65 @@ def index_of(atoms, a) -> int:
     return angles.index(a.args[0])
 
 
+def _point_value(s, k):
+    """The value of symbol ``s`` (the ``k``-th) at the test point: ``(k + 2)/(7k + 3)``, a positive
+    non-integer rational in (1/7, 2/3]; None when that value contradicts an assumption of ``s``
+    (an integer, negative, ... symbol), so that the point always lies in the symbols' domain."""
+    v = sp.Rational(k + 2, 7 * k + 3)
+    for fact, holds in s.assumptions0.items():
+        if getattr(v, f"is_{fact}", None) != holds:
+            return None
+    return v
+
+
+def nonzero_at_a_point(expr) -> bool:
+    """True when ``expr`` is proved non-zero at one exact rational point of its symbols' domain
+    (each symbol at a distinct positive rational that satisfies its assumptions), by a rigorous
+    enclosure (SymPy's ``evalf(strict=True)``, whose digits are guaranteed) that excludes 0. Then
+    ``expr`` is not identically zero, so no simplification makes it 0: ``simplify(expr) == 0``
+    is False. False means undecided (zero there, undefined there, or not certified).
+
+    >>> x = sp.Symbol("x", positive=True)
+    >>> nonzero_at_a_point(x**2 - x), nonzero_at_a_point(sp.sqrt(x**2) - x), nonzero_at_a_point(1 / (x - sp.Rational(2, 3)))
+    (True, False, False)
+    >>> nonzero_at_a_point(sp.Symbol("n", integer=True) - 1)  # no point of the domain chosen: undecided
+    False
+    """
+    expr = sp.sympify(expr)
+    if not isinstance(expr, sp.Expr):
+        return False
+    symbols = sorted(expr.free_symbols, key=sp.default_sort_key)
+    point = {}
+    for k, s in enumerate(symbols):
+        v = _point_value(s, k)
+        if v is None:
+            return False
+        point[s] = v
+    try:
+        val = expr.xreplace(point) if point else expr
+        if val.has(sp.zoo, sp.nan, sp.oo, -sp.oo):
+            return False
+        parts = val.as_real_imag() if not val.is_extended_real else (val, sp.Integer(0))
+        for part in parts:
+            if part.is_Rational:
+                if part != 0:
+                    return True
+                continue
+            if part.has(sp.zoo, sp.nan, sp.oo, -sp.oo) or part.free_symbols:
+                return False
+            approx = part.evalf(30, strict=True)
+            if approx.is_Number and approx.is_finite and approx != 0:
+                return True
+    except Exception:  # noqa: BLE001 - PrecisionExhausted (maybe 0), undefined: undecided
+        return False
+    return False
+
+
 def is_zero(expr) -> bool:
     """``simplify(expr) == 0``, decided first by the exact tests of this module: True when
     :func:`is_zero_algebraic` proves ``expr`` zero, False when :func:`is_zero_rational_function`
-    proves it a non-zero rational function (which no simplification makes 0), and otherwise
+    proves it a non-zero rational function (which no simplification makes 0) or
+    :func:`nonzero_at_a_point` proves it non-zero at one point of its domain, and otherwise
     SymPy's ``simplify(expr) == 0``.
 
     >>> x = sp.Symbol("x")
@@ -434,7 +489,7 @@ def is_zero(expr) -> bool:
     expr = sp.sympify(expr)
     if is_zero_algebraic(expr):
         return True
-    if is_zero_rational_function(expr) is False:
+    if is_zero_rational_function(expr) is False or nonzero_at_a_point(expr):
         return False
     return sp.simplify(expr) == 0
 

@@ -134,3 +134,28 @@ def test_memoized_simplify_is_simplify():
     assert simplify(e) == sp.simplify(e) and simplify(e) is simplify(e)
     M = sp.Matrix([[e]])  # unhashable: simplified directly
     assert simplify(M) == sp.Matrix([[x + 1]])
+
+
+def test_nonzero_at_a_point_never_claims_an_identity_and_respects_assumptions():
+    """nonzero_at_a_point is a proof of 'not identically zero': it is never True for an identity
+    (including ones that hold only under the symbols' assumptions), True for perturbations, and
+    undecided where its point would leave the symbols' domain."""
+    x, y = sp.symbols("x y", positive=True)
+    t = sp.Symbol("t", real=True)
+    from derivations.rational_zero import nonzero_at_a_point
+
+    identities = [sp.sqrt(x**2) - x, sp.cos(t) ** 2 + sp.sin(t) ** 2 - 1, sp.log(x * y) - sp.log(x) - sp.log(y),
+                  (x**2 - y**2) / (x - y) - x - y, sp.Abs(x) - x, sp.exp(sp.log(x)) - x]
+    for e in identities:
+        assert nonzero_at_a_point(e) is False, e
+        assert nonzero_at_a_point(e + sp.Rational(1, 10**25)) is True, e
+        assert is_zero(e) is True
+    n = sp.Symbol("n", integer=True)
+    assert nonzero_at_a_point(sp.sin(sp.pi * n)) is False  # would need a non-integer n: undecided
+    assert nonzero_at_a_point(1 / (x - sp.Rational(2, 3))) is False  # undefined at its point
+    rng = random.Random(3)
+    syms = sp.symbols("a b c", positive=True)
+    for _ in range(30):
+        f = _random_rational(rng, list(syms))
+        if nonzero_at_a_point(f):
+            assert sp.simplify(f) != 0
