@@ -31,7 +31,7 @@ from __future__ import annotations
 import flint
 import sympy as sp
 
-__all__ = ["is_zero_rational_function", "is_zero_algebraic", "is_zero", "cancel", "factored_numerator", "to_fraction"]
+__all__ = ["is_zero_rational_function", "is_zero_algebraic", "is_zero", "nonzero_at_a_point", "cancel", "factored_numerator", "to_fraction"]
 
 
 class _NotRational(TypeError):
@@ -148,12 +148,14 @@ def _generators(expr):
             if not (x.is_Rational and x.q == 2):
                 raise _NotRational(f"not an algebraic power: {node}")
             if b.is_Rational and b > 0:
-                roots.add(b)
+                roots.update(_split_root(b)[1])
             elif b.is_Rational or any(not (y.exp.is_Integer or (y.base.is_Rational and y.base > 0))
                                       for y in b.atoms(sp.Pow)):
                 raise _NotRational(f"nested or negative root: {node}")
             else:
-                polyroots.add(b)
+                c, prim = _primitive(b)
+                roots.update(_split_root(c)[1])
+                polyroots.add(prim)
         elif isinstance(node, (sp.cos, sp.sin)):
             if not node.args[0].is_Symbol:
                 raise _NotRational(f"trigonometric function of a non-symbol: {node}")
@@ -162,6 +164,44 @@ def _generators(expr):
             raise _NotRational(f"not a rational function: {type(node).__name__}")
     return (sorted(symbols - angles, key=str), sorted(roots), sorted(angles, key=str), unit,
             sorted(polyroots, key=sp.default_sort_key))
+
+
+_MAX_FACTOR = 10**30
+
+
+def _split_root(q):
+    """``√q = r·√(p₁⋯p_k)`` for a positive rational ``q``: ``(r, (p₁, …, p_k))`` with ``r`` rational
+    and the ``p_i`` the distinct primes of the square-free part of ``q``'s numerator times its
+    denominator. The square roots of distinct primes are linearly independent over Q, so with them
+    as generators (``√p² = p``) the reduced numerator is a canonical form: ``√6 − √2·√3`` reduces to
+    0. A square-free part too large to factor stays one generator (still a true relation)."""
+    hit = _SPLIT.get(q)
+    if hit is None:
+        a, b = int(q.p), int(q.q)
+        n = a * b
+        if n > _MAX_FACTOR:
+            hit = (sp.Integer(1) / b, (sp.Integer(n),))
+        else:
+            square, primes = 1, []
+            for p, e in flint.fmpz(n).factor():
+                square *= int(p) ** (e // 2)
+                if e % 2:
+                    primes.append(sp.Integer(int(p)))
+            hit = (sp.Rational(square, b), tuple(primes))
+        _SPLIT[q] = hit
+    return hit
+
+
+_SPLIT: dict = {}
+
+
+def _primitive(b):
+    """``(c, P)`` with ``b = c·P``, ``c`` a positive rational content (so ``√b = √c·√P``) and ``P``
+    primitive: ``√(10 + 10√2)`` and ``√(5 + 5√2)`` share the generator ``√(1 + √2)``."""
+    c, prim = b.as_content_primitive()
+    if not (c.is_Rational and c > 0):
+        return sp.Integer(1), b
+    return c, prim
 
 
 def _reduce(poly, ctx, rel):
@@ -190,15 +230,19 @@ def is_zero_algebraic(expr) -> bool | None:
 
     The expression is written as one fraction ``N / D`` of polynomials in the symbols and in one
     generator per square root, ``i``, cosine and sine (no gcd, as :func:`to_fraction`); ``N`` is
-    reduced by the true relations ``(√q)² = q``, ``i² = −1``, ``sin²x = 1 − cos²x``. A reduced
+    reduced by the true relations ``(√p)² = p`` (``p`` prime), ``(√P)² = P``, ``i² = −1``, ``sin²x = 1 − cos²x``. A reduced
     ``N`` equal to the zero polynomial proves ``N = 0`` at the generators' values; ``D`` is
     proved not identically zero by one certified evaluation (an Arb ball excluding 0 at an exact
     rational point). Then ``expr`` is identically zero.
 
     Returns
     -------
-    True when proved zero; None otherwise (the expression may still be zero: generators such as
-    ``√2``, ``√3`` and ``√6`` are related in ways the reduction does not use). Never False.
+    True when proved zero; None otherwise (the expression may still be zero: ``√P`` generators and
+    angles may be related in ways the reduction does not use, such as ``√(2 + √3)`` and
+    ``(√6 + √2)/2``). Never False. Square roots of rationals are rewritten as a rational times
+    roots of distinct primes (``√6 = √2·√3``), and a root of an expression as the root of its
+    rational content times the root of its primitive part (``√(10 + 10√2) = √10·√(1 + √2)``), so
+    relations among those are used.
 
     Examples
     --------
@@ -257,6 +301,32 @@ def _conv(expr, ctx, gens, index):
     one = ctx.from_dict({}) + 1
     memo: dict = {}
 
+    def _root_poly(b):
+        """√b as a polynomial in the generators (a rational times prime roots, times the
+        generator of b's primitive part), or None when b has none."""
+        i = index.get(sp.sqrt(b))
+        if i is not None and not b.is_Rational:
+            return gens[i]
+        if b.is_Rational:
+            if b <= 0:
+                return None
+            r, primes = _split_root(b)
+            c, rest = r, one
+        else:
+            c, prim = _primitive(b)
+            j = index.get(sp.sqrt(prim))
+            if j is None:
+                return None
+            r, primes = _split_root(c)
+            c, rest = r, gens[j]
+        out = rest * flint.fmpq(int(c.p), int(c.q))
+        for p in primes:
+            k = index.get(sp.sqrt(p))
+            if k is None:
+                return None
+            out = out * gens[k]
+        return out
+
     def conv(e):
         hit = memo.get(e)
         if hit is not None:
@@ -281,12 +351,12 @@ def _conv(expr, ctx, gens, index):
                 n2, d2 = conv(a)
                 n, d = n * n2, d * d2
             out = (n, d)
-        elif e.is_Pow and (e.exp.is_Integer or (e.exp.is_Rational and e.exp.q == 2 and sp.sqrt(e.base) in index)):
+        elif e.is_Pow and (e.exp.is_Integer or (e.exp.is_Rational and e.exp.q == 2 and _root_poly(e.base) is not None)):
             if e.exp.is_Integer:
                 n, d = conv(e.base)
                 k = int(e.exp)
-            else:  # b**(k/2) = sqrt(b)**k
-                n, d = gens[index[sp.sqrt(e.base)]], one
+            else:  # b**(k/2) = sqrt(b)**k, sqrt(b) a product of generators
+                n, d = _root_poly(e.base), one
                 k = int(e.exp.p)
             if k < 0 and n == 0:
                 raise _NotRational("division by the zero polynomial")
@@ -351,10 +421,65 @@ def index_of(atoms, a) -> int:
     return angles.index(a.args[0])
 
 
+def _point_value(s, k):
+    """The value of symbol ``s`` (the ``k``-th) at the test point: ``(k + 2)/(7k + 3)``, a positive
+    non-integer rational in (1/7, 2/3]; None when that value contradicts an assumption of ``s``
+    (an integer, negative, ... symbol), so that the point always lies in the symbols' domain."""
+    v = sp.Rational(k + 2, 7 * k + 3)
+    for fact, holds in s.assumptions0.items():
+        if getattr(v, f"is_{fact}", None) != holds:
+            return None
+    return v
+
+
+def nonzero_at_a_point(expr) -> bool:
+    """True when ``expr`` is proved non-zero at one exact rational point of its symbols' domain
+    (each symbol at a distinct positive rational that satisfies its assumptions), by a rigorous
+    enclosure (SymPy's ``evalf(strict=True)``, whose digits are guaranteed) that excludes 0. Then
+    ``expr`` is not identically zero, so no simplification makes it 0: ``simplify(expr) == 0``
+    is False. False means undecided (zero there, undefined there, or not certified).
+
+    >>> x = sp.Symbol("x", positive=True)
+    >>> nonzero_at_a_point(x**2 - x), nonzero_at_a_point(sp.sqrt(x**2) - x), nonzero_at_a_point(1 / (x - sp.Rational(2, 3)))
+    (True, False, False)
+    >>> nonzero_at_a_point(sp.Symbol("n", integer=True) - 1)  # no point of the domain chosen: undecided
+    False
+    """
+    expr = sp.sympify(expr)
+    if not isinstance(expr, sp.Expr):
+        return False
+    symbols = sorted(expr.free_symbols, key=sp.default_sort_key)
+    point = {}
+    for k, s in enumerate(symbols):
+        v = _point_value(s, k)
+        if v is None:
+            return False
+        point[s] = v
+    try:
+        val = expr.xreplace(point) if point else expr
+        if val.has(sp.zoo, sp.nan, sp.oo, -sp.oo):
+            return False
+        parts = val.as_real_imag() if not val.is_extended_real else (val, sp.Integer(0))
+        for part in parts:
+            if part.is_Rational:
+                if part != 0:
+                    return True
+                continue
+            if part.has(sp.zoo, sp.nan, sp.oo, -sp.oo) or part.free_symbols:
+                return False
+            approx = part.evalf(30, strict=True)
+            if approx.is_Number and approx.is_finite and approx != 0:
+                return True
+    except Exception:  # noqa: BLE001 - PrecisionExhausted (maybe 0), undefined: undecided
+        return False
+    return False
+
+
 def is_zero(expr) -> bool:
     """``simplify(expr) == 0``, decided first by the exact tests of this module: True when
     :func:`is_zero_algebraic` proves ``expr`` zero, False when :func:`is_zero_rational_function`
-    proves it a non-zero rational function (which no simplification makes 0), and otherwise
+    proves it a non-zero rational function (which no simplification makes 0) or
+    :func:`nonzero_at_a_point` proves it non-zero at one point of its domain, and otherwise
     SymPy's ``simplify(expr) == 0``.
 
     >>> x = sp.Symbol("x")
@@ -364,7 +489,7 @@ def is_zero(expr) -> bool:
     expr = sp.sympify(expr)
     if is_zero_algebraic(expr):
         return True
-    if is_zero_rational_function(expr) is False:
+    if is_zero_rational_function(expr) is False or nonzero_at_a_point(expr):
         return False
     return sp.simplify(expr) == 0
 

@@ -181,14 +181,19 @@ def derive_single_impact(n: int) -> Derivation:
     qp_syms = symbolic_vector(n, "qp")
     lam = sp.Symbol("lambda", real=True)
     momentum = M * qp_syms - M * qm + lam * u.T  # eq. 1a, as the jump of dL/dqdot
-    sol = sp.solve(list(momentum), list(qp_syms), dict=True)
+    # (check=False: the same solutions in the same form; they are checked below, exactly, by flint)
+    sol = sp.solve(list(momentum), list(qp_syms), dict=True, check=False)
     if not (len(sol) == 1):
         raise DerivationError("the momentum equation is linear in qdot+ with an invertible M")
+    if not all(is_zero_rational_function(x.xreplace(sol[0])) for x in momentum):
+        raise DerivationError("the solution of the momentum equation does not satisfy it")
     qp_of_lam = qp_syms.subs(sol[0])
     energy = (qp_of_lam.T * M * qp_of_lam)[0, 0] - (qm.T * M * qm)[0, 0]  # eq. 1b
     # its numerator over the denominators' product (det M powers, free of lambda), factored by flint
     energy_num = factored_numerator(energy, free_of=[lam])
-    roots = sp.solve(energy_num, lam)
+    roots = sp.solve(energy_num, lam, check=False)
+    if not all(is_zero_rational_function(energy_num.xreplace({lam: r})) for r in roots):
+        raise DerivationError("a root of the energy equation does not satisfy it")
     discarded = [(r, TRIVIAL_ROOT_REASON) for r in roots if is_zero(r)]
     kept = [r for r in roots if not is_zero(r)]
     if not (len(kept) == 1):
@@ -215,7 +220,10 @@ def derive_restitution(n: int) -> Derivation:
     M, u, qm = symbolic_mass_matrix(n), symbolic_covector(n), symbolic_vector(n, "qm")
     qp_syms = symbolic_vector(n, "qp")
     lam, e = sp.Symbol("lambda", real=True), sp.Symbol("e", nonnegative=True)
-    sol = sp.solve(list(M * qp_syms - M * qm + lam * u.T), list(qp_syms), dict=True)
+    momentum = M * qp_syms - M * qm + lam * u.T
+    sol = sp.solve(list(momentum), list(qp_syms), dict=True, check=False)  # checked exactly below
+    if len(sol) != 1 or not all(is_zero_rational_function(x.xreplace(sol[0])) for x in momentum):
+        raise DerivationError("the momentum equation's one solution does not satisfy it")
     qp_of_lam = qp_syms.subs(sol[0])
     restitution = (u * qp_of_lam)[0, 0] + e * (u * qm)[0, 0]
     # the condition is linear in lambda: a lambda + b = 0 with a != 0 (its numerator over the

@@ -404,40 +404,11 @@ def _verify_final(m, v0, v, walls: bool, energy_loss=0, impulses=()) -> None:
             raise VerificationError("simulate_line", "a ball's momentum change differs from its contacts' impulses")
 
 
-def realize_ordering(M, H, v0, order, *, scale=sp.Rational(1, 10**6)):
-    """Gaps (one per closed contact, exact, positive) that make the impact ``order`` happen.
-
-    Parameters
-    ----------
-    M, H, v0 : the reduced scene (exact)
-    order : sequence of contact indices (rows of ``H``)
-    scale : the largest gap after scaling
-
-    Returns
-    -------
-    list of sympy.Rational, or None when no gaps realize the ordering (the LP's best margin is 0).
-
-    Examples
-    --------
-    >>> import sympy as sp
-    >>> realize_ordering(sp.eye(2), sp.Matrix([[1, 0], [-1, 1]]), sp.Matrix([-1, -2]), [1, 0, 1, 0])
-    [1/1000000, 1/7000000]
-
-    The answer is a function of the exact data alone; the last 512 are remembered (SymPy's exact
-    simplex takes about 0.2 s per ordering, and a scene's orderings are asked for again by the
-    figures and the findings that draw on them).
-    """
-    gaps = _realize_ordering(sp.ImmutableMatrix(M), sp.ImmutableMatrix(H), sp.ImmutableMatrix(v0),
-                             tuple(int(c) for c in order), sp.sympify(scale))
-    return None if gaps is None else list(gaps)
-
-
-@lru_cache(maxsize=512)
-def _realize_ordering(M, H, v0, order, scale):
-    from sympy.solvers.simplex import InfeasibleLPError, linprog
-
-    M, H, v0 = sp.Matrix(M), sp.Matrix(H), sp.Matrix(v0)
-
+def _ordering_lp(M, H, v0, order):
+    """The LP of :func:`realize_ordering`: maximize the margin ``delta`` over the gaps ``g`` (one per
+    contact), the interval lengths ``dt`` and ``delta`` itself, with every gap and interval ``>= delta``,
+    the contact hit at event ``s`` closing exactly then, and the gaps summing to at most 1. Returns
+    ``(k, c, A_ub, b_ub, A_eq, b_eq)`` as lists of exact entries, variables ``g, dt, delta >= 0``."""
     from .laws.reflection import reflect
 
     k = H.shape[0]
@@ -484,6 +455,74 @@ def _realize_ordering(M, H, v0, order, scale):
     b_ub.append(sp.Integer(1))  # sum of gaps <= 1
     c = [sp.Integer(0)] * nv
     c[D] = sp.Integer(-1)
+    return k, c, A_ub, b_ub, A_eq, b_eq
+
+
+def ordering_realizable(M, H, v0, order) -> bool:
+    """Whether some positive gaps make the impact ``order`` happen: the LP of
+    :func:`realize_ordering` has a positive optimal margin, decided exactly (an exact simplex whose
+    optimum is certified by a dual point, :func:`impactsym.arithmetic.exact_lp.maximize`). The same
+    verdict as ``realize_ordering(...) is not None``, without building the gaps.
+
+    >>> import sympy as sp
+    >>> M, H, v0 = sp.eye(2), sp.Matrix([[1, 0], [-1, 1]]), sp.Matrix([-1, -2])
+    >>> ordering_realizable(M, H, v0, [1, 0, 1, 0]), ordering_realizable(M, H, v0, [1, 1])
+    (True, False)
+    """
+    decided = _margin_positive(*_ordering_lp(M, H, v0, order)[1:])
+    return decided if decided is not None else realize_ordering(M, H, v0, order) is not None
+
+
+def _margin_positive(c, A_ub, b_ub, A_eq, b_eq):
+    """True/False: the ordering LP's optimal margin is positive (exact, certified); None when its
+    data are not all rational (SymPy's ``linprog`` then decides)."""
+    from .arithmetic.exact_lp import maximize
+    from .errors import VerificationError
+
+    if not all(getattr(x, "is_Rational", False) for row in A_ub + A_eq for x in row):
+        return None
+    r = maximize([-x for x in c], A_ub, b_ub, A_eq, b_eq)  # c is linprog's (minimize -delta)
+    if r.status != "optimal":  # z = 0 is feasible and delta <= 1: never reached for this LP
+        raise VerificationError("ordering_realizable", f"the ordering LP is {r.status}")
+    return r.value > 0
+
+
+def realize_ordering(M, H, v0, order, *, scale=sp.Rational(1, 10**6)):
+    """Gaps (one per closed contact, exact, positive) that make the impact ``order`` happen.
+
+    Parameters
+    ----------
+    M, H, v0 : the reduced scene (exact)
+    order : sequence of contact indices (rows of ``H``)
+    scale : the largest gap after scaling
+
+    Returns
+    -------
+    list of sympy.Rational, or None when no gaps realize the ordering (the LP's best margin is 0).
+
+    Examples
+    --------
+    >>> import sympy as sp
+    >>> realize_ordering(sp.eye(2), sp.Matrix([[1, 0], [-1, 1]]), sp.Matrix([-1, -2]), [1, 0, 1, 0])
+    [1/1000000, 1/7000000]
+
+    The answer is a function of the exact data alone; the last 512 are remembered (SymPy's exact
+    simplex takes about 0.2 s per ordering, and a scene's orderings are asked for again by the
+    figures and the findings that draw on them).
+    """
+    gaps = _realize_ordering(sp.ImmutableMatrix(M), sp.ImmutableMatrix(H), sp.ImmutableMatrix(v0),
+                             tuple(int(c) for c in order), sp.sympify(scale))
+    return None if gaps is None else list(gaps)
+
+
+@lru_cache(maxsize=512)
+def _realize_ordering(M, H, v0, order, scale):
+    from sympy.solvers.simplex import InfeasibleLPError, linprog
+
+    M, H, v0 = sp.Matrix(M), sp.Matrix(H), sp.Matrix(v0)
+    k, c, A_ub, b_ub, A_eq, b_eq = _ordering_lp(M, H, v0, order)
+    if _margin_positive(c, A_ub, b_ub, A_eq, b_eq) is False:
+        return None  # decided exactly without SymPy's LP (the gaps of a realizable order still come from it)
     try:
         val, z = linprog(sp.Matrix([c]), sp.Matrix(A_ub), sp.Matrix(b_ub),
                          sp.Matrix(A_eq) if A_eq else None, sp.Matrix(b_eq) if b_eq else None)

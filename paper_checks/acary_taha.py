@@ -1195,8 +1195,8 @@ def case3a():
     rows = []
     bad = []
     for t in (-sp.pi / 3, -sp.pi / 4, -sp.pi / 6, -sp.pi / 12, 0):
+        sc = bernoulli(t)  # one scene per tau, shared by the three ratios
         for al in (0, sp.Rational(1, 4), sp.Rational(1, 2)):
-            sc = bernoulli(t)
             r = _law(sc.M, sc.H, sc.v, 1, [al, al], allow_invalid=True)
             rc = _law(sc.M, sc.H, sc.v, 1, [al, al], allow_invalid=True, coupling=True)
             row = {"tau": t, "alpha12=alpha13": al, "valid": r.valid,

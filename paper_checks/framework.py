@@ -496,7 +496,8 @@ def identical(a, b, *, domain: dict | None = None, points: int = 8, seed: int = 
 
     First an exact zero test of ``a − b`` (:func:`derivations.rational_zero.is_zero_algebraic`:
     its numerator, reduced by ``(√q)² = q``, ``sin² = 1 − cos²``, is the zero polynomial), then
-    ``simplify(a − b) == 0`` (both proofs). For numbers, an exact zero test or a certified
+    ``simplify(a − b) == 0`` (both proofs), skipped when ``a − b`` is proved non-zero at one point
+    of its domain (:func:`derivations.rational_zero.nonzero_at_a_point`; simplify cannot close it). For numbers, an exact zero test or a certified
     sign (:func:`impactsym.exact.certified_sign`: rationals exactly, algebraic numbers by their
     minimal polynomial, others by rigorous enclosures). For expressions with symbols,
     ``a − b`` is evaluated *exactly* at ``points`` random rational points of ``domain``: an
@@ -521,7 +522,7 @@ def identical(a, b, *, domain: dict | None = None, points: int = 8, seed: int = 
         diffs = list(A - B)
     else:
         diffs = [A - B]
-    from derivations.rational_zero import is_zero_algebraic, is_zero_rational_function
+    from derivations.rational_zero import is_zero_algebraic, is_zero_rational_function, nonzero_at_a_point
 
     rest = []
     simplified = False
@@ -531,8 +532,8 @@ def identical(a, b, *, domain: dict | None = None, points: int = 8, seed: int = 
         # a rational function over Q with a non-zero numerator is not (simplify cannot close it)
         if is_zero_algebraic(d):
             continue
-        if is_zero_rational_function(d) is False:
-            rest.append(d)
+        if is_zero_rational_function(d) is False or nonzero_at_a_point(d):
+            rest.append(d)  # proved not identically zero: simplify cannot close it either
             continue
         simplified = True
         try:

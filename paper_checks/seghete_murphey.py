@@ -592,12 +592,12 @@ def branches_are_perturbations():
     by branching on every violated surface. For three surfaces the branching over-generates."""
     from impactsym.laws.sequential import resolve_sequential
     from impactsym.scenes import balls_on_line
-    from impactsym.simulate import perturbed_scene_positions, realize_ordering, simulate_line
+    from impactsym.simulate import ordering_realizable, perturbed_scene_positions, simulate_line
 
     sc = balls_on_line([1, 3, 4], [1, 1, 1], [1, 3, 5], [-1, -3, 0], walls=[0])
     r = _outcomes(sc.M, sc.H, sc.v, two_surface="iterate", select=False)
-    realized = sorted({idx for order, idx in r.iter_orderings()
-                       if realize_ordering(sc.M, sc.H, sc.v, order) is not None})
+    # realize_ordering's LP, its optimal margin decided by an exact simplex with a dual certificate
+    realized = sorted({idx for order, idx in r.iter_orderings() if ordering_realizable(sc.M, sc.H, sc.v, order)})
     simulated = []
     for gaps in ([1, 2, 3], [3, 2, 1], [1, 1000, 7], [500, 1, 3]):
         pos = perturbed_scene_positions(sc, [sp.Rational(g, 10**9) for g in gaps])

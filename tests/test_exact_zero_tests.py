@@ -60,6 +60,28 @@ def test_algebraic_zero_test_proves_identities_and_declines_perturbations():
         assert is_zero(e) is True
 
 
+def test_algebraic_zero_test_uses_the_relations_between_square_roots():
+    """Square roots of rationals are products of prime roots (√6 = √2·√3, √(2/3) = √6/3) and a
+    root of an expression is split off its rational content (√(10 + 10√2) = √2·√5·√(1 + √2)):
+    the identities of Q(√2, √3) and the pool's nested radicals are proved, perturbations are not."""
+    x = sp.Symbol("x", real=True)
+    s = sp.sqrt
+    identities = [
+        s(6) - s(2) * s(3),
+        (s(2) + s(3)) ** 2 - 5 - 2 * s(6),
+        s(6) * x / 3 - s(sp.Rational(2, 3)) * x,
+        1 / s(6) - s(6) / 6,
+        s(10 + 10 * s(2)) - s(2) * s(5 + 5 * s(2)),
+        s(x**2 + 1) * s(2 * x**2 + 2) - s(2) * (x**2 + 1),
+        s(sp.Integer(2) ** 101 * 15) - 2**50 * s(30),
+    ]
+    for e in identities:
+        assert is_zero_algebraic(e) is True, e
+        assert is_zero_algebraic(e + sp.Rational(1, 10**30)) is None, e
+        assert is_zero_algebraic(e + s(6) / 10**30) is None, e
+    assert is_zero_algebraic(s(6) - s(2)) is None and is_zero_algebraic(s(3) ** 3 - 9 * s(3)) is None
+
+
 @pytest.mark.parametrize("expr", ["sqrt(x**2) - x", "sqrt(sqrt(x) + 1)", "exp(x) - 1", "cos(x + y) - 1"])
 def test_algebraic_zero_test_declines_what_it_does_not_handle(expr):
     assert is_zero_algebraic(sp.sympify(expr)) is None
@@ -112,3 +134,28 @@ def test_memoized_simplify_is_simplify():
     assert simplify(e) == sp.simplify(e) and simplify(e) is simplify(e)
     M = sp.Matrix([[e]])  # unhashable: simplified directly
     assert simplify(M) == sp.Matrix([[x + 1]])
+
+
+def test_nonzero_at_a_point_never_claims_an_identity_and_respects_assumptions():
+    """nonzero_at_a_point is a proof of 'not identically zero': it is never True for an identity
+    (including ones that hold only under the symbols' assumptions), True for perturbations, and
+    undecided where its point would leave the symbols' domain."""
+    x, y = sp.symbols("x y", positive=True)
+    t = sp.Symbol("t", real=True)
+    from derivations.rational_zero import nonzero_at_a_point
+
+    identities = [sp.sqrt(x**2) - x, sp.cos(t) ** 2 + sp.sin(t) ** 2 - 1, sp.log(x * y) - sp.log(x) - sp.log(y),
+                  (x**2 - y**2) / (x - y) - x - y, sp.Abs(x) - x, sp.exp(sp.log(x)) - x]
+    for e in identities:
+        assert nonzero_at_a_point(e) is False, e
+        assert nonzero_at_a_point(e + sp.Rational(1, 10**25)) is True, e
+        assert is_zero(e) is True
+    n = sp.Symbol("n", integer=True)
+    assert nonzero_at_a_point(sp.sin(sp.pi * n)) is False  # would need a non-integer n: undecided
+    assert nonzero_at_a_point(1 / (x - sp.Rational(2, 3))) is False  # undefined at its point
+    rng = random.Random(3)
+    syms = sp.symbols("a b c", positive=True)
+    for _ in range(30):
+        f = _random_rational(rng, list(syms))
+        if nonzero_at_a_point(f):
+            assert sp.simplify(f) != 0
