@@ -66,7 +66,6 @@ from typing import Any
 
 import numpy as np
 import sympy as sp
-from scipy.optimize import nnls
 
 from ..errors import DomainError, ImpactInputError, NonTermination
 from ..mechanics import check_gradients, check_mass_matrix, check_velocity
@@ -223,6 +222,8 @@ def _lcp_nnls(sc: _Scene, Mx, Hx, vx, q_factor, q):
     R = np.linalg.cholesky(Mf)
     G = np.linalg.solve(R, Hf.T)
     c = q_factor * (R.T @ vf)
+    from scipy.optimize import nnls  # imported here: scipy.optimize costs 0.3-0.5 s and only the float LCP path needs it
+
     pf, _ = nnls(G, -c, maxiter=50 * max(sc.k, 10))
     support = [i for i in range(sc.k) if pf[i] > 0]
     la = sc.la
