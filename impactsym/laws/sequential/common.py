@@ -34,10 +34,12 @@ DEFAULT_MAX_REFLECTIONS = 10_000
 #: largest total size (bits of numerators and denominators) of the exact velocities the rational
 #: search keeps; beyond it the search raises NonTermination naming this limit (32 MiB)
 MAX_STATE_BITS = 1 << 28
-#: largest number of coordinates (size of M) the resolver accepts: its exact input checks and
-#: linear algebra cost O(n^3) to O(n^4) exact operations (n = 200 takes about 10 s; a 1000-ball
-#: cradle would take many minutes), so larger systems are refused up front
-MAX_COORDINATES = 200
+#: largest number of coordinates (size of M) the resolver accepts. Exact rational input is read
+#: and searched in sparse form (:mod:`.sparse`): a one-striker cradle costs about linear time in
+#: its balls (1000 balls: well under a second for the law), so the limit only guards against
+#: inputs whose exact linear algebra is dense (a dense n×n M costs O(n³) exact operations to
+#: check and factor, and every state of the search O(n)); larger systems are refused up front
+MAX_COORDINATES = 10_000
 #: safety factor on the float sign-test bound
 FLOAT_SAFETY = 4.0
 _EPS = float(np.finfo(float).eps)

@@ -19,6 +19,7 @@ from .results import InfiniteOrder, Outcome, SequentialResolution
 from .search import (_ExactSystem, _Reflector, _aggregate, _cap_error, _explore, _explore_rational,
                      _merge_exact_keys, _state_bits_error, _verified_replay)
 from .selection import _select, _select_two_surface, _verify_selected
+from .sparse import read_rational
 from .witness import valid_velocity_witness
 
 
@@ -71,6 +72,8 @@ def check_restitutions(restitution, contacts: int, *, exact: bool) -> tuple:
         raise ImpactInputError("restitution", f"has {len(entries)} entries; give one number per contact "
                                               f"(k={contacts} rows of gradients) or a single number")
     values = entries if seq else [entries] * contacts
+    if not seq and contacts > 1:  # one number for every contact: checked once
+        return check_restitutions(entries, 1, exact=exact) * contacts
     out = []
     for idx, x in enumerate(values, 1):
         if isinstance(x, bool) or x is None:
@@ -233,9 +236,18 @@ def resolve_sequential(mass_matrix, gradients, velocity, *, reading: str | None 
     if size is not None and size > MAX_COORDINATES:
         raise ImpactInputError(
             "mass_matrix", f"has {size} coordinates, more than the sequential law's limit MAX_COORDINATES="
-            f"{MAX_COORDINATES} (its exact checks and linear algebra cost O(n^3) or more exact operations)")
-    exact, M, H, v0 = _check_inputs(mass_matrix, gradients, velocity, exact, restitution)
-    E = check_restitutions(restitution, H.shape[0], exact=exact)
+            f"{MAX_COORDINATES}")
+    # exact rational input is read once into sparse fmpq data and checked there (never again)
+    data = None
+    if exact is not False and is_exact(restitution):
+        data = read_rational(mass_matrix, gradients, velocity)
+    if data is not None:
+        exact = True
+        M = H = v0 = None  # dense SymPy forms are made only where a path needs them
+        E = check_restitutions(restitution, data.k, exact=True)
+    else:
+        exact, M, H, v0 = _check_inputs(mass_matrix, gradients, velocity, exact, restitution)
+        E = check_restitutions(restitution, H.shape[0], exact=exact)
     elastic = all(x == 1 for x in E)
     if reading is None:
         reading = "energy" if elastic else "cone"
@@ -244,13 +256,18 @@ def resolve_sequential(mass_matrix, gradients, velocity, *, reading: str | None 
             "reading: the energy reading intersects the feasible set with the energy sphere ||v||_M = "
             "||v0||_M, which only elastic impacts keep (restitution 1 on every contact); with restitution "
             "< 1 use reading='cone' or select=False")
-    if exact:
-        Mx, Hx, vx = M, H, v0
+    if data is not None:
+        null = data.null_vector()
+        witness = (sp.Matrix([sp.Rational(int(x.p), int(x.q)) for x in null]) if null is not None
+                   else valid_velocity_witness(data.to_sympy()[1]))
     else:
-        Mx = sp.Matrix([[float_to_rational(x) for x in row] for row in M])
-        Hx = sp.Matrix([[float_to_rational(x) for x in row] for row in H])
-        vx = sp.Matrix([float_to_rational(x) for x in v0])
-    witness = valid_velocity_witness(Hx)
+        if exact:
+            Mx, Hx, vx = M, H, v0
+        else:
+            Mx = sp.Matrix([[float_to_rational(x) for x in row] for row in M])
+            Hx = sp.Matrix([[float_to_rational(x) for x in row] for row in H])
+            vx = sp.Matrix([float_to_rational(x) for x in v0])
+        witness = valid_velocity_witness(Hx)
     if witness is None:
         if not elastic:
             raise DomainError("gradients: no non-zero velocity v satisfies H v >= 0 (only v = 0 would be valid, "
@@ -259,11 +276,18 @@ def resolve_sequential(mass_matrix, gradients, velocity, *, reading: str | None 
                           "(the closed contacts admit no elastic exit velocity)")
     if not elastic:
         Ex = [x if exact else float_to_rational(x) for x in E]
-        system = _ExactSystem(Mx, Hx, vx, Ex)
+        if data is not None and all(x.is_Rational for x in Ex):
+            system = _ExactSystem.from_sparse(data, Ex)
+        else:  # an irrational restitution: the algebraic backend
+            if data is not None:
+                Mx, Hx, vx = data.to_sympy()
+            system = _ExactSystem(Mx, Hx, vx, Ex)
         return _inelastic(M, H, v0, system, exact, cap, reading, select, witness, E)
-    system = _ExactSystem(Mx, Hx, vx)
+    system = _ExactSystem.from_sparse(data) if data is not None else _ExactSystem(Mx, Hx, vx)
     F = system.F
-    if system.k == 2 and _rank(system.H, F) == 2:
+    if system.k == 2 and (data.rank() if data is not None else _rank(system.H, F)) == 2:
+        if data is not None:
+            M, H, v0 = Mx, Hx, vx = data.to_sympy()
         if two_surface == "closed-form":
             return _two_surface_path(M, H, v0, system, exact, reading, select, witness)
         # iterating: refuse up front when a branch needs more than the cap (its exact states grow
@@ -331,12 +355,17 @@ def resolve_sequential(mass_matrix, gradients, velocity, *, reading: str | None 
     if longest > cap:
         raise _cap_error(cap)
     selected: tuple = ()
+    selected_impulses: tuple = ()
     if select:
         selected = _select(system, [v for v, _ in exact_outcomes], [p for _, p in exact_outcomes], reading)
-        _verify_selected(system, selected, reading)
-    return SequentialResolution(tuple(outcomes), selected, reading, total, longest, len(g.vel), tests,
-                                fallbacks, exact, F.name if exact else "float", approaching, witness, _graph=g,
-                                restitution=tuple(sp.Integer(1) if exact else 1.0 for _ in range(system.k)))
+        selected_impulses = _verify_selected(system, selected, reading, exact_outcomes)
+    res = SequentialResolution(tuple(outcomes), selected, reading, total, longest, len(g.vel), tests,
+                               fallbacks, exact, F.name if exact else "float", approaching, witness, _graph=g,
+                               restitution=tuple(sp.Integer(1) if exact else 1.0 for _ in range(system.k)))
+    if data is not None and data.rank() == data.k:
+        # H has full row rank: p of M(v+ - v0) = H^T p is unique, the one verified with the outcome
+        res.selected_impulses = selected_impulses
+    return res
 
 
 def _inelastic_cap_error(cap, k):
