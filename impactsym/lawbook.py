@@ -378,9 +378,13 @@ class Sequential(Law):
                                 details={"reflections": o.reflections, "reflections_min": o.reflections_min,
                                          "reflections_max": o.reflections_max, **_jsonable(extra)}))
         selected = []
-        for s in r.selected:
+        known = getattr(r, "selected_impulses", ()) or ()
+        for idx, s in enumerate(r.selected):
             if (float or not system.exact) and isinstance(s, sp.MatrixBase):  # the float path reports floats
                 s = np.array([sp.N(x, 17) for x in s], dtype=np.float64)
+            elif idx < len(known) and known[idx] is not None:  # exact, verified by the law (full row rank)
+                selected.append(Outcome(s, known[idx]))
+                continue
             selected.append(Outcome(s, _impulses_of(system, s)))
         bound = r.bound
         elastic = all(sp.sympify(x) == 1 for x in system.restitution_vector())
