@@ -318,7 +318,7 @@ class Sequential(Law):
     def why_not(self, system, gaps=None, **options):
         if gaps is None:
             return None
-        given = [k for k, v in options.items() if v not in (None, False, "closed-form")]
+        given = [k for k, v in options.items() if v not in (None, False, "auto")]
         if given:
             return given[0], "--gaps simulates the impact; it takes no option of the ordering search"
         if system.source is None or system.source.meta.get("builder") != "balls_on_line":
@@ -350,7 +350,7 @@ class Sequential(Law):
                           notes=["the outcome of these gaps; other gaps may give another ordering and outcome"],
                           details=details, raw=g)
 
-    def resolve(self, system, reading=None, max_reflections=None, float=False, two_surface_path="closed-form",
+    def resolve(self, system, reading=None, max_reflections=None, float=False, two_surface_path="auto",
                 gaps=None):
         if gaps is not None:
             return self._with_gaps(system, gaps)

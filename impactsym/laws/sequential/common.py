@@ -21,14 +21,18 @@ from ...arithmetic.linalg import rank as _rank
 from ...arithmetic.linalg import rref as _rref
 from ...arithmetic.linalg import solve_columns as _solve_columns
 
-__all__ = ["READINGS", "TWO_SURFACE_PATHS", "DEFAULT_MAX_REFLECTIONS", "MAX_STATE_BITS", "MAX_COORDINATES",
+__all__ = ["READINGS", "TWO_SURFACE_PATHS", "AUTO_ITERATE_MAX_COUNT", "DEFAULT_MAX_REFLECTIONS", "MAX_STATE_BITS", "MAX_COORDINATES",
            "FLOAT_SAFETY", "_Rational", "_Algebraic", "_all_rational", "_rref", "_kernel_basis", "_nullspace",
            "_solve_columns", "_rank", "_independent", "_dot", "_matvec", "_minner"]
 
 #: the two readings of the feasible set (see the package docstring)
 READINGS = ("energy", "cone")
 #: how two independent surfaces are resolved (see ``resolve_sequential(two_surface=...)``)
-TWO_SURFACE_PATHS = ("closed-form", "iterate")
+TWO_SURFACE_PATHS = ("auto", "closed-form", "iterate")
+#: ``two_surface="auto"`` iterates exact rational data when the paper's bound ``N`` (the longest
+#: branch for any velocity) is certainly at most this; the closed form otherwise. Measured in
+#: ``benchmarks/two_surface.py``: below it, exact iteration is faster than the closed form
+AUTO_ITERATE_MAX_COUNT = 64
 #: default cap on the reflections of any one ordering
 DEFAULT_MAX_REFLECTIONS = 10_000
 #: largest total size (bits of numerators and denominators) of the exact velocities the rational

@@ -11,7 +11,7 @@ from ...arithmetic import certified_sign, float_to_rational
 from ...errors import DomainError, ImpactInputError, NonTermination
 from ...mechanics import check_gradients, check_mass_matrix, check_velocity
 from ...numbers import check_finite_exact, is_exact, to_exact
-from .common import (DEFAULT_MAX_REFLECTIONS, MAX_COORDINATES, MAX_STATE_BITS, READINGS, TWO_SURFACE_PATHS,
+from .common import (AUTO_ITERATE_MAX_COUNT, DEFAULT_MAX_REFLECTIONS, MAX_COORDINATES, MAX_STATE_BITS, READINGS, TWO_SURFACE_PATHS,
                      _Rational, _rank)
 from .collapse import _CollapseDetector, _verified_collapse
 from .float_search import INELASTIC_FALLBACK_BUDGET, _FallbackBudget, _float_search
@@ -129,7 +129,7 @@ def _group_outcomes(root_table, merged) -> dict:
 
 def resolve_sequential(mass_matrix, gradients, velocity, *, reading: str | None = None,
                        max_reflections: int = DEFAULT_MAX_REFLECTIONS, exact: bool | None = None,
-                       select: bool = True, two_surface: str = "closed-form",
+                       select: bool = True, two_surface: str = "auto",
                        restitution=1) -> SequentialResolution:
     """Every impact ordering of a corner impact, its outcomes, and the selected solution.
 
@@ -150,12 +150,17 @@ def resolve_sequential(mass_matrix, gradients, velocity, *, reading: str | None 
         Force the exact (``True``) or float (``False``) path; default: exact iff every input is.
     select : bool
         Compute the selection (steps 4–5). ``False`` skips it (``selected`` is empty).
-    two_surface : ``"closed-form"`` (default) or ``"iterate"``
+    two_surface : ``"auto"`` (default), ``"closed-form"`` or ``"iterate"``
         With exactly two linearly independent rows, ``"closed-form"`` takes every branch from
         :func:`impactsym.laws.two_surface.resolve_two_surfaces` in O(1), whatever the count (the
         reflection cap does not apply: nothing is iterated); ``"iterate"`` forces the search,
         and is refused up front (``NonTermination``) when the certified count of a branch
-        exceeds ``max_reflections``. With the closed form the energy reading selects the
+        exceeds ``max_reflections``. ``"auto"`` chooses by the count: exact rational data whose
+        paper bound ``N = ⌈π/β⌉`` (the longest branch of any velocity) is certainly at most
+        ``AUTO_ITERATE_MAX_COUNT`` are iterated (a few exact reflections cost less than the
+        closed form's certified evaluation; :func:`impactsym.laws.two_surface.bound_at_most`
+        decides it in rational arithmetic), everything else takes the closed form. Both paths
+        give the same exact outcomes; the iteration also reports ``bound``. With the closed form the energy reading selects the
         outcome(s) with the largest ``⟨o, v0⟩_M`` (exact, or certified Arb comparison of
         certified outcomes; see :func:`_two_surface_path`); the cone reading of certified
         outcomes is skipped in exact mode (``selected`` empty, ``selection_note`` says why) and
@@ -285,21 +290,37 @@ def resolve_sequential(mass_matrix, gradients, velocity, *, reading: str | None 
         return _inelastic(M, H, v0, system, exact, cap, reading, select, witness, E)
     system = _ExactSystem.from_sparse(data) if data is not None else _ExactSystem(Mx, Hx, vx)
     F = system.F
+    two_bound = None
     if system.k == 2 and (data.rank() if data is not None else _rank(system.H, F)) == 2:
-        if data is not None:
-            M, H, v0 = Mx, Hx, vx = data.to_sympy()
-        if two_surface == "closed-form":
-            return _two_surface_path(M, H, v0, system, exact, reading, select, witness)
-        # iterating: refuse up front when a branch needs more than the cap (its exact states grow
-        # linearly, so reaching the cap would cost memory quadratic in it)
-        from ..two_surface import branch_counts
+        from ..two_surface import _certified_bound, _Data, bound_at_most, branch_counts
 
-        counts = branch_counts(Mx, Hx, vx)
-        if counts and max(counts.values()) > cap:
-            raise NonTermination(
-                f"max_reflections: the ordering starting with surface {max(counts, key=counts.get)} needs "
-                f"{max(counts.values())} reflections (certified count of the two-surface closed form), more "
-                f"than the cap max_reflections={cap}; raise the cap or use the two-surface closed form")
+        path, short = two_surface, False
+        if path == "auto":
+            # iterate when the paper's bound N (the longest branch of any velocity) is certainly
+            # small: then a few exact reflections cost less than the closed form's Arb work
+            path = "closed-form"
+            if exact and F is _Rational and AUTO_ITERATE_MAX_COUNT <= cap and bound_at_most(
+                    system.s[0], system.s[1], _gram_entry(system, 0, 1), AUTO_ITERATE_MAX_COUNT):
+                path, short = "iterate", True
+        if path == "closed-form":
+            if data is not None:
+                return _two_surface_path(None, None, None, system, exact, reading, select, witness,
+                                         prepared=_prepared_two_surface(system))
+            return _two_surface_path(M, H, v0, system, exact, reading, select, witness)
+        if not short:
+            # iterating: refuse up front when a branch needs more than the cap (its exact states
+            # grow linearly, so reaching the cap would cost memory quadratic in it)
+            if data is not None:
+                Mx, Hx, vx = data.to_sympy()
+            counts = branch_counts(Mx, Hx, vx)
+            if counts and max(counts.values()) > cap:
+                raise NonTermination(
+                    f"max_reflections: the ordering starting with surface {max(counts, key=counts.get)} needs "
+                    f"{max(counts.values())} reflections (certified count of the two-surface closed form), more "
+                    f"than the cap max_reflections={cap}; raise the cap or use the two-surface closed form")
+        if exact and F is _Rational:  # the paper's bound, as the closed form reports it
+            g01 = _gram_entry(system, 0, 1)
+            two_bound = _certified_bound(_Data(system.s[0], system.s[1], g01, F.zero, F.zero), {})
     if exact:
         # a state is (v, w = H v); w is updated with the Gram matrix H M^-1 H^T, not recomputed
         if F is _Rational:
@@ -365,7 +386,40 @@ def resolve_sequential(mass_matrix, gradients, velocity, *, reading: str | None 
     if data is not None and data.rank() == data.k:
         # H has full row rank: p of M(v+ - v0) = H^T p is unique, the one verified with the outcome
         res.selected_impulses = selected_impulses
+    res.bound = two_bound
     return res
+
+
+def _gram_entry(system, i, j):
+    """``H_i M⁻¹ H_jᵀ`` from the sparse Gram column ``j``."""
+    return next((a for r, a in system.gcols[j] if r == i), system.F.zero)
+
+
+def _prepared_two_surface(system):
+    """The checked rational data of two contacts as the ``fmpq_mat`` tuple the two-surface law
+    takes (:func:`impactsym.laws.two_surface._resolve`): nothing is read or checked again."""
+    from flint import fmpq_mat
+
+    n, data = system.n, system.sparse
+    W = fmpq_mat(n, 2)
+    for c in range(2):
+        for j, x in system.wcols[c]:
+            W[j, c] = x
+    gram = fmpq_mat(2, 2, [system.s[0], _gram_entry(system, 0, 1), _gram_entry(system, 1, 0), system.s[1]])
+    c = fmpq_mat(2, 1, [system.w(system.v0, 0), system.w(system.v0, 1)])
+    vq = fmpq_mat(n, 1, list(system.v0))
+    if data.dense is not None:
+        Mq = data.dense
+    else:
+        Mq = fmpq_mat(n, n)
+        for i, row in enumerate(data.M):
+            for j, x in row.items():
+                Mq[i, j] = x
+    Hq = fmpq_mat(2, n)
+    for i in range(2):
+        for j, x in system.rows[i]:
+            Hq[i, j] = x
+    return W, gram, c, vq, Mq, Hq
 
 
 def _inelastic_cap_error(cap, k):
@@ -501,7 +555,7 @@ def _inelastic(M, H, v0, system, exact, cap, reading, select, witness, E):
                                 restitution=tuple(E), collapse=any(o.collapse for o in outcomes))
 
 
-def _two_surface_path(M, H, v0, system, exact, reading, select, witness):
+def _two_surface_path(M, H, v0, system, exact, reading, select, witness, prepared=None):
     """Outcomes of two independent surfaces from the O(1) closed form, merged exactly.
 
     The selection (energy reading) needs no face enumeration: the feasible set lies on the arc
@@ -512,10 +566,11 @@ def _two_surface_path(M, H, v0, system, exact, reading, select, witness):
     comparison, or a certified one (Arb) for certified outcomes. When both branches have the same
     even count the two values are equal exactly (``o_2 = R⁻¹v0`` for ``o_1 = Rv0``, ``R`` a
     kinetic isometry), and both are selected."""
-    from ..two_surface import resolve_two_surfaces
+    from ..two_surface import _resolve, resolve_two_surfaces
 
     F = system.F
-    ts = resolve_two_surfaces(M, H, v0)
+    ts = resolve_two_surfaces(M, H, v0) if prepared is None else _resolve(True, None, None, None, system.n,
+                                                                          prepared=prepared)
     groups: list = []  # [velocity, [orders], impulse, exact, two-surface outcome]
     for o in ts.outcomes:
         # (reflections, first surface, order): a closed-form order may be too long for len()

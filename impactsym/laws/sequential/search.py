@@ -76,7 +76,7 @@ class _ExactSystem:
         self._M = self._H = self._W = None
         self.v0 = data.v0
         self.rows = data.H
-        self.wcols = [data.solve(r) for r in data.H]
+        self.wcols = data.solve_rows(data.H)
         self._finish(None if restitution is None else [_Rational.num(x) for x in restitution])
         return self
 

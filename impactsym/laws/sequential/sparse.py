@@ -185,8 +185,43 @@ class SparseRational:
 
     def __init__(self, n, k, M, H, v0):
         self.n, self.k, self.M, self.H, self.v0 = n, k, M, H, tuple(v0)
-        self._factor()
         self._echelon = None
+        self._check_M()
+
+    def _check_M(self):
+        """Symmetric positive definite, decided exactly. A dense ``M`` (at least a quarter of its
+        entries non-zero) is decided by python-flint's fraction-free LU of the integer matrix
+        ``L·M`` (``L`` the common denominator): without a row exchange its ``k``-th pivot is the
+        ``k``-th leading principal minor of ``L·M``, of the sign of ``M``'s (Bareiss); ``M⁻¹H_iᵀ``
+        then comes from ``fmpq_mat.solve``. A sparse ``M`` is factored as below. A matrix that
+        fails is refused with the message of the elimination (:meth:`_factor`)."""
+        n = self.n
+        nnz = sum(len(r) for r in self.M)
+        self.dense = None
+        if n >= 8 and 4 * nnz >= n * n and self._symmetric() is None:
+            from flint import fmpq_mat, fmpz_mat
+
+            Mq = fmpq_mat(n, n)
+            for i, row in enumerate(self.M):
+                for j, x in row.items():
+                    Mq[i, j] = x
+            den = fmpz(1)
+            for row in self.M:
+                for x in row.values():
+                    den = den.lcm(x.q)
+            Z = fmpz_mat(n, n)
+            for i, row in enumerate(self.M):
+                for j, x in row.items():
+                    Z[i, j] = x.p * (den // x.q)
+            try:
+                P, _, _, Uz = Z.fflu()
+                ok = P.is_one() and all(Uz[i, i] > 0 for i in range(n))
+            except Exception:  # noqa: BLE001 - a singular matrix: the elimination words the refusal
+                ok = False
+            if ok:
+                self.dense = Mq
+                return
+        self._factor()
 
     # ----------------------------------------------------------------- M = U^T D^-1 U
     def _factor(self):
@@ -194,13 +229,7 @@ class SparseRational:
 
         Raises the messages of :func:`impactsym.mechanics.check_mass_matrix`."""
         n, M = self.n, self.M
-        bad = None
-        for i, row in enumerate(M):
-            for j, x in row.items():
-                if i != j and M[j].get(i, _ZERO) != x:
-                    pair = (i, j) if i < j else (j, i)
-                    if bad is None or pair < bad:
-                        bad = pair
+        bad = self._symmetric()
         if bad is not None:
             i, j = bad
             raise ImpactInputError("mass_matrix", f"not symmetric (entry ({i}, {j}) is {M[i].get(j, _ZERO)} but "
@@ -232,6 +261,34 @@ class SparseRational:
                 if j > i:
                     cols[j].append((i, x))
         self.Ucols = cols
+
+    def _symmetric(self):
+        """``None`` when ``M`` is symmetric, else the first asymmetric pair ``(i, j)``, ``i < j``."""
+        M = self.M
+        bad = None
+        for i, row in enumerate(M):
+            for j, x in row.items():
+                if i != j and M[j].get(i, _ZERO) != x:
+                    pair = (i, j) if i < j else (j, i)
+                    if bad is None or pair < bad:
+                        bad = pair
+        return bad
+
+    def solve_rows(self, rows):
+        """``M⁻¹H_iᵀ`` for sparse rows ``H_i`` (``[(j, x), ...]``), each sparse."""
+        if self.dense is None:
+            return [self.solve(r) for r in rows]
+        from flint import fmpq_mat
+
+        n = self.n
+        B = fmpq_mat(n, len(rows))
+        for c, r in enumerate(rows):
+            for j, x in r:
+                B[j, c] = x
+        X = self.dense.solve(B)
+        flat = X.entries()
+        m = len(rows)
+        return [[(j, flat[j * m + c]) for j in range(n) if flat[j * m + c] != 0] for c in range(m)]
 
     def solve(self, rhs):
         """``M⁻¹ b`` for a sparse ``b`` (``[(j, b_j), ...]``), sparse: ``[(j, x_j), ...]`` with
@@ -409,7 +466,7 @@ def read_rational(mass_matrix, gradients, velocity):
     data = SparseRational.__new__(SparseRational)
     data.n, data.k, data.M, data.v0 = n, k, M, tuple(v)
     data._echelon = None
-    data._factor()
+    data._check_M()
     for i, r in enumerate(Hd):
         if not r:
             raise ImpactInputError("gradients", f"row {i} is the zero covector (a constraint gradient must be non-zero)")
