@@ -72,11 +72,11 @@ def test_canonical_scenes_take_the_closed_form_when_asked_and_auto_iterates_them
     assert [list(o.velocity) for o in a.outcomes] == [[0, 0, 1]] and a.selected == r.selected
 
 
-@pytest.mark.parametrize("q, method", [(3, "iteration"), (20, "iteration"), (21, "two-surface closed form"),
+@pytest.mark.parametrize("q, method", [(1, "iteration"), (3, "iteration"), (4, "two-surface closed form"),
                                        (1000, "two-surface closed form")])
 def test_auto_path_follows_the_certified_bound(q, method):
-    """A wedge ``H = [1, 0; -q, 1]``, ``M = I``: ``N = ⌈π/atan(1/q)⌉`` (q = 20: N = 63; q = 21:
-    N = 66 > AUTO_ITERATE_MAX_COUNT = 64). Both paths give the same outcomes and counts."""
+    """A wedge ``H = [1, 0; -q, 1]``, ``M = I``: ``N = ⌈π/atan(1/q)⌉`` (q = 3: N = 10; q = 4:
+    N = 13 > AUTO_ITERATE_MAX_COUNT = 10). Both paths give the same outcomes, counts and selection."""
     import mpmath
 
     from impactsym.laws.sequential import AUTO_ITERATE_MAX_COUNT
@@ -91,6 +91,7 @@ def test_auto_path_follows_the_certified_bound(q, method):
     assert _pairs(a) == _pairs(c) if max(o.reflections for o in c.outcomes) < 200 else True
     assert [(list(o.velocity), o.reflections) for o in a.outcomes] == [(list(o.velocity), o.reflections)
                                                                       for o in c.outcomes]
+    assert a.selected == c.selected
 
 
 def test_parallel_rows_fall_back_to_iteration_and_refusal():
@@ -98,3 +99,22 @@ def test_parallel_rows_fall_back_to_iteration_and_refusal():
         resolve_sequential("1", "1;-1", "1")
     r = resolve_sequential("1,0;0,1", "1,0;2,0", "-1,0")  # the same surface twice
     assert r.method == "iteration" and list(r.outcomes[0].velocity) == [1, 0]
+
+
+@pytest.mark.parametrize("seed", range(12))
+def test_auto_selection_equals_the_face_enumeration(seed):
+    """``two_surface="auto"`` on a short wedge selects by comparing ``⟨o, v0⟩_M`` of the two
+    outcomes; the forced iteration runs the general face enumeration: the same selection."""
+    rng = np.random.default_rng(3000 + seed)
+    n = int(rng.integers(2, 4))
+    A = rng.integers(-2, 3, size=(n, n))
+    M = sp.Matrix(A.T @ A + 2 * np.eye(n, dtype=int))
+    H = sp.Matrix(rng.integers(-3, 4, size=(2, n)))
+    v = sp.Matrix(rng.integers(-3, 4, size=n))
+    if H.rank() < 2:
+        return
+    a = resolve_sequential(M, H, v)
+    if a.method != "iteration":  # a long wedge: the closed form, compared elsewhere
+        return
+    b = resolve_sequential(M, H, v, two_surface="iterate")
+    assert set(map(tuple, a.selected)) == set(map(tuple, b.selected))

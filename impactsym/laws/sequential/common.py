@@ -30,9 +30,11 @@ READINGS = ("energy", "cone")
 #: how two independent surfaces are resolved (see ``resolve_sequential(two_surface=...)``)
 TWO_SURFACE_PATHS = ("auto", "closed-form", "iterate")
 #: ``two_surface="auto"`` iterates exact rational data when the paper's bound ``N`` (the longest
-#: branch for any velocity) is certainly at most this; the closed form otherwise. Measured in
-#: ``benchmarks/two_surface.py``: below it, exact iteration is faster than the closed form
-AUTO_ITERATE_MAX_COUNT = 64
+#: branch for any velocity) is certainly at most this; the closed form otherwise. Measured
+#: (``benchmarks/two_surface.py``, "path by the certified count"): with the closed form handed
+#: the checked data, the two cost the same at about 10 reflections; beyond, the iteration's cost
+#: grows with the count (and its numbers), the closed form's does not
+AUTO_ITERATE_MAX_COUNT = 10
 #: default cap on the reflections of any one ordering
 DEFAULT_MAX_REFLECTIONS = 10_000
 #: largest total size (bits of numerators and denominators) of the exact velocities the rational

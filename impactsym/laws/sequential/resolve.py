@@ -291,6 +291,7 @@ def resolve_sequential(mass_matrix, gradients, velocity, *, reading: str | None 
     system = _ExactSystem.from_sparse(data) if data is not None else _ExactSystem(Mx, Hx, vx)
     F = system.F
     two_bound = None
+    short = False
     if system.k == 2 and (data.rank() if data is not None else _rank(system.H, F)) == 2:
         from ..two_surface import _certified_bound, _Data, bound_at_most, branch_counts
 
@@ -378,7 +379,12 @@ def resolve_sequential(mass_matrix, gradients, velocity, *, reading: str | None 
     selected: tuple = ()
     selected_impulses: tuple = ()
     if select:
-        selected = _select(system, [v for v, _ in exact_outcomes], [p for _, p in exact_outcomes], reading)
+        if short and reading == "energy":
+            # two independent surfaces: the feasible set is an arc between the two outcomes, and
+            # <v, v0>_M on it is largest at an end point (see _two_surface_path): compare exactly
+            selected = _select_arc_end(system, [v for v, _ in exact_outcomes])
+        else:
+            selected = _select(system, [v for v, _ in exact_outcomes], [p for _, p in exact_outcomes], reading)
         selected_impulses = _verify_selected(system, selected, reading, exact_outcomes)
     res = SequentialResolution(tuple(outcomes), selected, reading, total, longest, len(g.vel), tests,
                                fallbacks, exact, F.name if exact else "float", approaching, witness, _graph=g,
@@ -388,6 +394,21 @@ def resolve_sequential(mass_matrix, gradients, velocity, *, reading: str | None 
         res.selected_impulses = selected_impulses
     res.bound = two_bound
     return res
+
+
+def _select_arc_end(system, outcomes):
+    """The energy-reading selection of two independent surfaces from exact rational outcomes:
+    the outcome(s) with the largest ``⟨o, v0⟩_M`` (both on a tie), the rule of
+    :func:`_two_surface_path`."""
+    F = system.F
+    v0 = system.v0
+    if system.sparse is not None:
+        Mv0 = system.sparse.mul_M({j: x for j, x in enumerate(v0) if x != 0})
+    else:
+        Mv0 = {i: sum((m * x for m, x in zip(row, v0)), F.zero) for i, row in enumerate(system.M)}
+    vals = [sum((m * o[j] for j, m in Mv0.items()), F.zero) for o in outcomes]
+    best = max(vals)
+    return tuple(sp.Matrix([F.to_sympy(x) for x in o]) for o, val in zip(outcomes, vals) if val == best)
 
 
 def _gram_entry(system, i, j):
