@@ -199,25 +199,15 @@ class SparseRational:
         nnz = sum(len(r) for r in self.M)
         self.dense = None
         if n >= 8 and 4 * nnz >= n * n and self._symmetric() is None:
-            from flint import fmpq_mat, fmpz_mat
+            from flint import fmpq_mat
+
+            from ...mechanics import positive_definite_by_fflu
 
             Mq = fmpq_mat(n, n)
             for i, row in enumerate(self.M):
                 for j, x in row.items():
                     Mq[i, j] = x
-            den = fmpz(1)
-            for row in self.M:
-                for x in row.values():
-                    den = den.lcm(x.q)
-            Z = fmpz_mat(n, n)
-            for i, row in enumerate(self.M):
-                for j, x in row.items():
-                    Z[i, j] = x.p * (den // x.q)
-            try:
-                P, _, _, Uz = Z.fflu()
-                ok = P.is_one() and all(Uz[i, i] > 0 for i in range(n))
-            except Exception:  # noqa: BLE001 - a singular matrix: the elimination words the refusal
-                ok = False
+            ok = positive_definite_by_fflu(self.M, n)
             if ok:
                 self.dense = Mq
                 return
@@ -299,6 +289,8 @@ class SparseRational:
         ...                [fmpq(0)] * 2).solve([(0, fmpq(1))])
         [(0, 1), (1, -1)]
         """
+        if self.dense is not None:
+            return self.solve_rows([rhs])[0]
         U, Ucols = self.U, self.Ucols
         r = {}
         for j, b in rhs:
