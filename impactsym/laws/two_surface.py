@@ -527,6 +527,14 @@ def resolve_two_surfaces(mass_matrix, gradients, velocity, *, digits: int = DEFA
     """
     if not isinstance(digits, int) or digits < 1:
         raise ImpactInputError("digits", f"must be a positive integer, got {digits!r}")
+    # exact rational input: read once into checked sparse fmpq data (the sequential law's reader,
+    # the checks and messages of impactsym.mechanics); anything else, or two rows not given, is
+    # read and worded by the general checks
+    from .sequential.sparse import read_rational, two_surface_data
+
+    data = read_rational(mass_matrix, gradients, velocity)
+    if data is not None and data.k == 2:
+        return _resolve(True, None, None, None, data.n, digits, max_exact_digits, prepared=two_surface_data(data))
     exact, M, H, v, n = _checked(mass_matrix, gradients, velocity)
     return _resolve(exact, M, H, v, n, digits, max_exact_digits)
 
@@ -596,7 +604,9 @@ def _resolve(exact, M, H, v, n, digits=DEFAULT_DIGITS, max_exact_digits=DEFAULT_
                 ca2, cb2 = cb2, ca2
             jump = gram.solve(fmpq_mat(2, 1, [ca2 - c[0, 0], cb2 - c[1, 0]]))
             vplus = vq + W * jump
-            verify_exact("two-surface", Mq, Hq, vq, vplus, jump)
+            from .sequential.sparse import verify_matrices  # verify_exact's checks, in flint
+
+            verify_matrices("two-surface", Mq, Hq, vq, vplus, jump)
             _verify_count_rational(df, m)
             vel = sp.Matrix([to_sympy_rational(vplus[i, 0]) for i in range(n)])
             imp = sp.Matrix([to_sympy_rational(jump[i, 0]) for i in range(2)])

@@ -419,28 +419,9 @@ def _gram_entry(system, i, j):
 def _prepared_two_surface(system):
     """The checked rational data of two contacts as the ``fmpq_mat`` tuple the two-surface law
     takes (:func:`impactsym.laws.two_surface._resolve`): nothing is read or checked again."""
-    from flint import fmpq_mat
+    from .sparse import two_surface_data
 
-    n, data = system.n, system.sparse
-    W = fmpq_mat(n, 2)
-    for c in range(2):
-        for j, x in system.wcols[c]:
-            W[j, c] = x
-    gram = fmpq_mat(2, 2, [system.s[0], _gram_entry(system, 0, 1), _gram_entry(system, 1, 0), system.s[1]])
-    c = fmpq_mat(2, 1, [system.w(system.v0, 0), system.w(system.v0, 1)])
-    vq = fmpq_mat(n, 1, list(system.v0))
-    if data.dense is not None:
-        Mq = data.dense
-    else:
-        Mq = fmpq_mat(n, n)
-        for i, row in enumerate(data.M):
-            for j, x in row.items():
-                Mq[i, j] = x
-    Hq = fmpq_mat(2, n)
-    for i in range(2):
-        for j, x in system.rows[i]:
-            Hq[i, j] = x
-    return W, gram, c, vq, Mq, Hq
+    return two_surface_data(system.sparse, system.wcols)
 
 
 def _inelastic_cap_error(cap, k):

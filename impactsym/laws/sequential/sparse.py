@@ -42,7 +42,7 @@ from flint import fmpq, fmpz
 
 from ...errors import ImpactInputError, VerificationError
 
-__all__ = ["SparseRational", "read_rational", "verify_outcome"]
+__all__ = ["SparseRational", "read_rational", "verify_outcome", "verify_matrices", "two_surface_data"]
 
 #: an entry the fast reader takes: an integer, a fraction or a decimal (no exponent, no names);
 #: anything else is left to :func:`impactsym.numbers.parse_number`
@@ -400,7 +400,16 @@ class SparseRational:
 
     # ----------------------------------------------------------------- products
     def mul_M(self, vec: dict) -> dict:
-        """``M x`` for a sparse ``x`` (``{j: x_j}``), sparse (symmetric ``M``: rows as columns)."""
+        """``M x`` for a sparse ``x`` (``{j: x_j}``), sparse (symmetric ``M``: rows as columns);
+        a dense ``M`` multiplies in flint (``fmpq_mat``)."""
+        if self.dense is not None and vec:
+            from flint import fmpq_mat
+
+            x = fmpq_mat(self.n, 1)
+            for j, xj in vec.items():
+                x[j, 0] = xj
+            col = (self.dense * x).entries()
+            return {i: y for i, y in enumerate(col) if y != 0}
         out: dict = {}
         M = self.M
         for j, xj in vec.items():
@@ -509,3 +518,65 @@ def verify_outcome(law, data: SparseRational, v, p, *, energy="equal") -> None:
     for i in range(data.k):
         if p[i] < 0:
             raise VerificationError(law, f"impulse p_{i + 1} = {p[i]} < 0")
+
+
+def verify_matrices(law, Mq, Hq, vq, vplus, p) -> None:
+    """The checks of :func:`impactsym.verify.verify_exact` (energy conserved) for exact rational
+    data given as ``fmpq_mat`` (``M`` n×n, ``H`` k×n, columns ``v``, ``v⁺``, ``p``), with its
+    messages, every product in flint: ``H v⁺ ≥ 0``, ``v⁺ᵀMv⁺ = vᵀMv``, ``M(v⁺ − v) = Hᵀp``,
+    ``p ≥ 0``.
+
+    >>> from flint import fmpq_mat
+    >>> I, H = fmpq_mat([[1, 0], [0, 1]]), fmpq_mat([[1, 0], [-1, 1]])
+    >>> verify_matrices("demo", I, H, fmpq_mat([[-1], [-2]]), fmpq_mat([[1], [2]]), fmpq_mat([[6], [4]]))
+    >>> verify_matrices("demo", I, H, fmpq_mat([[-1], [-2]]), fmpq_mat([[1], [2]]), fmpq_mat([[6], [5]]))
+    Traceback (most recent call last):
+    ...
+    impactsym.errors.VerificationError: demo: verification of the outcome failed: momentum: (M(v+ - v) - H^T p)_2 = 1 != 0 (a bug in impactsym; the outcome was not returned)
+    """
+    w = (Hq * vplus).entries()
+    for i, x in enumerate(w):
+        if x < 0:
+            raise VerificationError(law, f"H_{i + 1} v+ = {x} < 0 on a closed contact")
+    Tp = (vplus.transpose() * Mq * vplus)[0, 0]
+    Tm = (vq.transpose() * Mq * vq)[0, 0]
+    if Tp != Tm:
+        raise VerificationError(law, f"kinetic energy: v+^T M v+ = {Tp}, expected 1 * v^T M v = {Tm}")
+    r = (Mq * (vplus - vq) - Hq.transpose() * p).entries()
+    for j, x in enumerate(r):
+        if x != 0:
+            raise VerificationError(law, f"momentum: (M(v+ - v) - H^T p)_{j + 1} = {x} != 0")
+    for i, x in enumerate(p.entries()):
+        if x < 0:
+            raise VerificationError(law, f"impulse p_{i + 1} = {x} < 0")
+
+
+def two_surface_data(data: SparseRational, wcols=None):
+    """Checked rational data of two contacts as the ``fmpq_mat`` tuple ``(W, gram, c, vq, Mq, Hq)``
+    that :func:`impactsym.laws.two_surface._resolve` takes (``W = M⁻¹Hᵀ``, ``gram = H W``,
+    ``c = H v``): the two-surface law then reads and checks nothing again. ``wcols``: the columns
+    of ``W`` when the caller has them (sparse), else solved here."""
+    from flint import fmpq_mat
+
+    n = data.n
+    if wcols is None:
+        wcols = data.solve_rows(data.H)
+    W = fmpq_mat(n, 2)
+    for c in range(2):
+        for j, x in wcols[c]:
+            W[j, c] = x
+    Hq = fmpq_mat(2, n)
+    for i in range(2):
+        for j, x in data.H[i]:
+            Hq[i, j] = x
+    gram = Hq * W
+    vq = fmpq_mat(n, 1, list(data.v0))
+    c = Hq * vq
+    if data.dense is not None:
+        Mq = data.dense
+    else:
+        Mq = fmpq_mat(n, n)
+        for i, row in enumerate(data.M):
+            for j, x in row.items():
+                Mq[i, j] = x
+    return W, gram, c, vq, Mq, Hq
