@@ -16,7 +16,7 @@ from .common import (AUTO_ITERATE_MAX_COUNT, DEFAULT_MAX_REFLECTIONS, MAX_COORDI
 from .collapse import _CollapseDetector, _verified_collapse
 from .float_search import INELASTIC_FALLBACK_BUDGET, _FallbackBudget, _float_search
 from .results import InfiniteOrder, Outcome, SequentialResolution
-from .search import (_ExactSystem, _Reflector, _aggregate, _cap_error, _explore, _explore_rational,
+from .search import (_ExactSystem, _Reflector, _aggregate, _cap_error, _diff_key, _explore, _explore_rational,
                      _merge_exact_keys, _state_bits_error, _verified_replay)
 from .selection import _select, _select_two_surface, _verify_selected
 from .sparse import read_rational
@@ -341,11 +341,12 @@ def resolve_sequential(mass_matrix, gradients, velocity, *, reading: str | None 
                 return state[0]
         if F is _Rational:
             g, tests = _explore_rational(system, cap)
+            root_table = _aggregate(g, _diff_key)
         else:
             w0 = tuple(system.w(system.v0, i) for i in range(system.k))
             g, tests = _explore(sign_of, _Reflector(system), (system.v0, w0), cap, {}, key_of)
             g.vel = [state[0] for state in g.vel]
-        root_table = _aggregate(g, lambda v: v)
+            root_table = _aggregate(g, lambda v: v)
         fallbacks = 0
         keys = list(root_table)
         merged = _merge_exact_keys(keys, F)

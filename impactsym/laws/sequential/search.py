@@ -473,35 +473,38 @@ def _explore_rational(system, cap):
     reflection changes, not the number of bodies.
 
     * A state is stored as the entries of ``v`` and of ``w = H v`` that differ from ``v0`` and
-      ``w0`` (dicts of ``fmpq``). A reflection on contact ``i`` changes ``v`` only on the support
-      of ``W_i = M⁻¹H_iᵀ`` (two entries for a chain with a diagonal ``M``) and ``w`` only on the
+      ``w0`` (dicts). A reflection on contact ``i`` changes ``v`` only on the support of
+      ``W_i = M⁻¹H_iᵀ`` (two entries for a chain with a diagonal ``M``) and ``w`` only on the
       non-zero entries of column ``i`` of the Gram matrix ``H M⁻¹ Hᵀ``.
     * Sign tests are incremental: the legal surfaces of the child are the parent's, re-decided
       only for the contacts whose ``w`` changed (``sign_tests`` counts those decisions).
-    * The memo key is the frozen set of ``(j, numerator, denominator)`` of the entries that differ
-      from ``v0``: canonical (an entry that returns to its value in ``v0`` is dropped), exact, and
-      as small as the state's difference from ``v0``.
+    * The memo is keyed on a hash of the state updated with the changed entries only (each entry
+      of ``v`` that differs from ``v0`` is stored with a mixed hash of ``(j, numerator,
+      denominator)``, :func:`_mix`, the state's hash is their sum); states with equal hashes are compared
+      exactly (their dicts of ``fmpq``) before they are shared, so a collision costs a
+      comparison, never a wrong merge. An entry that returns to its value in ``v0`` is dropped:
+      equal velocities have equal dicts.
 
-    ``g.vel`` holds the keys; a velocity is ``v0`` updated by its key."""
+    ``g.vel`` holds the dicts (``{j: (v_j, hash)}``); :func:`_diff_key` makes an outcome key."""
     k = system.k
     coef, wcols, gcols = system.coef, system.wcols, system.gcols
     v0 = system.v0
     w0 = tuple(system.w(v0, i) for i in range(k))
     g = _Graph()
     vel, legal_of, children, parent = g.vel, g.legal, g.children, g.parent
-    vdiff: list = [{}]
     wdiff: list = [{}]
+    hashes = [0]
     root_legal = tuple(i for i in range(k) if w0[i] < 0)
     tests = k
-    key0 = frozenset()
-    vel.append(key0)
+    vel.append({})
     parent.append(None)
     children.append([])
     legal_of.append(root_legal)
-    index = {key0: 0}
+    index: dict = {0: 0}  # state hash -> node (a list of nodes after a collision)
     stored = 0  # bits of the exact entries kept (the numbers of a long ordering grow linearly)
     state = [1]
     stack = [(0, iter(root_legal))]
+    mask = (1 << 64) - 1
     while stack:
         node, it = stack[-1]
         i = next(it, None)
@@ -509,22 +512,39 @@ def _explore_rational(system, cap):
             stack.pop()
             state[node] = 2
             continue
-        vd, wd = vdiff[node], wdiff[node]
+        vd, wd = vel[node], wdiff[node]
         c = coef[i] * wd.get(i, w0[i])
         nvd = dict(vd)
+        h = hashes[node]
+        bits = 0
         for j, wj in wcols[i]:
             x0 = v0[j]
-            x = nvd.get(j, x0) - c * wj
+            old = nvd.get(j)
+            if old is None:
+                x = x0 - c * wj
+            else:
+                h -= old[1]
+                x = old[0] - c * wj
             if x == x0:
                 nvd.pop(j, None)
             else:
-                nvd[j] = x
-        key = frozenset([(j, x.p, x.q) for j, x in nvd.items()])
-        child = index.get(key)
+                p, q = x.p, x.q
+                hx = _mix((hash((p, q)) + j * 0x9E3779B97F4A7C15) & mask)
+                h += hx
+                nvd[j] = (x, hx)
+                bits += p.bit_length() + q.bit_length()
+        h &= mask
+        found = index.get(h)
+        child = None
+        if found is not None:
+            for cand in (found if isinstance(found, list) else (found,)):
+                if vel[cand] == nvd:
+                    child = cand
+                    break
         if child is None:
             if len(stack) > cap:
                 raise _cap_error(cap)
-            stored += sum(p.bit_length() + q.bit_length() for _, p, q in key)
+            stored += bits
             if stored > MAX_STATE_BITS:
                 raise _state_bits_error(len(vel))
             nwd = dict(wd)
@@ -542,14 +562,19 @@ def _explore_rational(system, cap):
                     legal.discard(j)
             tests += len(gcols[i])
             child = len(vel)
-            vel.append(key)
-            vdiff.append(nvd)
+            vel.append(nvd)
             wdiff.append(nwd)
+            hashes.append(h)
             parent.append((node, i))
             children.append([])
             legal_of.append(tuple(sorted(legal)))
             state.append(1)
-            index[key] = child
+            if found is None:
+                index[h] = child
+            elif isinstance(found, list):
+                found.append(child)
+            else:
+                index[h] = [found, child]
             children[node].append((i, child))
             stack.append((child, iter(legal_of[child])))
         else:
@@ -559,3 +584,16 @@ def _explore_rational(system, cap):
     g.fallback = [False] * len(vel)
     g.root = 0
     return g, tests
+
+
+def _mix(z):
+    """splitmix64's finalizer: the sum of the entries' mixed hashes is the state's hash (a plain
+    tuple hash summed over the entries of permuted velocities collides by the thousand)."""
+    z = ((z ^ (z >> 30)) * 0xBF58476D1CE4E5B9) & 0xFFFFFFFFFFFFFFFF
+    z = ((z ^ (z >> 27)) * 0x94D049BB133111EB) & 0xFFFFFFFFFFFFFFFF
+    return z ^ (z >> 31)
+
+
+def _diff_key(vd):
+    """The outcome key of a state of :func:`_explore_rational`: exact and canonical."""
+    return frozenset((j, x.p, x.q) for j, (x, _) in vd.items())
