@@ -186,3 +186,19 @@ def test_thousand_ball_cradle_is_exact_and_linear_in_states():
     assert r.states_visited == n and r.orderings == 1 and o.reflections == n - 1
     assert r.sign_tests < 4 * n
     assert r.selected == (o.velocity,) and list(r.selected_impulses[0]) == [1] * (n - 1)
+
+
+def test_memo_hash_collisions_are_resolved_exactly(monkeypatch):
+    """Every state hashed alike: the exact comparison alone decides sharing, and the search
+    gives the same states, orderings and outcomes."""
+    from impactsym.laws.sequential import search
+
+    n = 5
+    H = sp.Matrix(n - 1, n, lambda i, j: -1 if j == i else 1 if j == i + 1 else 0)
+    v = sp.Matrix([3, 0, 2, 0, 1])
+    ref = resolve_sequential(sp.eye(n), H, v, two_surface="iterate")
+    monkeypatch.setattr(search, "_mix", lambda z: 7)
+    got = resolve_sequential(sp.eye(n), H, v, two_surface="iterate")
+    assert (got.states_visited, got.orderings) == (ref.states_visited, ref.orderings) and got.states_visited > 10
+    assert [(o.order, list(o.velocity), o.orderings) for o in got.outcomes] == \
+        [(o.order, list(o.velocity), o.orderings) for o in ref.outcomes]
