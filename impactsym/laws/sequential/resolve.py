@@ -19,8 +19,14 @@ from .results import InfiniteOrder, Outcome, SequentialResolution
 from .search import (_ExactSystem, _Reflector, _aggregate, _cap_error, _diff_key, _explore, _explore_rational,
                      _merge_exact_keys, _state_bits_error, _verified_replay)
 from .selection import _select, _select_two_surface, _verify_selected
+from .independence import ProductGraph, combine, components, length_distributions
 from .sparse import read_rational
 from .witness import valid_velocity_witness
+
+
+#: split the exact rational search into independent groups of contacts (:mod:`.independence`);
+#: ``False`` searches the whole system as one DAG (the tests compare the two)
+DECOMPOSE_INDEPENDENT = True
 
 
 def _coordinates(mass_matrix):
@@ -340,8 +346,12 @@ def resolve_sequential(mass_matrix, gradients, velocity, *, reading: str | None 
             def key_of(state):
                 return state[0]
         if F is _Rational:
-            g, tests = _explore_rational(system, cap)
-            root_table = _aggregate(g, _diff_key)
+            comps = components(system) if DECOMPOSE_INDEPENDENT else []
+            if len(comps) > 1:  # independent groups of contacts: searched apart, counts combined
+                g, tests, root_table = _decomposed_search(system, comps, cap)
+            else:
+                g, tests = _explore_rational(system, cap)
+                root_table = _aggregate(g, _diff_key)
         else:
             w0 = tuple(system.w(system.v0, i) for i in range(system.k))
             g, tests = _explore(sign_of, _Reflector(system), (system.v0, w0), cap, {}, key_of)
@@ -395,6 +405,22 @@ def resolve_sequential(mass_matrix, gradients, velocity, *, reading: str | None 
         res.selected_impulses = selected_impulses
     res.bound = two_bound
     return res
+
+
+def _decomposed_search(system, comps, cap):
+    """The search of each independent group of contacts alone (:mod:`.independence`), and the
+    table of the whole system's outcomes combined from theirs: ``(product graph, sign tests,
+    {outcome key: [orderings, shortest, longest, representative]})``."""
+    graphs, parts = [], []
+    tests = system.k  # the root's signs, decided once (components() reads them)
+    for comp in comps:
+        gc, t = _explore_rational(system, cap, allowed=set(comp))
+        tests += t - len(comp)
+        dist = length_distributions(gc, _diff_key)
+        reps = _aggregate(gc, _diff_key)
+        parts.append({key: (dist[key], reps[key][3]) for key in dist})
+        graphs.append(gc)
+    return ProductGraph(graphs), tests, combine(parts)
 
 
 def _select_arc_end(system, outcomes):

@@ -186,6 +186,12 @@ class SequentialResolution:
                     return
             return
         g = self._graph
+        if hasattr(g, "iter_paths"):  # independent groups of contacts: the interleavings
+            for count, (path, key) in enumerate(g.iter_paths(), 1):
+                yield path, g.outcome_index[key]
+                if limit is not None and count >= limit:
+                    return
+            return
         count = 0
         stack = [(g.root, ())]
         while stack:

@@ -468,7 +468,7 @@ def _explore(sign_of, reflect, v0, cap, holder, key_of=lambda v: v, collapse=Non
     return g, counters["tests"]
 
 
-def _explore_rational(system, cap):
+def _explore_rational(system, cap, allowed=None):
     """:func:`_explore` specialized to rational data (the hot path): a state costs what its
     reflection changes, not the number of bodies.
 
@@ -485,7 +485,11 @@ def _explore_rational(system, cap):
       comparison, never a wrong merge. An entry that returns to its value in ``v0`` is dropped:
       equal velocities have equal dicts.
 
-    ``g.vel`` holds the dicts (``{j: (v_j, hash)}``); :func:`_diff_key` makes an outcome key."""
+    ``g.vel`` holds the dicts (``{j: (v_j, hash)}``); :func:`_diff_key` makes an outcome key.
+
+    ``allowed`` (a set of contacts closed under the Gram graph, a component of
+    :func:`impactsym.laws.sequential.independence.components`): only those contacts act; the
+    others never change sign, since no allowed reflection changes their ``w``."""
     k = system.k
     coef, wcols, gcols = system.coef, system.wcols, system.gcols
     v0 = system.v0
@@ -494,8 +498,8 @@ def _explore_rational(system, cap):
     vel, legal_of, children, parent = g.vel, g.legal, g.children, g.parent
     wdiff: list = [{}]
     hashes = [0]
-    root_legal = tuple(i for i in range(k) if w0[i] < 0)
-    tests = k
+    root_legal = tuple(i for i in range(k) if w0[i] < 0 and (allowed is None or i in allowed))
+    tests = k if allowed is None else len(allowed)
     vel.append({})
     parent.append(None)
     children.append([])
