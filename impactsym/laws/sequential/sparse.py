@@ -532,7 +532,7 @@ def verify_matrices(law, Mq, Hq, vq, vplus, p) -> None:
     >>> verify_matrices("demo", I, H, fmpq_mat([[-1], [-2]]), fmpq_mat([[1], [2]]), fmpq_mat([[6], [5]]))
     Traceback (most recent call last):
     ...
-    impactsym.errors.VerificationError: demo: verification of the outcome failed: momentum: (M(v+ - v) - H^T p)_2 = 1 != 0 (a bug in impactsym; the outcome was not returned)
+    impactsym.errors.VerificationError: demo: verification of the outcome failed: momentum: (M(v+ - v) - H^T p)_1 = 1 != 0 (a bug in impactsym; the outcome was not returned)
     """
     w = (Hq * vplus).entries()
     for i, x in enumerate(w):
