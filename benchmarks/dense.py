@@ -13,7 +13,9 @@ random integer gradient rows in ``[−2, 2]``, and a velocity of random fraction
 Three times per law: the library call alone (the law's function on the text input, in the
 running interpreter), ``resolve`` through the CLI in the running interpreter (reading the
 text, the law, the one JSON schema), and the whole ``python -m impactsym resolve ... --json``
-process (interpreter start and imports included). Medians of repeated calls.
+process (interpreter start and imports included), and that process again with the code of
+another checkout (``IMPACTSYM_BASELINE``, default ``/work/main``) in the same run. Medians of
+repeated calls.
 """
 
 from __future__ import annotations
@@ -33,6 +35,8 @@ ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))
 
 N = 60
+#: the checkout measured side by side (the code before this change)
+BASELINE = os.environ.get("IMPACTSYM_BASELINE", "/work/main")
 
 
 def system(seed=15, n=N):
@@ -102,8 +106,8 @@ def cli_in_process(args):
     return run
 
 
-def cli_process(args):
-    env = dict(os.environ, PYTHONPATH=str(ROOT))
+def cli_process(args, root=ROOT):
+    env = dict(os.environ, PYTHONPATH=str(root))
 
     def run():
         subprocess.run([sys.executable, "-m", "impactsym", *args], check=True, capture_output=True, env=env)
@@ -117,18 +121,24 @@ def main() -> str:
              f"{os.getloadavg()[0]:.2f} (2 cores, shared with other jobs). Command: `python benchmarks/dense.py`.",
              "", "`M = AᵀA + 60·I` (A: random integers in [−3, 3], seed 15), dense integer gradient rows, a "
              "rational velocity with every contact approaching; exact throughout. Medians, seconds.", "",
-             "| law | contacts | library call | CLI in-process | CLI process | under 1 s (in-process) |",
-             "|---|---|---|---|---|---|"]
+             "| law | contacts | library call | CLI in-process | CLI process | under 1 s (in-process) "
+             f"| CLI process, `{BASELINE}` at run time (without this branch) |",
+             "|---|---|---|---|---|---|---|"]
     for rows, k in (("H1", 1), ("H2", 2)):
         for law in ("sequential", "two-surface", "newton", "poisson", "energetic", "impulse-ratio"):
             if law == "two-surface" and k != 2:
-                lines.append(f"| {law} | {k} | — | — | — | not applicable (exactly two contacts) |")
+                lines.append(f"| {law} | {k} | — | — | — | not applicable (exactly two contacts) | — |")
                 continue
             tl = median_time(library_call(law, s, rows))
             args = cli_args(law, s, rows)
             ti = median_time(cli_in_process(args))
             tp = median_time(cli_process(args), repeat=3)
-            lines.append(f"| {law} | {k} | {tl:.3f} | {ti:.3f} | {tp:.2f} | {'yes' if ti < 1 else 'no'} |")
+            try:
+                tb = f"{median_time(cli_process(args, BASELINE), repeat=3):.2f}" if Path(BASELINE).is_dir() else "—"
+            except subprocess.CalledProcessError:
+                tb = "error"
+            lines.append(f"| {law} | {k} | {tl:.3f} | {ti:.3f} | {tp:.2f} | {'yes' if ti < 1 else 'no'} | {tb} |")
+            print(lines[-1], flush=True)
     lines += ["", "The library call is the law itself. The in-process CLI adds reading the text (SymPy "
               "parsing of 3,600 entries), the System and the JSON of the resolution (the dense M printed in "
               "full); the process adds the interpreter and imports (see `benchmarks/results/startup.md`)."]
