@@ -269,11 +269,11 @@ def independence() -> str:
             H[k - 1 + i, k + i], H[k - 1 + i, k + i + 1] = -1, 1
         v = sp.Matrix(list(range(k, 0, -1)) + list(range(2 * k, k, -1)))
         M = sp.eye(2 * k)
-        ts, rs = median_time(lambda: resolve_sequential(M, H, v, two_surface="iterate"), repeat=3)
+        ts, _, rs = median_time(lambda: resolve_sequential(M, H, v, two_surface="iterate"), repeat=9)
         if k <= 5:
             seq_resolve.DECOMPOSE_INDEPENDENT = False
             try:
-                tw, rw = median_time(lambda: resolve_sequential(M, H, v, two_surface="iterate"), repeat=3)
+                tw, _, rw = median_time(lambda: resolve_sequential(M, H, v, two_surface="iterate"), repeat=3)
             finally:
                 seq_resolve.DECOMPOSE_INDEPENDENT = True
             same = rs.orderings == rw.orderings and [(o.order, list(o.velocity), o.orderings, o.reflections_min,
