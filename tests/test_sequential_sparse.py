@@ -202,3 +202,25 @@ def test_memo_hash_collisions_are_resolved_exactly(monkeypatch):
     assert (got.states_visited, got.orderings) == (ref.states_visited, ref.orderings) and got.states_visited > 10
     assert [(o.order, list(o.velocity), o.orderings) for o in got.outcomes] == \
         [(o.order, list(o.velocity), o.orderings) for o in ref.outcomes]
+
+
+@pytest.mark.parametrize("M, H, v, path", [
+    ("11/10,0;0,1", "1,0;-1,1", "-1,-2", "closed-form"),
+    ("11/10,0;0,1", "1,0;-1,1", "-1,-2", "auto"),
+    ("1,0;0,1", "1,0;-5,1", "-1,-6", "auto"),  # a long wedge: the closed form
+    ("1,0,0,0;0,2,0,0;0,0,3,0;0,0,0,1", "-1,1,0,0;0,-1,1,0;0,0,-1,1", "2,1,0,-1", "auto"),
+])
+def test_selected_impulses_are_the_unique_impulses(M, H, v, path):
+    """The impulses the law gives with its selected velocities (full-row-rank H) are the unique
+    p of M(v+ − v0) = Hᵀp, as the lawbook computed them with SymPy before."""
+    from impactsym.lawbook import _impulses_of
+    from impactsym.resolution import System
+
+    r = resolve_sequential(M, H, v, two_surface=path)
+    Ms, Hs, vs = (sp.Matrix([[sp.Rational(x) for x in row.split(",")] for row in t.split(";")]) for t in (M, H, v))
+    vs = vs.T
+    assert r.selected and len(r.selected_impulses) == len(r.selected)
+    system = System(Ms, Hs, vs, None)
+    for s, p in zip(r.selected, r.selected_impulses):
+        assert Ms * (s - vs) == Hs.T * p
+        assert p == _impulses_of(system, s)

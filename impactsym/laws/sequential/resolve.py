@@ -650,4 +650,10 @@ def _two_surface_path(M, H, v0, system, exact, reading, select, witness, prepare
                                method="two-surface closed form", bound=ts.bound, _orders=orders)
     res.selection_note = note
     res.restitution = tuple(sp.Integer(1) if exact else 1.0 for _ in range(system.k))
+    if exact and selected:
+        # two independent rows: p of M(v+ - v0) = H^T p is unique; a selected outcome's impulse is
+        # the one the two-surface law verified with it (exact outcomes only)
+        imps = tuple(next((g[2] for g in groups if g[0] is s and g[3]), None) for s in selected)
+        if all(p is not None for p in imps):
+            res.selected_impulses = imps
     return res
