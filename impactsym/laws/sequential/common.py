@@ -31,10 +31,10 @@ READINGS = ("energy", "cone")
 TWO_SURFACE_PATHS = ("auto", "closed-form", "iterate")
 #: ``two_surface="auto"`` iterates exact rational data when the paper's bound ``N`` (the longest
 #: branch for any velocity) is certainly at most this; the closed form otherwise. Measured
-#: (``benchmarks/two_surface.py``, "path by the certified count"): with the closed form handed
-#: the checked data, the two cost the same at about 10 reflections; beyond, the iteration's cost
-#: grows with the count (and its numbers), the closed form's does not
-AUTO_ITERATE_MAX_COUNT = 10
+#: (``benchmarks/two_surface.py``, "path by the certified count"): once the closed form is handed
+#: the checked data (no second validation) the two cost the same near N = 7 (about 0.6 ms);
+#: beyond, the iteration's cost grows with the count and its numbers, the closed form's does not
+AUTO_ITERATE_MAX_COUNT = 7
 #: default cap on the reflections of any one ordering
 DEFAULT_MAX_REFLECTIONS = 10_000
 #: largest total size (bits of numerators and denominators) of the exact velocities the rational
