@@ -694,6 +694,11 @@ def branch_counts(mass_matrix, gradients, velocity) -> dict:
     >>> branch_counts("11/10,0;0,1", "1,0;-1,1", "-1,-2")
     {0: 4, 1: 4}
     """
+    from .sequential.sparse import read_rational, two_surface_data
+
+    data = read_rational(mass_matrix, gradients, velocity)
+    if data is not None and data.k == 2:
+        return _branch_counts_prepared(two_surface_data(data))
     exact, M, H, v, n = _checked(mass_matrix, gradients, velocity)
     rational_path = not exact or (all_rational(M) and all_rational(H) and all_rational(v))
     if rational_path:
@@ -716,6 +721,22 @@ def branch_counts(mass_matrix, gradients, velocity) -> dict:
             rows = (H[0, :], H[1, :]) if first == 0 else (H[1, :], H[0, :])
             check = _make_tie_check_algebraic(M, rows[0], rows[1], v)
         out[first] = _certified_ceil_ratio(df, check, {})
+    return out
+
+
+def _branch_counts_prepared(prepared) -> dict:
+    """:func:`branch_counts` of checked rational data (the ``fmpq_mat`` tuple of
+    :func:`_resolve`'s ``prepared``)."""
+    W, gram, c, vq, Mq, Hq = prepared
+    d = _Data(gram[0, 0], gram[1, 1], gram[0, 1], c[0, 0], c[1, 0])
+    if sign_of(d.D) == 0:
+        raise ImpactInputError(
+            "gradients", "the two rows are parallel (Δ = s_1 s_2 − g² = 0): the wedge is degenerate (opening 0 or π)")
+    out = {}
+    for first in (0, 1):
+        df = d if first == 0 else d.swapped()
+        if sign_of(df.ca) < 0:
+            out[first] = _certified_ceil_ratio(df, _tie_check_rational, {})
     return out
 
 

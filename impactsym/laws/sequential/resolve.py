@@ -318,8 +318,11 @@ def resolve_sequential(mass_matrix, gradients, velocity, *, reading: str | None 
             # iterating: refuse up front when a branch needs more than the cap (its exact states
             # grow linearly, so reaching the cap would cost memory quadratic in it)
             if data is not None:
-                Mx, Hx, vx = data.to_sympy()
-            counts = branch_counts(Mx, Hx, vx)
+                from ..two_surface import _branch_counts_prepared
+
+                counts = _branch_counts_prepared(_prepared_two_surface(system))
+            else:
+                counts = branch_counts(Mx, Hx, vx)
             if counts and max(counts.values()) > cap:
                 raise NonTermination(
                     f"max_reflections: the ordering starting with surface {max(counts, key=counts.get)} needs "
