@@ -129,7 +129,8 @@ from __future__ import annotations
 # the private names re-exported below are the ones the tests reach (tests/test_certified_extreme.py)
 from .bound import termination_bound
 from .collapse import alternation_limit, critical_restitution
-from .common import (AUTO_ITERATE_MAX_COUNT, DEFAULT_MAX_REFLECTIONS, FLOAT_SAFETY, MAX_COORDINATES, MAX_STATE_BITS, READINGS,
+from .common import (AUTO_ITERATE_MAX_COUNT, DEFAULT_MAX_REFLECTIONS, FLOAT_SAFETY, MAX_COORDINATES, MAX_STATE_BITS,
+                     READINGS,
                      TWO_SURFACE_PATHS, _Algebraic, _Rational)
 from .resolve import check_restitutions, resolve_sequential
 from .results import InfiniteOrder, Outcome, SequentialResolution

@@ -21,7 +21,8 @@ from ...arithmetic.linalg import rank as _rank
 from ...arithmetic.linalg import rref as _rref
 from ...arithmetic.linalg import solve_columns as _solve_columns
 
-__all__ = ["READINGS", "TWO_SURFACE_PATHS", "AUTO_ITERATE_MAX_COUNT", "DEFAULT_MAX_REFLECTIONS", "MAX_STATE_BITS", "MAX_COORDINATES",
+__all__ = ["READINGS", "TWO_SURFACE_PATHS", "AUTO_ITERATE_MAX_COUNT", "DEFAULT_MAX_REFLECTIONS", "MAX_STATE_BITS",
+           "MAX_COORDINATES",
            "FLOAT_SAFETY", "_Rational", "_Algebraic", "_all_rational", "_rref", "_kernel_basis", "_nullspace",
            "_solve_columns", "_rank", "_independent", "_dot", "_matvec", "_minner"]
 

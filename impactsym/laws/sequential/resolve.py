@@ -11,7 +11,8 @@ from ...arithmetic import certified_sign, float_to_rational
 from ...errors import DomainError, ImpactInputError, NonTermination
 from ...mechanics import check_gradients, check_mass_matrix, check_velocity
 from ...numbers import check_finite_exact, is_exact, to_exact
-from .common import (AUTO_ITERATE_MAX_COUNT, DEFAULT_MAX_REFLECTIONS, MAX_COORDINATES, MAX_STATE_BITS, READINGS, TWO_SURFACE_PATHS,
+from .common import (AUTO_ITERATE_MAX_COUNT, DEFAULT_MAX_REFLECTIONS, MAX_COORDINATES, MAX_STATE_BITS, READINGS,
+                     TWO_SURFACE_PATHS,
                      _Rational, _rank)
 from .collapse import _CollapseDetector, _verified_collapse
 from .float_search import INELASTIC_FALLBACK_BUDGET, _FallbackBudget, _float_search
@@ -166,8 +167,8 @@ def resolve_sequential(mass_matrix, gradients, velocity, *, reading: str | None 
         ``AUTO_ITERATE_MAX_COUNT`` are iterated (a few exact reflections cost less than the
         closed form's certified evaluation; :func:`impactsym.laws.two_surface.bound_at_most`
         decides it in rational arithmetic), everything else takes the closed form. Both paths
-        give the same exact outcomes; the iteration also reports ``bound``. With the closed form the energy reading selects the
-        outcome(s) with the largest ``⟨o, v0⟩_M`` (exact, or certified Arb comparison of
+        give the same exact outcomes; the iteration also reports ``bound``. With the closed
+        form the energy reading selects the outcome(s) with the largest ``⟨o, v0⟩_M`` (exact, or certified Arb comparison of
         certified outcomes; see :func:`_two_surface_path`); the cone reading of certified
         outcomes is skipped in exact mode (``selected`` empty, ``selection_note`` says why) and
         refused in float mode (``DomainError``): a float run never succeeds with an empty

@@ -470,7 +470,8 @@ def read_rational(mass_matrix, gradients, velocity):
     data._check_M()
     for i, r in enumerate(Hd):
         if not r:
-            raise ImpactInputError("gradients", f"row {i} is the zero covector (a constraint gradient must be non-zero)")
+            raise ImpactInputError("gradients",
+                                   f"row {i} is the zero covector (a constraint gradient must be non-zero)")
     data.H = [sorted(r.items()) for r in Hd]
     return data
 
