@@ -318,7 +318,7 @@ class Sequential(Law):
     def why_not(self, system, gaps=None, **options):
         if gaps is None:
             return None
-        given = [k for k, v in options.items() if v not in (None, False, "closed-form")]
+        given = [k for k, v in options.items() if v not in (None, False, "auto")]
         if given:
             return given[0], "--gaps simulates the impact; it takes no option of the ordering search"
         if system.source is None or system.source.meta.get("builder") != "balls_on_line":
@@ -350,7 +350,7 @@ class Sequential(Law):
                           notes=["the outcome of these gaps; other gaps may give another ordering and outcome"],
                           details=details, raw=g)
 
-    def resolve(self, system, reading=None, max_reflections=None, float=False, two_surface_path="closed-form",
+    def resolve(self, system, reading=None, max_reflections=None, float=False, two_surface_path="auto",
                 gaps=None):
         if gaps is not None:
             return self._with_gaps(system, gaps)
@@ -378,9 +378,13 @@ class Sequential(Law):
                                 details={"reflections": o.reflections, "reflections_min": o.reflections_min,
                                          "reflections_max": o.reflections_max, **_jsonable(extra)}))
         selected = []
-        for s in r.selected:
+        known = getattr(r, "selected_impulses", ()) or ()
+        for idx, s in enumerate(r.selected):
             if (float or not system.exact) and isinstance(s, sp.MatrixBase):  # the float path reports floats
                 s = np.array([sp.N(x, 17) for x in s], dtype=np.float64)
+            elif idx < len(known) and known[idx] is not None:  # exact, verified by the law (full row rank)
+                selected.append(Outcome(s, known[idx]))
+                continue
             selected.append(Outcome(s, _impulses_of(system, s)))
         bound = r.bound
         elastic = all(sp.sympify(x) == 1 for x in system.restitution_vector())

@@ -113,32 +113,101 @@ def check_mass_matrix(M: Any, argument: str = "mass_matrix", *, exact: bool | No
     return A
 
 
+def _rational_rows(A: sp.Matrix) -> list:
+    """Rows of a rational SymPy matrix as dicts ``{j: fmpq}`` of the non-zero entries, read from
+    its sparse ``DomainMatrix`` when it is over ``ZZ``/``QQ`` (no per-entry SymPy access)."""
+    from flint import fmpq
+
+    n, m = A.shape
+    rep = getattr(A, "_rep", None)
+    rows: list = [dict() for _ in range(n)]
+    if rep is not None and hasattr(rep, "to_sdm") and (rep.domain.is_ZZ or rep.domain.is_QQ):
+        zz = rep.domain.is_ZZ
+        for i, row in rep.to_sdm().items():
+            out = rows[i]
+            for j, x in row.items():
+                out[j] = fmpq(int(x)) if zz else (x if isinstance(x, fmpq) else fmpq(int(x.numerator),
+                                                                                  int(x.denominator)))
+        return rows
+    for i in range(n):
+        for j in range(m):
+            x = A[i, j]
+            if x != 0:
+                rows[i][j] = fmpq(int(x.p), int(x.q))
+    return rows
+
+
+def positive_definite_by_fflu(rows: list, n: int) -> bool:
+    """``True`` when the symmetric rational matrix with sparse ``rows`` (dicts ``{j: fmpq}``) is
+    certainly positive definite by python-flint's fraction-free LU (C): with ``L`` the common
+    denominator, the LU of the integer matrix ``L·M`` has no row exchange and every pivot
+    positive. Without a row exchange the ``k``-th pivot of fraction-free elimination is the
+    ``k``-th leading principal minor of ``L·M`` (Bareiss), which has the sign of ``M``'s, so this
+    is Sylvester's criterion. ``False`` means *not decided here* (the elimination then decides
+    and words the refusal).
+
+    >>> from flint import fmpq
+    >>> positive_definite_by_fflu([{0: fmpq(2), 1: fmpq(1)}, {0: fmpq(1), 1: fmpq(2)}], 2)
+    True
+    >>> positive_definite_by_fflu([{0: fmpq(1), 1: fmpq(2)}, {0: fmpq(2), 1: fmpq(1)}], 2)
+    False
+    """
+    from flint import fmpz, fmpz_mat
+
+    den = fmpz(1)
+    for row in rows:
+        for x in row.values():
+            den = den.lcm(x.q)
+    Z = fmpz_mat(n, n)
+    for i, row in enumerate(rows):
+        for j, x in row.items():
+            Z[i, j] = x.p * (den // x.q)
+    try:
+        P, _, _, U = Z.fflu()
+    except Exception:  # noqa: BLE001 - singular: not decided here
+        return False
+    return P.is_one() and all(U[i, i] > 0 for i in range(n))
+
+
 def _check_rational_spd(A: sp.Matrix, argument: str) -> sp.Matrix:
-    """Symmetric and positive definite, decided exactly for rational ``A`` in O(n³) rational
-    operations (python-flint): Gaussian elimination without pivoting, whose k-th pivot is the ratio
-    of the k-th to the (k−1)-th leading principal minor (Sylvester's criterion)."""
+    """Symmetric and positive definite, decided exactly for rational ``A`` (python-flint): a
+    dense ``A`` by :func:`positive_definite_by_fflu` (C, fraction-free), otherwise (and to word a
+    refusal) by Gaussian elimination without pivoting on the sparse rows, whose k-th pivot is the
+    ratio of the k-th to the (k−1)-th leading principal minor (Sylvester's criterion)."""
     from flint import fmpq
 
     n = A.shape[0]
-    F = [[fmpq(int(A[i, j].p), int(A[i, j].q)) for j in range(n)] for i in range(n)]
-    for i in range(n):
-        for j in range(i + 1, n):
-            if F[i][j] != F[j][i]:
-                raise ImpactInputError(argument, f"not symmetric (entry ({i}, {j}) is {A[i, j]} but ({j}, {i}) is {A[j, i]})")
+    F = _rational_rows(A)
+    zero = fmpq(0)
+    bad = None
+    for i, row in enumerate(F):
+        for j, x in row.items():
+            if i != j and F[j].get(i, zero) != x:
+                pair = (i, j) if i < j else (j, i)
+                if bad is None or pair < bad:
+                    bad = pair
+    if bad is not None:
+        i, j = bad
+        raise ImpactInputError(argument, f"not symmetric (entry ({i}, {j}) is {A[i, j]} but ({j}, {i}) is {A[j, i]})")
+    if n >= 8 and 4 * sum(len(r) for r in F) >= n * n and positive_definite_by_fflu(F, n):
+        return A
+    # symmetric elimination on the upper triangle (the trailing block stays symmetric)
+    U = [{j: x for j, x in row.items() if j >= i} for i, row in enumerate(F)]
     minor = fmpq(1)
     for k in range(n):
-        pivot = F[k][k]
+        row = U[k]
+        pivot = row.get(k, zero)
         minor *= pivot
         if pivot <= 0:
             value = sp.Rational(int(minor.p), int(minor.q))
             raise ImpactInputError(argument, f"not positive definite (leading principal minor {k + 1} is {value})")
-        row = F[k]
-        for i in range(k + 1, n):
-            f = F[i][k] / pivot
-            if f != 0:
-                Fi = F[i]
-                for j in range(k + 1, n):
-                    Fi[j] -= f * row[j]
+        right = [(j, x) for j, x in row.items() if j > k]
+        for j, x in right:
+            f = x / pivot
+            target = U[j]
+            for l, y in right:
+                if l >= j:
+                    target[l] = target.get(l, zero) - f * y
     return A
 
 

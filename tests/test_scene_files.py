@@ -141,7 +141,7 @@ def test_registry_parameters_are_the_cli_ones():
     ("chain3", {"masses": "1,0,1"}, "masses", "must be positive, got 0"),
     ("chain3", {"velocities": "1,nan,0"}, "velocities", "must be a finite real number"),
     ("cradle", {"n_balls": "2.5"}, "n_balls", "must be an integer"),
-    ("cradle", {"n_balls": "201"}, "n_balls", "must be at most 200"),
+    ("cradle", {"n_balls": "10001"}, "n_balls", "must be at most 10000"),
     ("cradle", {"n_balls": "3", "strikers": "3"}, "strikers", "must be smaller than n_balls=3"),
     ("cradle", {"velocities": "1,0"}, "velocities", "--velocities does not apply to --scene cradle (it takes: "
                                                     "--n-balls, --strikers, --masses)"),

@@ -81,7 +81,7 @@ def register(sub) -> None:
     p.add_argument("--reading", metavar="R", help="sequential: feasible set of the selection, energy (default) or cone")
     p.add_argument("--max-reflections", metavar="K", help="sequential: cap on the reflections of one ordering")
     p.add_argument("--float", action="store_true", help="sequential: float64 with certified branch decisions")
-    p.add_argument("--two-surface-path", metavar="P", help="sequential: closed-form (default) or iterate")
+    p.add_argument("--two-surface-path", metavar="P", help="sequential: auto (default: iterate when the certified bound is small), closed-form or iterate")
     p.add_argument("--gaps", metavar="G", help="sequential: small gaps g1,g2,... opening the closed contacts (a "
                    "scene of balls on a line): the ordering and outcome those gaps produce (exact simulation)")
     p.add_argument("--stiffness", metavar="K", help='hertz, linear, power, hunt-crossley, lzb: contact stiffness, '

@@ -1,6 +1,6 @@
 """What is specific to ``impactsym resolve --law sequential`` (Seghete & Murphey sec. III,
 :func:`impactsym.laws.sequential.resolve_sequential`): its options (``--reading energy|cone``,
-``--max-reflections K``, ``--float``, ``--two-surface-path closed-form|iterate``, ``--gaps
+``--max-reflections K``, ``--float``, ``--two-surface-path auto|closed-form|iterate``, ``--gaps
 g1,g2,…``) and the lines of its details. ``--restitution`` takes one coefficient or one per contact
 (``G_u(e)`` per impact; :func:`~impactsym.laws.sequential.resolve_sequential`).
 
@@ -27,7 +27,7 @@ def options(args) -> dict:
     from ..scenes.registry import int_option
 
     cap = None if args.max_reflections is None else int_option(args.max_reflections, "max_reflections", 1)
-    path = args.two_surface_path if args.two_surface_path is not None else "closed-form"
+    path = args.two_surface_path if args.two_surface_path is not None else "auto"
     if path not in TWO_SURFACE_PATHS:
         raise ImpactInputError("two_surface_path", f"must be one of {', '.join(TWO_SURFACE_PATHS)}, got {path!r}")
     gaps = None if args.gaps is None else _gaps(args.gaps)

@@ -52,7 +52,7 @@ def add_system_arguments(p) -> None:
     p.add_argument("--velocities", metavar="v", help='chain3, two-balls-wall, three-ball-cradle, '
                    'balls-against-wall: pre-impact velocities "v1,v2,..."')
     p.add_argument("--n-balls", metavar="N", help="scenes cradle, balls-against-wall: number of balls "
-                   "(an integer expression such as 10**2; at most 200, the sequential law's MAX_COORDINATES)")
+                   "(an integer expression such as 10**2; at most 10000, the sequential law's MAX_COORDINATES)")
     p.add_argument("--strikers", metavar="K", help="scene cradle: number of striking balls")
 
 

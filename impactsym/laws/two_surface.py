@@ -77,6 +77,7 @@ from . import _reflection as _r
 __all__ = [
     "resolve_two_surfaces",
     "branch_counts",
+    "bound_at_most",
     "TwoSurfaceResolution",
     "TwoSurfaceOutcome",
     "AlternatingOrder",
@@ -526,10 +527,32 @@ def resolve_two_surfaces(mass_matrix, gradients, velocity, *, digits: int = DEFA
     """
     if not isinstance(digits, int) or digits < 1:
         raise ImpactInputError("digits", f"must be a positive integer, got {digits!r}")
+    # exact rational input: read once into checked sparse fmpq data (the sequential law's reader,
+    # the checks and messages of impactsym.mechanics); anything else, or two rows not given, is
+    # read and worded by the general checks
+    from .sequential.sparse import read_rational, two_surface_data
+
+    data = read_rational(mass_matrix, gradients, velocity)
+    if data is not None and data.k == 2:
+        return _resolve(True, None, None, None, data.n, digits, max_exact_digits, prepared=two_surface_data(data))
     exact, M, H, v, n = _checked(mass_matrix, gradients, velocity)
+    return _resolve(exact, M, H, v, n, digits, max_exact_digits)
+
+
+def _resolve(exact, M, H, v, n, digits=DEFAULT_DIGITS, max_exact_digits=DEFAULT_MAX_EXACT_DIGITS, *,
+             prepared=None) -> TwoSurfaceResolution:
+    """:func:`resolve_two_surfaces` on checked input. ``prepared`` (exact rational data already
+    checked by the caller, e.g. the sequential law, which reads its input once): the
+    ``fmpq_mat`` tuple ``(W, gram, c, vq, Mq, Hq)`` with ``W = M⁻¹Hᵀ`` (n×2), ``gram = H W``,
+    ``c = H v``; then ``M``, ``H``, ``v`` are not read (pass ``None``)."""
     decisions: dict = {}
-    rational_path = not exact or (all_rational(M) and all_rational(H) and all_rational(v))
-    if rational_path:
+    rational_path = prepared is not None or not exact or (all_rational(M) and all_rational(H) and all_rational(v))
+    if prepared is not None:
+        W, gram, c, vq, Mq, Hq = prepared
+        v = sp.Matrix([to_sympy_rational(vq[i, 0]) for i in range(n)])
+        d = _Data(gram[0, 0], gram[1, 1], gram[0, 1], c[0, 0], c[1, 0])
+        tie_check = _tie_check_rational
+    elif rational_path:
         (W, gram, c, _), vq, (Mq, Hq) = _invariants(exact, M, H, v, n)
         d = _Data(gram[0, 0], gram[1, 1], gram[0, 1], c[0, 0], c[1, 0])
         tie_check = _tie_check_rational
@@ -581,7 +604,9 @@ def resolve_two_surfaces(mass_matrix, gradients, velocity, *, digits: int = DEFA
                 ca2, cb2 = cb2, ca2
             jump = gram.solve(fmpq_mat(2, 1, [ca2 - c[0, 0], cb2 - c[1, 0]]))
             vplus = vq + W * jump
-            verify_exact("two-surface", Mq, Hq, vq, vplus, jump)
+            from .sequential.sparse import verify_matrices  # verify_exact's checks, in flint
+
+            verify_matrices("two-surface", Mq, Hq, vq, vplus, jump)
             _verify_count_rational(df, m)
             vel = sp.Matrix([to_sympy_rational(vplus[i, 0]) for i in range(n)])
             imp = sp.Matrix([to_sympy_rational(jump[i, 0]) for i in range(2)])
@@ -615,6 +640,42 @@ def resolve_two_surfaces(mass_matrix, gradients, velocity, *, digits: int = DEFA
     return TwoSurfaceResolution(outcomes, by_first, bound, wedge, exact, decisions, d)
 
 
+_COS2_LOWER: dict = {}
+
+
+def _cos2_lower(K: int) -> fmpq:
+    """A rational ``c < cos²(π/K)`` (an Arb enclosure's lower end, minus ``2⁻¹⁰⁰``)."""
+    c = _COS2_LOWER.get(K)
+    if c is None:
+        with ctx.workprec(160):
+            man, exp = ((arb.pi() / K).cos() ** 2).lower().mid().man_exp()
+        c = fmpq(int(man), 1 << int(-exp)) if exp < 0 else fmpq(int(man) << int(exp))
+        c = _COS2_LOWER[K] = c - fmpq(1, 1 << 100)
+    return c
+
+
+def bound_at_most(s_a, s_b, g, K: int) -> bool:
+    """Whether the paper's bound ``N = ⌈π/β⌉`` (the largest count of any branch, any velocity)
+    is certainly at most ``K ≥ 3``, decided in rational arithmetic from the Gram entries
+    ``s_a = H_A M⁻¹H_Aᵀ``, ``s_b``, ``g = H_A M⁻¹H_Bᵀ`` (no Arb evaluation of ``β``).
+
+    ``cos β = −g/√(s_a s_b)``. If ``g ≥ 0`` then ``β ≥ π/2`` and ``N ≤ 2``. Otherwise
+    ``β ∈ (0, π/2)`` and ``N ≤ K ⇔ β ≥ π/K ⇔ g² ≤ cos²(π/K) s_a s_b``; the test uses a rational
+    ``c < cos²(π/K)``, so ``True`` is certain (``False`` may be returned in a window of width
+    about ``2⁻¹⁰⁰`` below the threshold, where the caller only takes its other, equally exact path).
+
+    Three balls (``β = π/3``, ``N = 3``) and a wedge of about ``10⁻³`` rad (``N = 3142``):
+
+    >>> bound_at_most(fmpq(2), fmpq(2), fmpq(-1), 4), bound_at_most(fmpq(1), fmpq(10**6 + 1), fmpq(-10**3), 64)
+    (True, False)
+    """
+    if K < 3:
+        raise ValueError("K: must be at least 3")
+    if g >= 0:
+        return True
+    return g * g <= _cos2_lower(K) * s_a * s_b
+
+
 def branch_counts(mass_matrix, gradients, velocity) -> dict:
     """The certified reflection count of every branch, without the exit velocities.
 
@@ -633,6 +694,11 @@ def branch_counts(mass_matrix, gradients, velocity) -> dict:
     >>> branch_counts("11/10,0;0,1", "1,0;-1,1", "-1,-2")
     {0: 4, 1: 4}
     """
+    from .sequential.sparse import read_rational, two_surface_data
+
+    data = read_rational(mass_matrix, gradients, velocity)
+    if data is not None and data.k == 2:
+        return _branch_counts_prepared(two_surface_data(data))
     exact, M, H, v, n = _checked(mass_matrix, gradients, velocity)
     rational_path = not exact or (all_rational(M) and all_rational(H) and all_rational(v))
     if rational_path:
@@ -655,6 +721,22 @@ def branch_counts(mass_matrix, gradients, velocity) -> dict:
             rows = (H[0, :], H[1, :]) if first == 0 else (H[1, :], H[0, :])
             check = _make_tie_check_algebraic(M, rows[0], rows[1], v)
         out[first] = _certified_ceil_ratio(df, check, {})
+    return out
+
+
+def _branch_counts_prepared(prepared) -> dict:
+    """:func:`branch_counts` of checked rational data (the ``fmpq_mat`` tuple of
+    :func:`_resolve`'s ``prepared``)."""
+    W, gram, c, vq, Mq, Hq = prepared
+    d = _Data(gram[0, 0], gram[1, 1], gram[0, 1], c[0, 0], c[1, 0])
+    if sign_of(d.D) == 0:
+        raise ImpactInputError(
+            "gradients", "the two rows are parallel (Δ = s_1 s_2 − g² = 0): the wedge is degenerate (opening 0 or π)")
+    out = {}
+    for first in (0, 1):
+        df = d if first == 0 else d.swapped()
+        if sign_of(df.ca) < 0:
+            out[first] = _certified_ceil_ratio(df, _tie_check_rational, {})
     return out
 
 

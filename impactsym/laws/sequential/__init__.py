@@ -18,6 +18,18 @@ How the search is organized
 * **Exact by default.** ``G_u`` is rational in ``M``, ``u`` and ``v``: rational data are handled
   with python-flint ``fmpq`` (sparse rows, no matrices formed), algebraic data with SymPy and every
   sign certified by :func:`impactsym.exact.certified_sign`. Outcomes are merged exactly.
+* **Read once, sparse** (:mod:`.sparse`). Rational input is read straight into sparse ``fmpq``
+  rows and checked there, once (``M`` symmetric positive definite by a sparse symmetric
+  elimination, or flint's fraction-free LU for a dense ``M``; the refusal witness by sparse
+  elimination of ``H``); outcomes are verified with sparse products. A state stores only the
+  entries of ``v`` and ``w = H v`` that differ from ``v0`` and ``w0``; a reflection on contact
+  ``i`` updates the support of ``M⁻¹H_iᵀ`` and re-decides only the signs of the contacts whose
+  ``w`` it changes; the memo hash is updated with the changed entries. A one-striker cradle of
+  ``n`` balls costs ``O(n)`` states of ``O(1)`` work each.
+* **Independent groups** (:mod:`.independence`). Contacts with ``H_i M⁻¹ H_jᵀ = 0`` commute and
+  never change each other's signs; the connected components of the Gram graph are searched
+  apart and their outcomes, ordering counts (shuffle products) and representative orderings
+  combined, so the states visited add instead of multiply.
 * **Float mode** (any float input, or ``exact=False``): velocities are float64. Each sign test
   ``H_i v`` carries an error bound; when the bound straddles zero the sign is re-decided exactly
   from the floats' exact binary values (:func:`impactsym.numbers.float_to_rational`) by replaying
@@ -76,8 +88,10 @@ See ``docs/sequential_restitution.md``.
 
 How the package is laid out
 ---------------------------
-``common`` (limits; the fields and linear algebra of :mod:`impactsym.arithmetic`), ``witness``
-(the refusal test), ``collapse`` (inelastic collapse of two contacts), ``search`` (the exact DAG search and the verified replay), ``float_search``
+``common`` (limits; the fields and linear algebra of :mod:`impactsym.arithmetic`), ``sparse``
+(the rational input read, checked and verified in sparse form), ``independence`` (independent
+groups of contacts), ``witness`` (the refusal test), ``collapse`` (inelastic collapse of two
+contacts), ``search`` (the exact DAG search and the verified replay), ``float_search``
 (float mode), ``selection`` (steps 4–5), ``bound`` (sec. III-C), ``results`` (the result types)
 and ``resolve`` (:func:`resolve_sequential`). Every public name is importable from here.
 
@@ -115,7 +129,8 @@ from __future__ import annotations
 # the private names re-exported below are the ones the tests reach (tests/test_certified_extreme.py)
 from .bound import termination_bound
 from .collapse import alternation_limit, critical_restitution
-from .common import (DEFAULT_MAX_REFLECTIONS, FLOAT_SAFETY, MAX_COORDINATES, MAX_STATE_BITS, READINGS,
+from .common import (AUTO_ITERATE_MAX_COUNT, DEFAULT_MAX_REFLECTIONS, FLOAT_SAFETY, MAX_COORDINATES, MAX_STATE_BITS,
+                     READINGS,
                      TWO_SURFACE_PATHS, _Algebraic, _Rational)
 from .resolve import check_restitutions, resolve_sequential
 from .results import InfiniteOrder, Outcome, SequentialResolution
@@ -140,4 +155,5 @@ __all__ = [
     "FLOAT_SAFETY",
     "SELECTION_FACE_LIMIT",
     "TWO_SURFACE_PATHS",
+    "AUTO_ITERATE_MAX_COUNT",
 ]

@@ -21,23 +21,32 @@ from ...arithmetic.linalg import rank as _rank
 from ...arithmetic.linalg import rref as _rref
 from ...arithmetic.linalg import solve_columns as _solve_columns
 
-__all__ = ["READINGS", "TWO_SURFACE_PATHS", "DEFAULT_MAX_REFLECTIONS", "MAX_STATE_BITS", "MAX_COORDINATES",
+__all__ = ["READINGS", "TWO_SURFACE_PATHS", "AUTO_ITERATE_MAX_COUNT", "DEFAULT_MAX_REFLECTIONS", "MAX_STATE_BITS",
+           "MAX_COORDINATES",
            "FLOAT_SAFETY", "_Rational", "_Algebraic", "_all_rational", "_rref", "_kernel_basis", "_nullspace",
            "_solve_columns", "_rank", "_independent", "_dot", "_matvec", "_minner"]
 
 #: the two readings of the feasible set (see the package docstring)
 READINGS = ("energy", "cone")
 #: how two independent surfaces are resolved (see ``resolve_sequential(two_surface=...)``)
-TWO_SURFACE_PATHS = ("closed-form", "iterate")
+TWO_SURFACE_PATHS = ("auto", "closed-form", "iterate")
+#: ``two_surface="auto"`` iterates exact rational data when the paper's bound ``N`` (the longest
+#: branch for any velocity) is certainly at most this; the closed form otherwise. Measured
+#: (``benchmarks/two_surface.py``, "path by the certified count"): once the closed form is handed
+#: the checked data (no second validation) the two cost the same near N = 7 (about 0.6 ms);
+#: beyond, the iteration's cost grows with the count and its numbers, the closed form's does not
+AUTO_ITERATE_MAX_COUNT = 7
 #: default cap on the reflections of any one ordering
 DEFAULT_MAX_REFLECTIONS = 10_000
 #: largest total size (bits of numerators and denominators) of the exact velocities the rational
 #: search keeps; beyond it the search raises NonTermination naming this limit (32 MiB)
 MAX_STATE_BITS = 1 << 28
-#: largest number of coordinates (size of M) the resolver accepts: its exact input checks and
-#: linear algebra cost O(n^3) to O(n^4) exact operations (n = 200 takes about 10 s; a 1000-ball
-#: cradle would take many minutes), so larger systems are refused up front
-MAX_COORDINATES = 200
+#: largest number of coordinates (size of M) the resolver accepts. Exact rational input is read
+#: and searched in sparse form (:mod:`.sparse`): a one-striker cradle costs about linear time in
+#: its balls (1000 balls: well under a second for the law), so the limit only guards against
+#: inputs whose exact linear algebra is dense (a dense n×n M costs O(n³) exact operations to
+#: check and factor, and every state of the search O(n)); larger systems are refused up front
+MAX_COORDINATES = 10_000
 #: safety factor on the float sign-test bound
 FLOAT_SAFETY = 4.0
 _EPS = float(np.finfo(float).eps)

@@ -11,15 +11,23 @@ from ...arithmetic import certified_sign, float_to_rational
 from ...errors import DomainError, ImpactInputError, NonTermination
 from ...mechanics import check_gradients, check_mass_matrix, check_velocity
 from ...numbers import check_finite_exact, is_exact, to_exact
-from .common import (DEFAULT_MAX_REFLECTIONS, MAX_COORDINATES, MAX_STATE_BITS, READINGS, TWO_SURFACE_PATHS,
+from .common import (AUTO_ITERATE_MAX_COUNT, DEFAULT_MAX_REFLECTIONS, MAX_COORDINATES, MAX_STATE_BITS, READINGS,
+                     TWO_SURFACE_PATHS,
                      _Rational, _rank)
 from .collapse import _CollapseDetector, _verified_collapse
 from .float_search import INELASTIC_FALLBACK_BUDGET, _FallbackBudget, _float_search
 from .results import InfiniteOrder, Outcome, SequentialResolution
-from .search import (_ExactSystem, _Reflector, _aggregate, _cap_error, _explore, _explore_rational,
+from .search import (_ExactSystem, _Reflector, _aggregate, _cap_error, _diff_key, _explore, _explore_rational,
                      _merge_exact_keys, _state_bits_error, _verified_replay)
 from .selection import _select, _select_two_surface, _verify_selected
+from .independence import ProductGraph, combine, components, length_distributions
+from .sparse import read_rational
 from .witness import valid_velocity_witness
+
+
+#: split the exact rational search into independent groups of contacts (:mod:`.independence`);
+#: ``False`` searches the whole system as one DAG (the tests compare the two)
+DECOMPOSE_INDEPENDENT = True
 
 
 def _coordinates(mass_matrix):
@@ -71,6 +79,8 @@ def check_restitutions(restitution, contacts: int, *, exact: bool) -> tuple:
         raise ImpactInputError("restitution", f"has {len(entries)} entries; give one number per contact "
                                               f"(k={contacts} rows of gradients) or a single number")
     values = entries if seq else [entries] * contacts
+    if not seq and contacts > 1:  # one number for every contact: checked once
+        return check_restitutions(entries, 1, exact=exact) * contacts
     out = []
     for idx, x in enumerate(values, 1):
         if isinstance(x, bool) or x is None:
@@ -126,7 +136,7 @@ def _group_outcomes(root_table, merged) -> dict:
 
 def resolve_sequential(mass_matrix, gradients, velocity, *, reading: str | None = None,
                        max_reflections: int = DEFAULT_MAX_REFLECTIONS, exact: bool | None = None,
-                       select: bool = True, two_surface: str = "closed-form",
+                       select: bool = True, two_surface: str = "auto",
                        restitution=1) -> SequentialResolution:
     """Every impact ordering of a corner impact, its outcomes, and the selected solution.
 
@@ -147,13 +157,18 @@ def resolve_sequential(mass_matrix, gradients, velocity, *, reading: str | None 
         Force the exact (``True``) or float (``False``) path; default: exact iff every input is.
     select : bool
         Compute the selection (steps 4–5). ``False`` skips it (``selected`` is empty).
-    two_surface : ``"closed-form"`` (default) or ``"iterate"``
+    two_surface : ``"auto"`` (default), ``"closed-form"`` or ``"iterate"``
         With exactly two linearly independent rows, ``"closed-form"`` takes every branch from
         :func:`impactsym.laws.two_surface.resolve_two_surfaces` in O(1), whatever the count (the
         reflection cap does not apply: nothing is iterated); ``"iterate"`` forces the search,
         and is refused up front (``NonTermination``) when the certified count of a branch
-        exceeds ``max_reflections``. With the closed form the energy reading selects the
-        outcome(s) with the largest ``⟨o, v0⟩_M`` (exact, or certified Arb comparison of
+        exceeds ``max_reflections``. ``"auto"`` chooses by the count: exact rational data whose
+        paper bound ``N = ⌈π/β⌉`` (the longest branch of any velocity) is certainly at most
+        ``AUTO_ITERATE_MAX_COUNT`` are iterated (a few exact reflections cost less than the
+        closed form's certified evaluation; :func:`impactsym.laws.two_surface.bound_at_most`
+        decides it in rational arithmetic), everything else takes the closed form. Both paths
+        give the same exact outcomes; the iteration also reports ``bound``. With the closed
+        form the energy reading selects the outcome(s) with the largest ``⟨o, v0⟩_M`` (exact, or certified Arb comparison of
         certified outcomes; see :func:`_two_surface_path`); the cone reading of certified
         outcomes is skipped in exact mode (``selected`` empty, ``selection_note`` says why) and
         refused in float mode (``DomainError``): a float run never succeeds with an empty
@@ -233,9 +248,18 @@ def resolve_sequential(mass_matrix, gradients, velocity, *, reading: str | None 
     if size is not None and size > MAX_COORDINATES:
         raise ImpactInputError(
             "mass_matrix", f"has {size} coordinates, more than the sequential law's limit MAX_COORDINATES="
-            f"{MAX_COORDINATES} (its exact checks and linear algebra cost O(n^3) or more exact operations)")
-    exact, M, H, v0 = _check_inputs(mass_matrix, gradients, velocity, exact, restitution)
-    E = check_restitutions(restitution, H.shape[0], exact=exact)
+            f"{MAX_COORDINATES}")
+    # exact rational input is read once into sparse fmpq data and checked there (never again)
+    data = None
+    if exact is not False and is_exact(restitution):
+        data = read_rational(mass_matrix, gradients, velocity)
+    if data is not None:
+        exact = True
+        M = H = v0 = None  # dense SymPy forms are made only where a path needs them
+        E = check_restitutions(restitution, data.k, exact=True)
+    else:
+        exact, M, H, v0 = _check_inputs(mass_matrix, gradients, velocity, exact, restitution)
+        E = check_restitutions(restitution, H.shape[0], exact=exact)
     elastic = all(x == 1 for x in E)
     if reading is None:
         reading = "energy" if elastic else "cone"
@@ -244,13 +268,18 @@ def resolve_sequential(mass_matrix, gradients, velocity, *, reading: str | None 
             "reading: the energy reading intersects the feasible set with the energy sphere ||v||_M = "
             "||v0||_M, which only elastic impacts keep (restitution 1 on every contact); with restitution "
             "< 1 use reading='cone' or select=False")
-    if exact:
-        Mx, Hx, vx = M, H, v0
+    if data is not None:
+        null = data.null_vector()
+        witness = (sp.Matrix([sp.Rational(int(x.p), int(x.q)) for x in null]) if null is not None
+                   else valid_velocity_witness(data.to_sympy()[1]))
     else:
-        Mx = sp.Matrix([[float_to_rational(x) for x in row] for row in M])
-        Hx = sp.Matrix([[float_to_rational(x) for x in row] for row in H])
-        vx = sp.Matrix([float_to_rational(x) for x in v0])
-    witness = valid_velocity_witness(Hx)
+        if exact:
+            Mx, Hx, vx = M, H, v0
+        else:
+            Mx = sp.Matrix([[float_to_rational(x) for x in row] for row in M])
+            Hx = sp.Matrix([[float_to_rational(x) for x in row] for row in H])
+            vx = sp.Matrix([float_to_rational(x) for x in v0])
+        witness = valid_velocity_witness(Hx)
     if witness is None:
         if not elastic:
             raise DomainError("gradients: no non-zero velocity v satisfies H v >= 0 (only v = 0 would be valid, "
@@ -259,23 +288,50 @@ def resolve_sequential(mass_matrix, gradients, velocity, *, reading: str | None 
                           "(the closed contacts admit no elastic exit velocity)")
     if not elastic:
         Ex = [x if exact else float_to_rational(x) for x in E]
-        system = _ExactSystem(Mx, Hx, vx, Ex)
+        if data is not None and all(x.is_Rational for x in Ex):
+            system = _ExactSystem.from_sparse(data, Ex)
+        else:  # an irrational restitution: the algebraic backend
+            if data is not None:
+                Mx, Hx, vx = data.to_sympy()
+            system = _ExactSystem(Mx, Hx, vx, Ex)
         return _inelastic(M, H, v0, system, exact, cap, reading, select, witness, E)
-    system = _ExactSystem(Mx, Hx, vx)
+    system = _ExactSystem.from_sparse(data) if data is not None else _ExactSystem(Mx, Hx, vx)
     F = system.F
-    if system.k == 2 and _rank(system.H, F) == 2:
-        if two_surface == "closed-form":
-            return _two_surface_path(M, H, v0, system, exact, reading, select, witness)
-        # iterating: refuse up front when a branch needs more than the cap (its exact states grow
-        # linearly, so reaching the cap would cost memory quadratic in it)
-        from ..two_surface import branch_counts
+    two_bound = None
+    short = False
+    if system.k == 2 and (data.rank() if data is not None else _rank(system.H, F)) == 2:
+        from ..two_surface import _certified_bound, _Data, bound_at_most, branch_counts
 
-        counts = branch_counts(Mx, Hx, vx)
-        if counts and max(counts.values()) > cap:
-            raise NonTermination(
-                f"max_reflections: the ordering starting with surface {max(counts, key=counts.get)} needs "
-                f"{max(counts.values())} reflections (certified count of the two-surface closed form), more "
-                f"than the cap max_reflections={cap}; raise the cap or use the two-surface closed form")
+        path, short = two_surface, False
+        if path == "auto":
+            # iterate when the paper's bound N (the longest branch of any velocity) is certainly
+            # small: then a few exact reflections cost less than the closed form's Arb work
+            path = "closed-form"
+            if exact and F is _Rational and AUTO_ITERATE_MAX_COUNT <= cap and bound_at_most(
+                    system.s[0], system.s[1], _gram_entry(system, 0, 1), AUTO_ITERATE_MAX_COUNT):
+                path, short = "iterate", True
+        if path == "closed-form":
+            if data is not None:
+                return _two_surface_path(None, None, None, system, exact, reading, select, witness,
+                                         prepared=_prepared_two_surface(system))
+            return _two_surface_path(M, H, v0, system, exact, reading, select, witness)
+        if not short:
+            # iterating: refuse up front when a branch needs more than the cap (its exact states
+            # grow linearly, so reaching the cap would cost memory quadratic in it)
+            if data is not None:
+                from ..two_surface import _branch_counts_prepared
+
+                counts = _branch_counts_prepared(_prepared_two_surface(system))
+            else:
+                counts = branch_counts(Mx, Hx, vx)
+            if counts and max(counts.values()) > cap:
+                raise NonTermination(
+                    f"max_reflections: the ordering starting with surface {max(counts, key=counts.get)} needs "
+                    f"{max(counts.values())} reflections (certified count of the two-surface closed form), more "
+                    f"than the cap max_reflections={cap}; raise the cap or use the two-surface closed form")
+        if exact and F is _Rational:  # the paper's bound, as the closed form reports it
+            g01 = _gram_entry(system, 0, 1)
+            two_bound = _certified_bound(_Data(system.s[0], system.s[1], g01, F.zero, F.zero), {})
     if exact:
         # a state is (v, w = H v); w is updated with the Gram matrix H M^-1 H^T, not recomputed
         if F is _Rational:
@@ -294,12 +350,17 @@ def resolve_sequential(mass_matrix, gradients, velocity, *, reading: str | None 
             def key_of(state):
                 return state[0]
         if F is _Rational:
-            g, tests = _explore_rational(system, cap)
+            comps = components(system) if DECOMPOSE_INDEPENDENT else []
+            if len(comps) > 1:  # independent groups of contacts: searched apart, counts combined
+                g, tests, root_table = _decomposed_search(system, comps, cap)
+            else:
+                g, tests = _explore_rational(system, cap)
+                root_table = _aggregate(g, _diff_key)
         else:
             w0 = tuple(system.w(system.v0, i) for i in range(system.k))
             g, tests = _explore(sign_of, _Reflector(system), (system.v0, w0), cap, {}, key_of)
             g.vel = [state[0] for state in g.vel]
-        root_table = _aggregate(g, lambda v: v)
+            root_table = _aggregate(g, lambda v: v)
         fallbacks = 0
         keys = list(root_table)
         merged = _merge_exact_keys(keys, F)
@@ -331,12 +392,67 @@ def resolve_sequential(mass_matrix, gradients, velocity, *, reading: str | None 
     if longest > cap:
         raise _cap_error(cap)
     selected: tuple = ()
+    selected_impulses: tuple = ()
     if select:
-        selected = _select(system, [v for v, _ in exact_outcomes], [p for _, p in exact_outcomes], reading)
-        _verify_selected(system, selected, reading)
-    return SequentialResolution(tuple(outcomes), selected, reading, total, longest, len(g.vel), tests,
-                                fallbacks, exact, F.name if exact else "float", approaching, witness, _graph=g,
-                                restitution=tuple(sp.Integer(1) if exact else 1.0 for _ in range(system.k)))
+        if short and reading == "energy":
+            # two independent surfaces: the feasible set is an arc between the two outcomes, and
+            # <v, v0>_M on it is largest at an end point (see _two_surface_path): compare exactly
+            selected = _select_arc_end(system, [v for v, _ in exact_outcomes])
+        else:
+            selected = _select(system, [v for v, _ in exact_outcomes], [p for _, p in exact_outcomes], reading)
+        selected_impulses = _verify_selected(system, selected, reading, exact_outcomes)
+    res = SequentialResolution(tuple(outcomes), selected, reading, total, longest, len(g.vel), tests,
+                               fallbacks, exact, F.name if exact else "float", approaching, witness, _graph=g,
+                               restitution=tuple(sp.Integer(1) if exact else 1.0 for _ in range(system.k)))
+    if data is not None and data.rank() == data.k:
+        # H has full row rank: p of M(v+ - v0) = H^T p is unique, the one verified with the outcome
+        res.selected_impulses = selected_impulses
+    res.bound = two_bound
+    return res
+
+
+def _decomposed_search(system, comps, cap):
+    """The search of each independent group of contacts alone (:mod:`.independence`), and the
+    table of the whole system's outcomes combined from theirs: ``(product graph, sign tests,
+    {outcome key: [orderings, shortest, longest, representative]})``."""
+    graphs, parts = [], []
+    tests = system.k  # the root's signs, decided once (components() reads them)
+    for comp in comps:
+        gc, t = _explore_rational(system, cap, allowed=set(comp))
+        tests += t - len(comp)
+        dist = length_distributions(gc, _diff_key)
+        reps = _aggregate(gc, _diff_key)
+        parts.append({key: (dist[key], reps[key][3]) for key in dist})
+        graphs.append(gc)
+    return ProductGraph(graphs), tests, combine(parts)
+
+
+def _select_arc_end(system, outcomes):
+    """The energy-reading selection of two independent surfaces from exact rational outcomes:
+    the outcome(s) with the largest ``⟨o, v0⟩_M`` (both on a tie), the rule of
+    :func:`_two_surface_path`."""
+    F = system.F
+    v0 = system.v0
+    if system.sparse is not None:
+        Mv0 = system.sparse.mul_M({j: x for j, x in enumerate(v0) if x != 0})
+    else:
+        Mv0 = {i: sum((m * x for m, x in zip(row, v0)), F.zero) for i, row in enumerate(system.M)}
+    vals = [sum((m * o[j] for j, m in Mv0.items()), F.zero) for o in outcomes]
+    best = max(vals)
+    return tuple(sp.Matrix([F.to_sympy(x) for x in o]) for o, val in zip(outcomes, vals) if val == best)
+
+
+def _gram_entry(system, i, j):
+    """``H_i M⁻¹ H_jᵀ`` from the sparse Gram column ``j``."""
+    return next((a for r, a in system.gcols[j] if r == i), system.F.zero)
+
+
+def _prepared_two_surface(system):
+    """The checked rational data of two contacts as the ``fmpq_mat`` tuple the two-surface law
+    takes (:func:`impactsym.laws.two_surface._resolve`): nothing is read or checked again."""
+    from .sparse import two_surface_data
+
+    return two_surface_data(system.sparse, system.wcols)
 
 
 def _inelastic_cap_error(cap, k):
@@ -472,7 +588,7 @@ def _inelastic(M, H, v0, system, exact, cap, reading, select, witness, E):
                                 restitution=tuple(E), collapse=any(o.collapse for o in outcomes))
 
 
-def _two_surface_path(M, H, v0, system, exact, reading, select, witness):
+def _two_surface_path(M, H, v0, system, exact, reading, select, witness, prepared=None):
     """Outcomes of two independent surfaces from the O(1) closed form, merged exactly.
 
     The selection (energy reading) needs no face enumeration: the feasible set lies on the arc
@@ -483,10 +599,11 @@ def _two_surface_path(M, H, v0, system, exact, reading, select, witness):
     comparison, or a certified one (Arb) for certified outcomes. When both branches have the same
     even count the two values are equal exactly (``o_2 = R⁻¹v0`` for ``o_1 = Rv0``, ``R`` a
     kinetic isometry), and both are selected."""
-    from ..two_surface import resolve_two_surfaces
+    from ..two_surface import _resolve, resolve_two_surfaces
 
     F = system.F
-    ts = resolve_two_surfaces(M, H, v0)
+    ts = resolve_two_surfaces(M, H, v0) if prepared is None else _resolve(True, None, None, None, system.n,
+                                                                          prepared=prepared)
     groups: list = []  # [velocity, [orders], impulse, exact, two-surface outcome]
     for o in ts.outcomes:
         # (reflections, first surface, order): a closed-form order may be too long for len()
@@ -537,4 +654,10 @@ def _two_surface_path(M, H, v0, system, exact, reading, select, witness):
                                method="two-surface closed form", bound=ts.bound, _orders=orders)
     res.selection_note = note
     res.restitution = tuple(sp.Integer(1) if exact else 1.0 for _ in range(system.k))
+    if exact and selected:
+        # two independent rows: p of M(v+ - v0) = H^T p is unique; a selected outcome's impulse is
+        # the one the two-surface law verified with it (exact outcomes only)
+        imps = tuple(next((g[2] for g in groups if g[0] is s and g[3]), None) for s in selected)
+        if all(p is not None for p in imps):
+            res.selected_impulses = imps
     return res

@@ -161,6 +161,9 @@ class SequentialResolution:
     selection_note: str | None = None
     restitution: tuple = ()
     collapse: bool = False
+    #: the impulse ``p`` of each selected velocity (``M(v − v0) = Hᵀp``, exact, verified) when ``H``
+    #: has full row rank and the velocity is an outcome; empty or ``None`` entries otherwise
+    selected_impulses: tuple = ()
     _graph: Any = field(default=None, repr=False, compare=False)
     _orders: Any = field(default=None, repr=False, compare=False)
 
@@ -183,6 +186,12 @@ class SequentialResolution:
                     return
             return
         g = self._graph
+        if hasattr(g, "iter_paths"):  # independent groups of contacts: the interleavings
+            for count, (path, key) in enumerate(g.iter_paths(), 1):
+                yield path, g.outcome_index[key]
+                if limit is not None and count >= limit:
+                    return
+            return
         count = 0
         stack = [(g.root, ())]
         while stack:

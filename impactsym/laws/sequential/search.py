@@ -38,33 +38,90 @@ class _ExactSystem:
 
     ``restitution`` (optional): one exact number ``e_i`` per contact; each single impact then
     applies ``G_{H_i}(e_i)`` (``None``: the elastic law, ``e_i = 1``, with the code path it had
-    before restitution existed)."""
+    before restitution existed).
+
+    :meth:`from_sparse` builds the rational system from checked sparse data
+    (:class:`~impactsym.laws.sequential.sparse.SparseRational`) without forming a dense matrix;
+    the dense lists ``M``, ``H`` and ``W`` are then made on first use (the selection among
+    several outcomes and the collapse test need them, the search does not)."""
 
     def __init__(self, M: sp.Matrix, H: sp.Matrix, v0: sp.Matrix, restitution=None):
         E = sp.Matrix(list(restitution)) if restitution is not None else sp.zeros(0, 1)
         self.F = F = _Rational if _all_rational(M, H, v0, E) else _Algebraic
         self.n, self.k = M.shape[0], H.shape[0]
+        self.sparse = None
         n, k = self.n, self.k
-        self.M = [[F.num(M[i, j]) for j in range(n)] for i in range(n)]
-        self.H = [[F.num(H[i, j]) for j in range(n)] for i in range(k)]
+        self._M = [[F.num(M[i, j]) for j in range(n)] for i in range(n)]
+        self._H = [[F.num(H[i, j]) for j in range(n)] for i in range(k)]
         self.v0 = tuple(F.num(x) for x in v0)
         if F is _Rational:
-            Wm = fmpq_mat(self.M).solve(fmpq_mat([list(col) for col in zip(*self.H)]) if k else fmpq_mat(n, 0))
-            self.W = [[Wm[j, i] for j in range(n)] for i in range(k)]
+            Wm = fmpq_mat(self._M).solve(fmpq_mat([list(col) for col in zip(*self._H)]) if k else fmpq_mat(n, 0))
+            self._W = [[Wm[j, i] for j in range(n)] for i in range(k)]
         else:
             Ws = M.LUsolve(H.T)
-            self.W = [[F.norm(Ws[j, i]) for j in range(n)] for i in range(k)]
-        self.s = [_dot(self.H[i], self.W[i], F) for i in range(k)]
+            self._W = [[F.norm(Ws[j, i]) for j in range(n)] for i in range(k)]
+        self.rows = [[(j, h) for j, h in enumerate(r) if F.sign(h) != 0] for r in self._H]
+        self.wcols = [[(j, w) for j, w in enumerate(c) if F.sign(w) != 0] for c in self._W]
+        self._finish(restitution)
+
+    @classmethod
+    def from_sparse(cls, data, restitution=None):
+        """The rational system of checked sparse data: ``W_i = M⁻¹H_iᵀ`` by sparse solves with
+        ``M``'s factor, the Gram columns by sparse products; O(non-zeros) for a diagonal or
+        block-diagonal ``M``."""
+        self = cls.__new__(cls)
+        self.F = _Rational
+        self.n, self.k = data.n, data.k
+        self.sparse = data
+        self._M = self._H = self._W = None
+        self.v0 = data.v0
+        self.rows = data.H
+        self.wcols = data.solve_rows(data.H)
+        self._finish(None if restitution is None else [_Rational.num(x) for x in restitution])
+        return self
+
+    def _finish(self, restitution):
+        F, k = self.F, self.k
+        self.s = [F.norm(sum((h * w for (_, h), (_, w) in _matched(self.rows[i], self.wcols[i])), F.zero))
+                  for i in range(k)]
         if restitution is None:
             self.e = None
             self.coef = [F.norm(_r.gain(s)) if F is _Algebraic else _r.gain(s, fmpq(1)) for s in self.s]
         else:
             self.e = [F.num(x) for x in restitution]
             self.coef = [F.norm(_r.gain(s, e)) for s, e in zip(self.s, self.e)]
-        self.rows = [[(j, h) for j, h in enumerate(r) if F.sign(h) != 0] for r in self.H]
-        self.wcols = [[(j, w) for j, w in enumerate(c) if F.sign(w) != 0] for c in self.W]
-        #: column i of the Gram matrix H M^-1 H^T, sparse: how w = H v changes when surface i acts
-        self.gcols = [[(j, a) for j in range(k) if F.sign(a := self.w(self.W[i], j)) != 0] for i in range(k)]
+        # column i of the Gram matrix H M^-1 H^T, sparse: how w = H v changes when surface i acts;
+        # only the contacts that share a coordinate with W_i can have a non-zero entry
+        touching: dict = {}
+        for j, r in enumerate(self.rows):
+            for c, _ in r:
+                touching.setdefault(c, []).append(j)
+        self.gcols = []
+        for i in range(k):
+            acc: dict = {}
+            for c, w in self.wcols[i]:
+                for j in touching.get(c, ()):
+                    acc[j] = acc.get(j, F.zero) + _row_entry(self.rows[j], c) * w
+            self.gcols.append([(j, F.norm(a)) for j, a in sorted(acc.items()) if F.sign(F.norm(a)) != 0])
+
+    @property
+    def M(self):
+        if self._M is None:
+            n, Z = self.n, self.F.zero
+            self._M = [[row.get(j, Z) for j in range(n)] for row in self.sparse.M]
+        return self._M
+
+    @property
+    def H(self):
+        if self._H is None:
+            self._H = [_dense(r, self.n, self.F.zero) for r in self.rows]
+        return self._H
+
+    @property
+    def W(self):
+        if self._W is None:
+            self._W = [_dense(c, self.n, self.F.zero) for c in self.wcols]
+        return self._W
 
     def w(self, v, i):
         F = self.F
@@ -76,6 +133,22 @@ class _ExactSystem:
             wi = self.w(v, i)
         return _r.reflect_sparse(v, self.wcols[i], self.coef[i] * wi, F.norm)
 
+    def verify(self, law, v, p, energy="equal"):
+        """Check an exact outcome ``v`` with impulse ``p`` before it is used or returned:
+        :func:`impactsym.verify.verify_exact` (``energy="equal"``: energy conserved; ``"at_most"``:
+        not gained (restitution < 1); ``None``: not checked), or its sparse form
+        (:func:`~impactsym.laws.sequential.sparse.verify_outcome`) for sparse data."""
+        if self.sparse is not None:
+            from .sparse import verify_outcome
+
+            verify_outcome(law, self.sparse, v, p, energy=energy)
+            return
+        from ...verify import verify_exact
+
+        kw = {"energy_ratio": 1} if energy == "equal" else {"energy_ratio": None, "energy_at_most": 1} \
+            if energy == "at_most" else {"energy_ratio": None}
+        verify_exact(law, self.M, self.H, list(self.v0), list(v), p, **kw)
+
     def replay(self, order):
         v = self.v0
         p = [self.F.zero] * self.k
@@ -83,6 +156,31 @@ class _ExactSystem:
             v, pi = self.reflect(v, i)
             p[i] = self.F.norm(p[i] + pi)
         return v, p
+
+
+def _dense(pairs, n, zero):
+    out = [zero] * n
+    for j, x in pairs:
+        out[j] = x
+    return out
+
+
+def _row_entry(row, c):
+    """Entry ``c`` of a sparse row ``[(j, x), ...]`` (``j`` increasing)."""
+    lo, hi = 0, len(row)
+    while lo < hi:
+        mid = (lo + hi) // 2
+        if row[mid][0] < c:
+            lo = mid + 1
+        else:
+            hi = mid
+    return row[lo][1]
+
+
+def _matched(a, b):
+    """The pairs of entries of two sparse rows at the same index."""
+    bd = dict(b)
+    return [((j, x), (j, bd[j])) for j, x in a if j in bd]
 
 
 def _state_bits_error(states):
@@ -210,7 +308,6 @@ def _verified_replay(system, order):
     every reflection acts on an approached surface (``H_i v < 0``: the count is consistent with
     the order), and :func:`impactsym.verify.verify_exact` (``H v⁺ ≥ 0``, energy, momentum, ``p ≥ 0``)."""
     from ...errors import VerificationError
-    from ...verify import verify_exact
 
     F = system.F
     v = system.v0
@@ -222,11 +319,7 @@ def _verified_replay(system, order):
                                                   f"surface {i}, which is not approached (H_{i + 1} v = {wi})")
         v, pi = system.reflect(v, i, wi)
         p[i] = F.norm(p[i] + pi)
-    if system.e is None:
-        verify_exact("sequential", system.M, system.H, list(system.v0), list(v), p)
-    else:  # restitution < 1: energy is not conserved, and never gained
-        verify_exact("sequential", system.M, system.H, list(system.v0), list(v), p, energy_ratio=None,
-                     energy_at_most=1)
+    system.verify("sequential", v, p, "equal" if system.e is None else "at_most")
     return v, p
 
 
@@ -375,36 +468,47 @@ def _explore(sign_of, reflect, v0, cap, holder, key_of=lambda v: v, collapse=Non
     return g, counters["tests"]
 
 
-def _explore_rational(system, cap):
-    """:func:`_explore` specialized to rational data (the hot path of the benchmarks): states are
-    ``(v, w = H v)`` tuples of ``fmpq``, ``w`` is updated through the Gram matrix, the memo key is
-    the tuple of numerators and denominators of ``v`` (hashing ``fmpq`` goes through ``Fraction``)."""
+def _explore_rational(system, cap, allowed=None):
+    """:func:`_explore` specialized to rational data (the hot path): a state costs what its
+    reflection changes, not the number of bodies.
+
+    * A state is stored as the entries of ``v`` and of ``w = H v`` that differ from ``v0`` and
+      ``w0`` (dicts). A reflection on contact ``i`` changes ``v`` only on the support of
+      ``W_i = M⁻¹H_iᵀ`` (two entries for a chain with a diagonal ``M``) and ``w`` only on the
+      non-zero entries of column ``i`` of the Gram matrix ``H M⁻¹ Hᵀ``.
+    * Sign tests are incremental: the legal surfaces of the child are the parent's, re-decided
+      only for the contacts whose ``w`` changed (``sign_tests`` counts those decisions).
+    * The memo is keyed on a hash of the state updated with the changed entries only (each entry
+      of ``v`` that differs from ``v0`` is stored with a mixed hash of ``(j, numerator,
+      denominator)``, :func:`_mix`, the state's hash is their sum); states with equal hashes are compared
+      exactly (their dicts of ``fmpq``) before they are shared, so a collision costs a
+      comparison, never a wrong merge. An entry that returns to its value in ``v0`` is dropped:
+      equal velocities have equal dicts.
+
+    ``g.vel`` holds the dicts (``{j: (v_j, hash)}``); :func:`_diff_key` makes an outcome key.
+
+    ``allowed`` (a set of contacts closed under the Gram graph, a component of
+    :func:`impactsym.laws.sequential.independence.components`): only those contacts act; the
+    others never change sign, since no allowed reflection changes their ``w``."""
     k = system.k
     coef, wcols, gcols = system.coef, system.wcols, system.gcols
-    g = _Graph()
-    vel, legal_of, children, parent = g.vel, g.legal, g.children, g.parent
-    ws_of = []
-    index = {}
-    tests = 0
     v0 = system.v0
     w0 = tuple(system.w(v0, i) for i in range(k))
-
-    def new_node(v, w, par):
-        nonlocal tests
-        idx = len(vel)
-        vel.append(v)
-        ws_of.append(w)
-        parent.append(par)
-        children.append([])
-        tests += k
-        legal_of.append(tuple(i for i in range(k) if w[i] < 0))
-        return idx
-
-    root = new_node(v0, w0, None)
-    index[tuple([(x.p, x.q) for x in v0])] = root
-    stored = 0  # bits of the exact velocities kept (the numbers of a long ordering grow linearly)
-    state = {root: 1}
-    stack = [(root, iter(legal_of[root]))]
+    g = _Graph()
+    vel, legal_of, children, parent = g.vel, g.legal, g.children, g.parent
+    wdiff: list = [{}]
+    hashes = [0]
+    root_legal = tuple(i for i in range(k) if w0[i] < 0 and (allowed is None or i in allowed))
+    tests = k if allowed is None else len(allowed)
+    vel.append({})
+    parent.append(None)
+    children.append([])
+    legal_of.append(root_legal)
+    index: dict = {0: 0}  # state hash -> node (a list of nodes after a collision)
+    stored = 0  # bits of the exact entries kept (the numbers of a long ordering grow linearly)
+    state = [1]
+    stack = [(0, iter(root_legal))]
+    mask = (1 << 64) - 1
     while stack:
         node, it = stack[-1]
         i = next(it, None)
@@ -412,31 +516,88 @@ def _explore_rational(system, cap):
             stack.pop()
             state[node] = 2
             continue
-        v, w = vel[node], ws_of[node]
-        c = coef[i] * w[i]
-        out = list(v)
+        vd, wd = vel[node], wdiff[node]
+        c = coef[i] * wd.get(i, w0[i])
+        nvd = dict(vd)
+        h = hashes[node]
+        bits = 0
         for j, wj in wcols[i]:
-            out[j] = v[j] - c * wj
-        key = tuple([(x.p, x.q) for x in out])
-        child = index.get(key)
+            x0 = v0[j]
+            old = nvd.get(j)
+            if old is None:
+                x = x0 - c * wj
+            else:
+                h -= old[1]
+                x = old[0] - c * wj
+            if x == x0:
+                nvd.pop(j, None)
+            else:
+                p, q = x.p, x.q
+                hx = _mix((hash((p, q)) + j * 0x9E3779B97F4A7C15) & mask)
+                h += hx
+                nvd[j] = (x, hx)
+                bits += p.bit_length() + q.bit_length()
+        h &= mask
+        found = index.get(h)
+        child = None
+        if found is not None:
+            for cand in (found if isinstance(found, list) else (found,)):
+                if vel[cand] == nvd:
+                    child = cand
+                    break
         if child is None:
             if len(stack) > cap:
                 raise _cap_error(cap)
-            stored += sum(p.bit_length() + q.bit_length() for p, q in key)
+            stored += bits
             if stored > MAX_STATE_BITS:
                 raise _state_bits_error(len(vel))
-            wn = list(w)
+            nwd = dict(wd)
+            legal = set(legal_of[node])
             for j, a in gcols[i]:
-                wn[j] = w[j] - c * a
-            child = new_node(tuple(out), tuple(wn), (node, i))
-            index[key] = child
+                y0 = w0[j]
+                y = nwd.get(j, y0) - c * a
+                if y == y0:
+                    nwd.pop(j, None)
+                else:
+                    nwd[j] = y
+                if y < 0:
+                    legal.add(j)
+                else:
+                    legal.discard(j)
+            tests += len(gcols[i])
+            child = len(vel)
+            vel.append(nvd)
+            wdiff.append(nwd)
+            hashes.append(h)
+            parent.append((node, i))
+            children.append([])
+            legal_of.append(tuple(sorted(legal)))
+            state.append(1)
+            if found is None:
+                index[h] = child
+            elif isinstance(found, list):
+                found.append(child)
+            else:
+                index[h] = [found, child]
             children[node].append((i, child))
-            state[child] = 1
             stack.append((child, iter(legal_of[child])))
         else:
             if state[child] == 1:
                 raise _cycle_error(cap)
             children[node].append((i, child))
     g.fallback = [False] * len(vel)
-    g.root = root
+    g.root = 0
     return g, tests
+
+
+def _mix(z):
+    """splitmix64's finalizer: the sum of the entries' mixed hashes is the state's hash (a plain
+    tuple hash summed over the entries of permuted velocities collides by the thousand)."""
+    z = ((z ^ (z >> 30)) * 0xBF58476D1CE4E5B9) & 0xFFFFFFFFFFFFFFFF
+    z = ((z ^ (z >> 27)) * 0x94D049BB133111EB) & 0xFFFFFFFFFFFFFFFF
+    return z ^ (z >> 31)
+
+
+def _diff_key(vd):
+    """The outcome key of a state of :func:`_explore_rational`: exact and canonical."""
+    return frozenset((j, x.p, x.q) for j, (x, _) in vd.items())

@@ -31,12 +31,12 @@ def _select(system, outcomes, impulses, reading):
     """
     F = system.F
     n = system.n
-    v0 = list(system.v0)
-    M = system.M
     O = [list(o) for o in outcomes]
     if reading == "energy" and len(O) == 1:
         # cone(o) ∩ sphere = {o}; o satisfies the momentum requirement by construction
         return (sp.Matrix([F.to_sympy(x) for x in O[0]]),)
+    v0 = list(system.v0)
+    M = system.M
     Wc = system.W
     r2 = _minner(M, v0, v0, F)
     zero = [F.zero] * n
@@ -367,14 +367,28 @@ def _certified_compare_balls(system, oa, ob) -> int:
     return s
 
 
-def _verify_selected(system, selected, reading):
+def _verify_selected(system, selected, reading, outcomes=()):
     """A rational selected velocity is checked exactly: valid, on the energy sphere (energy
     reading) and with its momentum jump in the row space of ``Hᵀ``. (Its impulse sign is part
-    of the selection's own exact feasibility test.)"""
+    of the selection's own exact feasibility test.) A selected velocity that is one of the exact
+    ``outcomes`` (``(v, p)`` pairs, verified with their impulse) is checked with that impulse,
+    ``M(v − v0) = Hᵀp`` (a stronger statement than the row-space membership).
+
+    Returns the impulse of each selected velocity when it is an outcome's (else ``None``)."""
     from ...verify import verify_exact
 
+    F = system.F
+    impulses = []
     for vel in selected:
+        p = None
         if all(x.is_Rational for x in vel):
-            verify_exact("sequential (selection)", system.M, system.H, list(system.v0),
-                         [system.F.num(x) if system.F is _Rational else x for x in vel], None,
-                         energy_ratio=1 if reading == "energy" else None)
+            exact_vel = [F.num(x) if F is _Rational else x for x in vel]
+            if F is _Rational:
+                p = next((q for v, q in outcomes if list(v) == exact_vel), None)
+            if p is not None:
+                system.verify("sequential (selection)", exact_vel, p, "equal" if reading == "energy" else None)
+            else:
+                verify_exact("sequential (selection)", system.M, system.H, list(system.v0), exact_vel, None,
+                             energy_ratio=1 if reading == "energy" else None)
+        impulses.append(None if p is None else sp.Matrix([F.to_sympy(x) for x in p]))
+    return tuple(impulses)
