@@ -191,24 +191,49 @@ def _check_rational_spd(A: sp.Matrix, argument: str) -> sp.Matrix:
         raise ImpactInputError(argument, f"not symmetric (entry ({i}, {j}) is {A[i, j]} but ({j}, {i}) is {A[j, i]})")
     if n >= 8 and 4 * sum(len(r) for r in F) >= n * n and positive_definite_by_fflu(F, n):
         return A
-    # symmetric elimination on the upper triangle (the trailing block stays symmetric)
-    U = [{j: x for j, x in row.items() if j >= i} for i, row in enumerate(F)]
+    symmetric_elimination(F, n, argument)
+    return A
+
+
+def symmetric_elimination(rows, n: int, argument: str = "mass_matrix") -> list[dict]:
+    """Gaussian elimination without pivoting on the upper triangle of a symmetric rational matrix
+    given as sparse rows (``{column: fmpq}``); the trailing block stays symmetric, so only the upper
+    triangle is updated. The k-th pivot is the ratio of the k-th to the (k−1)-th leading principal
+    minor, so every pivot is positive exactly when the matrix is positive definite (Sylvester's
+    criterion). Returns the eliminated upper rows ``U`` (``M = Uᵀ D⁻¹ U``, ``D`` the pivots; zeros
+    dropped), or raises naming the first leading principal minor that is not positive.
+
+    >>> from flint import fmpq
+    >>> symmetric_elimination([{0: fmpq(2), 1: fmpq(1)}, {0: fmpq(1), 1: fmpq(2)}], 2)
+    [{0: 2, 1: 1}, {1: 3/2}]
+    >>> symmetric_elimination([{0: fmpq(1), 1: fmpq(2)}, {0: fmpq(2), 1: fmpq(1)}], 2)
+    Traceback (most recent call last):
+    ...
+    impactsym.errors.ImpactInputError: mass_matrix: not positive definite (leading principal minor 2 is -3)
+    """
+    from flint import fmpq
+
+    zero = fmpq(0)
+    U = [{j: x for j, x in row.items() if j >= i} for i, row in enumerate(rows)]
     minor = fmpq(1)
     for k in range(n):
         row = U[k]
         pivot = row.get(k, zero)
         minor *= pivot
         if pivot <= 0:
-            value = sp.Rational(int(minor.p), int(minor.q))
-            raise ImpactInputError(argument, f"not positive definite (leading principal minor {k + 1} is {value})")
+            raise ImpactInputError(argument, f"not positive definite (leading principal minor {k + 1} is {minor})")
         right = [(j, x) for j, x in row.items() if j > k]
         for j, x in right:
             f = x / pivot
             target = U[j]
             for l, y in right:
                 if l >= j:
-                    target[l] = target.get(l, zero) - f * y
-    return A
+                    value = target.get(l, zero) - f * y
+                    if value == 0:
+                        target.pop(l, None)
+                    else:
+                        target[l] = value
+    return U
 
 
 def check_gradient(u: Any, n: int, argument: str = "gradient", *, exact: bool | None = None):

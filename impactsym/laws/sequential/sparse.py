@@ -224,26 +224,9 @@ class SparseRational:
             i, j = bad
             raise ImpactInputError("mass_matrix", f"not symmetric (entry ({i}, {j}) is {M[i].get(j, _ZERO)} but "
                                                   f"({j}, {i}) is {M[j].get(i, _ZERO)})")
-        U = [{j: x for j, x in row.items() if j >= i} for i, row in enumerate(M)]
-        minor = fmpq(1)
-        for k in range(n):
-            row = U[k]
-            pivot = row.get(k, _ZERO)
-            minor *= pivot
-            if pivot <= 0:
-                raise ImpactInputError("mass_matrix", f"not positive definite (leading principal minor {k + 1} "
-                                                      f"is {minor})")
-            right = [(j, x) for j, x in row.items() if j > k]
-            for j, x in right:
-                f = x / pivot
-                target = U[j]
-                for l, y in right:
-                    if l >= j:
-                        nv = target.get(l, _ZERO) - f * y
-                        if nv == 0:
-                            target.pop(l, None)
-                        else:
-                            target[l] = nv
+        from ...mechanics import symmetric_elimination
+
+        U = symmetric_elimination(M, n, "mass_matrix")
         self.U = U
         cols = [[] for _ in range(n)]
         for i, row in enumerate(U):
