@@ -707,20 +707,23 @@ def branch_counts(mass_matrix, gradients, velocity) -> dict:
     else:
         W, gram, c, _ = _invariants(exact, M, H, v, n)
         d = _Data(gram[0, 0], gram[1, 1], gram[0, 1], c[0], c[1])
+    if rational_path:
+        return _counts_of(d, lambda first: _tie_check_rational)
+    return _counts_of(d, lambda first: _make_tie_check_algebraic(M, *((H[0, :], H[1, :]) if first == 0
+                                                                      else (H[1, :], H[0, :])), v))
+
+
+def _counts_of(d, check_for) -> dict:
+    """The certified count ``⌈ψ/β⌉`` of each branch whose first contact approaches (``c < 0``),
+    ``check_for(first)`` giving the exact tie check of that branch."""
     if sign_of(d.D) == 0:
         raise ImpactInputError(
             "gradients", "the two rows are parallel (Δ = s_1 s_2 − g² = 0): the wedge is degenerate (opening 0 or π)")
     out = {}
     for first in (0, 1):
         df = d if first == 0 else d.swapped()
-        if sign_of(df.ca) >= 0:
-            continue
-        if rational_path:
-            check = _tie_check_rational
-        else:
-            rows = (H[0, :], H[1, :]) if first == 0 else (H[1, :], H[0, :])
-            check = _make_tie_check_algebraic(M, rows[0], rows[1], v)
-        out[first] = _certified_ceil_ratio(df, check, {})
+        if sign_of(df.ca) < 0:
+            out[first] = _certified_ceil_ratio(df, check_for(first), {})
     return out
 
 
@@ -729,15 +732,7 @@ def _branch_counts_prepared(prepared) -> dict:
     :func:`_resolve`'s ``prepared``)."""
     W, gram, c, vq, Mq, Hq = prepared
     d = _Data(gram[0, 0], gram[1, 1], gram[0, 1], c[0, 0], c[1, 0])
-    if sign_of(d.D) == 0:
-        raise ImpactInputError(
-            "gradients", "the two rows are parallel (Δ = s_1 s_2 − g² = 0): the wedge is degenerate (opening 0 or π)")
-    out = {}
-    for first in (0, 1):
-        df = d if first == 0 else d.swapped()
-        if sign_of(df.ca) < 0:
-            out[first] = _certified_ceil_ratio(df, _tie_check_rational, {})
-    return out
+    return _counts_of(d, lambda first: _tie_check_rational)
 
 
 def _as_output(exact, v, vq):
