@@ -315,7 +315,8 @@ def parse_matrix(text: str, argument: str = "matrix") -> sp.Matrix:
 
 def _leaves(obj: Any) -> Iterable[Any]:
     if isinstance(obj, sp.MatrixBase):
-        yield from obj
+        for row in obj.tolist():  # tolist: one pass, not one __getitem__ per entry
+            yield from row
     elif isinstance(obj, np.ndarray):
         if obj.dtype == object:
             yield from obj.ravel()

@@ -94,11 +94,35 @@ def vector_json(name: str, value, digits: int | None = None) -> dict:
     return {name: [_text(x, digits) for x in items], name + "_float": [_float(x) for x in items]}
 
 
+def _rational_pair(x: sp.Rational, cache: dict) -> tuple:
+    """``(_text(x, None), _float(x))`` of a SymPy rational without evalf, memoised on ``(p, q)``:
+    :func:`impactsym.numbers.exact_str` prints it as ``str`` does, and
+    :func:`impactsym.arithmetic.literals.json_float` is ``float(N(x, 17))`` bit for bit."""
+    key = (x.p, x.q)
+    got = cache.get(key)
+    if got is None:
+        from .arithmetic.literals import json_float
+
+        f = json_float(int(x.p), int(x.q))
+        got = cache[key] = (exact_str(x), f if np.isfinite(f) else None)
+    return got
+
+
 def matrix_json(name: str, value) -> dict:
     if isinstance(value, sp.MatrixBase):
-        rows = value.tolist()
-    else:
-        rows = np.asarray(value, dtype=float).tolist()
+        # exact: most entries of a scene's M and H are 0 or ±1; rationals take the fast path
+        cache: dict = {}
+        text, floats = [], []
+        for r in value.tolist():
+            tr, fr = [], []
+            for x in r:
+                t, f = _rational_pair(x, cache) if isinstance(x, sp.Rational) else (_text(x, None), _float(x))
+                tr.append(t)
+                fr.append(f)
+            text.append(tr)
+            floats.append(fr)
+        return {name: text, name + "_float": floats}
+    rows = np.asarray(value, dtype=float).tolist()
     return {name: [[_text(x, None) for x in r] for r in rows], name + "_float": [[_float(x) for x in r] for r in rows]}
 
 

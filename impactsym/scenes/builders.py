@@ -93,24 +93,65 @@ def _positive(vals, argument, exact, *, allow_zero=False):
             raise ImpactInputError(argument, f"entry {i + 1} must be {cond}, got {m}")
 
 
-def _approaching_exact(H, v, exact: bool):
+def _approaching_exact(H, v, exact: bool, nonzeros=None):
+    """Whether each contact is approaching (``(H v)_i < 0``), decided exactly.
+
+    ``nonzeros`` (optional): per row, the columns of its nonzero entries; only those are read
+    (a zero entry adds nothing to the sum, so the verdicts are those of the sum over every column).
+    A row whose entries and velocities are all rational is summed in flint ``fmpq`` (exact);
+    otherwise the SymPy sum's sign is certified (:func:`impactsym.exact.certified_sign`).
+    """
     from ..exact import certified_sign
     from ..numbers import float_to_rational
 
+    if nonzeros is None:
+        nonzeros = [range(H.shape[1])] * H.shape[0]
+    vq = None
+    if exact and all(isinstance(x, sp.Rational) for x in v):
+        from flint import fmpq
+
+        vq = [fmpq(int(x.p), int(x.q)) for x in v]
     out = []
     for i in range(H.shape[0]):
         if exact:
-            w = sum((H[i, j] * v[j] for j in range(H.shape[1])), sp.Integer(0))
-            out.append(certified_sign(w) < 0)
+            row = [(H[i, j], j) for j in nonzeros[i]]
+            if vq is not None and all(isinstance(h, sp.Rational) for h, _ in row):
+                w = fmpq(0)
+                for h, j in row:
+                    w += fmpq(int(h.p), int(h.q)) * vq[j]
+                out.append(w < 0)
+            else:
+                w = sum((h * v[j] for h, j in row), sp.Integer(0))
+                out.append(certified_sign(w) < 0)
         else:  # decided on the floats' exact binary values, never on rounding noise
-            w = sum((float_to_rational(H[i, j]) * float_to_rational(v[j]) for j in range(H.shape[1])),
+            w = sum((float_to_rational(H[i, j]) * float_to_rational(v[j]) for j in nonzeros[i]),
                     sp.Integer(0))
             out.append(w < 0)
     return out
 
 
+def _exact_matrix(shape, entries):
+    """The SymPy matrix of ``shape`` with the given nonzero ``entries`` ({(i, j): value}), equal
+    (same entries, same domain) to ``sp.Matrix`` of the dense rows, without building them: for
+    rational entries ``sp.zeros`` then the nonzeros set one by one (a 1000 × 1000 ``sp.Matrix`` of
+    dense rows takes seconds, ``sp.diag`` of 1000 entries more); other entries take the dense path."""
+    if all(isinstance(x, (int, sp.Rational)) for x in entries.values()):
+        A = sp.zeros(*shape)
+        for (i, j), x in entries.items():
+            if x != 0:
+                A[i, j] = x
+        return A
+    rows = [[0] * shape[1] for _ in range(shape[0])]
+    for (i, j), x in entries.items():
+        rows[i][j] = x
+    return sp.Matrix(shape[0], shape[1], [x for r in rows for x in r])
+
+
 def _assemble(masses, velocities, dim, contacts, exact, coords_of, meta):
-    """Reduce to the involved bodies: M, H, v and the bookkeeping for :func:`full_velocity`."""
+    """Reduce to the involved bodies: M, H, v and the bookkeeping for :func:`full_velocity`.
+
+    H is built from its nonzeros (a contact touches one or two balls), never as dense rows.
+    """
     import numpy as np
 
     from ..errors import ImpactInputError
@@ -120,31 +161,35 @@ def _assemble(masses, velocities, dim, contacts, exact, coords_of, meta):
     involved = sorted({b for c in contacts for b, _ in c[1] if b is not None})
     slot = {b: i for i, b in enumerate(involved)}
     n = dim * len(involved)
-    rows = []
-    for _, entries in contacts:
-        row = [0] * n
+    hent = {}  # (row, column) -> value, in the order the dense rows would fill them
+    for r, (_, entries) in enumerate(contacts):
         for b, g in entries:
             if b is None:
                 continue
             for d in range(dim):
-                row[dim * slot[b] + d] = row[dim * slot[b] + d] + g[d]
-        rows.append(row)
+                key = (r, dim * slot[b] + d)
+                hent[key] = hent.get(key, 0) + g[d]
+    nonzeros = [[] for _ in contacts]
+    for (r, c) in hent:
+        nonzeros[r].append(c)
     mdiag = [masses[b] for b in involved for _ in range(dim)]
     vel = [velocities[b][d] if dim > 1 else velocities[b] for b in involved for d in range(dim)]
     if exact:
-        M = sp.diag(*mdiag)
-        H = sp.Matrix(rows)
+        M = _exact_matrix((n, n), {(i, i): x for i, x in enumerate(mdiag)})
+        H = _exact_matrix((len(contacts), n), hent)
         v = sp.Matrix(vel)
     else:
         M = np.diag(np.asarray(mdiag, dtype=float))
-        H = np.asarray(rows, dtype=float)
+        H = np.zeros((len(contacts), n), dtype=float)
+        for (r, c), x in hent.items():
+            H[r, c] = x
         v = np.asarray(vel, dtype=float)
     names = [c[0] for c in contacts]
     meta = dict(meta)
     meta.update({"bodies": [b + 1 for b in involved], "dim": dim,
                  "uninvolved": [b + 1 for b in range(len(masses)) if b not in slot],
                  "all_velocities": velocities, "exact": exact})
-    scene = Scene(M, H, v, coords_of(involved), names, _approaching_exact(H, v, exact), meta)
+    scene = Scene(M, H, v, coords_of(involved), names, _approaching_exact(H, v, exact, nonzeros), meta)
     return scene
 
 
@@ -205,16 +250,24 @@ def balls_on_line(masses, radii, positions, velocities, walls=(), *, gap_toleran
     _positive(m, "masses", exact)
     _positive(r, "radii", exact, allow_zero=True)
     scale = max([1.0] + [abs(float(t)) for t in x + r + w])
-    contacts = []
-    for i in range(nb):
-        for j in range(i + 1, nb):
-            lo, hi = (i, j) if _sign(x[j] - x[i], exact) >= 0 else (j, i)
-            gap = x[hi] - x[lo] - r[lo] - r[hi]
-            if _classify_gap(gap, scale, exact, gap_tolerance, f"balls {i + 1} and {j + 1}", (i, j)) == 0:
-                contacts.append((f"{i + 1}-{j + 1}", [(lo, (-1,)), (hi, (1,))]))
+    rational = exact and all(isinstance(t, sp.Rational) for t in x + r + w)
+    if rational:
+        from flint import fmpq
+
+        xq, rq, wq = ([fmpq(int(t.p), int(t.q)) for t in seq] for seq in (x, r, w))
+        contacts = _line_pairs_sorted(x, r, xq, rq, scale)
+    else:
+        contacts = _line_pairs_all(x, r, exact, scale, gap_tolerance)
     for wi, wall in enumerate(w):
         for b in range(nb):
-            side = _sign(x[b] - wall, exact)
+            if rational:  # exact: the signs of fmpq differences
+                side = (xq[b] > wq[wi]) - (xq[b] < wq[wi])
+                if side != 0:
+                    gq = (xq[b] - rq[b] - wq[wi]) if side > 0 else (wq[wi] - xq[b] - rq[b])
+                    if gq > 0:
+                        continue
+            else:
+                side = _sign(x[b] - wall, exact)
             if side == 0:
                 exc = ImpactInputError("positions", f"ball {b + 1} is centred on the wall at {wall}")
                 exc.balls, exc.wall = (b,), wi
@@ -225,6 +278,53 @@ def balls_on_line(masses, radii, positions, velocities, walls=(), *, gap_toleran
     contacts = _dedupe(contacts)
     return _assemble(m, v, 1, contacts, exact, lambda inv: [f"x{b + 1}" for b in inv],
                      {"builder": "balls_on_line", "walls": w, "masses": m, "radii": r, "positions": x})
+
+
+def _line_pairs_all(x, r, exact, scale, gap_tolerance):
+    """The closed ball–ball contacts on a line, every pair tested (irrational or float input)."""
+    contacts = []
+    nb = len(x)
+    for i in range(nb):
+        for j in range(i + 1, nb):
+            lo, hi = (i, j) if _sign(x[j] - x[i], exact) >= 0 else (j, i)
+            gap = x[hi] - x[lo] - r[lo] - r[hi]
+            if _classify_gap(gap, scale, exact, gap_tolerance, f"balls {i + 1} and {j + 1}", (i, j)) == 0:
+                contacts.append((f"{i + 1}-{j + 1}", [(lo, (-1,)), (hi, (1,))]))
+    return contacts
+
+
+def _line_pairs_sorted(x, r, xq, rq, scale):
+    """The closed ball–ball contacts on a line for rational input, in O(n log n + contacts).
+
+    Sorted by ``(position, index)``, the gap of balls ``p < q`` (sorted places) is the sum of the
+    consecutive gaps between them plus twice the radii of the balls strictly between them. So no
+    pair overlaps when no consecutive pair does, and ``p, q`` touch exactly when every consecutive
+    gap from ``p`` to ``q`` is zero and every ball strictly between has radius zero. Comparisons are
+    exact (flint ``fmpq``). The contacts, their names and order, and the error of an overlap (the
+    first overlapping pair ``i < j``) are those of :func:`_line_pairs_all`.
+    """
+    nb = len(x)
+    order = sorted(range(nb), key=lambda b: (xq[b], b))
+    cgap = [xq[order[k + 1]] - xq[order[k]] - rq[order[k]] - rq[order[k + 1]] for k in range(nb - 1)]
+    if any(g < 0 for g in cgap):  # some pair overlaps: find and report the first, as every-pair does
+        for i in range(nb):
+            for j in range(i + 1, nb):
+                lo, hi = (i, j) if xq[j] >= xq[i] else (j, i)
+                if xq[hi] - xq[lo] - rq[lo] - rq[hi] < 0:
+                    gap = x[hi] - x[lo] - r[lo] - r[hi]
+                    _classify_gap(gap, scale, True, None, f"balls {i + 1} and {j + 1}", (i, j))
+        raise AssertionError("a negative consecutive gap implies an overlapping pair")  # pragma: no cover
+    pairs = []
+    for p in range(nb - 1):
+        q = p + 1
+        while q < nb and cgap[q - 1] == 0:
+            lo, hi = order[p], order[q]
+            pairs.append((min(lo, hi), max(lo, hi), lo, hi))
+            if rq[hi] != 0:
+                break
+            q += 1
+    pairs.sort()
+    return [(f"{i + 1}-{j + 1}", [(lo, (-1,)), (hi, (1,))]) for i, j, lo, hi in pairs]
 
 
 def _dedupe(contacts):
