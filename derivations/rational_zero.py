@@ -38,6 +38,58 @@ class _NotRational(TypeError):
     """The expression is not a rational function with rational coefficients."""
 
 
+def _fraction_converter(one, leaf, root=None):
+    """The converter ``e -> (N, D)`` (``e = N / D``, python-flint polynomials) that
+    :func:`to_fraction` and :func:`is_zero_algebraic` share: ``leaf(e)`` gives the pair of an
+    atom (or None), rationals, sums, products and integer powers are built without any gcd (sums
+    over a common denominator only where the denominators are equal), and ``root(b)``, when given,
+    is ``√b`` as a polynomial (or None), so that ``b**(k/2)`` is ``root(b)**k``."""
+    memo: dict = {}
+
+    def conv(e):
+        hit = memo.get(e)
+        if hit is not None:
+            return hit
+        out = leaf(e)
+        if out is not None:
+            pass
+        elif e.is_Rational:
+            out = (one * flint.fmpq(int(e.p), int(e.q)), one)
+        elif e.is_Add:
+            n, d = conv(e.args[0])
+            for a in e.args[1:]:
+                n2, d2 = conv(a)
+                if d2 == d:
+                    n = n + n2
+                else:
+                    n, d = n * d2 + n2 * d, d * d2
+            out = (n, d)
+        elif e.is_Mul:
+            n, d = one, one
+            for a in e.args:
+                n2, d2 = conv(a)
+                n, d = n * n2, d * d2
+            out = (n, d)
+        else:
+            r = None
+            if e.is_Pow and e.exp.is_Integer:
+                n, d = conv(e.base)
+                k = int(e.exp)
+            elif (e.is_Pow and root is not None and e.exp.is_Rational and e.exp.q == 2
+                  and (r := root(e.base)) is not None):
+                n, d = r, one  # b**(k/2) = sqrt(b)**k, sqrt(b) a product of generators
+                k = int(e.exp.p)
+            else:
+                raise _NotRational(f"not a rational function: {type(e).__name__}")
+            if k < 0 and n == 0:
+                raise _NotRational("division by the zero polynomial")
+            out = (n ** k, d ** k) if k >= 0 else (d ** (-k), n ** (-k))
+        memo[e] = out
+        return out
+
+    return conv
+
+
 def to_fraction(expr, symbols):
     """``(N, D)``: ``expr = N / D`` with ``N, D`` python-flint ``fmpq_mpoly`` in ``symbols``, built
     without any gcd (sums over a common denominator only where the denominators are equal).
@@ -60,44 +112,15 @@ def to_fraction(expr, symbols):
     index = {s: i for i, s in enumerate(symbols)}
     one = ctx.from_dict({}) + 1
     gens = ctx.gens()
-    memo: dict = {}
 
-    def conv(e):
-        hit = memo.get(e)
-        if hit is not None:
-            return hit
-        if e.is_Symbol:
-            if e not in index:
-                raise _NotRational(f"symbol {e} not among the variables")
-            out = (gens[index[e]], one)
-        elif e.is_Rational:
-            out = (one * flint.fmpq(int(e.p), int(e.q)), one)
-        elif e.is_Add:
-            n, d = conv(e.args[0])
-            for a in e.args[1:]:
-                n2, d2 = conv(a)
-                if d2 == d:
-                    n = n + n2
-                else:
-                    n, d = n * d2 + n2 * d, d * d2
-            out = (n, d)
-        elif e.is_Mul:
-            n, d = one, one
-            for a in e.args:
-                n2, d2 = conv(a)
-                n, d = n * n2, d * d2
-            out = (n, d)
-        elif e.is_Pow and e.exp.is_Integer:
-            n, d = conv(e.base)
-            k = int(e.exp)
-            if k < 0 and n == 0:
-                raise _NotRational("division by the zero polynomial")
-            out = (n ** k, d ** k) if k >= 0 else (d ** (-k), n ** (-k))
-        else:
-            raise _NotRational(f"not a rational function: {type(e).__name__}")
-        memo[e] = out
-        return out
+    def leaf(e):
+        if not e.is_Symbol:
+            return None
+        if e not in index:
+            raise _NotRational(f"symbol {e} not among the variables")
+        return gens[index[e]], one
 
+    conv = _fraction_converter(one, leaf)
     n, d = conv(sp.sympify(expr))
     if d == 0:
         raise _NotRational("the denominator is the zero polynomial")
@@ -299,7 +322,6 @@ def _conv(expr, ctx, gens, index):
     """``(N, D)`` over ``ctx`` with the atoms of ``index`` as variables (as :func:`to_fraction`;
     half-integer powers of a root atom become powers of its generator)."""
     one = ctx.from_dict({}) + 1
-    memo: dict = {}
 
     def _root_poly(b):
         """√b as a polynomial in the generators (a rational times prime roots, times the
@@ -327,45 +349,11 @@ def _conv(expr, ctx, gens, index):
             out = out * gens[k]
         return out
 
-    def conv(e):
-        hit = memo.get(e)
-        if hit is not None:
-            return hit
+    def leaf(e):
         i = index.get(e)
-        if i is not None:
-            out = (gens[i], one)
-        elif e.is_Rational:
-            out = (one * flint.fmpq(int(e.p), int(e.q)), one)
-        elif e.is_Add:
-            n, d = conv(e.args[0])
-            for a in e.args[1:]:
-                n2, d2 = conv(a)
-                if d2 == d:
-                    n = n + n2
-                else:
-                    n, d = n * d2 + n2 * d, d * d2
-            out = (n, d)
-        elif e.is_Mul:
-            n, d = one, one
-            for a in e.args:
-                n2, d2 = conv(a)
-                n, d = n * n2, d * d2
-            out = (n, d)
-        elif e.is_Pow and (e.exp.is_Integer or (e.exp.is_Rational and e.exp.q == 2 and _root_poly(e.base) is not None)):
-            if e.exp.is_Integer:
-                n, d = conv(e.base)
-                k = int(e.exp)
-            else:  # b**(k/2) = sqrt(b)**k, sqrt(b) a product of generators
-                n, d = _root_poly(e.base), one
-                k = int(e.exp.p)
-            if k < 0 and n == 0:
-                raise _NotRational("division by the zero polynomial")
-            out = (n ** k, d ** k) if k >= 0 else (d ** (-k), n ** (-k))
-        else:
-            raise _NotRational(f"not a rational function: {type(e).__name__}")
-        memo[e] = out
-        return out
+        return None if i is None else (gens[i], one)
 
+    conv = _fraction_converter(one, leaf, _root_poly)
     return conv(expr)
 
 
