@@ -174,18 +174,9 @@ def _check_rational_spd(A: sp.Matrix, argument: str) -> sp.Matrix:
     dense ``A`` by :func:`positive_definite_by_fflu` (C, fraction-free), otherwise (and to word a
     refusal) by Gaussian elimination without pivoting on the sparse rows, whose k-th pivot is the
     ratio of the k-th to the (k−1)-th leading principal minor (Sylvester's criterion)."""
-    from flint import fmpq
-
     n = A.shape[0]
     F = _rational_rows(A)
-    zero = fmpq(0)
-    bad = None
-    for i, row in enumerate(F):
-        for j, x in row.items():
-            if i != j and F[j].get(i, zero) != x:
-                pair = (i, j) if i < j else (j, i)
-                if bad is None or pair < bad:
-                    bad = pair
+    bad = first_asymmetric_pair(F)
     if bad is not None:
         i, j = bad
         raise ImpactInputError(argument, f"not symmetric (entry ({i}, {j}) is {A[i, j]} but ({j}, {i}) is {A[j, i]})")
@@ -193,6 +184,23 @@ def _check_rational_spd(A: sp.Matrix, argument: str) -> sp.Matrix:
         return A
     symmetric_elimination(F, n, argument)
     return A
+
+
+def first_asymmetric_pair(rows):
+    """``None`` when the matrix of sparse rows (``{column: value}``) is symmetric, else its first
+    asymmetric pair ``(i, j)``, ``i < j``.
+
+    >>> first_asymmetric_pair([{0: 1, 1: 2}, {0: 2}]), first_asymmetric_pair([{1: 2}, {}, {0: 1}])
+    (None, (0, 1))
+    """
+    bad = None
+    for i, row in enumerate(rows):
+        for j, x in row.items():
+            if i != j and rows[j].get(i, 0) != x:
+                pair = (i, j) if i < j else (j, i)
+                if bad is None or pair < bad:
+                    bad = pair
+    return bad
 
 
 def symmetric_elimination(rows, n: int, argument: str = "mass_matrix") -> list[dict]:

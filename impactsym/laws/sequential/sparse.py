@@ -237,15 +237,9 @@ class SparseRational:
 
     def _symmetric(self):
         """``None`` when ``M`` is symmetric, else the first asymmetric pair ``(i, j)``, ``i < j``."""
-        M = self.M
-        bad = None
-        for i, row in enumerate(M):
-            for j, x in row.items():
-                if i != j and M[j].get(i, _ZERO) != x:
-                    pair = (i, j) if i < j else (j, i)
-                    if bad is None or pair < bad:
-                        bad = pair
-        return bad
+        from ...mechanics import first_asymmetric_pair
+
+        return first_asymmetric_pair(self.M)
 
     def solve_rows(self, rows):
         """``M⁻¹H_iᵀ`` for sparse rows ``H_i`` (``[(j, x), ...]``), each sparse."""
