@@ -141,7 +141,7 @@ def pool(theta, tau=0, *, incidence="theta-minus-tau", constraint="distance", th
                   "theta": theta, "tau": tau, "incidence": incidence, "constraint": constraint})
 
 
-@lru_cache(maxsize=None)
+@lru_cache(maxsize=256)  # bounded: a sweep over θ must not grow it without end
 def _pool_gradients(theta, third_contact: bool, constraint: str, a) -> sp.ImmutableMatrix:
     """The gradient rows of the pool's contacts at the balls' positions (simplified entries):
     the slow part of :func:`pool` (one ``simplify`` per entry), computed once per geometry."""
