@@ -15,23 +15,15 @@ from derivations.memo import simplify
 from derivations.rational_zero import cancel, factored_numerator, is_zero, is_zero_algebraic
 from derivations.reflection import _bareiss_det_plus_is_zero, symbolic_covector, symbolic_mass_matrix
 from paper_checks.framework import _rational_unique_solution
+from random_expressions import random_rational
 
-
-def _random_rational(rng, syms, depth=3):
-    if depth == 0:
-        return rng.choice(syms) if rng.random() < 0.7 else sp.Rational(rng.randint(-5, 5), rng.randint(1, 4))
-    a, b = _random_rational(rng, syms, depth - 1), _random_rational(rng, syms, depth - 1)
-    op = rng.choice(("+", "-", "*", "/"))
-    if op == "/" and sp.simplify(b) == 0:
-        op = "*"
-    return {"+": a + b, "-": a - b, "*": a * b, "/": a / b if op == "/" else a}[op]
 
 
 @pytest.mark.parametrize("seed", range(16))
 def test_cancel_is_sympys_normal_form_term_for_term(seed):
     rng = random.Random(seed)
     syms = sp.symbols("x y z")
-    f = _random_rational(rng, syms) + _random_rational(rng, syms)
+    f = random_rational(rng, syms) + random_rational(rng, syms)
     assert sp.srepr(cancel(f)) == sp.srepr(sp.cancel(f))
 
 
@@ -156,6 +148,6 @@ def test_nonzero_at_a_point_never_claims_an_identity_and_respects_assumptions():
     rng = random.Random(3)
     syms = sp.symbols("a b c", positive=True)
     for _ in range(30):
-        f = _random_rational(rng, list(syms))
+        f = random_rational(rng, list(syms))
         if nonzero_at_a_point(f):
             assert sp.simplify(f) != 0

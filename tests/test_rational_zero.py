@@ -11,6 +11,7 @@ import sympy as sp
 
 from derivations.rational_zero import is_zero_rational_function, to_fraction
 from derivations.reflection import printed_G, symbolic_covector, symbolic_mass_matrix
+from random_expressions import random_rational
 
 
 def _sympy_zero(expr) -> bool:
@@ -18,21 +19,12 @@ def _sympy_zero(expr) -> bool:
     return sp.expand(num) == 0
 
 
-def _random_rational(rng, syms, depth=3):
-    if depth == 0:
-        return rng.choice(syms) if rng.random() < 0.7 else sp.Rational(rng.randint(-5, 5), rng.randint(1, 4))
-    a, b = _random_rational(rng, syms, depth - 1), _random_rational(rng, syms, depth - 1)
-    op = rng.choice(("+", "-", "*", "/"))
-    if op == "/" and sp.simplify(b) == 0:
-        op = "*"
-    return {"+": a + b, "-": a - b, "*": a * b, "/": a / b if op == "/" else a}[op]
-
 
 @pytest.mark.parametrize("seed", range(12))
 def test_agrees_with_sympy_on_random_identities_and_perturbations(seed):
     rng = random.Random(seed)
     x, y, z = syms = sp.symbols("x y z")
-    f = _random_rational(rng, syms)
+    f = random_rational(rng, syms)
     g = sp.together(f)  # the same function in another form
     assert is_zero_rational_function(f - g) is True
     perturbed = f - g + sp.Rational(1, 97) * x / (y**2 + 1)
