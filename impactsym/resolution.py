@@ -22,6 +22,9 @@ in ``docs/resolution_schema.md`` and tested (``tests/test_resolution_schema.py``
 
 Examples
 --------
+SymPy and mpmath are imported where an exact or certified value is handled, never at import:
+a float result (a compliant law's) is built and printed without them.
+
 >>> from impactsym.lawbook import resolve
 >>> r = resolve("newton", System.from_matrices("1,0,0;0,1,0;0,0,1", "-1,1,0;0,-1,1", "1,0,0"))
 >>> r.uniqueness, r.velocity.T, r.kinetic_energy_after
@@ -30,15 +33,14 @@ Examples
 
 from __future__ import annotations
 
+import math
+import sys
 from dataclasses import dataclass, field
 from typing import Any
 
-import mpmath
 import numpy as np
-import sympy as sp
 
 from .errors import ImpactInputError, VerificationError
-from .numbers import exact_str
 
 __all__ = ["System", "Outcome", "Resolution", "SCHEMA", "UNIQUENESS", "vector_json", "number_json"]
 
@@ -50,31 +52,54 @@ UNIQUENESS = ("unique", "set-valued", "gap-dependent")
 
 
 # ----------------------------------------------------------------------------------- numbers
+def is_sympy(x, kind: str = "Basic") -> bool:
+    """Whether ``x`` is a SymPy object of class ``kind`` (``"Basic"``, ``"MatrixBase"``, …),
+    without importing SymPy: when SymPy is not loaded, no object is one.
+
+    >>> import sympy as sp
+    >>> is_sympy(sp.Integer(2)), is_sympy(sp.eye(2), "MatrixBase"), is_sympy(2.0)
+    (True, True, False)
+    """
+    sp = sys.modules.get("sympy")
+    return sp is not None and isinstance(x, getattr(sp, kind))
+
+
+def is_mpmath(x, kind: str = "mpf") -> bool:
+    """Whether ``x`` is an mpmath object of class ``kind`` (``"mpf"``, ``"matrix"``), without
+    importing mpmath."""
+    mp = sys.modules.get("mpmath")
+    return mp is not None and isinstance(x, getattr(mp, kind))
+
+
 def _float(x) -> float | None:
     try:
-        if isinstance(x, sp.Basic):
+        if is_sympy(x):
+            import sympy as sp
+
             f = float(sp.N(x, 17))
-        elif isinstance(x, mpmath.mpf):
-            f = float(x)
         else:
             f = float(x)
     except (OverflowError, TypeError):
         return None
-    return f if np.isfinite(f) else None
+    return f if math.isfinite(f) else None
 
 
 def _text(x, digits: int | None) -> str:
-    if isinstance(x, sp.Basic):
+    if is_sympy(x):
+        from .numbers import exact_str
+
         return exact_str(x)
-    if isinstance(x, mpmath.mpf):
+    if is_mpmath(x):
+        import mpmath
+
         return mpmath.nstr(x, digits or 17, strip_zeros=False)
     return repr(float(x))
 
 
 def _entries(value) -> list:
-    if isinstance(value, sp.MatrixBase):
+    if is_sympy(value, "MatrixBase"):
         return list(value)
-    if isinstance(value, mpmath.matrix):
+    if is_mpmath(value, "matrix"):
         return [value[i] for i in range(value.rows)]
     return [x for x in np.asarray(value, dtype=float).reshape(-1)]
 
@@ -85,6 +110,7 @@ def vector_json(name: str, value, digits: int | None = None) -> dict:
     Exact entries are SymPy strings, certified ones ``mpmath`` strings to ``digits`` digits,
     floats their ``repr``; a float twin that overflows is ``None`` (strict JSON).
 
+    >>> import sympy as sp
     >>> vector_json("v", sp.Matrix([sp.Rational(1, 3), 2]))
     {'v': ['1/3', '2'], 'v_float': [0.3333333333333333, 2.0]}
     """
@@ -94,7 +120,7 @@ def vector_json(name: str, value, digits: int | None = None) -> dict:
     return {name: [_text(x, digits) for x in items], name + "_float": [_float(x) for x in items]}
 
 
-def _rational_pair(x: sp.Rational, cache: dict) -> tuple:
+def _rational_pair(x, cache: dict) -> tuple:
     """``(_text(x, None), _float(x))`` of a SymPy rational without evalf, memoised on ``(p, q)``:
     :func:`impactsym.numbers.exact_str` prints it as ``str`` does, and
     :func:`impactsym.arithmetic.literals.json_float` is ``float(N(x, 17))`` bit for bit."""
@@ -102,6 +128,7 @@ def _rational_pair(x: sp.Rational, cache: dict) -> tuple:
     got = cache.get(key)
     if got is None:
         from .arithmetic.literals import json_float
+        from .numbers import exact_str
 
         f = json_float(int(x.p), int(x.q))
         got = cache[key] = (exact_str(x), f if np.isfinite(f) else None)
@@ -109,7 +136,9 @@ def _rational_pair(x: sp.Rational, cache: dict) -> tuple:
 
 
 def matrix_json(name: str, value) -> dict:
-    if isinstance(value, sp.MatrixBase):
+    if is_sympy(value, "MatrixBase"):
+        import sympy as sp
+
         # exact: most entries of a scene's M and H are 0 or ±1; rationals take the fast path
         cache: dict = {}
         text, floats = [], []
@@ -205,8 +234,12 @@ class System:
         differ are refused, naming the law."""
         e = self.restitution
         if e is None:
-            return sp.Integer(default) if self.exact else float(default)
+            return _integer(default) if self.exact else float(default)
         if isinstance(e, (list, tuple)):
+            import sympy as sp
+
+            from .numbers import exact_str
+
             vals = list(e)
             if len(vals) != self.k:
                 raise ImpactInputError("restitution", f"has {len(vals)} entries, expected one per contact ({self.k})")
@@ -220,7 +253,7 @@ class System:
         """One restitution per contact."""
         e = self.restitution
         if e is None:
-            e = sp.Integer(default) if self.exact else float(default)
+            e = _integer(default) if self.exact else float(default)
         if isinstance(e, (list, tuple)):
             if len(e) != self.k:
                 raise ImpactInputError("restitution", f"has {len(e)} entries, expected one per contact ({self.k})")
@@ -236,12 +269,24 @@ class System:
         if e is None:
             out.update({"restitution": None, "restitution_float": None})
         elif isinstance(e, (list, tuple)):
-            out.update(vector_json("restitution", sp.Matrix(list(e)) if self.exact else list(e)))
+            out.update(vector_json("restitution", _sympy_column(e) if self.exact else list(e)))
         else:
             out.update(number_json("restitution", e))
         out["contacts"] = list(self.contacts)
         out["coordinates"] = list(self.coordinates)
         return out
+
+
+def _integer(n: int):
+    import sympy as sp
+
+    return sp.Integer(n)
+
+
+def _sympy_column(values):
+    import sympy as sp
+
+    return sp.Matrix(list(values))
 
 
 # ----------------------------------------------------------------------------------- outcome
@@ -275,9 +320,9 @@ class Outcome:
 def _exactness(value) -> str:
     if value is None:  # no outcome velocity (a law without a real solution, reported with --allow-invalid)
         return "none"
-    if isinstance(value, sp.MatrixBase):
+    if is_sympy(value, "MatrixBase"):
         return "exact"
-    if isinstance(value, mpmath.matrix):
+    if is_mpmath(value, "matrix"):
         return "certified"
     return "float"
 
@@ -373,10 +418,15 @@ class Resolution:
         M = self.system.M
         if velocity is None:
             return None
-        if isinstance(velocity, sp.MatrixBase):
+        if is_sympy(velocity, "MatrixBase"):
+            import sympy as sp
+
             Mx = M if isinstance(M, sp.MatrixBase) else sp.Matrix(M)
             return sp.expand((velocity.T * Mx * velocity)[0, 0] / 2)
-        if isinstance(velocity, mpmath.matrix):
+        if is_mpmath(velocity, "matrix"):
+            import mpmath
+            import sympy as sp
+
             # certified velocities: T is not itself certified, so it is given as a float, computed
             # at 60 working digits inside this block (no mpmath value leaves the context)
             n = velocity.rows
@@ -403,17 +453,21 @@ class Resolution:
             return None
         M, H, v = self.system.M, self.system.H, self.system.v
         vp, p = outcome.velocity, outcome.impulses
-        if isinstance(vp, sp.MatrixBase) and isinstance(M, sp.MatrixBase):
+        if is_sympy(vp, "MatrixBase") and is_sympy(M, "MatrixBase"):
+            import sympy as sp
+
             return sp.expand(M * (vp - v) - H.T * sp.Matrix(p))
-        if isinstance(vp, mpmath.matrix):
+        if is_mpmath(vp, "matrix"):
             return None  # the certified laws verify their balls themselves (impactsym.verify)
-        Mf, Hf = np.asarray(M.tolist() if isinstance(M, sp.MatrixBase) else M, dtype=float), \
-            np.asarray(H.tolist() if isinstance(H, sp.MatrixBase) else H, dtype=float)
+        Mf, Hf = np.asarray(M.tolist() if is_sympy(M, "MatrixBase") else M, dtype=float), \
+            np.asarray(H.tolist() if is_sympy(H, "MatrixBase") else H, dtype=float)
         vf = np.asarray([float(x) for x in _entries(v)])
         return Mf @ (np.asarray(vp, dtype=float).reshape(-1) - vf) - Hf.T @ np.asarray(p, dtype=float).reshape(-1)
 
     def _check_momentum(self, o: Outcome) -> None:
-        if isinstance(o.velocity, sp.MatrixBase) and isinstance(self.system.M, sp.MatrixBase) and o.impulses is not None:
+        if is_sympy(o.velocity, "MatrixBase") and is_sympy(self.system.M, "MatrixBase") and o.impulses is not None:
+            import sympy as sp
+
             r = self.momentum_residual(o)
             if any(sp.simplify(x) != 0 for x in r):
                 raise VerificationError(self.law, f"momentum balance M(v+ - v-) = H^T p fails by {list(r)}")
