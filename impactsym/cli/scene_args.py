@@ -69,13 +69,14 @@ def read_system(args):
     """The :class:`~impactsym.resolution.System` of the options, with ``--restitution`` (one
     number, or one per contact ``"a,b"``; a scene file's own per-contact restitution otherwise)."""
     from ..resolution import System
-    from ..scenes import load_scene
 
     scene_file = getattr(args, "scene_file", None)
     e = restitution_arg(getattr(args, "restitution", None))
     if scene_file is not None and args.scene is not None:
         raise ImpactInputError("scene", "cannot be combined with --scene-file (the file defines the scene; give one)")
     if scene_file is not None or args.scene is not None:
+        from ..scenes import load_scene
+
         for opt in MATRIX_OPTIONS:
             if getattr(args, opt) is not None:
                 raise ImpactInputError(opt, "cannot be combined with --scene (the scene defines M, H and v)")
@@ -114,10 +115,10 @@ def _existing_file(text: str):
 
 def restitution_arg(text):
     """``--restitution``: one exact number, or one per contact ``"a,b,c"``; None when absent."""
-    from ..numbers import parse_number
-
     if text is None:
         return None
+    from ..numbers import parse_number
+
     if "," in str(text):
         return [parse_number(x, "restitution") for x in str(text).split(",")]
     return parse_number(text, "restitution")
