@@ -40,6 +40,7 @@ Examples
 
 from __future__ import annotations
 
+from fractions import Fraction
 from typing import Any
 
 import numpy as np
@@ -105,7 +106,7 @@ def _sympy_column(values):
 
 def _is_one(x) -> bool:
     """``sympify(x) == 1``, without SymPy for a plain number."""
-    if type(x) in (int, float):
+    if type(x) in (int, float, Fraction):
         return x == 1
     import sympy as sp
 

@@ -98,12 +98,13 @@ impactsym.errors.ImpactInputError: gradients: --law linear does not apply: conta
 from __future__ import annotations
 
 import dataclasses
+from fractions import Fraction
 
 import numpy as np
 
 from .errors import ImpactInputError
 from .lawbook import LAWS, Energetic, ImpulseRatio, Law, _is_one
-from .resolution import Outcome, Resolution, System, is_sympy
+from .resolution import Outcome, RationalMatrix, Resolution, System, is_sympy
 
 __all__ = ["Hertz", "Linear", "Power", "HuntCrossley", "LZB", "COMPLIANT_LAWS", "RATIO_SOURCES", "ratio_source",
            "confining_contacts", "confinement", "ratios_from_model", "register", "DEFAULT_RTOL"]
@@ -119,9 +120,9 @@ RATIO_SOURCES = {"from-hertz": "hertz", "from-linear": "linear", "from-lzb": "lz
 # ------------------------------------------------------------------------------ option values
 def _floats(value, k: int, argument: str) -> np.ndarray:
     """One number, or one per contact (numbers, SymPy, text ``"a,b"``), as ``k`` finite floats."""
-    from .numbers import parse_number
-
     if isinstance(value, str):
+        from .numbers import parse_number
+
         parts = [x.strip() for x in value.split(",")]
         value = [parse_number(x, argument) for x in parts] if len(parts) > 1 else parse_number(parts[0], argument)
     if is_sympy(value, "MatrixBase"):
@@ -132,7 +133,7 @@ def _floats(value, k: int, argument: str) -> np.ndarray:
     out = []
     for x in items:
         try:
-            f = _sympy_float(x) if is_sympy(x) else float(x)
+            f = _sympy_float(x) if is_sympy(x) else _fraction_float(x) if isinstance(x, Fraction) else float(x)
         except (TypeError, ValueError):
             raise ImpactInputError(argument, f"must be real numbers, got {x!r}") from None
         if not np.isfinite(f):
@@ -145,6 +146,13 @@ def _sympy_float(x) -> float:
     import sympy as sp
 
     return float(sp.N(x, 17))
+
+
+def _fraction_float(x: Fraction) -> float:
+    """``float(N(x, 17))`` of a rational, without SymPy (the float a SymPy ``Rational`` gives here)."""
+    from .arithmetic.literals import json_float
+
+    return json_float(x.numerator, x.denominator)
 
 
 def _stiffness(value, k):
@@ -184,6 +192,8 @@ def _float_matrices(system: System):
     from .compliant import float_system
 
     def arr(A):
+        if isinstance(A, RationalMatrix):  # the floats SymPy's evalf(17) gives the same rationals
+            return np.array(A.json_floats(), dtype=float)
         return np.array(A.evalf(17).tolist(), dtype=float) if is_sympy(A, "MatrixBase") else np.asarray(A, float)
 
     return float_system(arr(system.M), arr(system.H), arr(system.v).reshape(-1))
