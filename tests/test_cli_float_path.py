@@ -116,3 +116,22 @@ def test_from_rationals_checks_exactly_and_prints_as_sympy():
         System.from_rationals([[Q(1), Q(0)], [Q(1), Q(1)]], H, v[:2])
     with pytest.raises(ImpactInputError, match="leading principal minor 2 is -1/9"):
         System.from_rationals([[Q(1), Q(1, 3)], [Q(1, 3), Q(0)]], H, v)
+
+
+def test_a_batch_of_float_requests_imports_no_sympy(tmp_path):
+    """``impactsym batch`` answers float-path requests without SymPy (the check machinery of
+    :mod:`impactsym.oracle` imports it on first use), and one exact request still takes it."""
+    import json
+
+    lines = [{"argv": ["resolve", "--law", "hertz", *SKEW], "id": 1},
+             {"command": "resolve", "args": {"law": "lzb", "mass_matrix": "1,0,0;0,1,0;0,0,1",
+                                             "gradients": "-1,1,0;0,-1,1", "velocity": "1,0,0", "restitution": "0.9"}},
+             {"argv": ["scene", "list"]}]
+    path = tmp_path / "requests.jsonl"
+    path.write_text("\n".join(json.dumps(x) for x in lines) + "\n")
+    assert _loaded(["batch", "--input", str(path), "--output", str(tmp_path / "answers.jsonl")]) == {"scipy"}
+    answers = [json.loads(x) for x in (tmp_path / "answers.jsonl").read_text().splitlines()]
+    assert [a["exit_status"] for a in answers] == [0, 0, 0]
+    assert answers[0]["result"]["system"]["mass_matrix"] == [["2", "1/3"], ["1/3", "1"]]
+    path.write_text(path.read_text() + json.dumps({"argv": ["resolve", "--law", "newton", *CHAIN]}) + "\n")
+    assert "sympy" in _loaded(["batch", "--input", str(path), "--output", str(tmp_path / "answers.jsonl")])
