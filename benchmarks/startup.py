@@ -4,6 +4,7 @@ Run from the repository root::
 
     python benchmarks/startup.py                 # start-up medians -> benchmarks/results/startup.md
     python benchmarks/startup.py --reproduce     # also `impactsym reproduce` at -j 1 and -j 2, and its phases
+    python benchmarks/startup.py --print-only    # print the table, leave the results file as it is
 
 Each command runs in a fresh interpreter (this checkout first on ``PYTHONPATH``, from a neutral
 working directory so that no other checkout shadows it), interleaved, ``N`` times; the table gives
@@ -30,41 +31,75 @@ from pathlib import Path
 
 ROOT = Path(__file__).resolve().parent.parent
 RESULTS = ROOT / "benchmarks" / "results"
-N = 7
+N = int(os.environ.get("STARTUP_RUNS", 7))
 
 BASELINE = "python -c 'import numpy'"
 REFLECT = "impactsym reflect (2x2, exact, --json)"
+_CHAIN3 = ["--mass-matrix", "1,0,0;0,1,0;0,0,1", "--gradients", "-1,1,0;0,-1,1", "--velocity", "1,0,0"]
+_TWO = ["--mass-matrix", "1,0;0,1", "--gradients", "1,0;0,1", "--velocity", "-1,-1"]
 COMMANDS = {
     BASELINE: ["-c", "import numpy"],
     "python -c 'pass'": ["-c", "pass"],
+    "python -c 'import sympy'": ["-c", "import sympy"],
+    "python -c 'import scipy.integrate'": ["-c", "import scipy.integrate"],
     "impactsym --help": ["-m", "impactsym", "--help"],
     "impactsym codegen --list": ["-m", "impactsym", "codegen", "--list"],
+    "impactsym scene list": ["-m", "impactsym", "scene", "list"],
+    "impactsym scene list --json": ["-m", "impactsym", "scene", "list", "--json"],
     REFLECT: ["-m", "impactsym", "reflect", "--mass-matrix", "2,0;0,1", "--gradient", "-1,1", "--velocity", "1,0",
               "--json"],
     "impactsym reflect (2x2, sqrt(2) entry: the SymPy path, --json)": [
         "-m", "impactsym", "reflect", "--mass-matrix", "sqrt(2),0;0,1", "--gradient", "-1,1", "--velocity", "1,0",
         "--json"],
+    "impactsym resolve --law newton --float (refused, exit 2)": [
+        "-m", "impactsym", "resolve", "--law", "newton", "--float", *_CHAIN3, "--json"],
     "impactsym resolve --law sequential --float (2x2, --json)": [
-        "-m", "impactsym", "resolve", "--law", "sequential", "--float", "--mass-matrix", "1,0;0,1", "--gradients",
-        "1,0;0,1", "--velocity", "-1,-1", "--json"],
-    "impactsym resolve --law hertz (2x2, --json)": [
-        "-m", "impactsym", "resolve", "--law", "hertz", "--mass-matrix", "1,0;0,1", "--gradients", "1,0;0,1",
-        "--velocity", "-1,-1", "--json"],
+        "-m", "impactsym", "resolve", "--law", "sequential", "--float", *_TWO, "--json"],
+    "impactsym resolve --law sequential --float (3-ball chain, --json)": [
+        "-m", "impactsym", "resolve", "--law", "sequential", "--float", *_CHAIN3, "--json"],
+    "impactsym resolve --law hertz (2x2, --json)": ["-m", "impactsym", "resolve", "--law", "hertz", *_TWO, "--json"],
+    "impactsym resolve --law linear (3-ball chain, --json)": [
+        "-m", "impactsym", "resolve", "--law", "linear", *_CHAIN3, "--json"],
+    "impactsym resolve --law hunt-crossley (3-ball chain, e = 0.8, --json)": [
+        "-m", "impactsym", "resolve", "--law", "hunt-crossley", *_CHAIN3, "--restitution", "0.8", "--json"],
+    "impactsym resolve --law lzb (3-ball chain, e = 0.9, --json)": [
+        "-m", "impactsym", "resolve", "--law", "lzb", *_CHAIN3, "--restitution", "0.9", "--json"],
 }
+#: exit status of a command other than 0 (a refusal is a request too)
+EXIT = {"impactsym resolve --law newton --float (refused, exit 2)": 2}
 #: (row, target ratio to ``import numpy``) of issue 15
 TARGETS = [("impactsym --help", 2.0), (REFLECT, 3.0)]
 
 _ROW = re.compile(r"^\| (.+?) \| ([0-9.]+) \| ([0-9.]+) \| ([0-9.]+) \|$")
 
 
-def _time(argv, cwd) -> tuple[float, float]:
+def _time(argv, cwd, status: int = 0) -> tuple[float, float]:
     before = resource.getrusage(resource.RUSAGE_CHILDREN)
     t0 = time.perf_counter()
-    subprocess.run([sys.executable, *argv], cwd=cwd, env={**os.environ, "PYTHONPATH": str(ROOT)},
-                   stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, check=True)
+    done = subprocess.run([sys.executable, *argv], cwd=cwd, env={**os.environ, "PYTHONPATH": str(ROOT)},
+                          stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
     wall = time.perf_counter() - t0
+    if done.returncode != status:
+        raise SystemExit(f"{argv}: exit status {done.returncode}, expected {status}")
     after = resource.getrusage(resource.RUSAGE_CHILDREN)
     return wall, (after.ru_utime - before.ru_utime) + (after.ru_stime - before.ru_stime)
+
+
+HEAVY = ("sympy", "mpmath", "scipy", "numpy", "flint")
+_PROBE = ("import runpy, sys\nsys.argv = ['impactsym', *{args!r}]\ntry:\n"
+          "    runpy.run_module('impactsym', run_name='__main__')\nexcept SystemExit:\n    pass\n"
+          "finally:\n    sys.stderr.write('LOADED ' + ' '.join(m for m in {heavy!r} if m in sys.modules) + '\\n')")
+
+
+def _loaded(argv, cwd) -> str:
+    """The heavy libraries an ``impactsym`` command imports (one untimed run), or ``-`` for a plain
+    ``python -c`` baseline."""
+    if argv[:2] != ["-m", "impactsym"]:
+        return "-"
+    out = subprocess.run([sys.executable, "-c", _PROBE.format(args=argv[2:], heavy=HEAVY)], cwd=cwd,
+                         env={**os.environ, "PYTHONPATH": str(ROOT)}, capture_output=True, text=True)
+    line = [x for x in out.stderr.splitlines() if x.startswith("LOADED")][-1]
+    return ", ".join(line.split()[1:]) or "none"
 
 
 def _previous_rows(path: Path) -> dict[str, str]:
@@ -104,14 +139,15 @@ def _phases(cwd) -> dict:
     return json.loads(out.stdout)
 
 
-def main(reproduce: bool) -> None:
+def main(reproduce: bool, write: bool = True) -> None:
     load0 = os.getloadavg()[0]
     samples = {k: [] for k in COMMANDS}
     with tempfile.TemporaryDirectory() as cwd:
         for _ in range(N):
             for label, argv in COMMANDS.items():
-                samples[label].append(_time(argv, cwd))
+                samples[label].append(_time(argv, cwd, EXIT.get(label, 0)))
         rows = {k: (statistics.median(w for w, _ in v), statistics.median(c for _, c in v)) for k, v in samples.items()}
+        loaded = {k: _loaded(argv, cwd) for k, argv in COMMANDS.items()}
         phases = {}
         if reproduce:
             for jobs in ("1", "2"):
@@ -134,6 +170,9 @@ def main(reproduce: bool) -> None:
         old_base = _ROW.match(previous[BASELINE]).group(2) if BASELINE in previous else "?"
         lines += ["", f"Not measured in this run, kept from the previous results file (their ratio is to that run's "
                       f"`import numpy`, {old_base} s): {', '.join(kept)}."]
+    lines += ["", "Heavy libraries each command imports (one untimed run; issue 15: a float-path request should "
+              "import no SymPy):", "", "| command | imports |", "|---|---|"]
+    lines += [f"| {label} | {libs} |" for label, libs in loaded.items() if libs != "-"]
     lines += ["", "Issue 15 targets, as ratios to `python -c 'import numpy'` in this run:", "",
               "| command | target | wall ratio | CPU ratio | met |", "|---|---:|---:|---:|---|"]
     for label, target in TARGETS:
@@ -150,9 +189,10 @@ def main(reproduce: bool) -> None:
         lines.append(f"| total | {sum(phases.values()):.2f} |")
     text = "\n".join(lines) + "\n"
     print(text)
-    RESULTS.mkdir(exist_ok=True)
-    path.write_text(text)
+    if write:
+        RESULTS.mkdir(exist_ok=True)
+        path.write_text(text)
 
 
 if __name__ == "__main__":
-    main("--reproduce" in sys.argv[1:])
+    main("--reproduce" in sys.argv[1:], write="--print-only" not in sys.argv[1:])

@@ -40,14 +40,16 @@ Examples
 
 from __future__ import annotations
 
+from fractions import Fraction
 from typing import Any
 
-import mpmath
 import numpy as np
-import sympy as sp
 
 from .errors import DomainError, ImpactInputError, NonTermination
-from .resolution import Outcome, Resolution, System
+from .resolution import Outcome, Resolution, System, is_mpmath, is_sympy
+
+# SymPy and mpmath are imported where an exact or certified value is handled: the laws' table, their
+# options and a float law's answer (the compliant laws) need neither.
 
 __all__ = ["Law", "LAWS", "get_law", "resolve", "resolve_all", "law_names"]
 
@@ -58,15 +60,17 @@ def _violations(items) -> list:
 
 def _jsonable(value):
     """Law-specific details in JSON form (exact strings; numbers with a float twin elsewhere)."""
-    if isinstance(value, sp.MatrixBase):
+    if is_sympy(value, "MatrixBase"):
         return [str(x) for x in value]
     if isinstance(value, np.ndarray):
         return [float(x) for x in value.reshape(-1)]
-    if isinstance(value, (sp.Basic,)):
+    if is_sympy(value):
         return str(value)
     if isinstance(value, (np.floating, float)):
         return float(value)
-    if isinstance(value, mpmath.mpf):
+    if is_mpmath(value):
+        import mpmath
+
         return mpmath.nstr(value, 17)
     if isinstance(value, dict):
         return {str(k): _jsonable(v) for k, v in value.items()}
@@ -82,34 +86,51 @@ def _details(d: dict) -> dict:
 
     out: dict = {}
     for key, val in d.items():
-        if isinstance(val, (sp.MatrixBase, np.ndarray)) or (
-                isinstance(val, (list, tuple)) and val and all(isinstance(x, (sp.Basic, float, int, np.floating))
+        if is_sympy(val, "MatrixBase") or isinstance(val, np.ndarray) or (
+                isinstance(val, (list, tuple)) and val and all((is_sympy(x) or isinstance(x, (float, int, np.floating)))
                                                                and not isinstance(x, bool) for x in val)):
-            out.update(vector_json(key, sp.Matrix(list(val)) if isinstance(val, (list, tuple)) and
-                                   all(isinstance(x, (sp.Basic, int)) for x in val) else val))
-        elif isinstance(val, (sp.Basic, np.floating)) or (isinstance(val, float)):
+            exact = isinstance(val, (list, tuple)) and all(is_sympy(x) or isinstance(x, int) for x in val)
+            out.update(vector_json(key, _sympy_column(val) if exact else val))
+        elif is_sympy(val) or isinstance(val, (np.floating, float)):
             out.update(number_json(key, val))
         else:
             out[key] = _jsonable(val)
     return out
 
 
+def _sympy_column(values):
+    import sympy as sp
+
+    return sp.Matrix(list(values))
+
+
+def _is_one(x) -> bool:
+    """``sympify(x) == 1``, without SymPy for a plain number."""
+    if type(x) in (int, float, Fraction):
+        return x == 1
+    import sympy as sp
+
+    return sp.sympify(x) == 1
+
+
 def _impulses_of(system: System, velocity):
     """``p`` with ``Hᵀp = M(v⁺ − v⁻)`` when ``H`` has full row rank (exact for exact input), for
     outcomes a law gives without impulses (the sequential selection); None otherwise."""
     M, H, v = system.M, system.H, system.v
-    if isinstance(velocity, sp.MatrixBase) and isinstance(M, sp.MatrixBase):
+    if is_sympy(velocity, "MatrixBase") and is_sympy(M, "MatrixBase"):
+        import sympy as sp
+
         W = H * M.inv() * H.T
         if W.det() == 0:
             return None
         return sp.Matrix([sp.radsimp(sp.simplify(x)) for x in W.inv() * H * (velocity - v)])
-    if isinstance(velocity, mpmath.matrix):
+    if is_mpmath(velocity, "matrix"):
         return None
-    Hf = np.asarray(H.tolist() if isinstance(H, sp.MatrixBase) else H, dtype=float)
-    Mf = np.asarray(M.tolist() if isinstance(M, sp.MatrixBase) else M, dtype=float)
+    Hf = np.asarray(H.tolist() if is_sympy(H, "MatrixBase") else H, dtype=float)
+    Mf = np.asarray(M.tolist() if is_sympy(M, "MatrixBase") else M, dtype=float)
     if np.linalg.matrix_rank(Hf) < Hf.shape[0]:
         return None
-    vf = np.asarray([float(x) for x in (v if not isinstance(v, sp.MatrixBase) else list(v))], dtype=float)
+    vf = np.asarray([float(x) for x in (v if not is_sympy(v, "MatrixBase") else list(v))], dtype=float)
     rhs = Mf @ (np.asarray(velocity, dtype=float).reshape(-1) - vf)
     return np.linalg.lstsq(Hf.T, rhs, rcond=None)[0]
 
@@ -122,7 +143,9 @@ def _kind(outcomes, multiple: str) -> str:
         return "unique"
     first = vels[0]
     for w in vels[1:]:
-        if isinstance(first, sp.MatrixBase) and isinstance(w, sp.MatrixBase):
+        if is_sympy(first, "MatrixBase") and is_sympy(w, "MatrixBase"):
+            import sympy as sp
+
             if any(sp.simplify(a - b) != 0 for a, b in zip(first, w)):
                 return multiple
         elif isinstance(first, np.ndarray) and isinstance(w, np.ndarray):
@@ -290,11 +313,13 @@ class TwoSurface(Law):
             return where, f"it resolves exactly two contacts; this system has {system.k}"
         e = system.restitution
         vals = e if isinstance(e, (list, tuple)) else [e]
-        if any(x is not None and sp.sympify(x) != 1 for x in vals):
+        if any(x is not None and not _is_one(x) for x in vals):
             return "restitution", "the two-surface law is elastic (sequential G_u): e must be 1"
         return None
 
     def resolve(self, system, **options):
+        import mpmath
+
         from .laws.two_surface import resolve_two_surfaces
 
         r = resolve_two_surfaces(system.M, system.H, system.v)
@@ -329,6 +354,8 @@ class Sequential(Law):
     def _with_gaps(self, system, gaps):
         """The outcome that the gaps produce (:func:`impactsym.gaps.resolve_with_gaps`), verified
         by replaying its ordering with ``G_u(e)`` exactly."""
+        import sympy as sp
+
         from .errors import VerificationError
         from .gaps import resolve_with_gaps
         from .laws.reflection import reflect
@@ -380,14 +407,16 @@ class Sequential(Law):
         selected = []
         known = getattr(r, "selected_impulses", ()) or ()
         for idx, s in enumerate(r.selected):
-            if (float or not system.exact) and isinstance(s, sp.MatrixBase):  # the float path reports floats
+            if (float or not system.exact) and is_sympy(s, "MatrixBase"):  # the float path reports floats
+                import sympy as sp
+
                 s = np.array([sp.N(x, 17) for x in s], dtype=np.float64)
             elif idx < len(known) and known[idx] is not None:  # exact, verified by the law (full row rank)
                 selected.append(Outcome(s, known[idx]))
                 continue
             selected.append(Outcome(s, _impulses_of(system, s)))
         bound = r.bound
-        elastic = all(sp.sympify(x) == 1 for x in system.restitution_vector())
+        elastic = all(_is_one(x) for x in system.restitution_vector())
         if bound is None and system.k == 2 and system.exact and not float and elastic:  # the bound is elastic
             try:
                 bound = termination_bound(M, H)

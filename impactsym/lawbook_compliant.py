@@ -98,13 +98,13 @@ impactsym.errors.ImpactInputError: gradients: --law linear does not apply: conta
 from __future__ import annotations
 
 import dataclasses
+from fractions import Fraction
 
 import numpy as np
-import sympy as sp
 
 from .errors import ImpactInputError
-from .lawbook import LAWS, Energetic, ImpulseRatio, Law
-from .resolution import Outcome, Resolution, System
+from .lawbook import LAWS, Energetic, ImpulseRatio, Law, _is_one
+from .resolution import Outcome, RationalMatrix, Resolution, System, is_sympy
 
 __all__ = ["Hertz", "Linear", "Power", "HuntCrossley", "LZB", "COMPLIANT_LAWS", "RATIO_SOURCES", "ratio_source",
            "confining_contacts", "confinement", "ratios_from_model", "register", "DEFAULT_RTOL"]
@@ -120,12 +120,12 @@ RATIO_SOURCES = {"from-hertz": "hertz", "from-linear": "linear", "from-lzb": "lz
 # ------------------------------------------------------------------------------ option values
 def _floats(value, k: int, argument: str) -> np.ndarray:
     """One number, or one per contact (numbers, SymPy, text ``"a,b"``), as ``k`` finite floats."""
-    from .numbers import parse_number
-
     if isinstance(value, str):
+        from .numbers import parse_number
+
         parts = [x.strip() for x in value.split(",")]
         value = [parse_number(x, argument) for x in parts] if len(parts) > 1 else parse_number(parts[0], argument)
-    if isinstance(value, sp.MatrixBase):
+    if is_sympy(value, "MatrixBase"):
         value = list(value)
     items = list(value) if isinstance(value, (list, tuple, np.ndarray)) else [value] * k
     if len(items) != k:
@@ -133,13 +133,26 @@ def _floats(value, k: int, argument: str) -> np.ndarray:
     out = []
     for x in items:
         try:
-            f = float(sp.N(x, 17)) if isinstance(x, sp.Basic) else float(x)
+            f = _sympy_float(x) if is_sympy(x) else _fraction_float(x) if isinstance(x, Fraction) else float(x)
         except (TypeError, ValueError):
             raise ImpactInputError(argument, f"must be real numbers, got {x!r}") from None
         if not np.isfinite(f):
             raise ImpactInputError(argument, f"must be finite, got {x}")
         out.append(f)
     return np.array(out, dtype=float)
+
+
+def _sympy_float(x) -> float:
+    import sympy as sp
+
+    return float(sp.N(x, 17))
+
+
+def _fraction_float(x: Fraction) -> float:
+    """``float(N(x, 17))`` of a rational, without SymPy (the float a SymPy ``Rational`` gives here)."""
+    from .arithmetic.literals import json_float
+
+    return json_float(x.numerator, x.denominator)
 
 
 def _stiffness(value, k):
@@ -179,7 +192,9 @@ def _float_matrices(system: System):
     from .compliant import float_system
 
     def arr(A):
-        return np.array(A.evalf(17).tolist(), dtype=float) if isinstance(A, sp.MatrixBase) else np.asarray(A, float)
+        if isinstance(A, RationalMatrix):  # the floats SymPy's evalf(17) gives the same rationals
+            return np.array(A.json_floats(), dtype=float)
+        return np.array(A.evalf(17).tolist(), dtype=float) if is_sympy(A, "MatrixBase") else np.asarray(A, float)
 
     return float_system(arr(system.M), arr(system.H), arr(system.v).reshape(-1))
 
@@ -267,7 +282,7 @@ class _Compliant(Law):
     def _elastic_why_not(self, system):
         e = system.restitution
         vals = e if isinstance(e, (list, tuple)) else [e]
-        if any(x is not None and sp.sympify(x) != 1 for x in vals):
+        if any(x is not None and not _is_one(x) for x in vals):
             return "restitution", (f"the {self.name} law is elastic (e = 1); --law hunt-crossley or --law lzb "
                                    "take a restitution e < 1 per contact")
         return None
@@ -488,6 +503,13 @@ def ratios_from_model(system: System, source: str) -> tuple[list, Resolution]:
     return [float(x) for x in P[1:] / P[0]], res
 
 
+def _float_of(x) -> float:
+    """``float(sympify(x))``."""
+    import sympy as sp
+
+    return float(sp.sympify(x))
+
+
 def _kinetic_norm(M, x) -> float:
     return float(np.sqrt(max(float(x @ M @ x), 0.0)))
 
@@ -510,8 +532,7 @@ class _RatiosFromModel:
         # float ratios: the law's float path (the energetic law would read floats on exact M, H, v
         # at their exact binary values and call the outcome exact)
         e = system.restitution
-        ef = None if e is None else ([float(sp.sympify(x)) for x in e] if isinstance(e, (list, tuple))
-                                     else float(sp.sympify(e)))
+        ef = None if e is None else ([_float_of(x) for x in e] if isinstance(e, (list, tuple)) else _float_of(e))
         res = super().resolve(dataclasses.replace(system, M=M, H=H, v=v, restitution=ef, exact=False),
                               ratios=alphas, **options)
         res.system = system

@@ -28,11 +28,14 @@ from __future__ import annotations
 from typing import Any
 
 import numpy as np
-import sympy as sp
 
+from .arithmetic import LazyModule
 from .errors import ImpactInputError
 from .exact import certified_sign
-from .numbers import is_exact, to_exact_matrix, to_float_array
+
+#: SymPy and the number parser, imported on first use: the exact checks of rational input
+#: (python-flint) need neither
+sp = LazyModule("sympy", globals(), "sp")
 
 __all__ = [
     "check_mass_matrix",
@@ -51,6 +54,8 @@ FLOAT_SYMMETRY_RTOL = 8 * np.finfo(float).eps
 
 
 def _as(obj: Any, argument: str, exact: bool, vector: bool = False):
+    from .numbers import to_exact_matrix, to_float_array
+
     if exact:
         return to_exact_matrix(obj, argument, vector=vector)
     arr = to_float_array(obj, argument)
@@ -77,6 +82,8 @@ def check_mass_matrix(M: Any, argument: str = "mass_matrix", *, exact: bool | No
     impactsym.errors.ImpactInputError: mass_matrix: not symmetric (entry (0, 1) is 0.0 but (1, 0) is 0.5)
     """
     if exact is None:
+        from .numbers import is_exact
+
         exact = is_exact(M)
     A = _as(M, argument, exact)
     shape = A.shape
@@ -253,6 +260,8 @@ def check_gradient(u: Any, n: int, argument: str = "gradient", *, exact: bool | 
     impactsym.errors.ImpactInputError: gradient: is the zero covector (a constraint gradient must be non-zero)
     """
     if exact is None:
+        from .numbers import is_exact
+
         exact = is_exact(u)
     g = _as(u, argument, exact, vector=True)
     length = g.rows if exact else g.shape[0]
@@ -272,6 +281,8 @@ def check_gradients(H: Any, n: int, argument: str = "gradients", *, exact: bool 
     impactsym.errors.ImpactInputError: gradients: row 1 is the zero covector (a constraint gradient must be non-zero)
     """
     if exact is None:
+        from .numbers import is_exact
+
         exact = is_exact(H)
     A = _as(H, argument, exact)
     if not exact and A.ndim == 1:
@@ -298,6 +309,8 @@ def check_velocity(v: Any, n: int, argument: str = "velocity", *, exact: bool | 
     impactsym.errors.ImpactInputError: velocity: has length 3, expected 2 (the mass matrix is 2×2)
     """
     if exact is None:
+        from .numbers import is_exact
+
         exact = is_exact(v)
     g = _as(v, argument, exact, vector=True)
     length = g.rows if exact else g.shape[0]
@@ -321,6 +334,8 @@ def kinetic_energy(M, v):
 
 def _row(h, exact: bool = False):
     if exact and not isinstance(h, sp.MatrixBase):
+        from .numbers import to_exact_matrix
+
         h = to_exact_matrix(h, "gradient", vector=True)
     if isinstance(h, sp.MatrixBase):
         return h if h.rows == 1 else h.T

@@ -65,13 +65,17 @@ import traceback
 from dataclasses import dataclass, field
 from typing import Any, Iterable
 
-import mpmath
 import numpy as np
-import sympy as sp
 
+from .arithmetic import LazyModule
 from .errors import DomainError, ImpactError, ImpactInputError
-from .numbers import exact_str, parse_number, parse_vector, to_exact
 from .resolution import System, number_json, vector_json
+
+# SymPy, mpmath and the number parser, imported on first use: `impactsym batch` answers a float-path
+# request (a compliant law on plain rational matrices) without them
+sp = LazyModule("sympy", globals(), "sp")
+mpmath = LazyModule("mpmath", globals(), "mpmath")
+_numbers = LazyModule("impactsym.numbers", globals(), "_numbers")
 
 __all__ = ["check", "CheckReport", "kinetic_distance", "momentum_residual", "fit_impulse_ratios",
            "run_request", "run_many", "request_argv", "EXIT_MATCH", "EXIT_NO_MATCH", "DEFAULT_TOLERANCE",
@@ -117,9 +121,9 @@ def _sign(x) -> int:
 def _exact_vector(values, argument: str, n: int) -> sp.Matrix:
     """An exact column from text ``"a,b"``, a sequence (floats at their binary value) or a matrix."""
     if isinstance(values, str):
-        v = parse_vector(values, argument)
+        v = _numbers.parse_vector(values, argument)
     elif isinstance(values, sp.MatrixBase):
-        v = sp.Matrix([to_exact(x, argument) for x in values])
+        v = sp.Matrix([_numbers.to_exact(x, argument) for x in values])
     else:
         try:
             items = list(np.asarray(values, dtype=object).reshape(-1))
@@ -128,7 +132,7 @@ def _exact_vector(values, argument: str, n: int) -> sp.Matrix:
         for x in items:
             if isinstance(x, (float, np.floating)) and not np.isfinite(x):
                 raise ImpactInputError(argument, f"entry {x} is not finite (NaN or inf)")
-        v = sp.Matrix([to_exact(x, argument) for x in items])
+        v = sp.Matrix([_numbers.to_exact(x, argument) for x in items])
     if v.rows != n:
         raise ImpactInputError(argument, f"has length {v.rows}, expected {n} (one per coordinate of the system)")
     return v
@@ -263,7 +267,7 @@ def fit_impulse_ratios(system: System, observed, *, tolerance=None, residual: di
     near = res["zero"] or (tolerance is not None and _sign(sp.sympify(tolerance) ** 2 - res["norm"] ** 2) >= 0)
     if _sign(e - 1) > 0:
         out["status"] = "not-in-family"
-        shown = exact_str(e) if len(exact_str(e)) <= 24 else f"{float(sp.N(e, 17)):.9g}"
+        shown = _numbers.exact_str(e) if len(_numbers.exact_str(e)) <= 24 else f"{float(sp.N(e, 17)):.9g}"
         gain = f"the observation gains energy (e = T+/T- = {shown} > 1); the law takes e in [0, 1]"
         out["reason"] = gain if near else f"{residual_reason}; and {gain}"
         return out
@@ -320,8 +324,9 @@ def fit_impulse_ratios(system: System, observed, *, tolerance=None, residual: di
         out["reason"] = "the observation is the law's solution with these ratios and e (p_1 = (-B + sqrt(D))/(2A))"
     else:
         out["status"] = "other-root"
-        out["reason"] = (f"the observation is the other root p_1 = (-B - sqrt(D))/(2A) = {exact_str(p[0])} of eq. 38 "
-                         f"with these ratios and e; the law picks p_1 = {exact_str(law.impulses[0])}")
+        out["reason"] = (f"the observation is the other root p_1 = (-B - sqrt(D))/(2A) = "
+                         f"{_numbers.exact_str(p[0])} of eq. 38 with these ratios and e; the law picks p_1 = "
+                         f"{_numbers.exact_str(law.impulses[0])}")
     return out
 
 
@@ -382,7 +387,7 @@ def _tolerance(value) -> sp.Expr:
     if isinstance(value, (float, np.floating)):
         if not np.isfinite(value):
             raise ImpactInputError("tolerance", f"must be a finite number, got {value}")
-    tol = to_exact(value, "tolerance") if not isinstance(value, sp.Basic) else sp.sympify(value)
+    tol = _numbers.to_exact(value, "tolerance") if not isinstance(value, sp.Basic) else sp.sympify(value)
     if not tol.is_real or _sign(tol) < 0:
         raise ImpactInputError("tolerance", f"must be a non-negative number, got {value}")
     return tol
@@ -476,7 +481,7 @@ def check(system: System, observed, *, tolerance=DEFAULT_TOLERANCE, laws: Iterab
     names_c = list(system.contacts)
     violations = [{"contact": names_c[i], "index": i, "condition": "penetration",
                    **number_json("relative_velocity", w[i]),
-                   "message": f"contact {names_c[i]}: H v = {exact_str(w[i])} < 0 (the bodies still approach)"}
+                   "message": f"contact {names_c[i]}: H v = {_numbers.exact_str(w[i])} < 0 (the bodies still approach)"}
                   for i in range(w.rows) if _sign(w[i]) < 0]
     fit = fit_impulse_ratios(system, vo, tolerance=tol, residual=mom)
     notes = []

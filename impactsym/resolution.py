@@ -22,6 +22,9 @@ in ``docs/resolution_schema.md`` and tested (``tests/test_resolution_schema.py``
 
 Examples
 --------
+SymPy and mpmath are imported where an exact or certified value is handled, never at import:
+a float result (a compliant law's) is built and printed without them.
+
 >>> from impactsym.lawbook import resolve
 >>> r = resolve("newton", System.from_matrices("1,0,0;0,1,0;0,0,1", "-1,1,0;0,-1,1", "1,0,0"))
 >>> r.uniqueness, r.velocity.T, r.kinetic_energy_after
@@ -30,15 +33,15 @@ Examples
 
 from __future__ import annotations
 
+import math
+import sys
 from dataclasses import dataclass, field
+from fractions import Fraction
 from typing import Any
 
-import mpmath
 import numpy as np
-import sympy as sp
 
 from .errors import ImpactInputError, VerificationError
-from .numbers import exact_str
 
 __all__ = ["System", "Outcome", "Resolution", "SCHEMA", "UNIQUENESS", "vector_json", "number_json"]
 
@@ -50,31 +53,74 @@ UNIQUENESS = ("unique", "set-valued", "gap-dependent")
 
 
 # ----------------------------------------------------------------------------------- numbers
+def is_sympy(x, kind: str = "Basic") -> bool:
+    """Whether ``x`` is a SymPy object of class ``kind`` (``"Basic"``, ``"MatrixBase"``, …),
+    without importing SymPy: when SymPy is not loaded, no object is one.
+
+    >>> import sympy as sp
+    >>> is_sympy(sp.Integer(2)), is_sympy(sp.eye(2), "MatrixBase"), is_sympy(2.0)
+    (True, True, False)
+    """
+    sp = sys.modules.get("sympy")
+    return sp is not None and isinstance(x, getattr(sp, kind))
+
+
+def is_mpmath(x, kind: str = "mpf") -> bool:
+    """Whether ``x`` is an mpmath object of class ``kind`` (``"mpf"``, ``"matrix"``), without
+    importing mpmath."""
+    mp = sys.modules.get("mpmath")
+    return mp is not None and isinstance(x, getattr(mp, kind))
+
+
+def _fraction_text(x: Fraction) -> str:
+    """SymPy's ``str`` of the rational ``x`` (:func:`impactsym.numbers.exact_str`: integers of any length)."""
+    from flint import fmpq
+
+    return str(fmpq(x.numerator, x.denominator))
+
+
+def _fraction_float(x: Fraction) -> float | None:
+    """``float(N(x, 17))`` of the rational ``x``, bit for bit (the JSON float twin), or ``None`` when
+    it overflows."""
+    from .arithmetic.literals import json_float
+
+    f = json_float(x.numerator, x.denominator)
+    return f if math.isfinite(f) else None
+
+
 def _float(x) -> float | None:
+    if isinstance(x, Fraction):
+        return _fraction_float(x)
     try:
-        if isinstance(x, sp.Basic):
+        if is_sympy(x):
+            import sympy as sp
+
             f = float(sp.N(x, 17))
-        elif isinstance(x, mpmath.mpf):
-            f = float(x)
         else:
             f = float(x)
     except (OverflowError, TypeError):
         return None
-    return f if np.isfinite(f) else None
+    return f if math.isfinite(f) else None
 
 
 def _text(x, digits: int | None) -> str:
-    if isinstance(x, sp.Basic):
+    if isinstance(x, Fraction):
+        return _fraction_text(x)
+    if is_sympy(x):
+        from .numbers import exact_str
+
         return exact_str(x)
-    if isinstance(x, mpmath.mpf):
+    if is_mpmath(x):
+        import mpmath
+
         return mpmath.nstr(x, digits or 17, strip_zeros=False)
     return repr(float(x))
 
 
 def _entries(value) -> list:
-    if isinstance(value, sp.MatrixBase):
+    if is_sympy(value, "MatrixBase") or isinstance(value, RationalMatrix):
         return list(value)
-    if isinstance(value, mpmath.matrix):
+    if is_mpmath(value, "matrix"):
         return [value[i] for i in range(value.rows)]
     return [x for x in np.asarray(value, dtype=float).reshape(-1)]
 
@@ -85,6 +131,7 @@ def vector_json(name: str, value, digits: int | None = None) -> dict:
     Exact entries are SymPy strings, certified ones ``mpmath`` strings to ``digits`` digits,
     floats their ``repr``; a float twin that overflows is ``None`` (strict JSON).
 
+    >>> import sympy as sp
     >>> vector_json("v", sp.Matrix([sp.Rational(1, 3), 2]))
     {'v': ['1/3', '2'], 'v_float': [0.3333333333333333, 2.0]}
     """
@@ -94,7 +141,7 @@ def vector_json(name: str, value, digits: int | None = None) -> dict:
     return {name: [_text(x, digits) for x in items], name + "_float": [_float(x) for x in items]}
 
 
-def _rational_pair(x: sp.Rational, cache: dict) -> tuple:
+def _rational_pair(x, cache: dict) -> tuple:
     """``(_text(x, None), _float(x))`` of a SymPy rational without evalf, memoised on ``(p, q)``:
     :func:`impactsym.numbers.exact_str` prints it as ``str`` does, and
     :func:`impactsym.arithmetic.literals.json_float` is ``float(N(x, 17))`` bit for bit."""
@@ -102,6 +149,7 @@ def _rational_pair(x: sp.Rational, cache: dict) -> tuple:
     got = cache.get(key)
     if got is None:
         from .arithmetic.literals import json_float
+        from .numbers import exact_str
 
         f = json_float(int(x.p), int(x.q))
         got = cache[key] = (exact_str(x), f if np.isfinite(f) else None)
@@ -109,7 +157,13 @@ def _rational_pair(x: sp.Rational, cache: dict) -> tuple:
 
 
 def matrix_json(name: str, value) -> dict:
-    if isinstance(value, sp.MatrixBase):
+    if isinstance(value, RationalMatrix):
+        rows = value.tolist()
+        return {name: [[_fraction_text(x) for x in r] for r in rows],
+                name + "_float": [[_fraction_float(x) for x in r] for r in rows]}
+    if is_sympy(value, "MatrixBase"):
+        import sympy as sp
+
         # exact: most entries of a scene's M and H are 0 or ±1; rationals take the fast path
         cache: dict = {}
         text, floats = [], []
@@ -134,6 +188,82 @@ def number_json(name: str, value, digits: int | None = None) -> dict:
 
 
 # ------------------------------------------------------------------------------------ system
+class RationalMatrix:
+    """An exact rational matrix without SymPy: the entries are ``Fraction``; a vector is a column.
+
+    What the command line builds from plain input (``"1,1/2;0.5,2"``) for a law that computes in
+    floats (the compliant and LZB laws), so that the request imports no SymPy: the system is still
+    checked exactly (python-flint) and printed exactly (``"1/2"``, as SymPy prints it, with the same
+    float twins). ``np.asarray(A, dtype=float)`` gives each entry's nearest float, as a SymPy
+    matrix of the same rationals does; ``list(A)`` its entries row by row, as SymPy's.
+
+    >>> from fractions import Fraction as Q
+    >>> A = RationalMatrix([[Q(2), Q(1, 3)], [Q(1, 3), Q(1)]])
+    >>> A.shape, A[0, 1], list(A)[1:3], A
+    ((2, 2), Fraction(1, 3), [Fraction(1, 3), Fraction(1, 3)], RationalMatrix([['2', '1/3'], ['1/3', '1']]))
+    >>> import numpy as np
+    >>> np.asarray(RationalMatrix.column([Q(1, 3), Q(-1)]), dtype=float).tolist()
+    [[0.3333333333333333], [-1.0]]
+    """
+
+    __slots__ = ("_rows",)
+
+    def __init__(self, rows):
+        self._rows = [[Fraction(x) for x in r] for r in rows]
+        if not self._rows or len({len(r) for r in self._rows}) != 1 or not self._rows[0]:
+            raise ValueError("RationalMatrix: rows of one non-zero length, at least one")
+
+    @classmethod
+    def column(cls, entries) -> "RationalMatrix":
+        return cls([[x] for x in entries])
+
+    @property
+    def shape(self) -> tuple[int, int]:
+        return len(self._rows), len(self._rows[0])
+
+    @property
+    def rows(self) -> int:
+        return len(self._rows)
+
+    @property
+    def cols(self) -> int:
+        return len(self._rows[0])
+
+    def tolist(self) -> list[list[Fraction]]:
+        return [list(r) for r in self._rows]
+
+    def __getitem__(self, ij):
+        i, j = ij
+        return self._rows[i][j]
+
+    def __iter__(self):
+        return (x for r in self._rows for x in r)
+
+    def __len__(self) -> int:
+        return self.rows * self.cols
+
+    def __array__(self, dtype=None, copy=None):
+        import numpy
+
+        if dtype is None or numpy.dtype(dtype) == numpy.dtype(object):
+            return numpy.array(self.tolist(), dtype=object)
+        return numpy.array([[float(x) for x in r] for r in self._rows], dtype=dtype)
+
+    def json_floats(self) -> list[list[float]]:
+        """Each entry's ``float(N(x, 17))`` (the JSON float twin; what SymPy's ``evalf(17)`` gives)."""
+        from .arithmetic.literals import json_float
+
+        return [[json_float(x.numerator, x.denominator) for x in r] for r in self._rows]
+
+    def __eq__(self, other) -> bool:
+        return isinstance(other, RationalMatrix) and self._rows == other._rows
+
+    __hash__ = None
+
+    def __repr__(self) -> str:
+        return f"RationalMatrix({[[_fraction_text(x) for x in r] for r in self._rows]!r})"
+
+
 @dataclass
 class System:
     """What every law takes: the mass matrix, the gradient rows of the closed contacts, the
@@ -189,6 +319,60 @@ class System:
         return cls(Mx, Hx, vx, restitution, exact=exact, **kw)
 
     @classmethod
+    def from_rationals(cls, M, H, v, restitution=None) -> "System":
+        """A system from rational entries (nested lists of ``Fraction``, as
+        :func:`impactsym.arithmetic.literals.plain_matrix` reads them), checked exactly in
+        python-flint without SymPy: ``M`` square, symmetric and positive definite (Sylvester's
+        criterion), ``H`` with ``n`` columns and no zero row, ``v`` of length ``n``. ``restitution``:
+        None, a ``Fraction``, or a list of them. A violated condition raises
+        :class:`~impactsym.errors.ImpactInputError` (the command line then lets
+        :meth:`from_matrices` word it, as it always has).
+
+        >>> from fractions import Fraction as Q
+        >>> s = System.from_rationals([[Q(2), Q(0)], [Q(0), Q(1)]], [[Q(-1), Q(1)]], [Q(1), Q(0)])
+        >>> s.n, s.k, s.exact, s.as_json()["velocity"]
+        (2, 1, True, ['1', '0'])
+        >>> System.from_rationals([[Q(1), Q(2)], [Q(2), Q(1)]], [[Q(1), Q(0)]], [Q(1), Q(0)])
+        Traceback (most recent call last):
+        ...
+        impactsym.errors.ImpactInputError: mass_matrix: not positive definite (leading principal minor 2 is -3)
+        """
+        from flint import fmpq
+
+        from .mechanics import first_asymmetric_pair, positive_definite_by_fflu, symmetric_elimination
+
+        Mx, Hx, vx = RationalMatrix(M), RationalMatrix(H), RationalMatrix.column(v)
+        n = Mx.rows
+        if Mx.cols != n:
+            raise ImpactInputError("mass_matrix", f"must be a non-empty square matrix, got shape {Mx.shape}")
+        rows = [{j: fmpq(x.numerator, x.denominator) for j, x in enumerate(r) if x} for r in Mx.tolist()]
+        bad = first_asymmetric_pair(rows)
+        if bad is not None:
+            i, j = bad
+            raise ImpactInputError("mass_matrix", f"not symmetric (entry ({i}, {j}) is "
+                                   f"{_fraction_text(Mx[i, j])} but ({j}, {i}) is {_fraction_text(Mx[j, i])})")
+        if not (n >= 8 and 4 * sum(len(r) for r in rows) >= n * n and positive_definite_by_fflu(rows, n)):
+            symmetric_elimination(rows, n, "mass_matrix")  # as check_mass_matrix: fflu first when dense
+        if Hx.cols != n:
+            raise ImpactInputError("gradients", f"has {Hx.cols} columns, expected {n} (the mass matrix is {n}×{n})")
+        for i, r in enumerate(Hx.tolist()):
+            if not any(r):
+                raise ImpactInputError("gradients", f"row {i} is the zero covector (a constraint gradient must be "
+                                                    "non-zero)")
+        if vx.rows != n:
+            raise ImpactInputError("velocity", f"has length {vx.rows}, expected {n} (the mass matrix is {n}×{n})")
+        if isinstance(restitution, (list, tuple)):
+            restitution = [Fraction(x) for x in restitution]
+        elif restitution is not None:
+            restitution = Fraction(restitution)
+        return cls(Mx, Hx, vx, restitution, exact=True)
+
+    @property
+    def rational(self) -> bool:
+        """Whether ``M``, ``H``, ``v`` are :class:`RationalMatrix` (exact, held without SymPy)."""
+        return isinstance(self.M, RationalMatrix)
+
+    @classmethod
     def from_scene(cls, scene, restitution=None, *, description: dict | None = None) -> "System":
         """A system from an :class:`impactsym.scenes.Scene` (its per-contact restitution, if it
         has one, unless ``restitution`` is given)."""
@@ -205,8 +389,14 @@ class System:
         differ are refused, naming the law."""
         e = self.restitution
         if e is None:
-            return sp.Integer(default) if self.exact else float(default)
+            if self.rational:
+                return Fraction(default)
+            return _integer(default) if self.exact else float(default)
         if isinstance(e, (list, tuple)):
+            import sympy as sp
+
+            from .numbers import exact_str
+
             vals = list(e)
             if len(vals) != self.k:
                 raise ImpactInputError("restitution", f"has {len(vals)} entries, expected one per contact ({self.k})")
@@ -220,7 +410,7 @@ class System:
         """One restitution per contact."""
         e = self.restitution
         if e is None:
-            e = sp.Integer(default) if self.exact else float(default)
+            e = Fraction(default) if self.rational else _integer(default) if self.exact else float(default)
         if isinstance(e, (list, tuple)):
             if len(e) != self.k:
                 raise ImpactInputError("restitution", f"has {len(e)} entries, expected one per contact ({self.k})")
@@ -236,12 +426,25 @@ class System:
         if e is None:
             out.update({"restitution": None, "restitution_float": None})
         elif isinstance(e, (list, tuple)):
-            out.update(vector_json("restitution", sp.Matrix(list(e)) if self.exact else list(e)))
+            out.update(vector_json("restitution", RationalMatrix.column(e) if self.rational else
+                                   _sympy_column(e) if self.exact else list(e)))
         else:
             out.update(number_json("restitution", e))
         out["contacts"] = list(self.contacts)
         out["coordinates"] = list(self.coordinates)
         return out
+
+
+def _integer(n: int):
+    import sympy as sp
+
+    return sp.Integer(n)
+
+
+def _sympy_column(values):
+    import sympy as sp
+
+    return sp.Matrix(list(values))
 
 
 # ----------------------------------------------------------------------------------- outcome
@@ -275,9 +478,9 @@ class Outcome:
 def _exactness(value) -> str:
     if value is None:  # no outcome velocity (a law without a real solution, reported with --allow-invalid)
         return "none"
-    if isinstance(value, sp.MatrixBase):
+    if is_sympy(value, "MatrixBase"):
         return "exact"
-    if isinstance(value, mpmath.matrix):
+    if is_mpmath(value, "matrix"):
         return "certified"
     return "float"
 
@@ -373,10 +576,18 @@ class Resolution:
         M = self.system.M
         if velocity is None:
             return None
-        if isinstance(velocity, sp.MatrixBase):
+        if isinstance(velocity, RationalMatrix):  # exact, without SymPy
+            vs, Mr = list(velocity), M.tolist()
+            return sum((vs[i] * Mr[i][j] * vs[j] for i in range(len(vs)) for j in range(len(vs))), Fraction(0)) / 2
+        if is_sympy(velocity, "MatrixBase"):
+            import sympy as sp
+
             Mx = M if isinstance(M, sp.MatrixBase) else sp.Matrix(M)
             return sp.expand((velocity.T * Mx * velocity)[0, 0] / 2)
-        if isinstance(velocity, mpmath.matrix):
+        if is_mpmath(velocity, "matrix"):
+            import mpmath
+            import sympy as sp
+
             # certified velocities: T is not itself certified, so it is given as a float, computed
             # at 60 working digits inside this block (no mpmath value leaves the context)
             n = velocity.rows
@@ -403,17 +614,21 @@ class Resolution:
             return None
         M, H, v = self.system.M, self.system.H, self.system.v
         vp, p = outcome.velocity, outcome.impulses
-        if isinstance(vp, sp.MatrixBase) and isinstance(M, sp.MatrixBase):
+        if is_sympy(vp, "MatrixBase") and is_sympy(M, "MatrixBase"):
+            import sympy as sp
+
             return sp.expand(M * (vp - v) - H.T * sp.Matrix(p))
-        if isinstance(vp, mpmath.matrix):
+        if is_mpmath(vp, "matrix"):
             return None  # the certified laws verify their balls themselves (impactsym.verify)
-        Mf, Hf = np.asarray(M.tolist() if isinstance(M, sp.MatrixBase) else M, dtype=float), \
-            np.asarray(H.tolist() if isinstance(H, sp.MatrixBase) else H, dtype=float)
+        Mf, Hf = np.asarray(M.tolist() if is_sympy(M, "MatrixBase") else M, dtype=float), \
+            np.asarray(H.tolist() if is_sympy(H, "MatrixBase") else H, dtype=float)
         vf = np.asarray([float(x) for x in _entries(v)])
         return Mf @ (np.asarray(vp, dtype=float).reshape(-1) - vf) - Hf.T @ np.asarray(p, dtype=float).reshape(-1)
 
     def _check_momentum(self, o: Outcome) -> None:
-        if isinstance(o.velocity, sp.MatrixBase) and isinstance(self.system.M, sp.MatrixBase) and o.impulses is not None:
+        if is_sympy(o.velocity, "MatrixBase") and is_sympy(self.system.M, "MatrixBase") and o.impulses is not None:
+            import sympy as sp
+
             r = self.momentum_residual(o)
             if any(sp.simplify(x) != 0 for x in r):
                 raise VerificationError(self.law, f"momentum balance M(v+ - v-) = H^T p fails by {list(r)}")

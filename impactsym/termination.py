@@ -14,8 +14,8 @@ The theorem (proved in ``docs/compliant_termination.md``). For the compliant mod
   gives nothing; a ball between two walls rings for ever when elastic.
 
 :func:`separating_direction` decides which case holds and returns an exact certificate for it
-(verified exactly before it is returned: rational rows in python-flint ``fmpq``, algebraic rows
-in SymPy with certified signs); :func:`impulse_bounds` turns a certificate into the bounds; and
+(verified exactly before it is returned: rational rows in python-flint ``fmpq``, without SymPy,
+algebraic rows in SymPy with certified signs); :func:`impulse_bounds` turns a certificate into the bounds; and
 :func:`check_run` is the a-posteriori check every compliant run passes before it is returned
 (momentum balance, energy, impulse bound), raising :class:`~impactsym.errors.VerificationError`
 when the integration broke a proved fact.
@@ -45,13 +45,17 @@ Exact algebraic rows (a point in a corner of a floor and a 60° wall) are decide
 
 from __future__ import annotations
 
+import sys
 from dataclasses import dataclass
 from fractions import Fraction
 
 import numpy as np
-import sympy as sp
 
+from .arithmetic import LazyModule
 from .errors import ImpactInputError, UndecidableSign, VerificationError
+
+#: SymPy, imported on first use: rational rows are decided and certified in python-flint alone
+sp = LazyModule("sympy", globals(), "sp")
 
 __all__ = ["SeparationCertificate", "separating_direction", "verify_certificate", "impulse_bounds",
            "energy_tolerance", "check_run", "MOMENTUM_TOL", "DOC"]
@@ -65,13 +69,35 @@ MOMENTUM_TOL = 1e-9
 
 
 # --------------------------------------------------------------------------------- exact data
+def _is_sympy(x, kind: str) -> bool:
+    """Whether ``x`` is a SymPy ``kind``, without importing SymPy (when it is not loaded, nothing is)."""
+    mod = sys.modules.get("sympy")
+    return mod is not None and isinstance(x, getattr(mod, kind))
+
+
+def _exact(F, x):
+    """A field element as the certificate keeps it: ``fmpq`` for rational rows, SymPy otherwise."""
+    return x if F.name == "rational" else F.to_sympy(x)
+
+
+def _float20(x) -> float:
+    """``float(N(x, 20))``: bit for bit SymPy's, for an ``fmpq`` without SymPy."""
+    from flint import fmpq
+
+    if isinstance(x, fmpq):
+        from .arithmetic.literals import json_float
+
+        return json_float(int(x.p), int(x.q), 20)
+    return float(sp.N(x, 20))
+
+
 def _exact_rows(H):
     """``H`` as exact rows in one field: ``(F, rows, k, n)``; floats at their binary value,
     SymPy ``Float`` likewise, integers/rationals/strings/SymPy expressions as they are."""
     from .arithmetic.fields import AlgebraicField, RationalField
     from .arithmetic.rational import as_fmpq, float_to_rational
 
-    if isinstance(H, sp.MatrixBase):
+    if _is_sympy(H, "MatrixBase"):
         k, n = H.shape
         entries = list(H)
     else:
@@ -88,7 +114,7 @@ def _exact_rows(H):
     for x in entries:
         if isinstance(x, str):
             x = sp.sympify(x)
-        if isinstance(x, sp.Float):
+        if _is_sympy(x, "Float"):
             x = float_to_rational(float(x))
         fixed.append(x)
     q = [as_fmpq(x) for x in fixed]
@@ -104,7 +130,8 @@ def _exact_rows(H):
 
 
 def _to_float(F, x) -> float:
-    return float(F.to_sympy(x)) if F.name == "rational" else float(sp.N(x, 20))
+    # a rational: the nearest float (as float of SymPy's Rational, which rounds to nearest)
+    return int(x.p) / int(x.q) if F.name == "rational" else float(sp.N(x, 20))
 
 
 def _rationals(xs, F, denominators=(1, 1000, 10**6)):
@@ -125,7 +152,8 @@ class SeparationCertificate:
     ----------
     separating : True: ``vector`` is ``u`` (n entries) with ``H u > 0``; False: ``vector`` is
         ``λ`` (k entries), ``λ ≥ 0``, ``λ ≠ 0``, ``Hᵀλ = 0``
-    vector : exact SymPy numbers
+    vector : exact numbers: python-flint ``fmpq`` for rational rows, SymPy numbers for algebraic
+        ones (both print as SymPy does: ``"-1/3"``)
     products : ``H u`` (k entries, all > 0) or ``Hᵀλ`` (n entries, all 0), exact
     field : ``"rational"`` (flint ``fmpq``) or ``"algebraic"`` (SymPy, certified signs)
     """
@@ -144,11 +172,11 @@ class SeparationCertificate:
 
     @property
     def vector_float(self) -> np.ndarray:
-        return np.array([float(sp.N(x, 20)) for x in self.vector], dtype=float)
+        return np.array([_float20(x) for x in self.vector], dtype=float)
 
     @property
     def products_float(self) -> np.ndarray:
-        return np.array([float(sp.N(x, 20)) for x in self.products], dtype=float)
+        return np.array([_float20(x) for x in self.products], dtype=float)
 
     def statement(self) -> str:
         """The certified fact in words (for refusals and ``details``)."""
@@ -209,12 +237,19 @@ def verify_certificate(H, certificate: SeparationCertificate) -> SeparationCerti
         for j, s in enumerate(prods):
             if F.sign(s) != 0:
                 raise VerificationError(name, f"(H^T lambda)_{j + 1} = {F.to_sympy(s)} is not 0")
-    exact = tuple(F.to_sympy(x) for x in prods)
-    if len(certificate.products) != len(exact):
-        raise VerificationError(name, f"{len(certificate.products)} stored products, {len(exact)} recomputed")
-    if tuple(sp.sympify(x) for x in certificate.products) != exact and not all(
-            sp.simplify(sp.sympify(a) - b) == 0 for a, b in zip(certificate.products, exact)):
-        raise VerificationError(name, f"the stored products {certificate.products} are not the recomputed {exact}")
+    if len(certificate.products) != len(prods):
+        raise VerificationError(name, f"{len(certificate.products)} stored products, {len(prods)} recomputed")
+    if F.name == "rational":
+        from .arithmetic.rational import as_fmpq
+
+        same = all(as_fmpq(a) == b for a, b in zip(certificate.products, prods))
+    else:
+        exact = tuple(F.to_sympy(x) for x in prods)
+        same = tuple(sp.sympify(x) for x in certificate.products) == exact or all(
+            sp.simplify(sp.sympify(a) - b) == 0 for a, b in zip(certificate.products, exact))
+    if not same:
+        raise VerificationError(name, f"the stored products {certificate.products} are not the recomputed "
+                                      f"{tuple(F.to_sympy(x) for x in prods)}")
     return certificate
 
 
@@ -248,8 +283,8 @@ def _try_u(F, rows, k, n, u_float):
 
     for u in _rationals(u_float, F):
         if all(F.sign(dot(r, u, F)) > 0 for r in rows):
-            return SeparationCertificate(True, tuple(F.to_sympy(x) for x in u),
-                                         tuple(F.to_sympy(dot(r, u, F)) for r in rows), F.name)
+            return SeparationCertificate(True, tuple(_exact(F, x) for x in u),
+                                         tuple(_exact(F, dot(r, u, F)) for r in rows), F.name)
     return None
 
 
@@ -271,7 +306,7 @@ def _try_lambda(F, rows, k, n, y, S):
                 lam[i] = lam_S[s]
             if F.name == "algebraic":
                 lam = [sp.radsimp(x) for x in lam]
-            cert = SeparationCertificate(False, tuple(F.to_sympy(x) for x in lam), (0,) * n, F.name)
+            cert = SeparationCertificate(False, tuple(_exact(F, x) for x in lam), (0,) * n, F.name)
             try:
                 return verify_certificate_rows(F, rows, k, n, cert)
             except VerificationError:  # pragma: no cover - the null space is exact
@@ -280,7 +315,10 @@ def _try_lambda(F, rows, k, n, y, S):
 
 
 def verify_certificate_rows(F, rows, k, n, cert):
-    """:func:`verify_certificate` on rows already made exact (internal)."""
+    """:func:`verify_certificate` on rows already made exact (internal): rational rows as lists of
+    ``fmpq`` (no SymPy), algebraic ones as a SymPy matrix."""
+    if F.name == "rational":
+        return verify_certificate([list(r) for r in rows], cert)
     return verify_certificate(sp.Matrix(k, n, [F.to_sympy(x) for r in rows for x in r]), cert)
 
 

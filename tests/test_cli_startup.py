@@ -1,10 +1,14 @@
-"""Start-up stays light: ``import impactsym``, ``impactsym --help`` and ``impactsym codegen --list``
-import no SymPy, NumPy, SciPy, mpmath or flint, and ``impactsym reflect`` on rational input only
-flint (each runs in a fresh interpreter, checked through ``sys.modules``, not by timing); the lazy names of ``impactsym`` resolve to the objects of their
-modules; the domain parser's scene names are the domains' own."""
+"""Start-up stays light: ``import impactsym``, ``impactsym --help``, ``impactsym codegen --list`` and
+``impactsym scene list`` import no SymPy, NumPy, SciPy, mpmath or flint, ``impactsym reflect`` on
+rational input only flint, and the law interface (:mod:`impactsym.lawbook`,
+:mod:`impactsym.resolution`) no SymPy or mpmath, so that refusing an option costs none (each runs
+in a fresh interpreter, checked through ``sys.modules``, not by timing); the lazy names of
+``impactsym`` and ``impactsym.scenes`` resolve to the objects of their modules; the domain parser's
+scene names are the domains' own."""
 
 from __future__ import annotations
 
+import importlib
 import subprocess
 import sys
 from pathlib import Path
@@ -30,6 +34,11 @@ def _loaded_after(code: str) -> set:
     "with contextlib.redirect_stdout(io.StringIO()): main(['--help'])",
     "import contextlib, io\nfrom impactsym.cli import main\n"
     "with contextlib.redirect_stdout(io.StringIO()): main(['codegen', '--list', '--json'])",
+    "import contextlib, io\nfrom impactsym.cli import main\n"
+    "with contextlib.redirect_stdout(io.StringIO()): assert main(['scene', 'list']) == 0",
+    "import contextlib, io\nfrom impactsym.cli import main\n"
+    "with contextlib.redirect_stdout(io.StringIO()): assert main(['scene', 'list', '--json']) == 0",
+    "import impactsym.scenes.registry, impactsym.scenes.reading",
 ])
 def test_start_up_imports_no_heavy_library(code):
     assert _loaded_after(code) == set()
@@ -54,6 +63,47 @@ def test_reflect_on_irrational_input_still_takes_sympy():
     """The probe above can fail: irrational entries load SymPy (the general path)."""
     argv = ["reflect", "--mass-matrix", "sqrt(2),0;0,1", "--gradient=-1,1", "--json"]
     assert "sympy" in _loaded_after(_REFLECT.format(argv=argv))
+
+
+def test_the_law_interface_imports_no_sympy_or_mpmath():
+    """The laws' table, options and outcome types (issue 15): NumPy only."""
+    code = "import impactsym.lawbook, impactsym.lawbook_compliant, impactsym.resolution"
+    assert _loaded_after(code) == {"numpy"}
+
+
+_RESOLVE = ("import contextlib, io\nfrom impactsym.cli import main\n"
+            "with contextlib.redirect_stdout(io.StringIO()), contextlib.redirect_stderr(io.StringIO()):\n"
+            "    assert main({argv!r}) == {status}")
+_CHAIN = ["--mass-matrix", "1,0,0;0,1,0;0,0,1", "--gradients", "-1,1,0;0,-1,1", "--velocity", "1,0,0"]
+
+
+@pytest.mark.parametrize("law", ["newton", "poisson", "energetic", "impulse-ratio", "two-surface", "han-gilmore",
+                                 "hertz", "lzb"])
+def test_refusing_float_for_a_law_without_it_imports_no_sympy(law):
+    """``--float`` belongs to ``--law sequential``: every other law refuses it (exit 2) before any
+    number is read, without SymPy."""
+    argv = ["resolve", "--law", law, "--float", *_CHAIN, "--json"]
+    assert "sympy" not in _loaded_after(_RESOLVE.format(argv=argv, status=2))
+
+
+def test_the_refusal_probe_can_fail():
+    """The probe above can fail: an exact law that runs loads SymPy."""
+    argv = ["resolve", "--law", "newton", *_CHAIN, "--json"]
+    assert "sympy" in _loaded_after(_RESOLVE.format(argv=argv, status=0))
+
+
+def test_lazy_scene_names_are_the_modules_objects():
+    import impactsym.scenes as scenes
+    from impactsym.scenes import fileformat, reading, registry
+
+    for name in scenes.__all__:
+        assert getattr(scenes, name) is getattr(importlib.import_module(f"impactsym.scenes.{scenes._LAZY[name]}"),
+                                                name), name
+    assert scenes.read_scene_file is reading.read_scene_file is fileformat.read_scene_file
+    assert scenes.SHIPPED_SCENES is registry.SHIPPED_SCENES
+    assert set(scenes.__all__) <= set(dir(scenes))
+    with pytest.raises(AttributeError, match="no attribute 'no_such_scene'"):
+        scenes.no_such_scene  # noqa: B018
 
 
 def test_lazy_names_are_the_modules_objects():

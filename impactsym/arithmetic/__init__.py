@@ -45,6 +45,28 @@ _NAMES = {
 }
 
 
+class LazyModule:
+    """A stand-in for the module ``name``, imported on the first attribute read; it then puts the
+    module itself in its place (``namespace[alias]``), so that later reads cost nothing.
+
+    The arithmetic modules hold SymPy this way: their rational paths (python-flint ``fmpq``) run
+    without importing it, and the first SymPy number handled imports it.
+
+    >>> ns = {}
+    >>> ns["m"] = LazyModule("fractions", ns, "m")
+    >>> ns["m"].Fraction(1, 2), type(ns["m"]).__name__
+    (Fraction(1, 2), 'module')
+    """
+
+    def __init__(self, name: str, namespace: dict, alias: str):
+        self._name, self._namespace, self._alias = name, namespace, alias
+
+    def __getattr__(self, attr):
+        module = importlib.import_module(self._name)
+        self._namespace[self._alias] = module
+        return getattr(module, attr)
+
+
 def __getattr__(name):
     module = _NAMES.get(name)
     if module is None:

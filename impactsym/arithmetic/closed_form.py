@@ -20,9 +20,11 @@ from __future__ import annotations
 from fractions import Fraction
 from functools import lru_cache
 
-import sympy as sp
-
+from . import LazyModule
 from ..errors import UndecidableSign
+
+#: SymPy, imported on first use: the rational paths (python-flint) run without it
+sp = LazyModule("sympy", globals(), "sp")
 
 __all__ = ["certified_sign", "certified_compare", "tidy"]
 

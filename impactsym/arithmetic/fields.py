@@ -16,10 +16,13 @@ Both offer the same small interface (``num``, ``sign``, ``norm``, ``to_sympy``, 
 from __future__ import annotations
 
 import flint
-import sympy as sp
 
+from . import LazyModule
 from .closed_form import certified_sign
 from .rational import all_rational, to_fmpq, to_sympy_rational
+
+#: SymPy, imported on first use: the rational paths (python-flint) run without it
+sp = LazyModule("sympy", globals(), "sp")
 
 __all__ = ["sign_of", "sign_surd", "compare_surds", "RationalField", "AlgebraicField", "field_of"]
 
@@ -117,6 +120,16 @@ class RationalField:
         return sign_surd(alpha, beta, q)
 
 
+class _SympyInteger:
+    """A class attribute that is SymPy's ``Integer(n)``, made when first read (not at import)."""
+
+    def __init__(self, n: int):
+        self.n = n
+
+    def __get__(self, obj, owner):
+        return sp.Integer(self.n)
+
+
 class AlgebraicField:
     """Exact SymPy numbers; every sign certified.
 
@@ -125,8 +138,8 @@ class AlgebraicField:
     """
 
     name = "algebraic"
-    zero = sp.Integer(0)
-    one = sp.Integer(1)
+    zero = _SympyInteger(0)
+    one = _SympyInteger(1)
 
     @staticmethod
     def num(x):

@@ -23,11 +23,14 @@ done by
 from __future__ import annotations
 
 import flint
-import sympy as sp
 
+from . import LazyModule
 from .closed_form import tidy
 from .fields import AlgebraicField, RationalField, sign_of
 from .rational import as_fmpq, to_sympy_matrix, to_sympy_rational
+
+#: SymPy, imported on first use: the rational paths (python-flint) run without it
+sp = LazyModule("sympy", globals(), "sp")
 
 __all__ = ["rref", "kernel_basis", "nullspace", "solve_columns", "rank", "independent", "in_row_space",
            "dot", "matvec", "minner", "exact_rank", "ExactLinearAlgebra"]

@@ -129,30 +129,37 @@ def _round_nearest_even(man: int, exp: int, bits: int) -> tuple[int, int]:
     return q, exp + excess
 
 
-def json_float(p: int, q: int = 1) -> float:
-    """The float of the exact rational ``p/q`` (``q > 0``) as SymPy's ``float(N(p/q, 17))`` gives it,
-    bit for bit: the JSON ``X_float`` of an exact number (:func:`impactsym.numbers.exact_json`).
+def json_float(p: int, q: int = 1, digits: int = 17) -> float:
+    """The float of the exact rational ``p/q`` (``q > 0``) as SymPy's ``float(N(p/q, digits))``
+    gives it, bit for bit: with ``digits = 17``, the JSON ``X_float`` of an exact number
+    (:func:`impactsym.numbers.exact_json`).
 
-    SymPy evaluates a rational to 64 bits rounding toward zero, keeps 60 bits (17 digits) rounding
-    to nearest, then 53 bits rounding to nearest, so the result is the nearest float of ``p/q``
-    except, rarely, at a near-tie. Overflow gives ``±inf``, as SymPy's does.
+    SymPy evaluates a rational to ``b + 4`` bits rounding toward zero (``b`` = ``digits``' bits,
+    60 for 17 digits, 70 for 20), keeps ``b`` bits rounding to nearest, then 53 bits rounding to
+    nearest, so the result is the nearest float of ``p/q`` except, rarely, at a near-tie.
+    Overflow gives ``±inf``, as SymPy's does.
 
     >>> json_float(1, 3), json_float(-7), json_float(0), json_float(10 ** 400)
     (0.3333333333333333, -7.0, 0.0, inf)
+    >>> x = 2 * (2 ** 53 + 1) * 2 ** 6 + 1   # x / 2**7 is just above a tie between two floats
+    >>> json_float(x, 2 ** 7), json_float(x, 2 ** 7, digits=20)
+    (9007199254740992.0, 9007199254740994.0)
     """
     if p == 0:
         return 0.0
+    bits = max(1, int(round((int(digits) + 1) * 3.3219280948873626)))  # mpmath's dps_to_prec
+    work = bits + 4
     sign, a = (p < 0), abs(p)
-    # step 1: |p|/q truncated to 64 significant bits (mpmath's from_rational, round_down)
-    shift = 64 - (a.bit_length() - q.bit_length()) + 1
+    # step 1: |p|/q truncated to `work` significant bits (mpmath's from_rational, round_down)
+    shift = work - (a.bit_length() - q.bit_length()) + 1
     man = (a << shift) // q if shift >= 0 else a // (q << -shift)
     exp = -shift
-    excess = man.bit_length() - 64
+    excess = man.bit_length() - work
     if excess > 0:
         man >>= excess
         exp += excess
-    # steps 2 and 3: 60 bits, then 53 bits, each rounding to nearest (ties to even)
-    man, exp = _round_nearest_even(man, exp, 60)
+    # steps 2 and 3: `bits` bits, then 53 bits, each rounding to nearest (ties to even)
+    man, exp = _round_nearest_even(man, exp, bits)
     man, exp = _round_nearest_even(man, exp, 53)
     try:
         x = math.ldexp(man, exp)

@@ -18,9 +18,12 @@ from typing import Any
 
 import flint
 import numpy as np
-import sympy as sp
 
+from . import LazyModule
 from ..errors import ImpactInputError
+
+#: SymPy, imported on first use: the rational paths (python-flint) run without it
+sp = LazyModule("sympy", globals(), "sp")
 
 __all__ = ["float_to_rational", "as_fmpq", "to_fmpq", "bits", "rational_matrix", "to_sympy_rational", "to_sympy_matrix",
            "exact_data", "all_rational", "float_vector", "rational_sqrt"]

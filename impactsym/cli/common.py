@@ -53,15 +53,41 @@ def number_arg(text: str, argument: str, *, as_float: bool = False):
 
 
 # --------------------------------------------------------------------------- strict JSON
+#: leaf types that strict JSON keeps as they are (``bool`` before ``int``: both are kept)
+_KEPT = frozenset({str, int, bool, type(None)})
+#: ... and with ``float``, whose non-finite values become ``None``
+_KEPT_OR_FLOAT = _KEPT | {float}
+
+
 def strict_json(obj: Any) -> Any:
     """``obj`` with every float that is not finite replaced by ``None`` (and NumPy scalars made
     Python ones), so that it is strict JSON (``CONVENTIONS.md``: a float that overflows is
     ``null`` beside its exact string).
 
+    A list (or tuple) whose entries are all plain strings, integers, booleans, ``None`` or floats
+    (a matrix row, a vector and its float twin: nearly every leaf of a result) is copied in one
+    pass over the entries' types instead of one call per entry; its finite floats are kept and the
+    others become ``None``, as entry by entry.
+
     >>> import numpy as np
     >>> strict_json({"v": ["1e400", float("inf")], "n": [float("nan"), 1.5, np.int64(3)]})
     {'v': ['1e400', None], 'n': [None, 1.5, 3]}
+    >>> strict_json([[1.5, -0.0, "1/3", None, True], (2, float("-inf"))])
+    [[1.5, -0.0, '1/3', None, True], [2, None]]
     """
+    t = type(obj)
+    if t is list or t is tuple:
+        kinds = set(map(type, obj))
+        if kinds <= _KEPT_OR_FLOAT:  # only leaves: no call per entry
+            if float not in kinds or all(map(math.isfinite, obj if len(kinds) == 1 else
+                                                (x for x in obj if type(x) is float))):
+                return list(obj)
+            return [x if type(x) is not float or math.isfinite(x) else None for x in obj]
+        return [strict_json(v) for v in obj]
+    if t is str or t is int or t is bool or obj is None:
+        return obj
+    if t is float:
+        return obj if math.isfinite(obj) else None
     if isinstance(obj, dict):
         return {str(k): strict_json(v) for k, v in obj.items()}
     if isinstance(obj, (list, tuple)):

@@ -38,6 +38,8 @@ LAW_CLI: dict[str, str] = {
     "lzb": "resolve_compliant:lzb_options",
 }
 LAWS = tuple(LAW_CLI)
+#: the laws that compute in floats (integrators): they read plain rational matrices without SymPy
+FLOAT_LAWS = ("hertz", "linear", "power", "hunt-crossley", "lzb")
 
 #: why an option is absent from a law (appended to the refusal)
 NOT_APPLICABLE_BECAUSE: dict[tuple[str, str], str] = {
@@ -139,9 +141,10 @@ def run(args) -> dict:
     check_options(args)
     path = plot_path(args)  # checked before the work
     from ..lawbook import get_law, resolve_all
-    from .scene_args import float_range_guard, read_system
+    from .scene_args import float_range_guard, read_rational_system, read_system
 
-    system = read_system(args)
+    # a law that computes in floats reads plain rational matrices without SymPy (issue 15)
+    system = (read_rational_system(args) if args.law in FLOAT_LAWS and path is None else None) or read_system(args)
     if args.law == "all":
         given = {law: {k: v for k, v in _cli_options(law, args).items()} for law in LAWS}
         with float_range_guard(args):

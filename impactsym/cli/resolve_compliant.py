@@ -17,17 +17,37 @@ the end thresholds), the integration's counts (``events``, ``steps``, ``nfev``; 
 from __future__ import annotations
 
 from ..errors import ImpactInputError
-from ..numbers import parse_number
 
 __all__ = ["hertz_options", "linear_options", "power_options", "hunt_crossley_options", "lzb_options", "render",
            "per_contact_arg"]
+
+
+def parse_number(text, argument):
+    """One exact number: plain text (``"3/2"``, ``"1e-11"``) as a ``Fraction``, without SymPy;
+    anything else by :func:`impactsym.numbers.parse_number` (which also words every error). The
+    laws read both alike (their floats are ``float(N(x, 17))``).
+
+    >>> parse_number("1.5", "exponent"), parse_number("sqrt(2)", "stiffness")
+    (Fraction(3, 2), sqrt(2))
+    """
+    from ..arithmetic.literals import plain_rational
+
+    try:
+        value = plain_rational(text)
+    except ZeroDivisionError:
+        value = None
+    if value is not None:
+        return value
+    from ..numbers import parse_number as parse
+
+    return parse(text, argument)
 
 
 def per_contact_arg(text, argument):
     """One exact number, or one per contact ``"a,b"`` (a list); None when absent.
 
     >>> per_contact_arg("3/2", "exponent"), per_contact_arg("1, 2", "stiffness")
-    (3/2, [1, 2])
+    (Fraction(3, 2), [Fraction(1, 1), Fraction(2, 1)])
     """
     if text is None:
         return None

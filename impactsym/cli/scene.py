@@ -111,7 +111,7 @@ def _floats(value, exact: bool):
 
 
 def run_list(args) -> dict:
-    from ..scenes.fileformat import read_scene_file
+    from ..scenes.reading import read_scene_file  # the standard library only: no SymPy to list
     from ..scenes.registry import BUILTIN_SCENES, SCENE_PARAMS, SHIPPED_SCENES
 
     builtin = [{"name": name, "params": list(SCENE_PARAMS[name]), "description": text}

@@ -11,7 +11,7 @@ from contextlib import contextmanager
 from ..errors import ImpactInputError
 from .common import matrix_arg, vector_arg
 
-__all__ = ["SCENE_OPTIONS", "MATRIX_OPTIONS", "read_system", "float_range_guard", "int_option",
+__all__ = ["SCENE_OPTIONS", "MATRIX_OPTIONS", "read_system", "read_rational_system", "float_range_guard", "int_option",
            "restitution_arg", "add_system_arguments"]
 
 #: the parameters any built-in scene takes (``impactsym.scenes.registry.ALL_PARAMS``; a test checks
@@ -69,13 +69,14 @@ def read_system(args):
     """The :class:`~impactsym.resolution.System` of the options, with ``--restitution`` (one
     number, or one per contact ``"a,b"``; a scene file's own per-contact restitution otherwise)."""
     from ..resolution import System
-    from ..scenes import load_scene
 
     scene_file = getattr(args, "scene_file", None)
     e = restitution_arg(getattr(args, "restitution", None))
     if scene_file is not None and args.scene is not None:
         raise ImpactInputError("scene", "cannot be combined with --scene-file (the file defines the scene; give one)")
     if scene_file is not None or args.scene is not None:
+        from ..scenes import load_scene
+
         for opt in MATRIX_OPTIONS:
             if getattr(args, opt) is not None:
                 raise ImpactInputError(opt, "cannot be combined with --scene (the scene defines M, H and v)")
@@ -103,6 +104,39 @@ def read_system(args):
     return System.from_matrices(M, H, v, e)
 
 
+def read_rational_system(args):
+    """The :class:`~impactsym.resolution.System` of explicit matrices whose every entry (and
+    ``--restitution``) is plain rational text (``2``, ``-1/3``, ``1.5``, ``1e-3``), read and checked
+    exactly without SymPy (:meth:`~impactsym.resolution.System.from_rationals`): for the laws that
+    compute in floats. ``None`` for anything else (a scene, ``sqrt(2)``, malformed text, input the
+    checks refuse): :func:`read_system` then reads it, and words every error as it always has."""
+    from ..arithmetic.literals import plain_matrix, plain_rational, plain_vector
+    from ..errors import ImpactError
+    from ..resolution import System
+
+    if getattr(args, "scene_file", None) is not None or args.scene is not None:
+        return None
+    if any(getattr(args, name, None) is not None for name in ALL_PARAMS):
+        return None
+    if any(getattr(args, opt) is None for opt in MATRIX_OPTIONS):
+        return None
+    M, H, v = plain_matrix(args.mass_matrix), plain_matrix(args.gradients), plain_vector(args.velocity)
+    if M is None or H is None or v is None:
+        return None
+    text = getattr(args, "restitution", None)
+    try:
+        e = None if text is None else ([plain_rational(x) for x in str(text).split(",")] if "," in str(text)
+                                       else plain_rational(text))
+    except ZeroDivisionError:
+        return None
+    if e is not None and (e if isinstance(e, list) else [e]).count(None):
+        return None
+    try:
+        return System.from_rationals(M, H, v, e)
+    except ImpactError:
+        return None
+
+
 def _existing_file(text: str):
     from pathlib import Path
 
@@ -114,10 +148,10 @@ def _existing_file(text: str):
 
 def restitution_arg(text):
     """``--restitution``: one exact number, or one per contact ``"a,b,c"``; None when absent."""
-    from ..numbers import parse_number
-
     if text is None:
         return None
+    from ..numbers import parse_number
+
     if "," in str(text):
         return [parse_number(x, "restitution") for x in str(text).split(",")]
     return parse_number(text, "restitution")

@@ -19,8 +19,12 @@ velocity and, optionally, one restitution coefficient per closed contact.
 
 Canonical scenes of the papers are built in :mod:`impactsym.models`.
 
+The names are imported on first use (PEP 562), so that ``impactsym scene list`` and the
+command line's reading of scene names and parameters (:mod:`.registry`) cost no SymPy.
+
 Examples
 --------
+>>> from impactsym.scenes import load_scene
 >>> sc = load_scene("newton-cradle-5-strikers-1")
 >>> sc.contacts, sc.approaching
 (['1-2', '2-3', '3-4', '4-5'], [True, False, False, False])
@@ -30,13 +34,34 @@ True
 
 from __future__ import annotations
 
-from .builders import FLOAT_GAP_RTOL, balls_in_plane, balls_on_line, full_velocity
-from .scene import Scene, check_restitution
-from .fileformat import FORMAT, load_scene, load_scene_file, read_scene_file, scene_from_dict, scene_to_dict
-from .registry import ALL_PARAMS, BUILTIN_SCENES, SCENE_PARAMS, SHIPPED_SCENES, build_scene, scene_names
-from .describe import describe_scene, kinetic_angles
+import importlib
+
+#: every public name -> the submodule it lives in
+_LAZY = {
+    **{name: "builders" for name in ("FLOAT_GAP_RTOL", "balls_in_plane", "balls_on_line", "full_velocity")},
+    **{name: "scene" for name in ("Scene", "check_restitution")},
+    **{name: "fileformat" for name in ("FORMAT", "load_scene", "load_scene_file", "scene_from_dict",
+                                       "scene_to_dict")},
+    "read_scene_file": "reading",
+    **{name: "registry" for name in ("ALL_PARAMS", "BUILTIN_SCENES", "SCENE_PARAMS", "SHIPPED_SCENES", "build_scene",
+                                     "scene_names")},
+    **{name: "describe" for name in ("describe_scene", "kinetic_angles")},
+}
 
 __all__ = ["Scene", "check_restitution", "balls_on_line", "balls_in_plane", "full_velocity", "FLOAT_GAP_RTOL",
            "FORMAT", "load_scene", "load_scene_file", "read_scene_file", "scene_from_dict", "scene_to_dict",
            "ALL_PARAMS", "BUILTIN_SCENES", "SCENE_PARAMS", "SHIPPED_SCENES", "build_scene", "scene_names",
            "describe_scene", "kinetic_angles"]
+
+
+def __getattr__(name):
+    module = _LAZY.get(name)
+    if module is None:
+        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+    value = getattr(importlib.import_module(f".{module}", __name__), name)
+    globals()[name] = value  # later lookups skip __getattr__
+    return value
+
+
+def __dir__():
+    return sorted(set(globals()) | set(_LAZY))

@@ -32,11 +32,12 @@ impactsym.errors.ImpactInputError: n_balls: --n-balls does not apply to --scene 
 from __future__ import annotations
 
 from pathlib import Path
-
-import sympy as sp
+from typing import TYPE_CHECKING
 
 from ..errors import ImpactInputError
-from .scene import Scene
+
+if TYPE_CHECKING:  # the registry's names and parameters are read without SymPy (the CLI's start-up)
+    from .scene import Scene
 
 __all__ = ["int_option", "BUILTIN_SCENES", "SCENE_PARAMS", "ALL_PARAMS", "SHIPPED_SCENES", "SCENE_FILES_DIR", "build_scene",
            "scene_names", "is_scene_name"]
@@ -207,6 +208,8 @@ def build_scene(name: str, params: dict | None = None) -> Scene:
 
 def _acary_taha(name, given):
     """Copied from ``cli/scene_args.read_scene`` (same checks, same messages)."""
+    import sympy as sp
+
     from ..exact import certified_sign
     from ..models import acary_taha
     from ..numbers import exact_str, parse_number, parse_vector
