@@ -64,13 +64,25 @@ class _MpmathPrinter(MpmathPrinter):
     def _print_Mod(self, expr):
         return "(" + super()._print_Mod(expr) + ")"
 
+    def _print(self, expr, **kwargs):
+        """Each distinct subexpression printed once (a node's text does not depend on where it
+        stands): the catalog's two_surface_resolution_2 has 363 distinct nodes in 51 532."""
+        if kwargs or not isinstance(expr, sp.Basic) or not expr.args:
+            return super()._print(expr, **kwargs)
+        memo = self.__dict__.setdefault("_memo", {})
+        text = memo.get(expr)
+        if text is None:
+            text = memo[expr] = super()._print(expr)
+        return text
 
-def _ok(ref, xs) -> bool:
+
+def _values_or_none(ref, xs):
+    """``ref._values(xs)``, or None outside the domain (each point evaluated once: deciding "inside"
+    and taking the values are one evaluation)."""
     try:
-        ref._values(xs)
-        return True
+        return ref._values(xs)
     except OutsideDomain:
-        return False
+        return None
 
 
 def _mpmath_printer() -> _MpmathPrinter:
@@ -147,12 +159,13 @@ class Reference:
                     continue
                 up, down = list(xs), list(xs)
                 up[j], down[j] = x * (1 + delta), x * (1 - delta)
-                if _ok(self, up) and _ok(self, down):
-                    fu, fd, width = self._values(up), self._values(down), 2 * delta
-                elif _ok(self, up):  # on the domain's boundary: one-sided
-                    fu, fd, width = self._values(up), vals, delta
-                elif _ok(self, down):
-                    fu, fd, width = vals, self._values(down), delta
+                fu, fd = _values_or_none(self, up), _values_or_none(self, down)
+                if fu is not None and fd is not None:
+                    width = 2 * delta
+                elif fu is not None:  # on the domain's boundary: one-sided
+                    fd, width = vals, delta
+                elif fd is not None:
+                    fu, width = vals, delta
                 else:  # an isolated point of the domain along x_j (e.g. D = 0 exactly with D < 0 on
                     # both sides): no derivative, the condition number is infinite (not 0)
                     sens = [mpmath.inf] * len(vals)
