@@ -119,7 +119,7 @@ def _factor_terms_shared(expr, memo: dict | None = None):
 
     The same as SymPy 1.14's ``factor_terms`` (its inner ``do``, copied, with a memo): a kernel's
     outputs repeat their subexpressions (``two_surface_resolution_2``: 51 532 tree nodes, 363
-    distinct), and the stock function rebuilds every repetition (2.4 s of its ``cse``, 0.1 s here).
+    distinct), and the stock function rebuilds every repetition (most of the 2.4 s its ``cse`` took).
     ``do`` is a function of its argument alone, so the memo changes no result (the generated files
     are byte-identical, tests/test_codegen_sync.py).
 
@@ -262,6 +262,11 @@ def _sub_pre_shared(e):
     return e
 
 
+#: the SymPy version whose ``factor_terms`` and ``sub_pre`` :func:`_factor_terms_shared` and
+#: :func:`_sub_pre_shared` copy (the generated files are diffed against it, tests/test_codegen_sync.py)
+_SHARED_FROM_SYMPY = "1.14.0"
+
+
 def _cse_optimizations():
     """SymPy's ``optimizations="basic"`` (``sub_pre``/``sub_post``, then ``factor_terms``), with
     ``sub_pre`` and ``factor_terms`` computed once per distinct subexpression
@@ -275,6 +280,8 @@ def _cse_optimizations():
     from sympy.simplify.cse_main import basic_optimizations
     from sympy.simplify.cse_opts import sub_post, sub_pre
 
+    if sp.__version__ != _SHARED_FROM_SYMPY:  # the copies follow that version's code: another uses its own
+        return "basic"
     if [(sub_pre, sub_post), (sp.factor_terms, None)] != list(basic_optimizations):
         raise RuntimeError("SymPy's basic cse optimizations changed: _cse_optimizations must follow them")
     memo: dict = {}  # factor_terms of a subexpression, shared by the outputs of one kernel
