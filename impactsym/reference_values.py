@@ -116,9 +116,7 @@ def _lambdify_shared(args, outputs):
     ...     f(mpmath.mpf(3), mpmath.mpf(1)) == [mpmath.mpf(1) / 2, mpmath.mpf(4)]
     True
     """
-    settings = {"fully_qualified_modules": False, "inline": True, "allow_unknown_functions": True,
-                "user_functions": {}}
-    counter = _SharingPrinter(settings)
+    counter = _SharingPrinter(dict(_MPMATH_SETTINGS))
     for o in outputs:
         counter.doprint(o)
     taken = {str(a) for a in args}
@@ -131,7 +129,8 @@ def _lambdify_shared(args, outputs):
             k += 1
     unset = sp.Symbol("_unset")
     cses = [(sp.Symbol(n), unset) for n in names.values()]  # every one starts unset in each call
-    return sp.lambdify(args, outputs, modules=[{"_unset": _UNSET}, "mpmath"], printer=_SharingPrinter(settings, names),
+    printer = _SharingPrinter(dict(_MPMATH_SETTINGS), names)
+    return sp.lambdify(args, outputs, modules=[{"_unset": _UNSET}, "mpmath"], printer=printer,
                        cse=lambda exprs: (cses, exprs))
 
 
@@ -144,9 +143,13 @@ def _values_or_none(ref, xs):
         return None
 
 
+#: lambdify's settings of its mpmath printer
+_MPMATH_SETTINGS = {"fully_qualified_modules": False, "inline": True, "allow_unknown_functions": True,
+                    "user_functions": {}}
+
+
 def _mpmath_printer() -> _MpmathPrinter:
-    return _MpmathPrinter({"fully_qualified_modules": False, "inline": True, "allow_unknown_functions": True,
-                           "user_functions": {}})
+    return _MpmathPrinter(dict(_MPMATH_SETTINGS))
 
 
 class OutsideDomain(ArithmeticError):
