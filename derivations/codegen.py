@@ -113,13 +113,189 @@ def render_expressions(derivation: str, family: str, module_doc: str, entries: d
 _CSE_CACHE: dict = {}
 
 
+def _factor_terms_shared(expr, memo: dict | None = None):
+    """``sympy.factor_terms(expr)`` (default options), computed once per distinct subexpression
+    (of ``expr``, and of the earlier expressions given the same ``memo``).
+
+    The same as SymPy 1.14's ``factor_terms`` (its inner ``do``, copied, with a memo): a kernel's
+    outputs repeat their subexpressions (``two_surface_resolution_2``: 51 532 tree nodes, 363
+    distinct), and the stock function rebuilds every repetition (most of the 2.4 s its ``cse`` took).
+    ``do`` is a function of its argument alone, so the memo changes no result (the generated files
+    are byte-identical, tests/test_codegen_sync.py).
+
+    >>> x, y = sp.symbols("x y")
+    >>> e = sp.Piecewise((-2*x - 2*x*y, x > 0), (sp.sqrt(-2*x - 2*x*y), True))
+    >>> _factor_terms_shared(e) == sp.factor_terms(e)
+    True
+    """
+    from sympy.concrete.summations import Sum
+    from sympy.core.exprtools import _factor_sum_int, _keep_coeff, gcd_terms
+    from sympy.integrals.integrals import Integral
+    from sympy.utilities.iterables import iterable
+
+    memo = {} if memo is None else memo
+
+    def do(expr):
+        try:
+            return memo[expr]
+        except (KeyError, TypeError):  # TypeError: an unhashable iterable (a list), not memoized
+            pass
+        rv = _do(expr)
+        try:
+            memo[expr] = rv
+        except TypeError:
+            pass
+        return rv
+
+    def _do(expr):  # sympy.core.exprtools.factor_terms.do (SymPy 1.14), radical=clear=fraction=False, sign=True
+        is_iterable = iterable(expr)
+
+        if not isinstance(expr, sp.Basic) or expr.is_Atom:
+            if is_iterable:
+                return type(expr)([do(i) for i in expr])
+            return expr
+
+        if expr.is_Pow or expr.is_Function or is_iterable or not hasattr(expr, "args_cnc"):
+            args = expr.args
+            newargs = tuple([do(i) for i in args])
+            if newargs == args:
+                return expr
+            return expr.func(*newargs)
+
+        if isinstance(expr, (Sum, Integral)):
+            return _factor_sum_int(expr, radical=False, clear=False, fraction=False, sign=True)
+
+        cont, p = expr.as_content_primitive(radical=False, clear=False)
+        if p.is_Add:
+            list_args = [do(a) for a in sp.Add.make_args(p)]
+            # get a common negative (if there) which gcd_terms does not remove
+            if not any(a.as_coeff_Mul()[0].extract_multiplicatively(-1) is None for a in list_args):
+                cont = -cont
+                list_args = [-a for a in list_args]
+            # watch out for exp(-(x+2)) which gcd_terms will change to exp(-x-2)
+            special = {}
+            for i, a in enumerate(list_args):
+                b, e = a.as_base_exp()
+                if e.is_Mul and e != sp.Mul(*e.args):
+                    list_args[i] = sp.Dummy()
+                    special[list_args[i]] = a
+            # rebuild p not worrying about the order which gcd_terms will fix
+            p = sp.Add._from_args(list_args)
+            p = gcd_terms(p, isprimitive=True, clear=False, fraction=False).xreplace(special)
+        elif p.args:
+            p = p.func(*[do(a) for a in p.args])
+        return _keep_coeff(cont, p, clear=False, sign=True)
+
+    return do(sp.sympify(expr))
+
+
+def _distinct_nodes(expr) -> list:
+    """The distinct nodes of an expression tree (each once, however often it repeats)."""
+    seen, stack = {expr}, [expr]
+    while stack:
+        node = stack.pop()
+        for a in node.args:
+            if a not in seen:
+                seen.add(a)
+                stack.append(a)
+    return list(seen)
+
+
+def _xreplace_shared(expr, rule: dict):
+    """``expr.xreplace(rule)``, each distinct subexpression visited once (SymPy 1.14's
+    ``Basic._xreplace``, with a memo: a node is rebuilt when a rule matched inside it)."""
+    if not rule:
+        return expr
+    memo: dict = {}
+
+    def xr(node):
+        hit = memo.get(node)
+        if hit is not None:
+            return hit
+        if node in rule:
+            out = (rule[node], True)
+        else:
+            args, changed = [], False
+            for a in node.args:
+                if isinstance(a, sp.Basic):
+                    a2, ch = xr(a)
+                    args.append(a2)
+                    changed |= ch
+                else:
+                    args.append(a)
+            out = (node.func(*args), True) if changed else (node, False)
+        memo[node] = out
+        return out
+
+    return xr(expr)[0]
+
+
+def _sub_pre_shared(e):
+    """SymPy 1.14's ``cse_opts.sub_pre`` (``y - x`` as ``-(x - y)`` where ``-1`` can be extracted),
+    with its ``atoms`` and ``xreplace`` visiting each distinct subexpression once."""
+    from sympy.core.sorting import default_sort_key
+
+    adds = [a for a in _distinct_nodes(e) if isinstance(a, sp.Add) and a.could_extract_minus_sign()]
+    reps = {}
+    ignore = set()
+    for a in adds:
+        na = -a
+        if na.is_Mul:  # e.g. MatExpr
+            ignore.add(a)
+            continue
+        reps[a] = sp.Mul._from_args([sp.S.NegativeOne, na])
+
+    e = _xreplace_shared(e, reps)
+
+    # repeat again for persisting Adds but mark these with a leading 1, -1
+    # e.g. y - x -> 1*-1*(x - y)
+    if isinstance(e, sp.Basic):
+        negs = {}
+        for a in sorted((n for n in _distinct_nodes(e) if isinstance(n, sp.Add)), key=default_sort_key):
+            if a in ignore:
+                continue
+            if a in reps:
+                negs[a] = reps[a]
+            elif a.could_extract_minus_sign():
+                negs[a] = sp.Mul._from_args([sp.S.One, sp.S.NegativeOne, -a])
+        e = _xreplace_shared(e, negs)
+    return e
+
+
+#: the SymPy version whose ``factor_terms`` and ``sub_pre`` :func:`_factor_terms_shared` and
+#: :func:`_sub_pre_shared` copy (the generated files are diffed against it, tests/test_codegen_sync.py)
+_SHARED_FROM_SYMPY = "1.14.0"
+
+
+def _cse_optimizations():
+    """SymPy's ``optimizations="basic"`` (``sub_pre``/``sub_post``, then ``factor_terms``), with
+    ``sub_pre`` and ``factor_terms`` computed once per distinct subexpression
+    (:func:`_sub_pre_shared`, :func:`_factor_terms_shared`).
+
+    >>> x, y = sp.symbols("x y")
+    >>> e = [sp.sqrt(y - x) * (x - y) + (y - x)**2, 1 / (y - x)]
+    >>> sp.cse(e, optimizations=_cse_optimizations()) == sp.cse(e, optimizations="basic")
+    True
+    """
+    from sympy.simplify.cse_main import basic_optimizations
+    from sympy.simplify.cse_opts import sub_post, sub_pre
+
+    if sp.__version__ != _SHARED_FROM_SYMPY:  # the copies follow that version's code: another uses its own
+        return "basic"
+    if [(sub_pre, sub_post), (sp.factor_terms, None)] != list(basic_optimizations):
+        raise RuntimeError("SymPy's basic cse optimizations changed: _cse_optimizations must follow them")
+    memo: dict = {}  # factor_terms of a subexpression, shared by the outputs of one kernel
+    return [(_sub_pre_shared, sub_post), (lambda e: _factor_terms_shared(e, memo), None)]
+
+
 def _cse(k: ScalarKernel):
     """Common subexpressions of a kernel's outputs, shared by every language (deterministic;
     computed once per kernel object and reused by every language)."""
     hit = _CSE_CACHE.get(id(k))
     if hit is not None and hit[0] is k:
         return hit[1]
-    result = sp.cse(list(k.outputs), symbols=sp.numbered_symbols("x"), optimizations="basic", order="canonical")
+    result = sp.cse(list(k.outputs), symbols=sp.numbered_symbols("x"), optimizations=_cse_optimizations(),
+                    order="canonical")
     _CSE_CACHE[id(k)] = (k, result)
     return result
 
@@ -255,6 +431,7 @@ from sympy.printing.fortran import FCodePrinter  # noqa: E402
 from sympy.printing.julia import JuliaCodePrinter  # noqa: E402
 from sympy.printing.octave import OctaveCodePrinter  # noqa: E402
 from sympy.printing.pycode import PythonCodePrinter  # noqa: E402
+from sympy.printing.repr import ReprPrinter  # noqa: E402
 from sympy.printing.rust import RustCodePrinter  # noqa: E402
 
 #: every language ``impactsym codegen --lang`` knows; the committed files cover all but
@@ -705,6 +882,38 @@ def render_octave(derivation, family, kernel) -> str:
     return _hash_header(derivation, family, "%") + "\n" + code + "\n"
 
 
+class _SharedReprPrinter(ReprPrinter):
+    """``sympy.srepr`` printing each distinct subexpression once (a kernel's outputs repeat theirs:
+    ``two_surface_resolution_2`` has 363 distinct nodes in 51 532). Only for expressions without
+    ``Float`` (two Floats of different precision compare equal and print differently)."""
+
+    def __init__(self):
+        super().__init__()
+        self._memo: dict = {}
+
+    def _print(self, expr, **kwargs):
+        if kwargs or not isinstance(expr, sp.Basic) or not expr.args:
+            return super()._print(expr, **kwargs)
+        hit = self._memo.get(expr)
+        if hit is None:
+            hit = self._memo[expr] = super()._print(expr)
+        return hit
+
+
+def _srepr(expr) -> str:
+    """``sympy.srepr(expr)``, with each distinct subexpression printed once.
+
+    >>> x = sp.Symbol("x", positive=True)
+    >>> e = sp.Piecewise((sp.sqrt(x + 1) * (x + 1), x > 1), (sp.sqrt(x + 1), True))
+    >>> _srepr(e) == sp.srepr(e)
+    True
+    """
+    expr = sp.sympify(expr)
+    if any(isinstance(n, sp.Float) for n in _distinct_nodes(expr)):
+        return sp.srepr(expr)
+    return _SharedReprPrinter().doprint(expr)
+
+
 def catalog_entry(family: str, derivation: str, k) -> dict:
     scalar = isinstance(k, ScalarKernel)
     doc = textwrap.dedent(k.doc).strip() if k.doc else ""
@@ -719,7 +928,7 @@ def catalog_entry(family: str, derivation: str, k) -> dict:
         "summary": doc.splitlines()[0] if doc else "",
         "code": {lang: kernel_code(k, lang) for lang in LANGUAGES},
         # the exact formulas (srepr keeps assumptions): references evaluate these, not the code
-        "sympy": {"args": [sp.srepr(a) for a in k.args], "outputs": [sp.srepr(sp.sympify(o)) for o in k.outputs]}
+        "sympy": {"args": [sp.srepr(a) for a in k.args], "outputs": [_srepr(o) for o in k.outputs]}
         if scalar else None,
     }
     return entry
