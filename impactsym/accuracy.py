@@ -422,6 +422,32 @@ def _in_domain(x: dict) -> bool:
     return all(v * sg > 0 for v, sg in _branch_polynomials(x, 0)[:-1])
 
 
+_JUMP_QUANTITIES: dict = {}
+
+
+def _jump_quantities(ref, i: int) -> list:
+    """The quantities output ``i`` of ``ref`` jumps with (the argument of each ``ceiling``, ``lhs − rhs``
+    of each condition), each compiled once per reference (``f(*xs)`` in mpmath)."""
+    key = (id(ref), i)
+    hit = _JUMP_QUANTITIES.get(key)
+    if hit is not None and hit[0] is ref:
+        return hit[1]
+    import sympy as sp
+
+    from .reference_values import _DagEvaluator, _mpmath_printer
+
+    expr = sp.sympify(ref.outputs[i])
+    args = [c.args[0] for c in expr.atoms(sp.ceiling)]
+    args += [rel.lhs - rel.rhs for rel in expr.atoms(sp.core.relational.Relational)]
+    fs = []
+    for a in sorted(set(args), key=sp.default_sort_key):
+        dag = _DagEvaluator.compile(ref.args, [a])
+        fs.append((lambda *xs, dag=dag: dag(*xs)[0]) if dag is not None else
+                  sp.lambdify(ref.args, a, modules="mpmath", printer=_mpmath_printer()))
+    _JUMP_QUANTITIES[key] = (ref, fs)
+    return fs
+
+
 def _witness_vertices(ref, inputs: dict, i: int, r) -> list:
     """Vertices of the box ``|x'_j − x_j| ≤ r|x_j|`` (rounded to floats) that push each quantity the
     discontinuous output ``i`` jumps with (the argument of each ``ceiling``, ``lhs − rhs`` of each
@@ -430,18 +456,11 @@ def _witness_vertices(ref, inputs: dict, i: int, r) -> list:
     from fractions import Fraction
 
     import mpmath
-    import sympy as sp
 
-    from .reference_values import _mpmath_printer
-
-    expr = sp.sympify(ref.outputs[i])
-    args = [c.args[0] for c in expr.atoms(sp.ceiling)]
-    args += [rel.lhs - rel.rhs for rel in expr.atoms(sp.core.relational.Relational)]
     names = ref.names
     fx = {n: Fraction(float(inputs[n])) for n in names}
     signs = [[1] * len(names), [-1] * len(names)]
-    for a in sorted(set(args), key=sp.default_sort_key):
-        f = sp.lambdify(ref.args, a, modules="mpmath", printer=_mpmath_printer())
+    for f in _jump_quantities(ref, i):
         with mpmath.workdps(60):
             h = mpmath.mpf(10) ** -30
             xs = [mpmath.mpf(float(inputs[n])) for n in names]
