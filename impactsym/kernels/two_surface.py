@@ -230,6 +230,11 @@ def two_surface_exit_velocity(mass_matrix, gradients, velocity):
     mass_matrix = numpy.asarray(mass_matrix, dtype=float)
     gradients = numpy.asarray(gradients, dtype=float)
     velocity = numpy.asarray(velocity, dtype=float)
+    if velocity.shape == (2,):  # n = 2: the closed form below, proved equal to this one by its
+        # derivation; Gamma formed in floats loses det(Gamma) ~ beta^2 at a thin wedge (issue 15)
+        res = two_surface_resolution_2(mass_matrix[0, 0], mass_matrix[0, 1], mass_matrix[1, 1],
+                                       *gradients.ravel(), velocity[0], velocity[1])
+        return numpy.array([res[0], res[3]]), numpy.array([[res[1], res[2]], [res[4], res[5]]])
     w = numpy.linalg.solve(mass_matrix, gradients.T)
     gram = gradients @ w
     c = gradients @ velocity
