@@ -130,7 +130,7 @@ def _corner_axes(kernel: str, full: bool) -> list[list[dict]]:
     if kernel in GENERAL_KERNELS:
         axes = _corner_axes(GENERAL_KERNELS[kernel][2], full)
         if kernel == "two_surface_exit_velocity_3":
-            axes = axes + [[{"m_22": 1e-12, "v_2": 1e12}, {"m_22": 1e12, "v_2": -1.0}]]
+            axes = axes + [[{"m_22": 1e-12, "v_2": 1e12}] + ([{"m_22": 1e12, "v_2": -1.0}] if full else [])]
         return axes
     e_axis = _axis("e", (0.0, 1e-12, 0.5, 1 - 1e-12, 1.0) if full else (0.0, 1 - 1e-12, 1.0))
     ratio = (0.0, _TINY, 1e-6, 0.5, *_NEAR1, 1e6, _BIG) if full else (_TINY, 0.5, *_NEAR1, _BIG)
@@ -231,7 +231,10 @@ def reference(kernel: str):
         base = kernel_reference("two_surface_resolution_2")
         m22, v2 = sp.symbols("m_22 v_2", real=True)
         outs = list(base.outputs)
-        third = [sp.Piecewise((sp.nan, sp.Eq(outs[k], -1)), (v2, True)) for k in (0, 3)]
+        # count = Piecewise((0, valid), (m, c_first < 0), (-1, True)): the branch exists under the first two
+        third = [sp.Piecewise((v2, outs[k].args[0].cond), (v2, outs[k].args[1].cond), (sp.nan, True)) for k in (0, 3)]
+        if not all(outs[k].args[2].expr == -1 for k in (0, 3)):  # pragma: no cover - a changed derivation
+            raise RuntimeError("two_surface_resolution_2's counts no longer end in (-1, True)")
         _EMBEDDED[kernel] = Reference([*base.args, m22, v2], outs[:3] + [third[0]] + outs[3:] + [third[1]])
     return _EMBEDDED[kernel]
 

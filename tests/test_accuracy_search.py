@@ -29,23 +29,20 @@ LANGS = ("numpy", "python", "c") if (shutil.which("gcc") or shutil.which("cc")) 
 
 #: kernels the corner grid still breaks (issue 15 left open: found by this grid, not yet fixed).
 #: Each grid test is a strict xfail, run only with ``-m slow`` (their grids take 20-30 s each), so a
-#: fix makes it XPASS and fail until it is moved out of this dict. Empty: the two-surface kernels
+#: fix makes it XPASS and fail until it is moved out of this dict. The closed-form two-surface kernels
 #: (a float ceiling of psi/beta one short at a right-angle wedge, 4.5e15; H^-1 c' at a valid velocity
 #: and at nearly parallel rows, 2.25e15) now decide counts 1-3 by the signs of the rational iterates
 #: and take the velocity and its reflections for counts 0-3.
 #: The general-dimension kernels (issue 15, second wave: "every output of every kernel") are on the
-#: grid at n = 2 and 3 against their closed forms' formulas; two_surface_exit_velocity at n = 2 now runs
-#: the (M, H, v) closed form and passes. Still open:
+#: grid at n = 2 and 3 against their closed forms' formulas; two_surface_exit_velocity now runs the
+#: (M, H, v) closed form at n = 2, and reduces n >= 3 to it (checked on the grid at n = 3 with a decoupled
+#: third coordinate, where the reduction is exact). Still open:
 _REFLECTION_OPEN = ("the general-n reflection kernels (NumPy and C) still compute 1 - (1+e) u_i w_i / s and "
                     "v - (1+e) w (u v)/s: at e = 0 with M = diag(1, 1e-12) they cancel (5e10 eps), the fault "
                     "fixed in the n = 2, 3 closed forms; the C Cholesky refuses an SPD M with cond 1e12 (NaN)")
 KNOWN_OPEN: dict = {
     "reflection_map_general_2": _REFLECTION_OPEN, "reflection_map_general_3": _REFLECTION_OPEN,
     "reflect_general_2": _REFLECTION_OPEN, "reflect_general_3": _REFLECTION_OPEN,
-    "two_surface_exit_velocity_3": "n >= 3 still forms Gamma = H M^-1 H^T in floats: det(Gamma) ~ beta^2 "
-                                   "cancels at a thin wedge (counts off by 1e9 and NaN exits where Gamma "
-                                   "rounds singular); the n = 2 closed form's det(H)^2/det(M) has no n >= 3 "
-                                   "analogue in the kernel yet",
 }
 
 
@@ -397,3 +394,60 @@ def test_general_kernels_wrong_value_is_caught(impls):
     assert not accuracy_check(k, x, impls[k], BOUND).problems
     v = accuracy_check(k, x, {"numpy": _with_value(impls[k]["numpy"], 1, lambda y: y * (1 + 1e4 * 2.0**-52))}, BOUND)
     assert v.problems and "v0_a" in v.problems[0], v.problems
+
+
+def test_general_two_surface_kernel_thin_wedge_at_n3(impls):
+    """The same thin wedge with a decoupled third coordinate (M = diag(M_2, 1e-12), H's third column 0,
+    v_2 = 1e12): Gamma formed in floats gave count 2034471 and exits off by 2e10 eps; the reduction to
+    the n = 2 closed form (X = H_P^-1 H_R = 0, Y = 0 here: no rounding enters it) answers the closed
+    form's counts and exits, and v_2 itself."""
+    x = {"m_00": 1.0, "m_01": 0.0, "m_11": 1.0, "h_00": 1.0, "h_01": 0.0, "h_10": -0.9999999999995,
+         "h_11": -9.999999999998333e-07, "v_0": -1.0, "v_1": 0.5, "m_22": 1e-12, "v_2": 1e12}
+    k = "two_surface_exit_velocity_3"
+    out = impls[k]["numpy"](x)
+    closed = K.two_surface_resolution_2(**{a: x[a] for a in x if a not in ("m_22", "v_2")})
+    np.testing.assert_array_equal(out, [closed[0], *closed[1:3], 1e12, closed[3], *closed[4:6], math.nan])
+    v = accuracy_check(k, x, impls[k], BOUND, screen=False)
+    assert not v.problems and v.worst <= BOUND, v
+
+
+@pytest.mark.parametrize("n", [3, 4])
+def test_general_two_surface_reduction_is_exact(n):
+    """The n >= 3 kernel's reduction, in exact rationals at random coupled inputs and every pivot pair P
+    with det H_P != 0: with X = H_P^-1 H_R, M'_PR = M_PR - M_PP X, Y = (M_RR - M_PR^T X - X^T M'_PR)^-1 M'_PR^T,
+    M2 = M_PP - M'_PR Y, v2 = v_P + X v_R, the n = 2 problem (M2, H_P, v2) has the same Gamma and c = H v,
+    and an impulse p moving it by d = M2^-1 H_P^T p moves the full velocity by M^-1 H^T p, as
+    (d - X dv_R, dv_R = -Y d): the kernel's exits are v + M^-1 H^T Gamma^-1 (c' - c) (the block
+    elimination q = T q', T = [[I, -X], [0, I]], checked here exactly, not sampled in floats)."""
+    import itertools
+
+    import sympy as sp
+
+    rng = np.random.default_rng(n)
+
+    def q():
+        return sp.Rational(int(rng.integers(-9, 10)), int(rng.integers(1, 6)))
+
+    for _ in range(3):
+        A = sp.Matrix(n, n, lambda i, j: q())
+        M = A * A.T + sp.eye(n)
+        H = sp.Matrix(2, n, lambda i, j: q())
+        v = sp.Matrix(n, 1, lambda i, j: q())
+        p = sp.Matrix([q(), q()])
+        gamma, c, full = H * M.inv() * H.T, H * v, M.inv() * H.T * p
+        for P in itertools.combinations(range(n), 2):
+            P = list(P)
+            R = [j for j in range(n) if j not in P]
+            hp = H[:, P]
+            if hp.det() == 0:
+                continue
+            X = hp.inv() * H[:, R]
+            mp_pr = M[P, R] - M[P, P] * X
+            Y = (M[R, R] - M[P, R].T * X - X.T * mp_pr).inv() * mp_pr.T
+            m2 = M[P, P] - mp_pr * Y
+            v2 = v[P, :] + X * v[R, :]
+            assert hp * m2.inv() * hp.T == gamma and hp * v2 == c
+            d = m2.inv() * hp.T * p
+            dv_r = -Y * d
+            dv_p = d - X * dv_r
+            assert all(full[P[i]] == dv_p[i] for i in range(2)) and all(full[R[i]] == dv_r[i] for i in range(n - 2))
