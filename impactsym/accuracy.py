@@ -6,7 +6,9 @@ implementations of one kernel in every language (:func:`kernel_implementations`:
 Python, C); the check of every output of every implementation against the bound
 ``|f̂ − f| ≤ bound · eps · (|f| + Σ_j |x_j ∂f/∂x_j|)`` (:func:`accuracy_check`); and a seeded
 adversarial hill-climb on that ratio (:func:`adversarial_search`); random hard wedges for the
-two-surface kernels (:func:`wedge_samples`). Run by
+two-surface kernels (:func:`wedge_samples`). The general-dimension kernels (``reflect``,
+``reflection_map``, ``two_surface_exit_velocity``) are on the grid at n = 2 and 3
+(:data:`GENERAL_KERNELS`), against the exact formulas of the closed forms of the same maps. Run by
 ``tests/test_accuracy_search.py`` and ``benchmarks/accuracy.py``. The fixed hard-case list the
 grid complements is :mod:`impactsym.hard_cases`.
 
