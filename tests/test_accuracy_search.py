@@ -273,9 +273,10 @@ def test_matrix_kernel_branch_edge_inside_the_box(impls):
 
 
 @pytest.mark.slow
-@pytest.mark.parametrize("kernel", ["two_surface_reflection_count", "two_surface_resolution", "two_surface_resolution_2"])
+@pytest.mark.parametrize("kernel", ["two_surface_reflection_count", "two_surface_resolution", "two_surface_resolution_2",
+                                    "two_surface_exit_velocity_2", "two_surface_exit_velocity_3"])
 def test_two_surface_full_corner_grid(kernel, impls):
-    """The bench's full grid for the two-surface kernels (576, 576 and 160 corners, about 75 s in all):
+    """The bench's full grid for the two-surface kernels (576, 576, 160, 160 and 320 corners, about 10 s in all):
     where the right-angle wedges (ceil(psi/beta) one short) and the nearly parallel rows (H^-1 c') broke
     the bound by up to 2.2e15."""
     ref = reference(kernel)
