@@ -22,13 +22,13 @@ HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE.parent))
 
 from impactsym.accuracy import (CORNER_KERNELS, DISCONTINUOUS, accuracy_check, adversarial_search,  # noqa: E402
-                                corner_cases, kernel_implementations, wedge_samples)
-from impactsym.reference_values import ReferenceUnstable, kernel_reference  # noqa: E402
+                                corner_cases, kernel_implementations, reference, wedge_samples)
+from impactsym.reference_values import ReferenceUnstable  # noqa: E402
 
 
 def run_kernel(kernel, grid_full: bool, budget: int, seeds, bound=64.0, wedges: int = 0) -> dict:
     impls = kernel_implementations(kernel)
-    ref = kernel_reference(kernel)
+    ref = reference(kernel)
     t0 = time.time()
     n = outside = unstable = 0
     problems, worst = [], None

@@ -837,15 +837,38 @@ def kernels() -> list:
             mass_matrix = numpy.asarray(mass_matrix, dtype=float)
             gradients = numpy.asarray(gradients, dtype=float)
             velocity = numpy.asarray(velocity, dtype=float)
-            w = numpy.linalg.solve(mass_matrix, gradients.T)
-            gram = gradients @ w
-            c = gradients @ velocity
-            res = two_surface_resolution(gram[0, 0], gram[1, 1], gram[0, 1], c[0], c[1])
+            if velocity.shape == (2,):  # n = 2: the closed form below, proved equal to this one by its
+                # derivation; Gamma formed in floats loses det(Gamma) ~ beta^2 at a thin wedge (issue 15)
+                res = two_surface_resolution_2(mass_matrix[0, 0], mass_matrix[0, 1], mass_matrix[1, 1],
+                                               *gradients.ravel(), velocity[0], velocity[1])
+                return numpy.array([res[0], res[3]]), numpy.array([[res[1], res[2]], [res[4], res[5]]])
+            # n >= 3: the same wedge in the coordinates q' = T^-1 q with H T = [H_P, 0], T = [[I, -X], [0, I]],
+            # X = H_P^-1 H_R (P: the pair of columns of H that complete pivoting picks, |X| <= 2): the
+            # impact acts on q'_P as the n = 2 problem (M2, H_P, v'_P), M2 the Schur complement of
+            # M' = T^T M T on P, v'_P = v_P + X v_R, and moves q'_R by -Y (y+ - v'_P), Y = M'_RR^-1 M'_RP.
+            # Gamma is never formed (its det ~ beta^2 cancelled); where H touches two coordinates only
+            # (X = 0) or M couples P to nothing else (Y = 0) no rounding enters the reduction.
+            n = velocity.shape[-1]
+            r0 = int(numpy.argmax(numpy.abs(gradients).max(axis=1)))
+            p0 = int(numpy.argmax(numpy.abs(gradients[r0])))
+            rest = gradients[1 - r0] - gradients[1 - r0, p0] / gradients[r0, p0] * gradients[r0]
+            rest[p0] = 0.0
+            p1 = int(numpy.argmax(numpy.abs(rest)))
+            P = sorted((p0, p1))
+            R = [j for j in range(n) if j not in P]
+            h_p, h_r = gradients[:, P], gradients[:, R]
+            x = numpy.linalg.solve(h_p, h_r)
+            m_pp, m_pr, m_rr = mass_matrix[numpy.ix_(P, P)], mass_matrix[numpy.ix_(P, R)], mass_matrix[numpy.ix_(R, R)]
+            mp_pr = m_pr - m_pp @ x
+            y = numpy.linalg.solve(m_rr - m_pr.T @ x - x.T @ mp_pr, mp_pr.T)
+            m2 = m_pp - mp_pr @ y
+            v2 = velocity[P] + x @ velocity[R]
+            res = two_surface_resolution_2(m2[0, 0], m2[0, 1], m2[1, 1], *h_p.ravel(), v2[0], v2[1])
             counts = numpy.array([res[0], res[3]])
-            exits = numpy.empty((2, velocity.shape[-1]))
-            for i, (ca_, cb_) in enumerate(((res[1], res[2]), (res[4], res[5]))):
-                jump = numpy.linalg.solve(gram, numpy.array([ca_, cb_]) - c)
-                exits[i] = velocity + w @ jump
+            exits = numpy.empty((2, n))
+            for i, yp in enumerate((numpy.array(res[1:3]), numpy.array(res[4:6]))):
+                exits[i, R] = velocity[R] - y @ (yp - v2)
+                exits[i, P] = yp - x @ exits[i, R]
             return counts, exits
         ''',
     )

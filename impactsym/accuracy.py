@@ -6,7 +6,9 @@ implementations of one kernel in every language (:func:`kernel_implementations`:
 Python, C); the check of every output of every implementation against the bound
 ``|f̂ − f| ≤ bound · eps · (|f| + Σ_j |x_j ∂f/∂x_j|)`` (:func:`accuracy_check`); and a seeded
 adversarial hill-climb on that ratio (:func:`adversarial_search`); random hard wedges for the
-two-surface kernels (:func:`wedge_samples`). Run by
+two-surface kernels (:func:`wedge_samples`). The general-dimension kernels (``reflect``,
+``reflection_map``, ``two_surface_exit_velocity``) are on the grid at n = 2 and 3
+(:data:`GENERAL_KERNELS`), against the exact formulas of the closed forms of the same maps. Run by
 ``tests/test_accuracy_search.py`` and ``benchmarks/accuracy.py``. The fixed hard-case list the
 grid complements is :mod:`impactsym.hard_cases`.
 
@@ -59,7 +61,7 @@ import numpy as np
 
 from .hard_cases import HardCase, _spd
 
-__all__ = ["corner_cases", "CORNER_KERNELS", "DISCONTINUOUS", "COUNT_ORACLES", "count_in_neighbourhood",
+__all__ = ["corner_cases", "CORNER_KERNELS", "GENERAL_KERNELS", "reference", "DISCONTINUOUS", "COUNT_ORACLES", "count_in_neighbourhood",
            "value_in_neighbourhood", "wedge_samples",
            "kernel_implementations", "Verdict", "accuracy_check", "SearchResult", "SEARCH_DOMAIN", "adversarial_search"]
 
@@ -74,7 +76,21 @@ __all__ = ["corner_cases", "CORNER_KERNELS", "DISCONTINUOUS", "COUNT_ORACLES", "
 #: the given one (:func:`count_in_neighbourhood`), instead of the ratio
 DISCONTINUOUS = {"two_surface_reflection_count": ("count_a", "count_b"),
                  "two_surface_resolution": ("count_a", "count_b"),
-                 "two_surface_resolution_2": ("count_a", "count_b")}
+                 "two_surface_resolution_2": ("count_a", "count_b"),
+                 "two_surface_exit_velocity_2": ("count_a", "count_b"),
+                 "two_surface_exit_velocity_3": ("count_a", "count_b")}
+
+#: the general-dimension kernels (matrices in, any n) on the grid at a fixed n: grid name ->
+#: (kernel, n, the closed-form kernel of the same map at that n, whose exact formulas are the
+#: reference and whose corners are the grid). ``two_surface_exit_velocity_3`` is the n = 2 map with a
+#: third coordinate decoupled (``M = diag(M_2, m_22)``, ``H``'s third column 0, ``v_2``): the exits'
+#: first two components are the n = 2 map's, the third is ``v_2`` (NaN off the branch).
+GENERAL_KERNELS = {"reflection_map_general_2": ("reflection_map", 2, "reflection_map_2"),
+                   "reflection_map_general_3": ("reflection_map", 3, "reflection_map_3"),
+                   "reflect_general_2": ("reflect", 2, "reflect_2"),
+                   "reflect_general_3": ("reflect", 3, "reflect_3"),
+                   "two_surface_exit_velocity_2": ("two_surface_exit_velocity", 2, "two_surface_resolution_2"),
+                   "two_surface_exit_velocity_3": ("two_surface_exit_velocity", 3, "two_surface_resolution_2")}
 
 _TINY, _BIG = 1e-12, 1e12
 _NEAR1 = (1 - 1e-12, 1.0, 1 + 1e-12)
@@ -113,6 +129,11 @@ def _vec_axis(prefix, vecs):
 
 def _corner_axes(kernel: str, full: bool) -> list[list[dict]]:
     """The axes of ``kernel``'s corner grid; the grid is their product (dicts merged)."""
+    if kernel in GENERAL_KERNELS:
+        axes = _corner_axes(GENERAL_KERNELS[kernel][2], full)
+        if kernel == "two_surface_exit_velocity_3":
+            axes = axes + [[{"m_22": 1e-12, "v_2": 1e12}] + ([{"m_22": 1e12, "v_2": -1.0}] if full else [])]
+        return axes
     e_axis = _axis("e", (0.0, 1e-12, 0.5, 1 - 1e-12, 1.0) if full else (0.0, 1 - 1e-12, 1.0))
     ratio = (0.0, _TINY, 1e-6, 0.5, *_NEAR1, 1e6, _BIG) if full else (_TINY, 0.5, *_NEAR1, _BIG)
     if kernel in ("reflect_2", "reflection_map_2", "reflect_3", "reflection_map_3"):
@@ -182,7 +203,133 @@ def _corner_axes(kernel: str, full: bool) -> list[list[dict]]:
 CORNER_KERNELS = ("reflect_2", "reflection_map_2", "reflect_3", "reflection_map_3", "impulse_ratio_root",
                   "chain3_impulse_ratio", "chain3_alpha_max", "pool_impulse_ratio", "bernoulli_impulse_ratio",
                   "pool_g", "pool_h", "two_surface_reflection_count", "two_surface_resolution",
-                  "two_surface_resolution_2")
+                  "two_surface_resolution_2", *GENERAL_KERNELS)
+
+
+def _closed_form(kernel: str) -> str:
+    """The closed-form kernel whose formulas are ``kernel``'s reference (itself, or the general
+    kernel's closed form at its n)."""
+    return GENERAL_KERNELS[kernel][2] if kernel in GENERAL_KERNELS else kernel
+
+
+_EMBEDDED: dict = {}
+
+
+def reference(kernel: str):
+    """The checked high-precision reference of a grid kernel (:mod:`impactsym.reference_values`):
+    the closed form's emitted formulas; for ``two_surface_exit_velocity_3`` those of the n = 2 map
+    with the decoupled third coordinate's exits (``v_2``, NaN where the branch does not exist).
+
+    >>> reference("reflect_general_2").names == reference("reflect_2").names
+    True
+    """
+    from .reference_values import Reference, kernel_reference
+
+    if kernel != "two_surface_exit_velocity_3":
+        return kernel_reference(_closed_form(kernel))
+    if kernel not in _EMBEDDED:
+        import sympy as sp
+
+        base = kernel_reference("two_surface_resolution_2")
+        m22, v2 = sp.symbols("m_22 v_2", real=True)
+        outs = list(base.outputs)
+        # count = Piecewise((0, valid), (m, c_first < 0), (-1, True)): the branch exists under the first two
+        third = [sp.Piecewise((v2, outs[k].args[0].cond), (v2, outs[k].args[1].cond), (sp.nan, True)) for k in (0, 3)]
+        if not all(outs[k].args[2].expr == -1 for k in (0, 3)):  # pragma: no cover - a changed derivation
+            raise RuntimeError("two_surface_resolution_2's counts no longer end in (-1, True)")
+        _EMBEDDED[kernel] = Reference([*base.args, m22, v2], outs[:3] + [third[0]] + outs[3:] + [third[1]])
+    return _EMBEDDED[kernel]
+
+
+def _outputs(kernel: str) -> list:
+    """Output names of a grid kernel, in the order its implementations return them."""
+    from .bench import _catalog
+
+    if kernel == "two_surface_exit_velocity_3":
+        return ["count_a", "v0_a", "v1_a", "v2_a", "count_b", "v0_b", "v1_b", "v2_b"]
+    return list(_catalog()[_closed_form(kernel)]["outputs"])
+
+
+def _args(kernel: str) -> list:
+    return reference(kernel).names
+
+
+_C_LIBRARY: list = []
+
+
+def _c_library():
+    """The generated C kernels compiled once per process (:func:`impactsym.bench.compile_c`)."""
+    if not _C_LIBRARY:
+        from .bench import compile_c
+
+        _C_LIBRARY.append(compile_c())
+    return _C_LIBRARY[0]
+
+
+def _matrix(inputs: dict, prefix: str, n: int):
+    """The symmetric ``n × n`` matrix of the upper-triangle inputs ``prefix_ij`` (absent ones 0)."""
+    return np.array([[float(inputs.get(f"{prefix}_{min(i, j)}{max(i, j)}", 0.0)) for j in range(n)]
+                     for i in range(n)])
+
+
+def _general_implementations(kernel: str, languages) -> dict:
+    """``language -> f(inputs) -> list[float]`` for a general-dimension kernel at its grid's n: NumPy
+    (the committed kernel; its plain-Python text is the same function) and C where generated."""
+    name, n, _ = GENERAL_KERNELS[kernel]
+    out = {}
+    for lang in languages:
+        if lang == "numpy":
+            from . import kernels as K
+
+            f = getattr(K, name)
+            if name == "two_surface_exit_velocity":
+                def call(x, f=f):
+                    H = np.array([[float(x.get(f"h_{i}{j}", 0.0)) for j in range(n)] for i in range(2)])
+                    v = np.array([float(x[f"v_{j}"]) for j in range(n)])
+                    with np.errstate(all="ignore"):
+                        try:
+                            counts, exits = f(_matrix(x, "m", n), H, v)
+                        except np.linalg.LinAlgError:  # a singular Gram matrix: no number
+                            return [math.nan] * (2 + 2 * n)
+                    return [float(counts[0]), *map(float, exits[0]), float(counts[1]), *map(float, exits[1])]
+            else:
+                def call(x, f=f, name=name):
+                    u = np.array([float(x[f"u_{j}"]) for j in range(n)])
+                    args = (_matrix(x, "m", n), u) + ((np.array([float(x[f"v_{j}"]) for j in range(n)]),)
+                                                      if name == "reflect" else ())
+                    with np.errstate(all="ignore"):
+                        try:
+                            r = f(*args, float(x["e"]))
+                        except np.linalg.LinAlgError:
+                            return [math.nan] * (n * n if name == "reflection_map" else n)
+                    return [float(y) for y in np.ravel(r)]
+        elif lang == "c":
+            from .bench import _catalog
+
+            lib = _c_library()
+            if lib is None or not _catalog()[name]["code"].get("c"):
+                continue
+            import ctypes
+
+            f = getattr(lib, name)
+            f.restype = ctypes.c_int
+            dp = ctypes.POINTER(ctypes.c_double)
+
+            def call(x, f=f, name=name):
+                M = np.ascontiguousarray(_matrix(x, "m", n))
+                u = np.array([float(x[f"u_{j}"]) for j in range(n)])
+                size = n * n if name == "reflection_map" else n
+                res = np.empty(size)
+                vec = (np.array([float(x[f"v_{j}"]) for j in range(n)]),) if name == "reflect" else ()
+                status = f(ctypes.c_size_t(n), *[a.ctypes.data_as(dp) for a in (M, u, *vec)],
+                           ctypes.c_double(float(x["e"])), res.ctypes.data_as(dp))
+                return [math.nan] * size if status != 0 else [float(y) for y in res]
+        elif lang == "python":
+            continue  # the same function text as NumPy's (the catalog's python code is the NumPy kernel)
+        else:
+            raise ValueError(f"languages: unknown language {lang!r} (numpy, python, c)")
+        out[lang] = call
+    return out
 
 
 def corner_cases(kernel: str, full: bool = False):
@@ -225,6 +372,8 @@ def kernel_implementations(kernel: str, languages=("numpy", "python", "c")) -> d
     """
     from .bench import _catalog
 
+    if kernel in GENERAL_KERNELS:
+        return _general_implementations(kernel, languages)
     entry = _catalog()[kernel]
     args, n_out = entry["args"], len(entry["outputs"])
     out = {}
@@ -255,9 +404,7 @@ def kernel_implementations(kernel: str, languages=("numpy", "python", "c")) -> d
                         r = fk(*[np.asarray(x) for x in xs])
                 return [float(x) for x in (r if isinstance(r, tuple) else (r,))]
         elif lang == "c":
-            from .bench import compile_c
-
-            lib = compile_c()
+            lib = _c_library()
             if lib is None or not entry["code"].get("c"):
                 continue
             import ctypes
@@ -422,6 +569,32 @@ def _in_domain(x: dict) -> bool:
     return all(v * sg > 0 for v, sg in _branch_polynomials(x, 0)[:-1])
 
 
+_JUMP_QUANTITIES: dict = {}
+
+
+def _jump_quantities(ref, i: int) -> list:
+    """The quantities output ``i`` of ``ref`` jumps with (the argument of each ``ceiling``, ``lhs − rhs``
+    of each condition), each compiled once per reference (``f(*xs)`` in mpmath)."""
+    key = (id(ref), i)
+    hit = _JUMP_QUANTITIES.get(key)
+    if hit is not None and hit[0] is ref:
+        return hit[1]
+    import sympy as sp
+
+    from .reference_values import _DagEvaluator, _mpmath_printer
+
+    expr = sp.sympify(ref.outputs[i])
+    args = [c.args[0] for c in expr.atoms(sp.ceiling)]
+    args += [rel.lhs - rel.rhs for rel in expr.atoms(sp.core.relational.Relational)]
+    fs = []
+    for a in sorted(set(args), key=sp.default_sort_key):
+        dag = _DagEvaluator.compile(ref.args, [a])
+        fs.append((lambda *xs, dag=dag: dag(*xs)[0]) if dag is not None else
+                  sp.lambdify(ref.args, a, modules="mpmath", printer=_mpmath_printer()))
+    _JUMP_QUANTITIES[key] = (ref, fs)
+    return fs
+
+
 def _witness_vertices(ref, inputs: dict, i: int, r) -> list:
     """Vertices of the box ``|x'_j − x_j| ≤ r|x_j|`` (rounded to floats) that push each quantity the
     discontinuous output ``i`` jumps with (the argument of each ``ceiling``, ``lhs − rhs`` of each
@@ -430,18 +603,11 @@ def _witness_vertices(ref, inputs: dict, i: int, r) -> list:
     from fractions import Fraction
 
     import mpmath
-    import sympy as sp
 
-    from .reference_values import _mpmath_printer
-
-    expr = sp.sympify(ref.outputs[i])
-    args = [c.args[0] for c in expr.atoms(sp.ceiling)]
-    args += [rel.lhs - rel.rhs for rel in expr.atoms(sp.core.relational.Relational)]
     names = ref.names
     fx = {n: Fraction(float(inputs[n])) for n in names}
     signs = [[1] * len(names), [-1] * len(names)]
-    for a in sorted(set(args), key=sp.default_sort_key):
-        f = sp.lambdify(ref.args, a, modules="mpmath", printer=_mpmath_printer())
+    for f in _jump_quantities(ref, i):
         with mpmath.workdps(60):
             h = mpmath.mpf(10) ** -30
             xs = [mpmath.mpf(float(inputs[n])) for n in names]
@@ -520,9 +686,9 @@ def value_in_neighbourhood(kernel: str, inputs: dict, i: int, got: float, ref=No
     """
     from fractions import Fraction
 
-    from .reference_values import EPS, ReferenceUnstable, error_ratio, kernel_reference
+    from .reference_values import EPS, ReferenceUnstable, error_ratio
 
-    ref = ref or kernel_reference(kernel)
+    ref = ref or reference(kernel)
     names = _catalog_outputs(kernel)
     pairs = _branch_output_pairs(kernel)
     if names[i] not in pairs:
@@ -582,12 +748,10 @@ def count_in_neighbourhood(kernel: str, inputs: dict, i: int, got: float, ref=No
     """
     from fractions import Fraction
 
-    from .reference_values import kernel_reference
-
-    ref = ref or kernel_reference(kernel)
+    ref = ref or reference(kernel)
     oracle = COUNT_ORACLES[kernel]
     k = list(DISCONTINUOUS[kernel]).index(_catalog_outputs(kernel)[i])
-    if math.isnan(got) or got != int(got):
+    if not math.isfinite(got) or got != int(got):
         return False, f"not an integer: {got}"
     got = int(got)
     fx = {n: Fraction(float(inputs[n])) for n in ref.names}
@@ -610,9 +774,7 @@ def count_in_neighbourhood(kernel: str, inputs: dict, i: int, got: float, ref=No
 
 
 def _catalog_outputs(kernel: str) -> list:
-    from .bench import _catalog
-
-    return _catalog()[kernel]["outputs"]
+    return _outputs(kernel)
 
 
 def accuracy_check(kernel: str, inputs: dict, impls: dict, bound: float = 64.0, ref=None,
@@ -636,12 +798,10 @@ def accuracy_check(kernel: str, inputs: dict, impls: dict, bound: float = 64.0, 
     """
     import mpmath
 
-    from .reference_values import EPS, OutsideDomain, ReferenceUnstable, error_ratio, kernel_reference
+    from .reference_values import EPS, OutsideDomain, ReferenceUnstable, error_ratio
 
-    ref = ref or kernel_reference(kernel)
-    from .bench import _catalog
-
-    names = _catalog()[kernel]["outputs"]
+    ref = ref or reference(kernel)
+    names = _outputs(kernel)
     jumps = [i for i, n in enumerate(names) if n in DISCONTINUOUS.get(kernel, ())]
     smooth = [i for i in range(len(names)) if i not in jumps]
     got = {lang: f(inputs) for lang, f in impls.items()}
@@ -740,7 +900,7 @@ def wedge_samples(kernel: str, n: int, seed: int = 0):
         kind = rng.integers(4)
         beta = (pi / 2 * (1 + tiny()) if kind == 0 else pi / int(rng.integers(3, 9)) * (1 + tiny()) if kind == 1
                 else pi * (1 - 10.0 ** -rng.uniform(1, 12)) if kind == 2 else 10.0 ** -rng.uniform(0, 9))
-        if kernel != "two_surface_resolution_2":
+        if _closed_form(kernel) != "two_surface_resolution_2":
             pk = rng.integers(4)
             if pk == 0:
                 psi = pi * (1 - 10.0 ** -rng.uniform(1, 16))
@@ -771,6 +931,8 @@ def wedge_samples(kernel: str, n: int, seed: int = 0):
             x = dict(m_00=M[0, 0], m_01=(M[0, 1] + M[1, 0]) / 2, m_11=M[1, 1], h_00=sc[0] * math.cos(phi),
                      h_01=sc[0] * math.sin(phi), h_10=-sc[1] * math.cos(phi + beta), h_11=-sc[1] * math.sin(phi + beta),
                      v_0=sp_ * math.cos(th), v_1=sp_ * math.sin(th))
+            if kernel == "two_surface_exit_velocity_3":  # the decoupled third coordinate
+                x.update(m_22=10.0 ** rng.uniform(-12, 12), v_2=float(rng.choice([-1, 1])) * 10.0 ** rng.uniform(-12, 12))
         x = {k: float(v) for k, v in x.items()}
         if _in_search_domain(kernel, x):
             made += 1
@@ -805,7 +967,7 @@ def _in_search_domain(kernel: str, x: dict) -> bool:
         return False
     if "m_00" in x:
         n = 3 if "m_22" in x else 2
-        M = np.array([[x[f"m_{min(i, j)}{max(i, j)}"] for j in range(n)] for i in range(n)])
+        M = _matrix(x, "m", n)
         if not all(np.linalg.det(M[:k, :k]) > 0 for k in range(1, n + 1)):
             return False
     lo_e = 1 / 3 if kernel == "chain3_alpha_max" else 0.0
@@ -865,11 +1027,11 @@ def adversarial_search(kernel: str, budget: int = 100, seed: int = 0, starts=Non
     >>> r.evaluations, r.failures
     (20, [])
     """
-    from .reference_values import ReferenceUnstable, kernel_reference
+    from .reference_values import ReferenceUnstable
 
     rng = np.random.default_rng(seed)
     impls = impls if impls is not None else kernel_implementations(kernel)
-    ref = kernel_reference(kernel)
+    ref = reference(kernel)
     pool = [c.inputs for c in corner_cases(kernel)] if starts is None else [dict(s) for s in starts]
     order = rng.permutation(len(pool))
     failures: list = []

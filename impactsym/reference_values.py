@@ -5,13 +5,17 @@ derivation emitted* (not from the generated code), in mpmath at ``dps ≥ 50`` d
 
 * inputs enter as the exact binary values of the float inputs (``mpmath.mpf(float)`` is exact;
   no decimal text is ever re-read);
+* the formulas are evaluated as a DAG (:class:`_DagEvaluator`): each shared subexpression once per
+  call, lazily through ``Piecewise``, with the operations lambdify's mpmath printer would emit (a
+  two-surface kernel's lambdified text repeats its 363 distinct nodes into 136 kB);
 * a precision ladder checks every reference: it is recomputed at twice the digits and must agree
   with itself to ``TARGET_DPS − GUARD_DIGITS`` (40) digits; if not, the ladder climbs (``dps → 2·dps``) until
   two rungs agree, up to ``MAX_DPS`` (then :class:`ReferenceUnstable` is raised, never a guess);
 * the componentwise relative condition number of output ``f_i`` with respect to the inputs,
   ``κ_i = Σ_j |x_j ∂f_i/∂x_j| / |f_i|``, comes from central differences of the exact formula in
   relative steps ``10^(−dps/2)`` at the working precision (about ``dps/2`` correct digits, ample
-  for a condition number; symbolic derivatives of the larger kernels cost tens of seconds).
+  for a condition number; symbolic derivatives of the larger kernels cost tens of seconds), at the
+  upper rung of the ladder only (the lower rung's values are all the agreement test reads).
 
 The accuracy target of the generated kernels (issue 5) is stated with these numbers: for every
 output component, ``|f̂_i − f_i| ≤ c · eps · (|f_i| + Σ_j |x_j ∂f_i/∂x_j|)``, i.e. a relative error
@@ -75,74 +79,6 @@ class _MpmathPrinter(MpmathPrinter):
             text = memo[expr] = super()._print(expr)
         return text
 
-
-class _SharingPrinter(_MpmathPrinter):
-    """The printer of :func:`_lambdify_shared`: the first pass (``names`` None) counts how often each
-    subexpression's text is used; the second prints every subexpression used more than once, at each
-    of its places, as ``(_sharedK if _sharedK is not _unset else (_sharedK := <its text>))``."""
-
-    def __init__(self, settings, names=None):
-        super().__init__(settings)
-        self._names = names
-        self.uses: dict = {}
-
-    def _print(self, expr, **kwargs):
-        if kwargs or not isinstance(expr, sp.Basic) or not expr.args:
-            return super()._print(expr, **kwargs)
-        if self._names is None:
-            self.uses[expr] = self.uses.get(expr, 0) + 1
-            return super()._print(expr)
-        text = super()._print(expr)
-        name = self._names.get(expr)
-        return text if name is None else f"({name} if {name} is not _unset else ({name} := {text}))"
-
-
-#: the value of a repeated subexpression not yet evaluated in this call
-_UNSET = object()
-
-
-def _lambdify_shared(args, outputs):
-    """``lambdify(args, outputs, modules="mpmath")`` whose function evaluates each repeated
-    subexpression at most once per call (two_surface_resolution_2: 51 532 tree nodes, 363 distinct).
-
-    Lazily: a repeated subexpression is evaluated where it is first used, by the same operations in
-    the same order as the plain function, so the values are the same (bit for bit at every precision)
-    and so are the exceptions; a Piecewise branch not taken is not evaluated.
-
-    >>> x, y = sp.symbols("x y")
-    >>> e = sp.Piecewise((1 / (x - y), x > y), (sp.sqrt(x - y) * (x - y), True))
-    >>> f = _lambdify_shared([x, y], [e, (x - y)**2])
-    >>> with mpmath.workdps(30):
-    ...     f(mpmath.mpf(3), mpmath.mpf(1)) == [mpmath.mpf(1) / 2, mpmath.mpf(4)]
-    True
-    """
-    counter = _SharingPrinter(dict(_MPMATH_SETTINGS))
-    for o in outputs:
-        counter.doprint(o)
-    taken = {str(a) for a in args}
-    names, k = {}, 0
-    for e, n in counter.uses.items():
-        if n > 1:
-            while f"_shared{k}" in taken:
-                k += 1
-            names[e] = f"_shared{k}"
-            k += 1
-    unset = sp.Symbol("_unset")
-    cses = [(sp.Symbol(n), unset) for n in names.values()]  # every one starts unset in each call
-    printer = _SharingPrinter(dict(_MPMATH_SETTINGS), names)
-    return sp.lambdify(args, outputs, modules=[{"_unset": _UNSET}, "mpmath"], printer=printer,
-                       cse=lambda exprs: (cses, exprs))
-
-
-def _values_or_none(ref, xs):
-    """``ref._values(xs)``, or None outside the domain (each point evaluated once: deciding "inside"
-    and taking the values are one evaluation)."""
-    try:
-        return ref._values(xs)
-    except OutsideDomain:
-        return None
-
-
 #: lambdify's settings of its mpmath printer
 _MPMATH_SETTINGS = {"fully_qualified_modules": False, "inline": True, "allow_unknown_functions": True,
                     "user_functions": {}}
@@ -150,6 +86,169 @@ _MPMATH_SETTINGS = {"fully_qualified_modules": False, "inline": True, "allow_unk
 
 def _mpmath_printer() -> _MpmathPrinter:
     return _MpmathPrinter(dict(_MPMATH_SETTINGS))
+
+
+class _DagEvaluator:
+    """The outputs' expression DAG evaluated in mpmath with every shared subexpression computed once
+    per call, lazily: a Piecewise evaluates its conditions in order and only the chosen branch, and
+    ``And``/``Or`` short-circuit, exactly as the lambdified code does (the same mpmath operations on
+    the same subexpressions: division by zero, a real function of a complex value, ``None`` where no
+    condition holds behave alike). The lambdified text of a two-surface kernel repeats its shared
+    subexpressions hundreds of times (136 kB for 363 distinct nodes); here each is one operation.
+
+    Only the node types below are known; :meth:`compile` returns ``None`` for anything else (the
+    caller keeps lambdify)."""
+
+    _REL = {"GreaterThan": lambda a, b: a >= b, "LessThan": lambda a, b: a <= b,
+            "StrictGreaterThan": lambda a, b: a > b, "StrictLessThan": lambda a, b: a < b,
+            "Equality": lambda a, b: a == b, "Unequality": lambda a, b: a != b}
+    _FUN = {"atan2": mpmath.atan2, "sin": mpmath.sin, "cos": mpmath.cos, "tan": mpmath.tan, "atan": mpmath.atan,
+            "exp": mpmath.exp, "log": mpmath.log, "ceiling": mpmath.ceil, "floor": mpmath.floor, "Abs": abs}
+
+    def __init__(self, args, outputs):
+        self.index: dict = {}
+        self.nodes: list = []  # (kind, payload, children)
+        self.roots = [self._add(o) for o in outputs]
+        self.argpos = {a: i for i, a in enumerate(args)}
+        for kind, payload, _ in self.nodes:
+            if kind == "sym" and payload not in self.argpos:
+                raise _Unsupported(f"free symbol {payload}")
+
+    @classmethod
+    def compile(cls, args, outputs):
+        try:
+            return cls(args, outputs)
+        except _Unsupported:
+            return None
+
+    def _add(self, e) -> int:
+        k = self.index.get(e)
+        if k is not None:
+            return k
+        from sympy.functions.elementary.piecewise import ExprCondPair
+
+        name = type(e).__name__
+        if isinstance(e, sp.Symbol):
+            node = ("sym", e, ())
+        elif e is sp.nan:
+            node = ("const", "nan", ())
+        elif e.is_Integer:
+            node = ("const", int(e), ())
+        elif e.is_Rational:
+            node = ("rat", (int(e.p), int(e.q)), ())
+        elif e is sp.pi:
+            node = ("pi", None, ())
+        elif e is sp.true or e is sp.false:
+            node = ("const", bool(e), ())
+        elif isinstance(e, sp.UnevaluatedExpr):
+            k = self._add(e.args[0])
+            self.index[e] = k
+            return k
+        elif e.is_Add:
+            node = ("add", None, tuple(self._add(a) for a in e.args))
+        elif e.is_Mul:
+            num = [a for a in e.args if not (a.is_Pow and a.exp == -1)]
+            den = [a.base for a in e.args if a.is_Pow and a.exp == -1]
+            node = ("mul", len(num), tuple(self._add(a) for a in num + den))
+        elif e.is_Pow:
+            b = self._add(e.base)
+            if e.exp == sp.S.Half:
+                node = ("sqrt", None, (b,))
+            elif e.exp == -sp.S.Half:
+                node = ("rsqrt", None, (b,))
+            elif e.exp == -1:
+                node = ("inv", None, (b,))
+            elif e.exp.is_Integer:
+                node = ("ipow", int(e.exp), (b,))
+            else:
+                node = ("pow", None, (b, self._add(e.exp)))
+        elif name == "Mod":
+            node = ("mod", None, (self._add(e.args[0]), self._add(e.args[1])))
+        elif name in self._FUN:
+            node = ("fun", self._FUN[name], tuple(self._add(a) for a in e.args))
+        elif name in self._REL:
+            node = ("rel", self._REL[name], (self._add(e.lhs), self._add(e.rhs)))
+        elif name in ("And", "Or", "Not"):
+            node = (name.lower(), None, tuple(self._add(a) for a in e.args))
+        elif isinstance(e, sp.Piecewise):
+            kids = []
+            for pair in e.args:
+                if not isinstance(pair, ExprCondPair):
+                    raise _Unsupported(name)
+                kids += [self._add(pair.cond), self._add(pair.expr)]
+            node = ("piecewise", None, tuple(kids))
+        else:
+            raise _Unsupported(name)
+        self.nodes.append(node)
+        k = self.index[e] = len(self.nodes) - 1
+        return k
+
+    def __call__(self, *xs):
+        memo: list = [_UNSET] * len(self.nodes)
+        nodes, argpos = self.nodes, self.argpos
+
+        def ev(k):
+            v = memo[k]
+            if v is not _UNSET:
+                return v
+            kind, p, ch = nodes[k]
+            if kind == "sym":
+                v = xs[argpos[p]]
+            elif kind == "const":
+                v = mpmath.nan if p == "nan" else p
+            elif kind == "pi":
+                v = +mpmath.pi
+            elif kind == "rat":
+                v = mpmath.mpf(p[0]) / mpmath.mpf(p[1])
+            elif kind == "add":
+                v = ev(ch[0])
+                for c in ch[1:]:
+                    v = v + ev(c)
+            elif kind == "mul":
+                v = ev(ch[0]) if p else 1
+                for c in ch[1:p]:
+                    v = v * ev(c)
+                for c in ch[p:]:
+                    v = v / ev(c)
+            elif kind == "sqrt":
+                v = mpmath.sqrt(ev(ch[0]))
+            elif kind == "rsqrt":
+                v = 1 / mpmath.sqrt(ev(ch[0]))
+            elif kind == "inv":
+                v = 1 / ev(ch[0])
+            elif kind == "ipow":
+                v = ev(ch[0]) ** p
+            elif kind == "pow":
+                v = ev(ch[0]) ** ev(ch[1])
+            elif kind == "mod":
+                v = ev(ch[0]) % ev(ch[1])
+            elif kind == "fun":
+                v = p(*[ev(c) for c in ch])
+            elif kind == "rel":
+                v = p(ev(ch[0]), ev(ch[1]))
+            elif kind == "and":
+                v = all(ev(c) for c in ch)
+            elif kind == "or":
+                v = any(ev(c) for c in ch)
+            elif kind == "not":
+                v = not ev(ch[0])
+            else:  # piecewise: conditions in order, only the chosen branch; None where none holds
+                v = None
+                for i in range(0, len(ch), 2):
+                    if ev(ch[i]):
+                        v = ev(ch[i + 1])
+                        break
+            memo[k] = v
+            return v
+
+        return [ev(r) for r in self.roots]
+
+
+class _Unsupported(Exception):
+    pass
+
+
+_UNSET = object()
 
 
 class OutsideDomain(ArithmeticError):
@@ -190,7 +289,15 @@ class Reference:
         self.args = list(args)
         self.names = [str(a) for a in self.args]
         self.outputs = [sp.sympify(o) for o in outputs]
-        self._f = _lambdify_shared(self.args, self.outputs)
+        self._lambdified = None
+        self._f = _DagEvaluator.compile(self.args, self.outputs) or self.lambdified
+
+    @property
+    def lambdified(self):
+        """The outputs lambdified to mpmath (what :class:`_DagEvaluator` computes node by node)."""
+        if self._lambdified is None:
+            self._lambdified = sp.lambdify(self.args, self.outputs, modules="mpmath", printer=_mpmath_printer())
+        return self._lambdified
 
     def _values(self, xs):
         try:
@@ -208,6 +315,13 @@ class Reference:
             raise err
         return [mpmath.mpf(v.real if isinstance(v, mpmath.mpc) else v) for v in raw]
 
+    def _try(self, xs):
+        """``_values(xs)``, or ``None`` outside the domain (one evaluation, not a test and then another)."""
+        try:
+            return self._values(xs)
+        except OutsideDomain:
+            return None
+
     def _at(self, xs, dps):
         """Values, and ``Σ_j |x_j ∂f/∂x_j|`` by central differences in relative steps ``δ = 10^(−dps/2)``
         (``x_j ∂f/∂x_j ≈ (f(x_j(1+δ)) − f(x_j(1−δ)))/(2δ)``, accurate to about ``dps/2`` digits; a
@@ -221,7 +335,7 @@ class Reference:
                     continue
                 up, down = list(xs), list(xs)
                 up[j], down[j] = x * (1 + delta), x * (1 - delta)
-                fu, fd = _values_or_none(self, up), _values_or_none(self, down)
+                fu, fd = self._try(up), self._try(down)
                 if fu is not None and fd is not None:
                     width = 2 * delta
                 elif fu is not None:  # on the domain's boundary: one-sided
@@ -269,7 +383,8 @@ class Reference:
             raise ValueError(f"dps: references are computed with at least 50 digits, got {dps}")
         xs = [mpmath.mpf(float(inputs[n])) for n in self.names]  # exact: mpf(float) is the binary value
         lo = dps
-        vals, sens = self._at(xs, lo)
+        with mpmath.workdps(lo):  # the lower rung's sensitivity is never read: values only
+            vals = self._values(xs)
         while True:
             hi = 2 * lo
             vals2, sens2 = self._at(xs, hi)
@@ -279,7 +394,7 @@ class Reference:
             if hi >= MAX_DPS:
                 raise ReferenceUnstable(
                     f"reference at {lo} and {hi} digits agrees to only {agreed:.1f} digits (inputs {dict(inputs)})")
-            lo, vals, sens = hi, vals2, sens2
+            lo, vals = hi, vals2
         with mpmath.workdps(hi):
             cond = [s / abs(v) if v != 0 and not mpmath.isnan(v) else mpmath.inf for v, s in zip(vals2, sens2)]
         return ReferenceValue(vals2, sens2, cond, hi, agreed)

@@ -116,34 +116,6 @@ def test_c_kernel_domain_sample(clib, name):
     assert worst <= ERROR_BOUND
 
 
-@pytest.mark.parametrize("name", ["two_surface_resolution_2", "pool_impulse_ratio", "reflect_3"])
-def test_reference_evaluates_shared_subexpressions_bit_for_bit(name):
-    """The references above evaluate each repeated subexpression once (impactsym.reference_values.
-    _lambdify_shared): the same values, bit for bit, and the same exceptions as the plain lambdify of
-    the same formulas, on the kernel's hard cases and a domain sample, at 50 and 100 digits."""
-    import mpmath
-    import sympy as sp
-
-    from impactsym.reference_values import _mpmath_printer
-
-    ref = kernel_reference(name)
-    plain = sp.lambdify(ref.args, ref.outputs, modules="mpmath", printer=_mpmath_printer())
-    sample = domain_sample(name, 12, seed=7)
-    points = [c.inputs for c in HARD if c.kernel == name] + \
-        [{a: float(v[i]) for a, v in sample.items()} for i in range(12)]
-    for inputs in points:
-        for dps in (50, 100):
-            with mpmath.workdps(dps):
-                xs = [mpmath.mpf(float(inputs[a])) for a in ref.names]
-                got = []
-                for f in (plain, ref._f):
-                    try:
-                        got.append([mpmath.nstr(x, 0) if mpmath.isnan(x) else x for x in f(*xs)])
-                    except (ZeroDivisionError, TypeError, AttributeError) as exc:
-                        got.append(type(exc))
-                assert got[0] == got[1], (inputs, dps, got)
-
-
 @pytest.mark.parametrize("name", sorted(SCALAR))
 def test_c_batch_equals_numpy(clib, name):
     try:
