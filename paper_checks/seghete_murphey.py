@@ -489,8 +489,9 @@ def variation():
     q, dq = sp.sin(t), t**2
     L = lambda x, xd: xd**2 / 2 - x**2 / 2
     A = lambda k: sp.integrate(L(q + k * dq, sp.diff(q + k * dq, t)), (t, 0, 1))
-    d1 = sp.diff(A(eps), eps).subs(eps, 0)
-    d2 = sp.limit((A(eps) - A(0)) / eps, eps, 0)
+    A_eps = A(eps)  # integrated once, used by both forms
+    d1 = sp.diff(A_eps, eps).subs(eps, 0)
+    d2 = sp.limit((A_eps - A(0)) / eps, eps, 0)
     r = identical(d1, d2)
     return Finding("definition", published=r"\delta A = \frac{d}{d\varepsilon}\Big|_0 \int L(q+\varepsilon\delta q, \dot q + \varepsilon\delta\dot q)dt = \lim_{\varepsilon\to0}\frac{A(q+\varepsilon\delta q)-A(q)}{\varepsilon}",
                    derived=d1, note=f"Definition (Gateaux derivative); the two printed forms agree on a smooth example ({r.method}).")
