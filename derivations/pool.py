@@ -387,12 +387,13 @@ def _simplified(x):
     return sp.Integer(0) if is_zero_algebraic(x) else simplify(x)
 
 
-def momentum_energy_residuals(velocities: dict, vminus=None, restitution=1, *, energy: bool = True) -> dict:
+def momentum_energy_residuals(velocities: dict, vminus=None, restitution=1, *, energy: bool | str = True) -> dict:
     """Momentum (x, y) and energy residuals of a pool state (unit masses): ``Σq̇⁺ − Σq̇⁻`` per
     axis and ``T⁺ − e T⁻``; ``vminus`` is ball 1's pre-impact velocity (balls 2, 3 at rest).
-    With ``energy=False`` only the momentum residuals are returned (``px``, ``py``): a caller
-    that reads only those does not pay for simplifying the energy residual, the slowest of the
-    three (a sum of squares of rational functions in α).
+    With ``energy=False`` only the momentum residuals are returned (``px``, ``py``), and with
+    ``energy="unsimplified"`` the energy residual as it stands: a caller that prints no energy
+    residual does not pay for simplifying it, the slowest of the three (a sum of squares of
+    rational functions in α).
 
     >>> r = momentum_energy_residuals(printed_eq33(), (sp.Rational(1, 2), sp.sqrt(3) / 2), energy=False)
     >>> sorted(r), sp.factor(r["px"]), sp.factor(r["py"])
@@ -402,10 +403,12 @@ def momentum_energy_residuals(velocities: dict, vminus=None, restitution=1, *, e
     q = [sp.sympify(velocities[k]) for k in VELOCITY_NAMES]
     px = _simplified(q[0] + q[2] + q[4] - vx)
     py = _simplified(q[1] + q[3] + q[5] - vy)
-    if not energy:
+    if energy not in (True, False, "unsimplified"):
+        raise ValueError(f"energy: must be True, False or 'unsimplified', got {energy!r}")
+    if energy is False:
         return {"px": px, "py": py}
-    energy = _simplified(sum(x**2 for x in q) / 2 - restitution * (vx**2 + vy**2) / 2)
-    return {"px": px, "py": py, "energy": energy}
+    residual = sum(x**2 for x in q) / 2 - restitution * (vx**2 + vy**2) / 2
+    return {"px": px, "py": py, "energy": residual if energy == "unsimplified" else _simplified(residual)}
 
 
 @lru_cache(maxsize=None)

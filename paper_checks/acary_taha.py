@@ -1173,7 +1173,9 @@ def eq37_cons():
     d, _, _ = _pool("eq37")
     _baseline("eq37", (sc.v[0], sc.v[1]))  # the law's state conserves both: the baseline
     from derivations.pool import momentum_energy_residuals, printed_eq37
-    res_p = momentum_energy_residuals(printed_eq37(), (sc.v[0], sc.v[1]))
+    # the energy residual is decided as it stands (identical: an exact zero test, else a certified
+    # counterexample point); simplifying it first would only cost time
+    res_p = momentum_energy_residuals(printed_eq37(), (sc.v[0], sc.v[1]), energy="unsimplified")
     dom = {sp.Symbol("alpha", positive=True): (sp.Rational(1, 5), 3)}
     checks = [identical(res_p[k], 0, domain=dom) for k in ("px", "py", "energy")]
     if any(x.different for x in checks):
