@@ -510,9 +510,11 @@ def eq37_analysis() -> dict:
     sol = sp.solve(list(sp.Matrix([repaired["x2+"], repaired["y2+"]]) - (P1 * n12 - P2 * sp.Matrix([1, 0])))
                    + list(sp.Matrix([repaired["x3+"], repaired["y3+"]]) - (P2 * sp.Matrix([1, 0]) + P3 * n13)),
                    [P1, P2, P3], dict=True)[0]
-    implied = (simplify(sol[P2] / sol[P1]), simplify(sol[P3] / sol[P1]))
+    # rational functions of alpha with rational coefficients (sqrt(3) cancels): cancel is their normal
+    # form (what simplify returned, in a fraction of its time)
+    implied = (sp.cancel(sol[P2] / sol[P1]), sp.cancel(sol[P3] / sol[P1]))
     q = sp.Matrix([repaired[k] for k in VELOCITY_NAMES])
-    energy_ratio = sp.factor(simplify(q.dot(q)))  # |v⁻|² = 1
+    energy_ratio = sp.factor(sp.cancel(q.dot(q)))  # |v⁻|² = 1
     return {"readings": readings, "matches": matches, "px_printed": sp.factor(res_p["px"] + vm[0]),
             "py_printed": simplify(res_p["py"] + vm[1]), "momentum_repaired": (res_r["px"], res_r["py"]),
             "implied_impulses": (sol[P1], sol[P2], sol[P3]), "implied_ratios": implied,
