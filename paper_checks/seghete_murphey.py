@@ -977,7 +977,13 @@ def _det_chain():
     rng = random.Random(5)
     out = {}
     M, u = drefl.symbolic_mass_matrix(2), drefl.symbolic_covector(2)
-    pr, co = _det_lines(M, u)
+    # SymPy's intermediate simplification in det/inv (dotprodsimp) only reshapes the symbolic
+    # entries; the lines are compared with -1 by exact cancellation below, so it is switched off
+    # here (it was two thirds of this claim's time)
+    from sympy.matrices.utilities import dotprodsimp
+
+    with dotprodsimp(False):
+        pr, co = _det_lines(M, u)
     out["n=2 symbolic"] = ([cancel(sp.together(x + 1)) == 0 for x in pr],
                            [cancel(sp.together(x + 1)) == 0 for x in co])
     for n in (2, 3, 4):
