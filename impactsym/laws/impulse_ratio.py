@@ -67,7 +67,6 @@ Acary & Taha, eqs. 7, 8, 12, 17, 18, 26, 27, 38.
 
 from __future__ import annotations
 
-import dataclasses
 from dataclasses import dataclass, field
 from functools import lru_cache
 from typing import Any, Sequence
@@ -226,49 +225,11 @@ def energy_balance_along(Mx, Hx, vx, ex, a, *, exact: bool, allow_invalid: bool 
     This is the computational core of :func:`impulse_ratio_law`, shared by the energetic law of
     :mod:`impactsym.laws.classical`. ``p₁`` is then the multiplier of the direction ``a``.
 
-    An exact solution is remembered per ``(M, H, v⁻, e, a, allow_invalid, law)`` (the last 256;
-    a pure function of those): the coupling criteria of sec. 5 often reduce different requests to
-    the same direction (every ``α`` to ``0`` on one scene), and the paper checks ask the same law
-    on the same scene in several claims. Each call returns its own result object (fresh matrices
-    and lists); ``notes`` are not part of the key.
-
     >>> r = energy_balance_along(sp.eye(3), sp.Matrix([[-1, 1, 0], [0, -1, 1]]), sp.Matrix([1, 0, 0]), 1,
     ...                          [sp.Integer(2), sp.Integer(1)], exact=True)
     >>> r.impulses.T
     Matrix([[4/3, 2/3]])
-    >>> again = energy_balance_along(sp.eye(3), sp.Matrix([[-1, 1, 0], [0, -1, 1]]), sp.Matrix([1, 0, 0]), 1,
-    ...                              [sp.Integer(2), sp.Integer(1)], exact=True)
-    >>> again == r, again.impulses is r.impulses
-    (True, False)
     """
-    key = _exact_key(Mx, Hx, vx, ex, a) if exact else None
-    if key is None:
-        return _energy_balance_along(Mx, Hx, vx, ex, a, exact=exact, allow_invalid=allow_invalid, notes=notes, law=law)
-    r = _energy_balance_remembered(key, allow_invalid, law)
-    copy = (lambda X: None if X is None else X.copy())
-    return ImpulseRatioResult(copy(r.impulses), copy(r.velocity), r.delta, r.delta_normalized, r.coefficients,
-                              list(r.ratios), r.exact, r.valid, [dataclasses.replace(v) for v in r.violations],
-                              notes or [])
-
-
-def _exact_key(Mx, Hx, vx, ex, a):
-    """The memo key of an exact request: immutable copies of SymPy data, or None (not remembered)."""
-    if not all(isinstance(X, sp.MatrixBase) for X in (Mx, Hx, vx)):
-        return None
-    if not (isinstance(ex, sp.Basic) and all(isinstance(x, sp.Basic) for x in a)):
-        return None
-    return sp.ImmutableMatrix(Mx), sp.ImmutableMatrix(Hx), sp.ImmutableMatrix(vx), ex, tuple(a)
-
-
-@lru_cache(maxsize=256)
-def _energy_balance_remembered(key, allow_invalid: bool, law: str) -> ImpulseRatioResult:
-    M, H, v, e, a = key
-    return _energy_balance_along(sp.Matrix(M), sp.Matrix(H), sp.Matrix(v), e, list(a), exact=True,
-                                 allow_invalid=allow_invalid, notes=None, law=law)
-
-
-def _energy_balance_along(Mx, Hx, vx, ex, a, *, exact: bool, allow_invalid: bool = False, notes=None,
-                          law: str = "impulse-ratio law") -> ImpulseRatioResult:
     notes = notes or []
     k = Hx.shape[0]
     kind, (Mq, Hq, vq, aq, eM) = exact_data(Mx, Hx, vx, sp.Matrix(a) if exact else np.array(a),
