@@ -129,8 +129,10 @@ def _tidy(x):
     """The printed form of a condition: ``factor`` of the simplified expression, with ``sin²θ``
     replaced by ``1 − cos²θ`` first. A rational function of the symbols and ``cos θ`` alone goes
     straight to ``factor(cancel(x))`` (:func:`_factored_rational`): ``simplify`` and ``trigsimp``
-    cost 0.01-0.2 s each here, and ``factor`` of a cancelled rational function is its factored
-    normal form whatever form it came in."""
+    cost 0.01-0.2 s each here, and ``cancel`` is a normal form of a rational function, so its
+    ``factor`` does not depend on the form the condition came in. (Checked when this path was
+    added: on every condition of the audit, 24 calls, the result is structurally identical, by
+    ``srepr``, to the former ``factor(simplify(trigsimp(x)))``; the generated kernels are unchanged.)"""
     x = sp.sympify(x)
     if x.has(sp.sin, sp.cos):
         x = sp.expand(x).subs(sp.sin(theta) ** 2, 1 - sp.cos(theta) ** 2)
