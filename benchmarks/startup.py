@@ -112,6 +112,8 @@ def _previous_rows(path: Path) -> dict[str, str]:
 PHASES = r"""
 import json, time
 t = time.process_time()
+from impactsym.cli.reproduce import use_audit_sympy_cache
+use_audit_sympy_cache()  # SymPy's cache as `impactsym reproduce` sets it (before SymPy is imported)
 from paper_checks import framework as fw
 from paper_checks.audit import derivation_summary
 from paper_checks.crosscheck import run_crosschecks
@@ -131,7 +133,8 @@ print(json.dumps(out))
 
 def _phases(cwd) -> dict:
     """CPU seconds of each phase of a serial audit in one fresh process (``-j 1``'s work, in the
-    order it runs: the claims share memoized derivations, so a later phase may reuse an earlier's)."""
+    order it runs: the claims share memoized derivations, so a later phase may reuse an earlier's),
+    with SymPy's cache set as ``impactsym reproduce`` sets it."""
     import json
 
     out = subprocess.run([sys.executable, "-c", PHASES], cwd=cwd, env={**os.environ, "PYTHONPATH": str(ROOT)},

@@ -637,7 +637,7 @@ def compare_decimals(values, printed) -> dict:
 
 
 # --------------------------------------------------------------------------- conservation
-def conservation(M, H, vminus, vplus, e=1) -> dict:
+def conservation(M, H, vminus, vplus, e=1, *, values: bool = True) -> dict:
     """Check a post-impact state against the impact equations, exactly.
 
     Parameters
@@ -645,6 +645,11 @@ def conservation(M, H, vminus, vplus, e=1) -> dict:
     M, H : mass matrix (n×n) and gradient rows (k×n), exact entries
     vminus, vplus : pre- and post-impact velocities (n), exact entries
     e : energetic coefficient in force (``T⁺ = e T⁻``)
+    values : also return the simplified values (``p``, ``T_minus``, ``T_plus``,
+        ``energy_residual``, ``Hv_plus``). With ``values=False`` only the four decisions and
+        ``holds`` are returned, decided as exactly but without simplifying what no one reads
+        (:func:`_conservation_decisions`): ``p`` by exact row reduction in the number field of
+        the data instead of ``sympy.solve``, the signs certified on the unsimplified numbers.
 
     Returns
     -------
@@ -665,12 +670,21 @@ def conservation(M, H, vminus, vplus, e=1) -> dict:
     >>> conservation(sp.eye(1), sp.Matrix([[1]]), sp.Matrix([-1]),
     ...              sp.Matrix([1 + sp.Rational(1, 10**20)]))["energy"]
     False
+    >>> h = sp.sqrt(2) / 2
+    >>> conservation(sp.eye(2), sp.Matrix([[-h, -h]]), sp.Matrix([h, h]), sp.Matrix([-h, -h]), values=False)
+    {'momentum': True, 'impulses_nonnegative': True, 'energy': True, 'contacts': True, 'holds': True}
     """
     from derivations.rational_zero import is_zero_algebraic
     from impactsym.exact import certified_sign
 
     M, H = sp.Matrix(M), sp.Matrix(H)
     vm, vp = sp.Matrix(vminus), sp.Matrix(vplus)
+    if not values:
+        decided = _conservation_decisions(M, H, vm, vp, e)
+        if decided is not None:
+            return decided
+        full = conservation(M, H, vm, vp, e)
+        return {k: full[k] for k in ("momentum", "impulses_nonnegative", "energy", "contacts", "holds")}
     rhs = M * (vp - vm)
     p_syms = sp.symbols(f"p0:{H.rows}")
     rational = _rational_unique_solution(H.T, rhs)
@@ -691,6 +705,37 @@ def conservation(M, H, vminus, vplus, e=1) -> dict:
     contacts = all(certified_sign(x) >= 0 for x in w) if not any(x.free_symbols for x in w) else None
     return {"momentum": momentum, "p": p, "impulses_nonnegative": nonneg, "energy_residual": res,
             "energy": energy, "T_minus": Tm, "T_plus": Tp, "Hv_plus": w, "contacts": contacts,
+            "holds": bool(momentum and nonneg and energy and contacts)}
+
+
+def _conservation_decisions(M, H, vm, vp, e):
+    """The decisions of :func:`conservation` (``momentum``, ``impulses_nonnegative``, ``energy``,
+    ``contacts``, ``holds``) for data free of symbols, or None when a symbol occurs (the caller then
+    takes the symbolic path). ``H^T p = M(v⁺ − v⁻)`` is row-reduced exactly in the data's field
+    (:func:`impactsym.arithmetic.linalg.solve_columns`: flint for rationals, a SymPy number field
+    or certified signs otherwise); ``p`` is unique when the reduction leaves no free column, as
+    ``sympy.solve`` then finds it; every sign is certified."""
+    from derivations.rational_zero import is_zero_algebraic
+    from impactsym.arithmetic.fields import field_of
+    from impactsym.arithmetic.linalg import solve_columns
+    from impactsym.exact import certified_sign
+
+    e = sp.sympify(e)
+    if any(x.free_symbols for x in (*M, *H, *vm, *vp, e)):
+        return None
+    rhs = M * (vp - vm)
+    F = field_of(H, rhs)
+    solved = solve_columns([[F.num(H[j, i]) for i in range(H.cols)] for j in range(H.rows)],
+                           [F.num(x) for x in rhs], F)
+    momentum = solved is not None
+    nonneg = None
+    if momentum:
+        p, free = solved
+        nonneg = None if free else all(F.sign(x) >= 0 for x in p)
+    balance = (vp.T * M * vp)[0, 0] / 2 - e * (vm.T * M * vm)[0, 0] / 2
+    energy = True if is_zero_algebraic(balance) else certified_sign(balance) == 0
+    contacts = all(certified_sign(x) >= 0 for x in H * vp)
+    return {"momentum": momentum, "impulses_nonnegative": nonneg, "energy": energy, "contacts": contacts,
             "holds": bool(momentum and nonneg and energy and contacts)}
 
 

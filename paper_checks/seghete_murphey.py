@@ -489,8 +489,9 @@ def variation():
     q, dq = sp.sin(t), t**2
     L = lambda x, xd: xd**2 / 2 - x**2 / 2
     A = lambda k: sp.integrate(L(q + k * dq, sp.diff(q + k * dq, t)), (t, 0, 1))
-    d1 = sp.diff(A(eps), eps).subs(eps, 0)
-    d2 = sp.limit((A(eps) - A(0)) / eps, eps, 0)
+    A_eps = A(eps)  # integrated once, used by both forms
+    d1 = sp.diff(A_eps, eps).subs(eps, 0)
+    d2 = sp.limit((A_eps - A(0)) / eps, eps, 0)
     r = identical(d1, d2)
     return Finding("definition", published=r"\delta A = \frac{d}{d\varepsilon}\Big|_0 \int L(q+\varepsilon\delta q, \dot q + \varepsilon\delta\dot q)dt = \lim_{\varepsilon\to0}\frac{A(q+\varepsilon\delta q)-A(q)}{\varepsilon}",
                    derived=d1, note=f"Definition (Gateaux derivative); the two printed forms agree on a smooth example ({r.method}).")
@@ -976,7 +977,13 @@ def _det_chain():
     rng = random.Random(5)
     out = {}
     M, u = drefl.symbolic_mass_matrix(2), drefl.symbolic_covector(2)
-    pr, co = _det_lines(M, u)
+    # SymPy's intermediate simplification in det/inv (dotprodsimp) only reshapes the symbolic
+    # entries; the lines are compared with -1 by exact cancellation below, so it is switched off
+    # here (it was two thirds of this claim's time)
+    from sympy.matrices.utilities import dotprodsimp
+
+    with dotprodsimp(False):
+        pr, co = _det_lines(M, u)
     out["n=2 symbolic"] = ([cancel(sp.together(x + 1)) == 0 for x in pr],
                            [cancel(sp.together(x + 1)) == 0 for x in co])
     for n in (2, 3, 4):
