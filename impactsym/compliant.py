@@ -433,16 +433,18 @@ def compliant_impact(M, H, v, stiffness, exponent=1.5, damping=None, *, hunt_cro
 
     # called some 12 times per DOP853 step: the same float operations as the formula in the
     # docstring, without the rate of indentation where the force does not use it (elastic)
+    touching = not np.any(g0)  # every gap 0: -(g0 + x) is -x but for the sign of a zero, which the last line drops
+
     def forces(q, qd):
-        d = -(g0 + Hf @ q)
+        d = -(Hf @ q) if touching else -(g0 + Hf @ q)
         dp = np.maximum(d, 0.0)
         dpp = dp if lin else dp ** p
         if hc:
             f = K * dpp * (1.0 + D * -(Hf @ qd))
         elif damped:
             f = K * dpp + C * (dp ** pm1 if not lin else (d > 0)) * -(Hf @ qd)
-        else:
-            f = K * dpp
+        else:  # K > 0 and dpp >= 0 where d > 0: f >= 0 there already
+            return np.where(d > 0, K * dpp, 0.0)
         return np.where(d > 0, np.maximum(f, 0.0), 0.0)
 
     def rhs(_t, y):

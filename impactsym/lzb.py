@@ -189,6 +189,7 @@ def lzb_impact(M, H, v, stiffness, exponent=1.5, restitution=1.0, *, rtol: float
     a = K ** (1 / (eta + 1)) * (eta + 1) ** (eta / (eta + 1))
     b = (K / (eta + 1)) ** (1 / (eta + 1))
     inv_e2 = 1.0 / e**2
+    elastic = bool(np.all(inv_e2 == 1.0))
     V = float(np.max(-w0[w0 < 0]))
     T0 = 0.5 * float(v0 @ Mf @ v0)
     Eeps = ENERGY_EPS * T0  # set again at every (re)start
@@ -262,14 +263,19 @@ def lzb_impact(M, H, v, stiffness, exponent=1.5, restitution=1.0, *, rtol: float
             fp = a_pp * max(Epp, Eeps) ** expo_pp
             f = a * np.maximum(ss, 0.0) ** eta
             f[pp] = fp
-            c = np.where(ww > 0, inv_e2, 1.0)
-            ds = np.where((ss <= 0) & (ww >= 0), 0.0, -c * ww * b / fp)
+            if elastic:  # c = 1 on every contact: -c * ww is -ww, bit for bit
+                cw = -ww
+                ds = np.where((ss <= 0) & (ww >= 0), 0.0, cw * b / fp)
+            else:
+                c = np.where(ww > 0, inv_e2, 1.0)
+                cw = -c * ww
+                ds = np.where((ss <= 0) & (ww >= 0), 0.0, cw * b / fp)
             ds[pp] = 0.0
             ratio = f / fp
             dv = A @ ratio
             ds_ep = np.empty(k + 1)
             ds_ep[:k] = ds
-            ds_ep[k] = -c[pp] * ww[pp]
+            ds_ep[k] = cw[pp]
             return np.concatenate((dv, ds_ep, ratio, np.array([1.0 / fp]) if track_time else tail))
 
         def end_primary(_P, y, pp=pp):
