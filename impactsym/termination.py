@@ -346,14 +346,20 @@ def separating_direction(H) -> SeparationCertificate:
     (0, 1, 2)
     """
     key = _certificate_key(H)
-    if key is not None and key in _CERTIFICATES:
-        _CERTIFICATES.move_to_end(key)
-        return _CERTIFICATES[key]
+    if key is not None:
+        try:
+            _CERTIFICATES.move_to_end(key)
+            return _CERTIFICATES[key]
+        except KeyError:  # not remembered (or dropped meanwhile by another thread)
+            pass
     cert = _separating_direction(H)
     if key is not None:
         _CERTIFICATES[key] = cert
-        if len(_CERTIFICATES) > _CERTIFICATES_MAX:
-            _CERTIFICATES.popitem(last=False)
+        while len(_CERTIFICATES) > _CERTIFICATES_MAX:
+            try:
+                _CERTIFICATES.popitem(last=False)
+            except KeyError:  # pragma: no cover - emptied by another thread
+                break
     return cert
 
 
