@@ -360,6 +360,22 @@ def m_normal(M, h):
     return w / np.sqrt(h @ w)
 
 
+def _rational_forms(M, hi, hj):
+    """``(H_i M⁻¹ H_jᵀ, H_i M⁻¹ H_iᵀ, H_j M⁻¹ H_jᵀ)`` as SymPy rationals when every entry is a SymPy
+    ``Rational``, by python-flint (the same exact numbers SymPy's ``LUsolve`` gives, without its
+    O(n³) SymPy arithmetic); None otherwise, or when ``M`` is singular (SymPy then says so)."""
+    from .arithmetic.rational import all_rational, rational_matrix, to_sympy_rational
+
+    if not all_rational(M, hi, hj):
+        return None
+    Mq, hiq, hjq = rational_matrix(M), rational_matrix(hi.T), rational_matrix(hj.T)
+    try:
+        wi, wj = Mq.solve(hiq), Mq.solve(hjq)
+    except ZeroDivisionError:
+        return None
+    return tuple(to_sympy_rational((a.transpose() * b)[0, 0]) for a, b in ((hiq, wj), (hiq, wi), (hjq, wj)))
+
+
 def kinetic_angle_cos(M, hi, hj):
     """``cos θ_ij = H_i M⁻¹ H_jᵀ / √(H_i M⁻¹ H_iᵀ · H_j M⁻¹ H_jᵀ)`` (Acary & Taha eq. 40).
 
@@ -368,10 +384,14 @@ def kinetic_angle_cos(M, hi, hj):
     """
     if isinstance(M, sp.MatrixBase):
         hi, hj = _row(hi, exact=True), _row(hj, exact=True)
-        Minv_hj = M.LUsolve(hj.T)
-        Minv_hi = M.LUsolve(hi.T)
-        num = (hi * Minv_hj)[0, 0]
-        return sp.radsimp(sp.simplify(num / sp.sqrt((hi * Minv_hi)[0, 0] * (hj * Minv_hj)[0, 0])))
+        rational = _rational_forms(M, hi, hj)
+        if rational is not None:
+            num, aii, ajj = rational
+        else:
+            Minv_hj = M.LUsolve(hj.T)
+            Minv_hi = M.LUsolve(hi.T)
+            num, aii, ajj = (hi * Minv_hj)[0, 0], (hi * Minv_hi)[0, 0], (hj * Minv_hj)[0, 0]
+        return sp.radsimp(sp.simplify(num / sp.sqrt(aii * ajj)))
     Mf = np.asarray(M, dtype=float)
     hi, hj = _row(hi), _row(hj)
     wi, wj = np.linalg.solve(Mf, hi), np.linalg.solve(Mf, hj)

@@ -409,14 +409,12 @@ def _ordering_lp(M, H, v0, order):
     contact), the interval lengths ``dt`` and ``delta`` itself, with every gap and interval ``>= delta``,
     the contact hit at event ``s`` closing exactly then, and the gaps summing to at most 1. Returns
     ``(k, c, A_ub, b_ub, A_eq, b_eq)`` as lists of exact entries, variables ``g, dt, delta >= 0``."""
-    from .laws.reflection import reflect
-
     k = H.shape[0]
     m = len(order)
-    vels = [sp.Matrix(v0)]
-    for c in order:
-        vels.append(reflect(M, H[c, :], vels[-1]))
-    w = [H * vel for vel in vels]  # w[s][i]: closing rate of contact i during interval s (after event s)
+    Mi, Hi = sp.ImmutableMatrix(M), sp.ImmutableMatrix(H)
+    order = tuple(int(c) for c in order)
+    w = [_closing_rates(Mi, Hi, sp.ImmutableMatrix(v0), order[:s]) for s in range(m + 1)]
+    # w[s][i]: closing rate of contact i during interval s (after event s)
     # variables: g_0..g_{k-1}, dt_1..dt_m, delta
     nv = k + m + 1
     D = nv - 1
@@ -456,6 +454,22 @@ def _ordering_lp(M, H, v0, order):
     c = [sp.Integer(0)] * nv
     c[D] = sp.Integer(-1)
     return k, c, A_ub, b_ub, A_eq, b_eq
+
+
+@lru_cache(maxsize=4096)
+def _velocity_after(M, H, v0, prefix):
+    """The velocity after the single impacts ``prefix`` (exact, verified by ``reflect``), remembered
+    per prefix: the orderings of one scene share their prefixes, so each is reflected once."""
+    from .laws.reflection import reflect
+
+    if not prefix:
+        return v0
+    return sp.ImmutableMatrix(reflect(M, H[prefix[-1], :], _velocity_after(M, H, v0, prefix[:-1])))
+
+
+@lru_cache(maxsize=4096)
+def _closing_rates(M, H, v0, prefix):
+    return H * _velocity_after(M, H, v0, prefix)
 
 
 def ordering_realizable(M, H, v0, order) -> bool:

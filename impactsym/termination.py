@@ -46,6 +46,7 @@ Exact algebraic rows (a point in a corner of a floor and a 60° wall) are decide
 from __future__ import annotations
 
 import sys
+from collections import OrderedDict
 from dataclasses import dataclass
 from fractions import Fraction
 
@@ -382,6 +383,46 @@ def separating_direction(H) -> SeparationCertificate:
     >>> separating_direction([[1, 0], [0, 1], [-1, -1]]).support
     (0, 1, 2)
     """
+    key = _certificate_key(H)
+    if key is not None:
+        try:
+            _CERTIFICATES.move_to_end(key)
+            return _CERTIFICATES[key]
+        except KeyError:  # not remembered (or dropped meanwhile by another thread)
+            pass
+    cert = _separating_direction(H)
+    if key is not None:
+        _CERTIFICATES[key] = cert
+        while len(_CERTIFICATES) > _CERTIFICATES_MAX:
+            try:
+                _CERTIFICATES.popitem(last=False)
+            except KeyError:  # pragma: no cover - emptied by another thread
+                break
+    return cert
+
+
+#: verified certificates by the rows' exact key (:func:`_certificate_key`), most recent last: the
+#: compliant laws of one system (hertz, linear, power, hunt-crossley, the refusal checks, the
+#: a-posteriori bound) ask for the same rows' certificate several times, each an LP and an exact check
+_CERTIFICATES: OrderedDict = OrderedDict()
+_CERTIFICATES_MAX = 256
+
+
+def _certificate_key(H):
+    """A hashable key that determines the exact rows of ``H`` (float64 arrays by their bytes, SymPy
+    matrices by their entries), or None for other input (not remembered). The certificate is a
+    frozen dataclass of exact numbers (fmpq or SymPy): the one returned again is the one verified before."""
+    if isinstance(H, np.ndarray) and H.dtype == np.float64 and H.ndim == 2:
+        return ("float64", H.shape, H.tobytes())
+    if _is_sympy(H, "MatrixBase"):
+        try:
+            return ("sympy", H.shape, tuple(H))
+        except TypeError:  # pragma: no cover - an unhashable entry
+            return None
+    return None
+
+
+def _separating_direction(H) -> SeparationCertificate:
     F, rows, k, n = _exact_rows(H)
     Hf = np.array([[_to_float(F, x) for x in r] for r in rows], dtype=float)
     if not np.all(np.isfinite(Hf)):

@@ -96,6 +96,8 @@ def test_gordan_alternative_on_random_integer_rows_agrees_with_the_exact_simplex
 
 def test_the_exact_fallback_decides_when_the_float_candidates_are_wrong(monkeypatch):
     # float LPs that return garbage: rational rows are still decided, exactly; algebraic rows raise
+    # (with no certificate remembered from an earlier test, so the fallback itself is what answers)
+    monkeypatch.setattr(termination, "_CERTIFICATES", type(termination._CERTIFICATES)())
     monkeypatch.setattr(termination, "_lp_u", lambda Hf: np.full(Hf.shape[1], -1.0))
     monkeypatch.setattr(termination, "_lp_lambda", lambda Hf: (np.full(Hf.shape[0], 1.0), [0]))
     c = separating_direction(chain_matrices([1, 1, 1])[1].tolist())
@@ -104,6 +106,29 @@ def test_the_exact_fallback_decides_when_the_float_candidates_are_wrong(monkeypa
     assert not c.separating and c.support == (0, 1)
     with pytest.raises(UndecidableSign, match="neither a separating direction"):
         separating_direction(sp.Matrix([[S3, 1], [-1, -1 / S3]]))
+
+
+
+def test_a_remembered_certificate_is_the_one_of_the_same_exact_rows():
+    # one certificate per exact row set: equal float arrays share it; rows whose exact values
+    # differ (the binary 0.1 against 1/10; a sign) never do
+    Hf = np.array([[-1.0, 1.0, 0.0], [0.0, -1.0, 1.0]])
+    c = separating_direction(Hf)
+    assert separating_direction(Hf.copy()) is c and separating_direction(np.asfortranarray(Hf)) is c
+    assert separating_direction(-Hf).vector != c.vector
+    assert independently_certified(-Hf, separating_direction(-Hf))
+    # rows (a, -1), (-1, 10): confined exactly at a = 1/10 (lambda = (10, 1)), separated in a sliver at
+    # the binary 0.1 (a hair above 1/10); each answer is right for its own rows whichever comes first
+    binary = sp.Matrix([[sp.Float(0.1), -1], [-1, 10]])
+    tenth = sp.Matrix([[sp.Rational(1, 10), -1], [-1, 10]])
+    exact = {id(binary): [[0.1, -1], [-1, 10]], id(tenth): tenth}  # the float at its binary value, for the check
+    for first, second in ((binary, tenth), (tenth, binary)):
+        termination._CERTIFICATES.clear()
+        a, b = separating_direction(first), separating_direction(second)
+        assert a.separating != b.separating
+        assert independently_certified(exact[id(first)], a) and independently_certified(exact[id(second)], b)
+    assert separating_direction(np.array([[0.1, -1.0], [-1.0, 10.0]])).separating
+    assert not separating_direction(tenth).separating
 
 
 # ----------------------------------------------------------------- mutations: wrong certificates

@@ -206,6 +206,28 @@ def test_speed_against_error_reads_the_committed_bench():
     assert set(src["backends"]) == {r["backend"] for r in data["results"]}
 
 
+
+def test_layout_is_deferred_to_the_drawing_and_gives_the_same_pixels(tmp_path):
+    """A figure is laid out (tight) when it is drawn, not when it is built: save and show lay it
+    out at its own dpi first, so the pixels are those of ``tight_layout()`` at the end of building."""
+    from matplotlib.layout_engine import TightLayoutEngine
+
+    def build():
+        return F.two_surface_figure("2,0;0,1", "1,0;-1,1", "-1,-1")[0]
+
+    eager = build()
+    assert isinstance(eager.get_layout_engine(), TightLayoutEngine)  # nothing laid out yet
+    eager.tight_layout()
+    assert not isinstance(eager.get_layout_engine(), TightLayoutEngine)  # laid out once, then no engine runs
+    eager.savefig(tmp_path / "eager.png", dpi=100)
+    F.save(build(), tmp_path / "deferred.png")
+    assert (tmp_path / "eager.png").read_bytes() == (tmp_path / "deferred.png").read_bytes()
+    shown = build()
+    before = shown.subplotpars.left
+    png = F.show(shown).data
+    assert shown.subplotpars.left != before and png[:8] == b"\x89PNG\r\n\x1a\n"
+
+
 def test_readme_figures_source_data_are_current(tmp_path):
     """The committed docs/figures/*.json are what the figure functions compute now (regenerate
     with ``python -m impactsym.figures docs/figures``)."""

@@ -37,6 +37,27 @@ def _f(v) -> np.ndarray:
     return np.array([float(sp.N(x, 17)) for x in v], dtype=float)
 
 
+def _tight(fig) -> None:
+    """Ask for matplotlib's tight layout when ``fig`` is drawn, not now.
+
+    The layout measures every text of the figure, the bulk of building one; a caller that wants
+    only a figure's source data (the README's currency test, the paper checks) never draws it, so
+    never pays for it. :func:`save` and :func:`show` run it first, at the figure's own dpi, exactly as
+    ``fig.tight_layout()`` did when it was called at the end of building (the same pixels); a
+    figure drawn otherwise is laid out by the engine at its drawing.
+    """
+    fig.set_layout_engine("tight")
+
+
+def _laid_out(fig):
+    """Run the layout :func:`_tight` deferred (``fig.tight_layout()``, which leaves no engine)."""
+    from matplotlib.layout_engine import TightLayoutEngine
+
+    if isinstance(fig.get_layout_engine(), TightLayoutEngine):
+        fig.tight_layout()
+    return fig
+
+
 def save(fig, path) -> str:
     """Write ``fig`` to ``path`` (the format from its suffix, 100 dpi) and close it; return the path as text.
 
@@ -46,7 +67,7 @@ def save(fig, path) -> str:
     >>> os.path.getsize(save(fig, os.path.join(tempfile.mkdtemp(), "fig3.png"))) > 0
     True
     """
-    fig.savefig(path, dpi=100)
+    _laid_out(fig).savefig(path, dpi=100)
     _plt().close(fig)
     return str(path)
 
@@ -66,7 +87,7 @@ def show(fig):
     from IPython.display import Image
 
     buf = io.BytesIO()
-    fig.savefig(buf, format="png", dpi=90)
+    _laid_out(fig).savefig(buf, format="png", dpi=90)
     _plt().close(fig)
     return Image(data=buf.getvalue(), format="png")
 

@@ -7,7 +7,7 @@ from __future__ import annotations
 import numpy as np
 import sympy as sp
 
-from ._common import _f, _plt, _s, _vs
+from ._common import _f, _plt, _s, _tight, _vs
 
 __all__ = [
     "at_fig2_pool", "at_fig3_domain", "at_domain_over_theta", "at_chain3_velocities", "at_fig4_bernoulli",
@@ -56,7 +56,7 @@ def at_fig2_pool(theta="pi/4", tau=0):
     ax.legend(fontsize=8, loc="lower right")
     ax.set_title(f"Acary & Taha Fig. 2: the pool, theta = {_s(theta)}, tau = {_s(tau)}; "
                  f"cos(kinetic angle 1-2, 2-3) = {_s(cosk)}", fontsize=9)
-    fig.tight_layout()
+    _tight(fig)
     return fig, {"theta": _s(theta), "tau": _s(tau), "contacts": list(sc.contacts), "v0": _vs(sc.v),
                  "cos_kinetic_angle_12": _s(cosk)}
 
@@ -103,7 +103,7 @@ def at_fig3_domain(theta="pi/4", *, printed_h=None, alpha_max=1.5):
         ax.legend(loc="lower right", fontsize=8)
         src["printed_h"] = _s(expr)
     ax.set_title(f"Acary & Taha Fig. 3: valid domain of (alpha_12, e), theta = {_s(out['theta'])}", fontsize=10)
-    fig.tight_layout()
+    _tight(fig)
     return fig, src
 
 
@@ -151,7 +151,7 @@ def at_domain_over_theta(thetas=None):
     for ax in list(axes.flat)[len(thetas):]:
         ax.axis("off")
     fig.suptitle("Acary & Taha: the pool's valid domain as theta varies")
-    fig.tight_layout()
+    _tight(fig)
     return fig, {"panels": panels}
 
 
@@ -207,7 +207,7 @@ def at_chain3_velocities(restitutions=("1", "9/10", "2/3", "1/3"), alphas=None):
     src["paper_example"] = {"e": "1", "alpha": "19/20", "velocity": _vs(ex.velocity), "impulses": _vs(ex.impulses)}
     src["domain"] = {"alpha": _vs(dom.region["alpha"]), "e": _vs(dom.region["e"])}
     fig.suptitle("Acary & Taha eqs. 13-19: the 3-ball chain under the impulse-ratio law")
-    fig.tight_layout()
+    _tight(fig)
     return fig, src
 
 
@@ -249,7 +249,7 @@ def at_fig4_bernoulli(alpha="1/2", tau=None, restitution=1):
     ax.set_ylim(-4, 4)
     ax.legend(fontsize=7, loc="lower left")
     ax.set_title(f"Acary & Taha Fig. 4: Bernoulli's problem, tau = {_s(sc.meta['tau'])}, valid: {res.valid}", fontsize=10)
-    fig.tight_layout()
+    _tight(fig)
     return fig, {"alpha": _s(alpha), "tau": _s(sc.meta["tau"]), "contacts": list(sc.contacts),
                  "velocity": None if res.velocity is None else _vs(res.velocity),
                  "impulses": None if res.impulses is None else _vs(res.impulses), "valid": res.valid}
@@ -305,7 +305,7 @@ def at_fig5_transmission(n_balls=5, stiffness=1.0):
     axes[1].set_title("exit velocities", fontsize=10)
     axes[1].legend(fontsize=8)
     fig.suptitle(f"Acary & Taha Fig. 5: transmission of impulses in an open chain of {n} balls")
-    fig.tight_layout()
+    _tight(fig)
     match = bool(np.allclose(law.velocity, runs["hertz"].velocity, rtol=0, atol=1e-6))
     return fig, {"n_balls": n, "law_matches_hertz_velocity": match,
                  **{m: {"ratios": r.ratios.tolist(), "impulses": r.impulses.tolist(), "velocity": r.velocity.tolist(),
@@ -378,7 +378,7 @@ def at_fig5_planar_chain(positions=PLANAR_CHAIN, ratios=("3/4", "1/2", "1/2"), r
     ax.legend(fontsize=7, loc="lower right")
     ax.set_title(f"Acary & Taha Fig. 5 in the plane: impact degree {deg} (eq. 45); "
                  f"ratios {[_s(x) for x in res.ratios]}, valid: {res.valid}", fontsize=9)
-    fig.tight_layout()
+    _tight(fig)
     return fig, {"positions": [[_s(c) for c in p] for p in positions], "contacts": list(sc.contacts),
                  "cos_consecutive": [_s(dec.cosines[(j, j + 1)]) for j in range(k - 1)],
                  "coupled_consecutive": [bool(dec.coupled[(j, j + 1)]) for j in range(k - 1)],

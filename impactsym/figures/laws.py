@@ -11,7 +11,7 @@ import numpy as np
 import sympy as sp
 
 from ..errors import ImpactInputError
-from ._common import _f, _plt, _s, _vs, _plane_basis
+from ._common import _f, _plt, _s, _tight, _vs, _plane_basis
 from .acary_taha import at_domain_over_theta, at_fig3_domain
 
 __all__ = [
@@ -122,7 +122,7 @@ def two_surface_figure(M, H, v, *, title=None):
                      f"two reflections rotate v by 2 beta; bound N = ceil(pi/beta) = {res.bound}", fontsize=9)
         ax.legend(fontsize=7, loc="lower left")
     fig.suptitle(title or "The two-surface law in the plane of the two M-normals (iterate k; sec. III-C)", fontsize=10)
-    fig.tight_layout()
+    _tight(fig)
     return fig, {"M": [_vs(Mx.row(i)) for i in range(Mx.shape[0])], "H": [_vs(Hx.row(i)) for i in range(2)],
                  "v0": _vs(vx), "counts": counts, "iterated_counts": iterated, "bound": res.bound,
                  "wedge_angle": str(res.as_dict()["wedge_angle"]), "kinetic_angle_cos": _s(res.kinetic_angle_cos),
@@ -161,7 +161,7 @@ def domain_figure(scene: str, theta=None, tau=None):
         plot_domain(0, None, ax=ax)
         ax.set_title("Acary & Taha eq. 19: valid domain of the 3-ball chain (the pool's curves at theta = 0)",
                      fontsize=9)
-        fig.tight_layout()
+        _tight(fig)
     elif tau is None or sp.sympify(tau) == 0:
         if len(dom.boundaries) == 4:
             return at_fig3_domain(dom.theta)
@@ -172,7 +172,7 @@ def domain_figure(scene: str, theta=None, tau=None):
                 fontsize=8, transform=ax.transAxes)
         ax.set_xlabel("alpha_12")
         ax.set_ylabel("e")
-        fig.tight_layout()
+        _tight(fig)
         return fig, src
     else:
         fig, ax = plt.subplots(figsize=(6, 4.5))
@@ -191,7 +191,7 @@ def domain_figure(scene: str, theta=None, tau=None):
         ax.set_ylabel("e")
         ax.legend(fontsize=8, loc="lower right")
         ax.set_title(f"valid domain of the pool, theta = {_s(dom.theta)}, tau = {_s(dom.tau)}", fontsize=10)
-        fig.tight_layout()
+        _tight(fig)
     src.update(alpha=_vs(dom.region["alpha"]), e=_vs(dom.region["e"]))
     return fig, src
 
@@ -278,7 +278,7 @@ def laws_figure_from_json(result: dict):
             ax.text(0.5, 0.5, r["refused"][:60], transform=ax.transAxes, fontsize=6, ha="center", wrap=True)
     axes[0][0].set_ylabel("exit velocity")
     fig.suptitle("impactsym resolve --law all: every law's outcomes (hatched: invalid)", fontsize=10)
-    fig.tight_layout()
+    _tight(fig)
     return fig
 
 
@@ -330,7 +330,7 @@ def laws_side_by_side(scene="cradle", ratios=None, *, max_drawn: int = 6):
             ax.text(0.5, 0.5, r["note"][:60], transform=ax.transAxes, fontsize=6, ha="center", wrap=True)
     axes[0].set_ylabel("exit velocity")
     fig.suptitle(f"Every law on one scene: {name} (v0 = {_vs(sc.v)}); hatched: invalid", fontsize=10)
-    fig.tight_layout()
+    _tight(fig)
     src = {"scene": name, "v0": _vs(sc.v),
            "laws": {law: {"outcomes": [_vs(o) for o in r["outcomes"]], "valid": list(r["valid"]), "note": r["note"]}
                     for law, r in res.items()}}
@@ -379,7 +379,7 @@ def resolve_figure(law: str, M, H, v, result: dict):
     valid = result.get("valid")
     ax.set_title(f"impactsym resolve --law {law}{more}" + ("" if valid is None else f"; valid: {valid}"), fontsize=10)
     ax.legend(fontsize=7)
-    fig.tight_layout()
+    _tight(fig)
     return fig, {"kind": "velocities", "law": law, "v0": _vs(vx), "outcomes_float": [list(map(float, o)) for o in outs]}
 
 
@@ -431,5 +431,5 @@ def speed_against_error(result):
     if axes[1].collections:
         axes[1].legend(fontsize=8, loc="upper left", bbox_to_anchor=(1.02, 1))
     fig.suptitle("Speed against error of every evaluation path (dotted: machine epsilon)")
-    fig.tight_layout()
+    _tight(fig)
     return fig, {"backends": backends, "formulas": formulas, "best": best}

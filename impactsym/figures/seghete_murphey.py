@@ -10,7 +10,7 @@ import numpy as np
 import sympy as sp
 
 from ..errors import ImpactInputError
-from ._common import _f, _plt, _s, _vs, _kinetic_frame, _kin, _ray, _shade_cone, _normal_cone_arc, _plane_basis
+from ._common import _f, _plt, _s, _tight, _vs, _kinetic_frame, _kin, _ray, _shade_cone, _normal_cone_arc, _plane_basis
 from .laws import two_surface_figure
 
 __all__ = [
@@ -93,7 +93,7 @@ def _corner(kind, M, H, v0):
     ax.set_aspect("equal")
     ax.set_title(title + " (kinetic coordinates)", fontsize=10)
     ax.legend(fontsize=7, loc="lower right")
-    fig.tight_layout()
+    _tight(fig)
     return fig, src
 
 
@@ -338,7 +338,7 @@ def sm_fig4_configuration_space(masses=("11/10", 1), v0=(-1, -2), *, gap_scale="
     ax.set_title("(c) incoming velocity by ordering length\n(u:m / v:m; blue: both 4, the printed v4a, v4b)",
                  fontsize=9)
     fig.suptitle("Seghete & Murphey Fig. 4: two balls and a wall (sec. II-C.1, III-B.3)")
-    fig.tight_layout()
+    _tight(fig)
     src = {"masses": _vs(sc.meta["masses"]), "v0": _vs(sc.v), "orders": [list(o.order) for o in r.outcomes],
            "trajectories": trajs, "regions": regs,
            "claim_sector_t": [_s(sp.sympify(x[1]) / sp.sympify(x[0])) for x in claim]}
@@ -422,7 +422,7 @@ def sm_fig5_cradle_kinetic_plane(masses=(1, 1, 1), v0=(1, 0, 0)):
                  f"plane of the two M-normals (part along the corner, unchanged: {np.round(along, 3).tolist()})",
                  fontsize=8)
     ax.legend(fontsize=7, loc="lower right")
-    fig.tight_layout()
+    _tight(fig)
     return fig, {"masses": _vs(masses), "v0": _vs(sc.v), "orders": [list(o.order) for o in r.outcomes],
                  "orderings": orders, "outcomes": [_vs(o.velocity) for o in r.outcomes]}
 
@@ -494,7 +494,7 @@ def sm_three_surface_overgeneration(masses=(1, 3, 4), velocities=(-1, -3, 0),
                  f"{r.orderings} orderings by the branching rule, {len(r.outcomes)} outcomes, "
                  f"{len(realized)} realized", fontsize=10)
     ax.legend(fontsize=7, loc="upper left")
-    fig.tight_layout()
+    _tight(fig)
     return fig, {"masses": _vs(masses), "v0": _vs(velocities), "orderings": r.orderings,
                  "outcomes": [_vs(o.velocity) for o in r.outcomes], "orderings_per_outcome": per,
                  "realized": [_vs(r.outcomes[j].velocity) for j in sorted(realized)],
