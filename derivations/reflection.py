@@ -619,6 +619,12 @@ def kernels() -> list:
             The diagonal is emitted as (sum_{{k!=i}} u_k w_k - e u_i w_i)/s, the sum without u_i w_i
             taken as prefix + suffix sums (no subtraction; issue 15).
             """
+            def excluding(t):  # sum_(k != i) t_k for every i (last axis): prefix + suffix sums
+                zero = numpy.zeros_like(t[..., :1])
+                before = numpy.concatenate([zero, numpy.cumsum(t[..., :-1], axis=-1)], axis=-1)
+                after = numpy.concatenate([numpy.cumsum(t[..., :0:-1], axis=-1)[..., ::-1], zero], axis=-1)
+                return before + after
+
             mass_matrix = numpy.asarray(mass_matrix, dtype=float)
             gradient = numpy.asarray(gradient, dtype=float)
             restitution = numpy.asarray(restitution, dtype=float)
@@ -626,7 +632,7 @@ def kernels() -> list:
             t = gradient*w
             s = numpy.sum(t, axis=-1)[..., None]
             e = restitution[..., None]
-            rest = _excluding(t)
+            rest = excluding(t)
             diag = ({pieces["diag_num"]})/({pieces["den"]})
             off = ({pieces["off_coeff_num"]})/({pieces["den"]})
             n = gradient.shape[-1]
@@ -644,6 +650,12 @@ def kernels() -> list:
             Emitted as ((sum_{{k!=i}} u_k w_k - e u_i w_i) v_i - (1+e) w_i sum_{{k!=i}} u_k v_k)/s,
             each sum without the i-th term taken as prefix + suffix sums (issue 15).
             """
+            def excluding(t):  # sum_(k != i) t_k for every i (last axis): prefix + suffix sums
+                zero = numpy.zeros_like(t[..., :1])
+                before = numpy.concatenate([zero, numpy.cumsum(t[..., :-1], axis=-1)], axis=-1)
+                after = numpy.concatenate([numpy.cumsum(t[..., :0:-1], axis=-1)[..., ::-1], zero], axis=-1)
+                return before + after
+
             mass_matrix = numpy.asarray(mass_matrix, dtype=float)
             gradient = numpy.asarray(gradient, dtype=float)
             velocity = numpy.asarray(velocity, dtype=float)
@@ -652,17 +664,9 @@ def kernels() -> list:
             t = gradient*w
             s = numpy.sum(t, axis=-1)[..., None]
             e = restitution[..., None]
-            rest = _excluding(t)
-            rest_uv = _excluding(gradient*velocity)
+            rest = excluding(t)
+            rest_uv = excluding(gradient*velocity)
             return ({pieces["apply_num"]})/({pieces["den"]})
-
-
-        def _excluding(t):
-            """sum_(k != i) t_k for every i along the last axis, as prefix + suffix sums."""
-            zero = numpy.zeros_like(t[..., :1])
-            before = numpy.concatenate([zero, numpy.cumsum(t[..., :-1], axis=-1)], axis=-1)
-            after = numpy.concatenate([numpy.cumsum(t[..., :0:-1], axis=-1)[..., ::-1], zero], axis=-1)
-            return before + after
         ''',
     )
     cp = general_emitted_pieces("c")

@@ -32,6 +32,12 @@ def reflection_map(mass_matrix, gradient, restitution=1.0):
     The diagonal is emitted as (sum_{k!=i} u_k w_k - e u_i w_i)/s, the sum without u_i w_i
     taken as prefix + suffix sums (no subtraction; issue 15).
     """
+    def excluding(t):  # sum_(k != i) t_k for every i (last axis): prefix + suffix sums
+        zero = numpy.zeros_like(t[..., :1])
+        before = numpy.concatenate([zero, numpy.cumsum(t[..., :-1], axis=-1)], axis=-1)
+        after = numpy.concatenate([numpy.cumsum(t[..., :0:-1], axis=-1)[..., ::-1], zero], axis=-1)
+        return before + after
+
     mass_matrix = numpy.asarray(mass_matrix, dtype=float)
     gradient = numpy.asarray(gradient, dtype=float)
     restitution = numpy.asarray(restitution, dtype=float)
@@ -39,7 +45,7 @@ def reflection_map(mass_matrix, gradient, restitution=1.0):
     t = gradient*w
     s = numpy.sum(t, axis=-1)[..., None]
     e = restitution[..., None]
-    rest = _excluding(t)
+    rest = excluding(t)
     diag = (-e*t + rest)/(s)
     off = (-e - 1)/(s)
     n = gradient.shape[-1]
@@ -54,6 +60,12 @@ def reflect(mass_matrix, gradient, velocity, restitution=1.0):
     Emitted as ((sum_{k!=i} u_k w_k - e u_i w_i) v_i - (1+e) w_i sum_{k!=i} u_k v_k)/s,
     each sum without the i-th term taken as prefix + suffix sums (issue 15).
     """
+    def excluding(t):  # sum_(k != i) t_k for every i (last axis): prefix + suffix sums
+        zero = numpy.zeros_like(t[..., :1])
+        before = numpy.concatenate([zero, numpy.cumsum(t[..., :-1], axis=-1)], axis=-1)
+        after = numpy.concatenate([numpy.cumsum(t[..., :0:-1], axis=-1)[..., ::-1], zero], axis=-1)
+        return before + after
+
     mass_matrix = numpy.asarray(mass_matrix, dtype=float)
     gradient = numpy.asarray(gradient, dtype=float)
     velocity = numpy.asarray(velocity, dtype=float)
@@ -62,17 +74,9 @@ def reflect(mass_matrix, gradient, velocity, restitution=1.0):
     t = gradient*w
     s = numpy.sum(t, axis=-1)[..., None]
     e = restitution[..., None]
-    rest = _excluding(t)
-    rest_uv = _excluding(gradient*velocity)
+    rest = excluding(t)
+    rest_uv = excluding(gradient*velocity)
     return (-rest_uv*w*(e + 1) + velocity*(-e*t + rest))/(s)
-
-
-def _excluding(t):
-    """sum_(k != i) t_k for every i along the last axis, as prefix + suffix sums."""
-    zero = numpy.zeros_like(t[..., :1])
-    before = numpy.concatenate([zero, numpy.cumsum(t[..., :-1], axis=-1)], axis=-1)
-    after = numpy.concatenate([numpy.cumsum(t[..., :0:-1], axis=-1)[..., ::-1], zero], axis=-1)
-    return before + after
 
 
 def _reflection_map_2_python(m_00, m_01, m_11, u_0, u_1, e):
