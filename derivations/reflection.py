@@ -59,6 +59,8 @@ __all__ = [
     "PROPERTIES",
     "run_proof",
     "prove_all",
+    "general_emitted_proof",
+    "general_emitted_pieces",
     "kernels",
     "generate",
 ]
@@ -858,7 +860,11 @@ def general_emitted_proof(max_n: int = 6) -> dict:
 
 def general_emitted_pieces(lang: str = "numpy") -> dict:
     """The printed pieces of the general-n kernels (``numpy`` or ``c`` names), from the expressions
-    :func:`general_emitted_proof` proves equal to the printed map."""
+    :func:`general_emitted_proof` proves equal to the printed map.
+
+    >>> general_emitted_pieces("c")["diag_num"]
+    '-e*t + rest[i]'
+    """
     g = _GEN
     diag, off, apply, den = _general_emitted()
     if lang == "numpy":
