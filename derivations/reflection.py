@@ -792,6 +792,12 @@ _GEN = dict(zip(("t", "rest", "rest_uv", "e", "s", "w", "v", "u_i", "u_j", "w_j"
                 sp.symbols("t rest rest_uv e s w v u_i u_j w_j", real=True)))
 
 
+#: Measured on the default corner grid (issue 15) against the alternative of reflecting in the
+#: M-orthogonal coordinates (Cholesky M = L L^T, u~ = L^-1 u^T, the Euclidean map
+#: I - (1+e) u~ u~^T/|u~|^2 with the same stable diagonal, then back-transformed by L^-T ... L^T):
+#: that form has no cancellation in |u~|^2 but loses the exact zeros of G (u = e_0 at e = 0 gives
+#: G_00 = 0 only up to rounding of the back-transform: inf eps), 9/300, 12/660, 6/75 and 12/165
+#: problems on the reflect_general_2/3 and reflection_map_general_2/3 grids against 0 for this form.
 def _general_emitted():
     """The general-n kernels' emitted entries as expressions of the :data:`_GEN` symbols:
     ``(diag numerator, off-diagonal coefficient numerator, G v numerator, denominator)``."""
