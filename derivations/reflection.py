@@ -59,6 +59,8 @@ __all__ = [
     "PROPERTIES",
     "run_proof",
     "prove_all",
+    "general_emitted_proof",
+    "general_emitted_pieces",
     "kernels",
     "generate",
 ]
@@ -604,7 +606,10 @@ def kernels() -> list:
     coeff = _coefficient()  # (e + 1)/s
     if not (is_zero(coeff - (1 + e) / s)):
         raise DerivationError('derivation check failed: sp.simplify(coeff - (1 + e) / s) == 0')
-    cs = numpy_code(coeff.subs({e: sp.Symbol("restitution"), s: sp.Symbol("s")}))
+    proof = general_emitted_proof()
+    if not proof["proven"]:
+        raise DerivationError(f"the general-n emitted forms differ from the printed map: {proof['steps']}")
+    pieces = general_emitted_pieces()
     general_map = ArrayKernel(
         "reflection_map",
         f'''
@@ -613,15 +618,32 @@ def kernels() -> list:
 
             Broadcasts over leading axes: mass_matrix (..., n, n), gradient (..., n),
             restitution (...). No input checks (see impactsym.laws.reflection for those).
+            The diagonal is emitted as (sum_{{k!=i}} u_k w_k - e u_i w_i)/s, the sum without u_i w_i
+            taken as prefix + suffix sums (no subtraction; issue 15).
             """
+            def excluding(t):  # sum_(k != i) t_k for every i (last axis): prefix + suffix sums
+                zero = numpy.zeros_like(t[..., :1])
+                before = numpy.concatenate([zero, numpy.cumsum(t[..., :-1], axis=-1)], axis=-1)
+                after = numpy.concatenate([numpy.cumsum(t[..., :0:-1], axis=-1)[..., ::-1], zero], axis=-1)
+                return before + after
+
             mass_matrix = numpy.asarray(mass_matrix, dtype=float)
             gradient = numpy.asarray(gradient, dtype=float)
             restitution = numpy.asarray(restitution, dtype=float)
-            w = numpy.linalg.solve(mass_matrix, gradient[..., :, None])[..., 0]
-            s = numpy.einsum("...i,...i->...", gradient, w)
-            c = {cs}
+            # w = M^-1 u^T on M equilibrated by powers of two (exact): D M D has unit-order diagonal
+            # (LU's partial pivoting is not invariant under M's diagonal scaling; Cholesky, the C
+            # kernel's, is); 1e17 eps on g10 without it at m_11 ~ 1e-10, m_22 ~ 1e12 (issue 15)
+            d = numpy.ldexp(1.0, -(numpy.frexp(numpy.diagonal(mass_matrix, axis1=-2, axis2=-1))[1] // 2))
+            w = d*numpy.linalg.solve(d[..., :, None]*mass_matrix*d[..., None, :], (d*gradient)[..., :, None])[..., 0]
+            t = gradient*w
+            s = numpy.sum(t, axis=-1)[..., None]
+            e = restitution[..., None]
+            rest = excluding(t)
+            diag = ({pieces["diag_num"]})/({pieces["den"]})
+            off = ({pieces["off_coeff_num"]})/({pieces["den"]})
             n = gradient.shape[-1]
-            return numpy.eye(n) - c[..., None, None] * (w[..., :, None] * gradient[..., None, :])
+            return numpy.where(numpy.eye(n, dtype=bool), diag[..., :, None],
+                               off[..., None]*(w[..., :, None]*gradient[..., None, :]))
         ''',
     )
     general_apply = ArrayKernel(
@@ -631,55 +653,76 @@ def kernels() -> list:
             """G_u(e) v = v - (1+e) w (u v) / (u w), w = M^-1 u^T, without forming G.
 
             Broadcasts over leading axes: mass_matrix (..., n, n), gradient and velocity (..., n).
+            Emitted as ((sum_{{k!=i}} u_k w_k - e u_i w_i) v_i - (1+e) w_i sum_{{k!=i}} u_k v_k)/s,
+            each sum without the i-th term taken as prefix + suffix sums (issue 15).
             """
+            def excluding(t):  # sum_(k != i) t_k for every i (last axis): prefix + suffix sums
+                zero = numpy.zeros_like(t[..., :1])
+                before = numpy.concatenate([zero, numpy.cumsum(t[..., :-1], axis=-1)], axis=-1)
+                after = numpy.concatenate([numpy.cumsum(t[..., :0:-1], axis=-1)[..., ::-1], zero], axis=-1)
+                return before + after
+
             mass_matrix = numpy.asarray(mass_matrix, dtype=float)
             gradient = numpy.asarray(gradient, dtype=float)
             velocity = numpy.asarray(velocity, dtype=float)
             restitution = numpy.asarray(restitution, dtype=float)
-            w = numpy.linalg.solve(mass_matrix, gradient[..., :, None])[..., 0]
-            s = numpy.einsum("...i,...i->...", gradient, w)
-            c = {cs}
-            return velocity - (c * numpy.einsum("...i,...i->...", gradient, velocity))[..., None] * w
+            # w = M^-1 u^T on M equilibrated by powers of two (exact): D M D has unit-order diagonal
+            # (LU's partial pivoting is not invariant under M's diagonal scaling; Cholesky, the C
+            # kernel's, is); 1e17 eps on g10 without it at m_11 ~ 1e-10, m_22 ~ 1e12 (issue 15)
+            d = numpy.ldexp(1.0, -(numpy.frexp(numpy.diagonal(mass_matrix, axis1=-2, axis2=-1))[1] // 2))
+            w = d*numpy.linalg.solve(d[..., :, None]*mass_matrix*d[..., None, :], (d*gradient)[..., :, None])[..., 0]
+            t = gradient*w
+            s = numpy.sum(t, axis=-1)[..., None]
+            e = restitution[..., None]
+            rest = excluding(t)
+            rest_uv = excluding(gradient*velocity)
+            return ({pieces["apply_num"]})/({pieces["den"]})
         ''',
     )
-    cc = _ccode(coeff.subs({e: sp.Symbol("restitution"), s: sp.Symbol("s")}))
+    cp = general_emitted_pieces("c")
     general_map.sources["c"] = C_HELPER + f"""
 /* G_u(e) = I - (1+e) w u / (u w), w = M^-1 u^T (Seghete & Murphey sec. II-A; e = 1: G_u).
+ * The diagonal is (sum_{{k!=i}} u_k w_k - e u_i w_i)/s, the sum without u_i w_i taken as prefix + suffix
+ * sums (no subtraction; issue 15).
  * mass_matrix: n*n row-major SPD, gradient: n, G: n*n row-major output.
  * Returns 0, or -1 when the Cholesky factorization of M fails (M not positive definite). */
 int reflection_map(size_t n, const double *mass_matrix, const double *gradient, double restitution, double *G)
 {{
     double w[n > 0 ? n : 1];
-    double s;
-    if (reflection_w(n, mass_matrix, gradient, w, &s) != 0) {{
+    double rest[n > 0 ? n : 1];
+    if (reflection_w(n, mass_matrix, gradient, w) != 0) {{
         return -1;
     }}
-    const double c = {cc};
+    const double s = reflection_excluding(n, gradient, w, rest);
+    const double e = restitution;
+    const double off = ({cp["off_coeff_num"]})/({cp["den"]});
     for (size_t i = 0; i < n; ++i) {{
+        const double t = gradient[i] * w[i];
         for (size_t j = 0; j < n; ++j) {{
-            G[i * n + j] = (i == j ? 1.0 : 0.0) - c * w[i] * gradient[j];
+            G[i * n + j] = i == j ? ({cp["diag_num"]})/({cp["den"]}) : off * (w[i] * gradient[j]);
         }}
     }}
     return 0;
 }}"""
     general_apply.sources["c"] = f"""
-/* G_u(e) v = v - (1+e) w (u v) / (u w), w = M^-1 u^T, without forming G.
+/* G_u(e) v = v - (1+e) w (u v) / (u w), w = M^-1 u^T, without forming G, emitted as
+ * ((sum_{{k!=i}} u_k w_k - e u_i w_i) v_i - (1+e) w_i sum_{{k!=i}} u_k v_k)/s (issue 15).
  * mass_matrix: n*n row-major SPD; gradient, velocity, out: n. Returns 0, or -1 (M not SPD). */
 int reflect(size_t n, const double *mass_matrix, const double *gradient, const double *velocity,
             double restitution, double *out)
 {{
     double w[n > 0 ? n : 1];
-    double s;
-    if (reflection_w(n, mass_matrix, gradient, w, &s) != 0) {{
+    double rest[n > 0 ? n : 1];
+    double rest_uv[n > 0 ? n : 1];
+    if (reflection_w(n, mass_matrix, gradient, w) != 0) {{
         return -1;
     }}
-    const double c = {cc};
-    double uv = 0.0;
+    const double s = reflection_excluding(n, gradient, w, rest);
+    (void)reflection_excluding(n, gradient, velocity, rest_uv);
+    const double e = restitution;
     for (size_t i = 0; i < n; ++i) {{
-        uv += gradient[i] * velocity[i];
-    }}
-    for (size_t i = 0; i < n; ++i) {{
-        out[i] = velocity[i] - c * uv * w[i];
+        const double t = gradient[i] * w[i];
+        out[i] = ({cp["apply_num"]})/({cp["den"]});
     }}
     return 0;
 }}"""
@@ -743,19 +786,120 @@ def stable_G(M: sp.Matrix, u: sp.Matrix, v: sp.Matrix, e):
     return G, Gv
 
 
+#: the symbols of the general-n kernels' emitted pieces, for one index i: t = u_i w_i,
+#: rest = sum_{k != i} u_k w_k, rest_uv = sum_{k != i} u_k v_k, s = u w (w = M^-1 u^T)
+_GEN = dict(zip(("t", "rest", "rest_uv", "e", "s", "w", "v", "u_i", "u_j", "w_j"),
+                sp.symbols("t rest rest_uv e s w v u_i u_j w_j", real=True)))
+
+
+#: Measured on the default corner grid (issue 15) against the alternative of reflecting in the
+#: M-orthogonal coordinates (Cholesky M = L L^T, u~ = L^-1 u^T, the Euclidean map
+#: I - (1+e) u~ u~^T/|u~|^2 with the same stable diagonal, then back-transformed by L^-T ... L^T):
+#: that form has no cancellation in |u~|^2 but loses the exact zeros of G (u = e_0 at e = 0 gives
+#: G_00 = 0 only up to rounding of the back-transform: inf eps), 9/300, 12/660, 6/75 and 12/165
+#: problems on the reflect_general_2/3 and reflection_map_general_2/3 grids against 0 for this form.
+def _general_emitted():
+    """The general-n kernels' emitted entries as expressions of the :data:`_GEN` symbols:
+    ``(diag numerator, off-diagonal coefficient numerator, G v numerator, denominator)``."""
+    g = _GEN
+    diag = g["rest"] - g["e"] * g["t"]
+    return diag, -(g["e"] + 1), diag * g["v"] - (g["e"] + 1) * g["w"] * g["rest_uv"], g["s"]
+
+
+def _excluding_symbolic(terms):
+    """``sum_{k != i} terms_k`` for every ``i`` as the kernels take it: prefix sum plus suffix sum."""
+    n = len(terms)
+    before = [sum(terms[:i], sp.Integer(0)) for i in range(n)]
+    after = [sum(terms[i + 1:][::-1], sp.Integer(0)) for i in range(n)]
+    return [b + a for b, a in zip(before, after)]
+
+
+@lru_cache(maxsize=None)
+def general_emitted_proof(max_n: int = 6) -> dict:
+    """Prove that the general-n kernels' emitted entries equal the printed map ``G_u(e)`` and
+    ``G_u(e) v`` (issue 15), exactly.
+
+    General n: with ``s = Σ_k u_k w_k`` split at ``i`` as ``s = rest + t`` (``rest = Σ_{k≠i} u_k w_k``,
+    ``t = u_i w_i``) and likewise ``u v = rest_uv + u_i v_i``, the emitted diagonal
+    ``(rest − e t)/s``, off-diagonal ``−(1+e)/s · w_i u_j`` and ``((rest − e t) v_i − (1+e) w_i rest_uv)/s``
+    minus ``1 − (1+e) w_i u_i/s``, ``−(1+e) w_i u_j/s`` and ``v_i − (1+e) w_i (u v)/s`` are the zero
+    rational function. For ``n = 1 .. max_n`` the whole matrix and vector, with the sums without the
+    i-th term built as prefix + suffix sums the way the kernels build them and free ``w, u, v, e``
+    (the identity does not depend on how ``w = M⁻¹uᵀ`` was obtained), minus :func:`G_matrix`'s
+    ``I − (1+e) w u / s`` and its product with ``v``, are zero.
+
+    >>> general_emitted_proof(3)["proven"]
+    True
+    """
+    g = _GEN
+    diag, off, apply, den = _general_emitted()
+    e, t, w, v, ui = g["e"], g["t"], g["w"], g["v"], g["u_i"]
+    s = g["rest"] + t  # the definition s = sum_k u_k w_k split at i
+    split = {g["s"]: s}
+    at_t = {t: ui * w}
+    checks = {
+        "diagonal": is_zero(((diag / den).xreplace(split) - (1 - (1 + e) * t / s)).xreplace(at_t)),
+        "off-diagonal": is_zero((off / den * w * g["u_j"]).xreplace(split) - (-(1 + e) * w * g["u_j"] / s)),
+        "G v": is_zero(((apply / den).xreplace(split)
+                        - (v - (1 + e) * w * (g["rest_uv"] + ui * v) / s)).xreplace(at_t)),
+    }
+    steps = [f"general n, {k}: emitted minus printed is 0: {ok}" for k, ok in checks.items()]
+    for n in range(1, max_n + 1):
+        wv, uv, vv = symbolic_vector(n, "w"), symbolic_covector(n), symbolic_vector(n, "v")
+        terms = [uv[k] * wv[k] for k in range(n)]
+        ssum = sum(terms, sp.Integer(0))
+        rest, rest_uv = _excluding_symbolic(terms), _excluding_symbolic([uv[k] * vv[k] for k in range(n)])
+        G = sp.zeros(n, n)
+        Gv = sp.zeros(n, 1)
+        for i in range(n):
+            sub = {g["rest"]: rest[i], g["t"]: terms[i], g["s"]: ssum, g["w"]: wv[i], g["v"]: vv[i],
+                   g["rest_uv"]: rest_uv[i]}
+            for j in range(n):
+                G[i, j] = (diag / den).xreplace(sub) if i == j else (off / den).xreplace(sub) * wv[i] * uv[j]
+            Gv[i] = (apply / den).xreplace(sub)
+        printed = G_matrix(wv, uv, ssum, e)
+        ok = _matrix_is_zero(G - printed) and _matrix_is_zero(Gv - printed * vv)
+        checks[f"n = {n}"] = ok
+        steps.append(f"n = {n}: the emitted G and G v (prefix + suffix sums) minus I - (1+e) w u/s: 0: {ok}")
+    return {"proven": all(checks.values()), "steps": steps}
+
+
+def general_emitted_pieces(lang: str = "numpy") -> dict:
+    """The printed pieces of the general-n kernels (``numpy`` or ``c`` names), from the expressions
+    :func:`general_emitted_proof` proves equal to the printed map.
+
+    >>> general_emitted_pieces("c")["diag_num"]
+    '-e*t + rest[i]'
+    """
+    g = _GEN
+    diag, off, apply, den = _general_emitted()
+    if lang == "numpy":
+        names, printer = {"v": "velocity"}, numpy_code
+    else:
+        names = {"rest": "rest[i]", "rest_uv": "rest_uv[i]", "w": "w[i]", "v": "velocity[i]"}
+        printer = _ccode
+    sub = {g[k]: sp.Symbol(names.get(k, k), real=True) for k in ("t", "rest", "rest_uv", "e", "s", "w", "v")}
+    return {"diag_num": printer(diag.xreplace(sub)), "off_coeff_num": printer(off.xreplace(sub)),
+            "apply_num": printer(apply.xreplace(sub)), "den": printer(den.xreplace(sub))}
+
+
 def _ccode(expr) -> str:
     from .codegen import kernel_code, ScalarKernel as _SK
 
     return kernel_code(_SK("c", sorted(expr.free_symbols, key=str), [expr], ["o"], "c"), "c").split("*o = ")[1].split(";")[0]
 
 
-#: the general-n C kernels' shared step: w = M^-1 u^T and s = u w by Cholesky, M = L L^T
-#: (y = L^-1 u^T, s = y.y, a sum of squares; w = L^-T y). Measured against LU (numpy.linalg.solve)
+#: the general-n C kernels' shared steps: w = M^-1 u^T by Cholesky, M = L L^T (y = L^-1 u^T,
+#: w = L^-T y; a pivot is refused only when it is not positive, so every M with positive pivots in
+#: floating point is accepted: the corner grid's SPD M of condition 1e12 is, and so are the same
+#: family's up to 1e16), and the sums without the i-th term of the stable form (prefix + suffix;
+#: s = u w is their full sum, as in the NumPy kernel). Measured against LU (numpy.linalg.solve)
 #: on SPD matrices with condition numbers up to 1e12: the same accuracy (benchmarks/README.md).
 C_HELPER = """
-/* w = M^-1 u and s = u.w for an n x n SPD M (row-major), by Cholesky M = L L^T:
- * y = L^-1 u, s = y.y, w = L^-T y. Returns -1 when a pivot is not positive. */
-static int reflection_w(size_t n, const double *M, const double *u, double *w, double *s)
+/* w = M^-1 u for an n x n SPD M (row-major), by Cholesky M = L L^T: y = L^-1 u, w = L^-T y.
+ * Returns -1 when a pivot is not positive (no tolerance: any M whose pivots are positive in
+ * floating point is accepted). */
+static int reflection_w(size_t n, const double *M, const double *u, double *w)
 {
     double L[n > 0 ? n * n : 1];
     if (n == 0) {
@@ -778,16 +922,13 @@ static int reflection_w(size_t n, const double *M, const double *u, double *w, d
             L[i * n + j] = t / L[j * n + j];
         }
     }
-    double acc = 0.0;
     for (size_t i = 0; i < n; ++i) {
         double t = u[i];
         for (size_t k = 0; k < i; ++k) {
             t -= L[i * n + k] * w[k];
         }
         w[i] = t / L[i * n + i];
-        acc += w[i] * w[i];
     }
-    *s = acc;
     for (size_t ii = n; ii-- > 0;) {
         double t = w[ii];
         for (size_t k = ii + 1; k < n; ++k) {
@@ -796,6 +937,22 @@ static int reflection_w(size_t n, const double *M, const double *u, double *w, d
         w[ii] = t / L[ii * n + ii];
     }
     return 0;
+}
+
+/* rest[i] = sum_{k != i} a_k b_k as prefix + suffix sums (no subtraction); returns sum_k a_k b_k. */
+static double reflection_excluding(size_t n, const double *a, const double *b, double *rest)
+{
+    double acc = 0.0;
+    for (size_t i = 0; i < n; ++i) {
+        rest[i] = acc;
+        acc += a[i] * b[i];
+    }
+    double after = 0.0;
+    for (size_t ii = n; ii-- > 0;) {
+        rest[ii] += after;
+        after += a[ii] * b[ii];
+    }
+    return acc;
 }
 """
 

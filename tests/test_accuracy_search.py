@@ -36,14 +36,10 @@ LANGS = ("numpy", "python", "c") if (shutil.which("gcc") or shutil.which("cc")) 
 #: The general-dimension kernels (issue 15, second wave: "every output of every kernel") are on the
 #: grid at n = 2 and 3 against their closed forms' formulas; two_surface_exit_velocity now runs the
 #: (M, H, v) closed form at n = 2, and reduces n >= 3 to it (checked on the grid at n = 3 with a decoupled
-#: third coordinate, where the reduction is exact). Still open:
-_REFLECTION_OPEN = ("the general-n reflection kernels (NumPy and C) still compute 1 - (1+e) u_i w_i / s and "
-                    "v - (1+e) w (u v)/s: at e = 0 with M = diag(1, 1e-12) they cancel (5e10 eps), the fault "
-                    "fixed in the n = 2, 3 closed forms; the C Cholesky refuses an SPD M with cond 1e12 (NaN)")
-KNOWN_OPEN: dict = {
-    "reflection_map_general_2": _REFLECTION_OPEN, "reflection_map_general_3": _REFLECTION_OPEN,
-    "reflect_general_2": _REFLECTION_OPEN, "reflect_general_3": _REFLECTION_OPEN,
-}
+#: third coordinate, where the reduction is exact). The general-n reflect/reflection_map (NumPy and C)
+#: emit the closed forms' stable diagonal (sum_{k!=i} u_k w_k - e u_i w_i)/s (prefix + suffix sums), and
+#: pass the grid (they computed 1 - (1+e) u_i w_i / s: 5e10 eps at e = 0, M = diag(1, 1e-12)).
+KNOWN_OPEN: dict = {}
 
 
 def _params(strict=True):

@@ -13,9 +13,10 @@
 
 #include "reflection.h"
 
-/* w = M^-1 u and s = u.w for an n x n SPD M (row-major), by Cholesky M = L L^T:
- * y = L^-1 u, s = y.y, w = L^-T y. Returns -1 when a pivot is not positive. */
-static int reflection_w(size_t n, const double *M, const double *u, double *w, double *s)
+/* w = M^-1 u for an n x n SPD M (row-major), by Cholesky M = L L^T: y = L^-1 u, w = L^-T y.
+ * Returns -1 when a pivot is not positive (no tolerance: any M whose pivots are positive in
+ * floating point is accepted). */
+static int reflection_w(size_t n, const double *M, const double *u, double *w)
 {
     double L[n > 0 ? n * n : 1];
     if (n == 0) {
@@ -38,16 +39,13 @@ static int reflection_w(size_t n, const double *M, const double *u, double *w, d
             L[i * n + j] = t / L[j * n + j];
         }
     }
-    double acc = 0.0;
     for (size_t i = 0; i < n; ++i) {
         double t = u[i];
         for (size_t k = 0; k < i; ++k) {
             t -= L[i * n + k] * w[k];
         }
         w[i] = t / L[i * n + i];
-        acc += w[i] * w[i];
     }
-    *s = acc;
     for (size_t ii = n; ii-- > 0;) {
         double t = w[ii];
         for (size_t k = ii + 1; k < n; ++k) {
@@ -58,42 +56,64 @@ static int reflection_w(size_t n, const double *M, const double *u, double *w, d
     return 0;
 }
 
+/* rest[i] = sum_{k != i} a_k b_k as prefix + suffix sums (no subtraction); returns sum_k a_k b_k. */
+static double reflection_excluding(size_t n, const double *a, const double *b, double *rest)
+{
+    double acc = 0.0;
+    for (size_t i = 0; i < n; ++i) {
+        rest[i] = acc;
+        acc += a[i] * b[i];
+    }
+    double after = 0.0;
+    for (size_t ii = n; ii-- > 0;) {
+        rest[ii] += after;
+        after += a[ii] * b[ii];
+    }
+    return acc;
+}
+
 /* G_u(e) = I - (1+e) w u / (u w), w = M^-1 u^T (Seghete & Murphey sec. II-A; e = 1: G_u).
+ * The diagonal is (sum_{k!=i} u_k w_k - e u_i w_i)/s, the sum without u_i w_i taken as prefix + suffix
+ * sums (no subtraction; issue 15).
  * mass_matrix: n*n row-major SPD, gradient: n, G: n*n row-major output.
  * Returns 0, or -1 when the Cholesky factorization of M fails (M not positive definite). */
 int reflection_map(size_t n, const double *mass_matrix, const double *gradient, double restitution, double *G)
 {
     double w[n > 0 ? n : 1];
-    double s;
-    if (reflection_w(n, mass_matrix, gradient, w, &s) != 0) {
+    double rest[n > 0 ? n : 1];
+    if (reflection_w(n, mass_matrix, gradient, w) != 0) {
         return -1;
     }
-    const double c = (restitution + 1)/s;
+    const double s = reflection_excluding(n, gradient, w, rest);
+    const double e = restitution;
+    const double off = (-e - 1)/(s);
     for (size_t i = 0; i < n; ++i) {
+        const double t = gradient[i] * w[i];
         for (size_t j = 0; j < n; ++j) {
-            G[i * n + j] = (i == j ? 1.0 : 0.0) - c * w[i] * gradient[j];
+            G[i * n + j] = i == j ? (-e*t + rest[i])/(s) : off * (w[i] * gradient[j]);
         }
     }
     return 0;
 }
 
-/* G_u(e) v = v - (1+e) w (u v) / (u w), w = M^-1 u^T, without forming G.
+/* G_u(e) v = v - (1+e) w (u v) / (u w), w = M^-1 u^T, without forming G, emitted as
+ * ((sum_{k!=i} u_k w_k - e u_i w_i) v_i - (1+e) w_i sum_{k!=i} u_k v_k)/s (issue 15).
  * mass_matrix: n*n row-major SPD; gradient, velocity, out: n. Returns 0, or -1 (M not SPD). */
 int reflect(size_t n, const double *mass_matrix, const double *gradient, const double *velocity,
             double restitution, double *out)
 {
     double w[n > 0 ? n : 1];
-    double s;
-    if (reflection_w(n, mass_matrix, gradient, w, &s) != 0) {
+    double rest[n > 0 ? n : 1];
+    double rest_uv[n > 0 ? n : 1];
+    if (reflection_w(n, mass_matrix, gradient, w) != 0) {
         return -1;
     }
-    const double c = (restitution + 1)/s;
-    double uv = 0.0;
+    const double s = reflection_excluding(n, gradient, w, rest);
+    (void)reflection_excluding(n, gradient, velocity, rest_uv);
+    const double e = restitution;
     for (size_t i = 0; i < n; ++i) {
-        uv += gradient[i] * velocity[i];
-    }
-    for (size_t i = 0; i < n; ++i) {
-        out[i] = velocity[i] - c * uv * w[i];
+        const double t = gradient[i] * w[i];
+        out[i] = (-rest_uv[i]*w[i]*(e + 1) - velocity[i]*(e*t - rest[i]))/(s);
     }
     return 0;
 }
