@@ -40,6 +40,7 @@ Examples
 
 from __future__ import annotations
 
+import math
 from fractions import Fraction
 from typing import Any
 
@@ -102,6 +103,18 @@ def _sympy_column(values):
     import sympy as sp
 
     return sp.Matrix(list(values))
+
+
+def _float_array(A) -> np.ndarray:
+    """The float64 array of an exact matrix (SymPy or :class:`~impactsym.resolution.RationalMatrix`):
+    each entry's nearest float, as SymPy's ``float`` rounds a rational (``±inf`` beyond the range)."""
+    def near(x):
+        try:
+            return float(x)
+        except OverflowError:  # a Fraction beyond the float range; SymPy's float gives inf there
+            return math.copysign(math.inf, x)
+
+    return np.array([[near(x) for x in row] for row in A.tolist()], dtype=np.float64)
 
 
 def _is_one(x) -> bool:
@@ -385,7 +398,7 @@ class Sequential(Law):
 
         M, H, v = system.M, system.H, system.v
         if float and system.exact:
-            M, H, v = (np.array(np.array(A.tolist()), dtype=np.float64) for A in (M, H, v))
+            M, H, v = (_float_array(A) for A in (M, H, v))
             v = v.reshape(-1)
             system = System(M, H, v, system.restitution, contacts=system.contacts, scene=system.scene, exact=False,
                             coordinates=system.coordinates, source=system.source)

@@ -26,11 +26,14 @@ impactsym.errors.VerificationError: demo: verification of the outcome failed: H_
 
 from __future__ import annotations
 
-import sympy as sp
 from flint import arb, ctx, fmpq
 
 from .arithmetic import RationalField, enclose, in_row_space, sign_surd, to_fmpq
 from .errors import VerificationError
+
+# SymPy and mpmath are imported on first use: the float path (and rational data) runs without them
+from .arithmetic import LazyModule
+sp = LazyModule("sympy", globals(), "sp")
 
 __all__ = ["verify_exact", "verify_balls", "enclose"]
 

@@ -67,6 +67,19 @@ class LazyModule:
         return getattr(module, attr)
 
 
+def sympy_instance(x, kind: str = "Basic") -> bool:
+    """``isinstance(x, sympy.<kind>)`` without importing SymPy: before SymPy is loaded no object is
+    one, so a float or rational path can test its input's type for free.
+
+    >>> sympy_instance(2.0, "MatrixBase")
+    False
+    """
+    import sys
+
+    mod = sys.modules.get("sympy")
+    return mod is not None and isinstance(x, getattr(mod, kind))
+
+
 def __getattr__(name):
     module = _NAMES.get(name)
     if module is None:

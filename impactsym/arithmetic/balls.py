@@ -14,11 +14,14 @@ their result does not depend on the precision in force when they are called.
 
 from __future__ import annotations
 
-import mpmath
-import sympy as sp
 from flint import arb, fmpq
 
 from .closed_form import certified_sign
+
+# SymPy and mpmath are imported on first use: the float path (and rational data) runs without them
+from . import LazyModule
+mpmath = LazyModule("mpmath", globals(), "mpmath")
+sp = LazyModule("sympy", globals(), "sp")
 
 __all__ = ["enclose", "arf_fmpq", "ball_ends", "certified_ceil", "certified_ceiling", "nearest_int", "arb_to_mpf"]
 

@@ -61,9 +61,7 @@ from collections.abc import Sequence
 from dataclasses import dataclass, field
 from typing import Any
 
-import mpmath
 import numpy as np
-import sympy as sp
 from flint import arb, ctx, fmpq, fmpq_mat, fmpz
 
 from ..arithmetic import (all_rational, arb_to_mpf, bits, certified_ceiling, certified_sign, enclose, float_vector,
@@ -73,6 +71,11 @@ from ..mechanics import check_gradients, check_mass_matrix, check_velocity
 from ..numbers import is_exact
 from ..verify import verify_balls, verify_exact
 from . import _reflection as _r
+
+# SymPy and mpmath are imported on first use: the float path (and rational data) runs without them
+from ..arithmetic import LazyModule
+mpmath = LazyModule("mpmath", globals(), "mpmath")
+sp = LazyModule("sympy", globals(), "sp")
 
 __all__ = [
     "resolve_two_surfaces",

@@ -5,7 +5,6 @@ closed form, the exact merge of outcomes, and the selection.
 from __future__ import annotations
 
 import numpy as np
-import sympy as sp
 
 from ...arithmetic import certified_sign, float_to_rational
 from ...errors import DomainError, ImpactInputError, NonTermination
@@ -23,6 +22,10 @@ from .selection import _select, _select_two_surface, _verify_selected
 from .independence import ProductGraph, combine, components, length_distributions
 from .sparse import read_rational
 from .witness import valid_velocity_witness
+
+# SymPy and mpmath are imported on first use: the float path (and rational data) runs without them
+from ...arithmetic import LazyModule, sympy_instance
+sp = LazyModule("sympy", globals(), "sp")
 
 
 #: split the exact rational search into independent groups of contacts (:mod:`.independence`);
@@ -47,7 +50,7 @@ def _restitution_entries(restitution):
     if isinstance(restitution, str):
         parts = [t.strip() for t in restitution.split(",")]
         return parts[0] if len(parts) == 1 else parts, len(parts) > 1
-    if isinstance(restitution, sp.MatrixBase):
+    if sympy_instance(restitution, "MatrixBase"):
         return list(restitution), True
     if isinstance(restitution, np.ndarray):
         if restitution.ndim == 0:

@@ -7,7 +7,10 @@ from dataclasses import dataclass, field
 from typing import Any, Iterator
 
 import numpy as np
-import sympy as sp
+
+# SymPy and mpmath are imported on first use: the float path (and rational data) runs without them
+from ...arithmetic import LazyModule
+sp = LazyModule("sympy", globals(), "sp")
 
 
 # ---------------------------------------------------------------------------------------------

@@ -6,13 +6,16 @@ of the benchmarks; algebraic data: SymPy numbers, every sign certified).
 
 from __future__ import annotations
 
-import sympy as sp
 from flint import fmpq, fmpq_mat
 
 from ...arithmetic import certified_sign
 from ...errors import NonTermination
 from .. import _reflection as _r
 from .common import MAX_STATE_BITS, _Algebraic, _Rational, _all_rational, _dot
+
+# SymPy and mpmath are imported on first use: the float path (and rational data) runs without them
+from ...arithmetic import LazyModule
+sp = LazyModule("sympy", globals(), "sp")
 
 
 # ---------------------------------------------------------------------------------------------

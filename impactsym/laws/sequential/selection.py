@@ -8,11 +8,14 @@ from __future__ import annotations
 import math
 
 import numpy as np
-import sympy as sp
 
 from ...arithmetic import certified_sign, compare_surds, rational_sqrt
 from ...errors import DomainError
 from .common import _Algebraic, _Rational, _dot, _independent, _matvec, _minner, _rank, _rref, _solve_columns
+
+# SymPy and mpmath are imported on first use: the float path (and rational data) runs without them
+from ...arithmetic import LazyModule
+sp = LazyModule("sympy", globals(), "sp")
 
 
 # ---------------------------------------------------------------------------------------------

@@ -37,10 +37,13 @@ from numbers import Integral
 from numbers import Rational as _NumRational
 
 import numpy as np
-import sympy as sp
 from flint import fmpq, fmpz
 
 from ...errors import ImpactInputError, VerificationError
+
+# SymPy and mpmath are imported on first use: the float path (and rational data) runs without them
+from ...arithmetic import LazyModule
+sp = LazyModule("sympy", globals(), "sp")
 
 __all__ = ["SparseRational", "read_rational", "verify_outcome", "verify_matrices", "two_surface_data"]
 

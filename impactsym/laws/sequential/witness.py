@@ -5,10 +5,13 @@ from __future__ import annotations
 
 import itertools
 
-import sympy as sp
 
 from ...numbers import is_exact
 from .common import _Algebraic, _Rational, _all_rational, _dot, _nullspace
+
+# SymPy and mpmath are imported on first use: the float path (and rational data) runs without them
+from ...arithmetic import LazyModule
+sp = LazyModule("sympy", globals(), "sp")
 
 
 # ---------------------------------------------------------------------------------------------
