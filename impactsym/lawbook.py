@@ -419,11 +419,10 @@ class Sequential(Law):
                                          "reflections_max": o.reflections_max, **_jsonable(extra)}))
         selected = []
         known = getattr(r, "selected_impulses", ()) or ()
-        for idx, s in enumerate(r.selected):
-            if (float or not system.exact) and is_sympy(s, "MatrixBase"):  # the float path reports floats
-                import sympy as sp
-
-                s = np.array([sp.N(x, 17) for x in s], dtype=np.float64)
+        floats = float or not system.exact  # the float path reports floats (of the exact selection)
+        for idx, s in enumerate(r.selected_float if floats else r.selected):
+            if floats:
+                s = np.array(s, dtype=np.float64)
             elif idx < len(known) and known[idx] is not None:  # exact, verified by the law (full row rank)
                 selected.append(Outcome(s, known[idx]))
                 continue

@@ -32,7 +32,7 @@ import importlib
 #: every public name and the submodule it lives in, imported on first use (PEP 562): the plain-text
 #: reader (:mod:`~impactsym.arithmetic.literals`) serves the command line's start-up without SymPy
 _NAMES = {
-    **dict.fromkeys(["arb_to_mpf", "arf_fmpq", "ball_ends", "certified_ceil", "certified_ceiling", "enclose",
+    **dict.fromkeys(["arb_mid_float", "arb_to_mpf", "arf_fmpq", "ball_ends", "certified_ceil", "certified_ceiling", "enclose",
                      "nearest_int"], "balls"),
     **dict.fromkeys(["certified_compare", "certified_sign", "tidy"], "closed_form"),
     **dict.fromkeys(["AlgebraicField", "RationalField", "compare_surds", "field_of", "sign_of", "sign_surd"],

@@ -20,6 +20,7 @@ import flint
 import numpy as np
 
 from . import LazyModule
+from . import sympy_instance as _sympy_instance
 from ..errors import ImpactInputError
 
 #: SymPy, imported on first use: the rational paths (python-flint) run without it
@@ -127,7 +128,7 @@ def rational_matrix(A: Any) -> flint.fmpq_mat | None:
     [                              1/2]
     [3602879701896397/36028797018963968]
     """
-    if isinstance(A, sp.MatrixBase):
+    if _sympy_instance(A, "MatrixBase"):
         rows, cols = A.shape
         entries = list(A)
     else:

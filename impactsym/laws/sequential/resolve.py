@@ -6,7 +6,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ...arithmetic import certified_sign, float_to_rational
+from ...arithmetic import as_fmpq, certified_sign
 from ...errors import DomainError, ImpactInputError, NonTermination
 from ...mechanics import check_gradients, check_mass_matrix, check_velocity
 from ...numbers import check_finite_exact, is_exact, to_exact
@@ -21,7 +21,7 @@ from .search import (_ExactSystem, _Reflector, _aggregate, _cap_error, _diff_key
 from .selection import _select, _select_two_surface, _verify_selected
 from .independence import ProductGraph, combine, components, length_distributions
 from .sparse import read_rational
-from .witness import valid_velocity_witness
+from .witness import valid_velocity_witness, witness_of_rows
 
 # SymPy and mpmath are imported on first use: the float path (and rational data) runs without them
 from ...arithmetic import LazyModule, sympy_instance
@@ -275,14 +275,18 @@ def resolve_sequential(mass_matrix, gradients, velocity, *, reading: str | None 
         null = data.null_vector()
         witness = (sp.Matrix([sp.Rational(int(x.p), int(x.q)) for x in null]) if null is not None
                    else valid_velocity_witness(data.to_sympy()[1]))
-    else:
-        if exact:
-            Mx, Hx, vx = M, H, v0
-        else:
-            Mx = sp.Matrix([[float_to_rational(x) for x in row] for row in M])
-            Hx = sp.Matrix([[float_to_rational(x) for x in row] for row in H])
-            vx = sp.Matrix([float_to_rational(x) for x in v0])
+    elif exact:
+        Mx, Hx, vx = M, H, v0
         witness = valid_velocity_witness(Hx)
+    else:
+        # float input: the floats' exact binary values, in fmpq (no SymPy); the witness is a tuple
+        # of them, decided exactly as valid_velocity_witness decides it
+        Mx = Hx = vx = None
+        Mq = [[as_fmpq(x) for x in row] for row in M]
+        Hq = [[as_fmpq(x) for x in row] for row in H]
+        vq = [as_fmpq(x) for x in v0]
+        witness = witness_of_rows(Hq, len(vq))
+        witness = None if witness is None else tuple(witness)
     if witness is None:
         if not elastic:
             raise DomainError("gradients: no non-zero velocity v satisfies H v >= 0 (only v = 0 would be valid, "
@@ -290,7 +294,10 @@ def resolve_sequential(mass_matrix, gradients, velocity, *, reading: str | None 
         raise DomainError("gradients: no non-zero velocity v satisfies H v >= 0 "
                           "(the closed contacts admit no elastic exit velocity)")
     if not elastic:
-        Ex = [x if exact else float_to_rational(x) for x in E]
+        if not exact:  # float input: every value is its exact binary value (fmpq)
+            system = _ExactSystem.from_rationals(Mq, Hq, vq, [as_fmpq(x) for x in E])
+            return _inelastic(M, H, v0, system, exact, cap, reading, select, witness, E)
+        Ex = list(E)
         if data is not None and all(x.is_Rational for x in Ex):
             system = _ExactSystem.from_sparse(data, Ex)
         else:  # an irrational restitution: the algebraic backend
@@ -298,7 +305,8 @@ def resolve_sequential(mass_matrix, gradients, velocity, *, reading: str | None 
                 Mx, Hx, vx = data.to_sympy()
             system = _ExactSystem(Mx, Hx, vx, Ex)
         return _inelastic(M, H, v0, system, exact, cap, reading, select, witness, E)
-    system = _ExactSystem.from_sparse(data) if data is not None else _ExactSystem(Mx, Hx, vx)
+    system = (_ExactSystem.from_sparse(data) if data is not None else _ExactSystem(Mx, Hx, vx) if exact
+              else _ExactSystem.from_rationals(Mq, Hq, vq))
     F = system.F
     two_bound = None
     short = False
@@ -325,8 +333,10 @@ def resolve_sequential(mass_matrix, gradients, velocity, *, reading: str | None 
                 from ..two_surface import _branch_counts_prepared
 
                 counts = _branch_counts_prepared(_prepared_two_surface(system))
-            else:
+            elif exact:
                 counts = branch_counts(Mx, Hx, vx)
+            else:  # float input: the counts of the floats' exact binary values
+                counts = branch_counts(Mq, Hq, vq)
             if counts and max(counts.values()) > cap:
                 raise NonTermination(
                     f"max_reflections: the ordering starting with surface {max(counts, key=counts.get)} needs "
@@ -394,7 +404,8 @@ def resolve_sequential(mass_matrix, gradients, velocity, *, reading: str | None 
     longest = max(o.reflections_max for o in outcomes)
     if longest > cap:
         raise _cap_error(cap)
-    selected: tuple = ()
+    selected: tuple | None = ()
+    selected_raw = None
     selected_impulses: tuple = ()
     if select:
         if short and reading == "energy":
@@ -402,11 +413,15 @@ def resolve_sequential(mass_matrix, gradients, velocity, *, reading: str | None 
             # <v, v0>_M on it is largest at an end point (see _two_surface_path): compare exactly
             selected = _select_arc_end(system, [v for v, _ in exact_outcomes])
         else:
-            selected = _select(system, [v for v, _ in exact_outcomes], [p for _, p in exact_outcomes], reading)
-        selected_impulses = _verify_selected(system, selected, reading, exact_outcomes)
+            selected = _select(system, [v for v, _ in exact_outcomes], [p for _, p in exact_outcomes], reading,
+                               raw=not exact)
+        selected_impulses = _verify_selected(system, selected, reading, exact_outcomes, raw=not exact)
+        if not exact:  # float mode: SymPy vectors only when read (SequentialResolution.selected)
+            selected_raw, selected = (F, selected), None
     res = SequentialResolution(tuple(outcomes), selected, reading, total, longest, len(g.vel), tests,
                                fallbacks, exact, F.name if exact else "float", approaching, witness, _graph=g,
                                restitution=tuple(sp.Integer(1) if exact else 1.0 for _ in range(system.k)))
+    res._selected_raw = selected_raw
     if data is not None and data.rank() == data.k:
         # H has full row rank: p of M(v+ - v0) = H^T p is unique, the one verified with the outcome
         res.selected_impulses = selected_impulses
@@ -582,13 +597,19 @@ def _inelastic(M, H, v0, system, exact, cap, reading, select, witness, E):
             outcomes.append(Outcome(rep, len(rep), vel, imp, cnt, lo, hi))
     total = sum(o.orderings for o in outcomes)
     longest = max((o.reflections_max for o in outcomes if not o.collapse), default=0)
-    selected: tuple = ()
+    selected: tuple | None = ()
+    selected_raw = None
     if select:
-        selected = _select(system, [v for v, _ in exact_outcomes], [p for _, p in exact_outcomes], reading)
-        _verify_selected(system, selected, reading)
-    return SequentialResolution(tuple(outcomes), selected, reading, total, longest, len(g.vel), tests,
-                                fallbacks, exact, F.name if exact else "float", approaching, witness, _graph=g,
-                                restitution=tuple(E), collapse=any(o.collapse for o in outcomes))
+        selected = _select(system, [v for v, _ in exact_outcomes], [p for _, p in exact_outcomes], reading,
+                           raw=not exact)
+        _verify_selected(system, selected, reading, raw=not exact)
+        if not exact:
+            selected_raw, selected = (F, selected), None
+    res = SequentialResolution(tuple(outcomes), selected, reading, total, longest, len(g.vel), tests,
+                               fallbacks, exact, F.name if exact else "float", approaching, witness, _graph=g,
+                               restitution=tuple(E), collapse=any(o.collapse for o in outcomes))
+    res._selected_raw = selected_raw
+    return res
 
 
 def _two_surface_path(M, H, v0, system, exact, reading, select, witness, prepared=None):
@@ -630,7 +651,8 @@ def _two_surface_path(M, H, v0, system, exact, reading, select, witness, prepare
         lens = [t[0] for t in ords]
         outcomes.append(Outcome(ords[0][2], lens[0], vel, imp, len(ords), min(lens), max(lens)))
         orders.extend((t[2], idx) for t in ords)
-    selected: tuple = ()
+    selected: tuple | None = ()
+    selected_raw = None
     note = None
     all_exact = all(g[3] for g in groups)
     short = max(o.reflections for o in outcomes) <= 10_000
@@ -646,7 +668,9 @@ def _two_surface_path(M, H, v0, system, exact, reading, select, witness, prepare
                 f"select: the {reading} reading needs the exact outcomes, but the orderings take "
                 f"{max(o.reflections for o in outcomes)} reflections (more than 10000 are not replayed "
                 "exactly); use reading='energy' or select=False")
-        selected = _select(system, exact_outs, None, reading)
+        selected = _select(system, exact_outs, None, reading, raw=not exact)
+        if not exact:
+            selected_raw, selected = (F, selected), None
     elif select:
         note = (f"the {reading} reading needs exact outcomes; these are certified digits "
                 "(use reading='energy')")
@@ -656,6 +680,7 @@ def _two_surface_path(M, H, v0, system, exact, reading, select, witness, prepare
                                (F.name if exact else "float"), approaching, witness,
                                method="two-surface closed form", bound=ts.bound, _orders=orders)
     res.selection_note = note
+    res._selected_raw = selected_raw
     res.restitution = tuple(sp.Integer(1) if exact else 1.0 for _ in range(system.k))
     if exact and selected:
         # two independent rows: p of M(v+ - v0) = H^T p is unique; a selected outcome's impulse is

@@ -3,13 +3,14 @@
 
 from __future__ import annotations
 
+import sys
 from dataclasses import dataclass, field
 from typing import Any, Iterator
 
 import numpy as np
 
 # SymPy and mpmath are imported on first use: the float path (and rational data) runs without them
-from ...arithmetic import LazyModule
+from ...arithmetic import LazyModule, sympy_instance
 sp = LazyModule("sympy", globals(), "sp")
 
 
@@ -58,11 +59,10 @@ class Outcome:
 
 
 def _floats(v) -> list[float]:
-    import mpmath
-
-    if isinstance(v, mpmath.matrix):
+    mpmath = sys.modules.get("mpmath")  # an mpmath matrix exists only once mpmath is loaded
+    if mpmath is not None and isinstance(v, mpmath.matrix):
         return [float(v[i]) for i in range(v.rows)]
-    if isinstance(v, sp.MatrixBase):
+    if sympy_instance(v, "MatrixBase"):
         return [float(sp.N(x, 17)) for x in v]
     return [float(x) for x in np.asarray(v, dtype=float).reshape(-1)]
 
@@ -147,7 +147,7 @@ class SequentialResolution:
     """
 
     outcomes: tuple
-    selected: tuple
+    _selected: tuple | None  # None: made from _selected_raw on first access (float mode)
     reading: str
     orderings: int
     max_reflections_used: int
@@ -169,9 +169,26 @@ class SequentialResolution:
     selected_impulses: tuple = ()
     _graph: Any = field(default=None, repr=False, compare=False)
     _orders: Any = field(default=None, repr=False, compare=False)
+    #: float mode: ``(field, (a, b, q) triples)`` of the exact selection, turned into SymPy vectors
+    #: only when :attr:`selected` is read (the float path reports :attr:`selected_float`)
+    _selected_raw: Any = field(default=None, repr=False, compare=False)
+
+    @property
+    def selected(self) -> tuple:
+        if self._selected is None:
+            from .selection import _vel_sympy
+
+            F, raw = self._selected_raw
+            self._selected = tuple(_vel_sympy(v, F) for v in raw)
+        return self._selected
 
     @property
     def selected_float(self) -> list[list[float]]:
+        if self._selected is None:  # float mode: rounded from the exact triples (SymPy only for a surd)
+            from .selection import _float_selection
+
+            F, raw = self._selected_raw
+            return [[float(x) for x in _float_selection(v, F)] for v in raw]
         return [_floats(v) for v in self.selected]
 
     def iter_orderings(self, limit: int | None = None) -> Iterator[tuple[tuple, int]]:

@@ -68,6 +68,25 @@ class _ExactSystem:
         self._finish(restitution)
 
     @classmethod
+    def from_rationals(cls, M, H, v0, restitution=None):
+        """The rational system of dense ``fmpq`` rows (``M``, ``H``), ``v0`` and optional ``fmpq``
+        restitutions: the same data as ``_ExactSystem(Mx, Hx, vx)`` of the SymPy rationals with
+        those values, built without SymPy (the float path's exact binary values)."""
+        self = cls.__new__(cls)
+        self.F = F = _Rational
+        self.n, self.k = n, k = len(M), len(H)
+        self.sparse = None
+        self._M = [list(row) for row in M]
+        self._H = [list(row) for row in H]
+        self.v0 = tuple(v0)
+        Wm = fmpq_mat(self._M).solve(fmpq_mat([list(col) for col in zip(*self._H)]) if k else fmpq_mat(n, 0))
+        self._W = [[Wm[j, i] for j in range(n)] for i in range(k)]
+        self.rows = [[(j, h) for j, h in enumerate(r) if F.sign(h) != 0] for r in self._H]
+        self.wcols = [[(j, w) for j, w in enumerate(c) if F.sign(w) != 0] for c in self._W]
+        self._finish(None if restitution is None else list(restitution))
+        return self
+
+    @classmethod
     def from_sparse(cls, data, restitution=None):
         """The rational system of checked sparse data: ``W_i = M⁻¹H_iᵀ`` by sparse solves with
         ``M``'s factor, the Gram columns by sparse products; O(non-zeros) for a diagonal or

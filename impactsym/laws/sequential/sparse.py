@@ -42,7 +42,7 @@ from flint import fmpq, fmpz
 from ...errors import ImpactInputError, VerificationError
 
 # SymPy and mpmath are imported on first use: the float path (and rational data) runs without them
-from ...arithmetic import LazyModule
+from ...arithmetic import LazyModule, sympy_instance
 sp = LazyModule("sympy", globals(), "sp")
 
 __all__ = ["SparseRational", "read_rational", "verify_outcome", "verify_matrices", "two_surface_data"]
@@ -63,9 +63,9 @@ def _entry(x):
         return None
     if isinstance(x, (int, np.integer, fmpz)):
         return fmpq(int(x))
-    if isinstance(x, sp.Rational):  # Integer too
+    if sympy_instance(x, "Rational"):  # Integer too
         return fmpq(int(x.p), int(x.q))
-    if isinstance(x, sp.Basic):
+    if sympy_instance(x, "Basic"):
         return None
     if isinstance(x, str):
         s = x.strip()
@@ -105,7 +105,7 @@ def _sympy_rows(A):
 
 def _matrix_rows(obj):
     """``(rows, cols, sparse rows)`` of an exact rational matrix-like, or ``None``."""
-    if isinstance(obj, sp.MatrixBase):
+    if sympy_instance(obj, "MatrixBase"):
         return _sympy_rows(obj)
     if isinstance(obj, str):
         if not obj.strip():
@@ -137,7 +137,7 @@ def _matrix_rows(obj):
 
 def _vector(obj):
     """An exact rational vector as a list of ``fmpq``, or ``None``."""
-    if isinstance(obj, sp.MatrixBase):
+    if sympy_instance(obj, "MatrixBase"):
         got = _sympy_rows(obj)
         if got is None or 1 not in got[:2]:
             return None
