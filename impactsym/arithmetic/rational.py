@@ -13,6 +13,7 @@ only conversions the laws use.
 from __future__ import annotations
 
 import math
+import sys
 from fractions import Fraction
 from typing import Any
 
@@ -199,10 +200,9 @@ def float_vector(vel) -> np.ndarray:
     >>> float_vector(sp.Matrix([sp.Rational(1, 3), sp.sqrt(2)]))
     array([0.33333333, 1.41421356])
     """
-    import mpmath
-
-    if isinstance(vel, sp.MatrixBase):
+    if _sympy_instance(vel, "MatrixBase"):
         return np.array([float(Fraction(int(x.p), int(x.q))) if x.is_Rational else float(sp.N(x, 17)) for x in vel])
-    if isinstance(vel, mpmath.matrix):
+    mpmath = sys.modules.get("mpmath")  # an mpmath matrix exists only once mpmath is loaded
+    if mpmath is not None and isinstance(vel, mpmath.matrix):
         return np.array([float(vel[i]) for i in range(vel.rows)])
     return np.asarray(vel, dtype=float)
