@@ -241,3 +241,29 @@ def test_arb_mid_float_is_mpmaths_float():
         for x in values:
             with mpmath.workprec(53):
                 assert arb_mid_float(x) == float(arb_to_mpf(x)), x
+
+
+@pytest.mark.parametrize("argv,loaded", [
+    (["resolve", "--law", "sequential", "--float", "--scene-file", "chain3-float", "--json"], set()),
+    (["resolve", "--law", "sequential", "--scene-file", "chain3-float"], set()),  # float literals: the float path
+    (["resolve", "--law", "hertz", "--scene-file", "chain3-float", "--json"], {"scipy"}),
+])
+def test_a_float_scene_file_imports_no_sympy(argv, loaded):
+    """A scene file of float literals is read, checked (contacts closed within its gap tolerance,
+    approach signs on the floats' exact binary values in fmpq) and resolved without SymPy."""
+    assert _loaded(argv) == loaded
+
+
+def test_the_number_module_loads_sympy_on_first_use():
+    """impactsym.numbers keeps its API (SymPy numbers out) but imports SymPy only when a SymPy
+    number is made; its float and type checks run without it."""
+    code = ("import sys\nimport numpy as np\nfrom impactsym import numbers\n"
+            "assert numbers.is_exact([[1, 2]], '1/2') and not numbers.is_exact(np.eye(2))\n"
+            "assert numbers.to_float_array([[1.0, 0.5]]).tolist() == [[1.0, 0.5]]\n"
+            "assert 'sympy' not in sys.modules and 'mpmath' not in sys.modules\n"
+            "x = numbers.parse_number('sqrt(2)/2')\n"
+            "print(type(x).__module__.split('.')[0], numbers.exact_str(x), numbers.parse_number('Integer(4)/2'))")
+    res = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, cwd=ROOT,
+                         env={"PYTHONPATH": str(ROOT), "PATH": "/usr/bin:/bin"})
+    assert res.returncode == 0, res.stderr
+    assert res.stdout.split() == ["sympy", "sqrt(2)/2", "2"]
