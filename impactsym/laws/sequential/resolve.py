@@ -20,7 +20,7 @@ from .search import (_ExactSystem, _Reflector, _aggregate, _cap_error, _diff_key
                      _merge_exact_keys, _state_bits_error, _verified_replay)
 from .selection import _select, _select_two_surface, _verify_selected
 from .independence import ProductGraph, combine, components, length_distributions
-from .sparse import read_rational
+from .sparse import read_floats, read_rational
 from .witness import valid_velocity_witness, witness_of_rows
 
 # SymPy and mpmath are imported on first use: the float path (and rational data) runs without them
@@ -31,6 +31,12 @@ sp = LazyModule("sympy", globals(), "sp")
 #: split the exact rational search into independent groups of contacts (:mod:`.independence`);
 #: ``False`` searches the whole system as one DAG (the tests compare the two)
 DECOMPOSE_INDEPENDENT = True
+
+
+def _dense_fmpq(M, H, v0):
+    """Dense ``fmpq`` rows of float ``M``, ``H`` and the list of ``v0``: their exact binary values."""
+    return ([[as_fmpq(x) for x in row] for row in M], [[as_fmpq(x) for x in row] for row in H],
+            [as_fmpq(x) for x in v0])
 
 
 def _coordinates(mass_matrix):
@@ -253,7 +259,7 @@ def resolve_sequential(mass_matrix, gradients, velocity, *, reading: str | None 
             "mass_matrix", f"has {size} coordinates, more than the sequential law's limit MAX_COORDINATES="
             f"{MAX_COORDINATES}")
     # exact rational input is read once into sparse fmpq data and checked there (never again)
-    data = None
+    data = fdata = None
     if exact is not False and is_exact(restitution):
         data = read_rational(mass_matrix, gradients, velocity)
     if data is not None:
@@ -281,12 +287,15 @@ def resolve_sequential(mass_matrix, gradients, velocity, *, reading: str | None 
     else:
         # float input: the floats' exact binary values, in fmpq (no SymPy); the witness is a tuple
         # of them, decided exactly as valid_velocity_witness decides it
+        # (sparse when M passes the exact check, as rational input is read; dense rows otherwise)
         Mx = Hx = vx = None
-        Mq = [[as_fmpq(x) for x in row] for row in M]
-        Hq = [[as_fmpq(x) for x in row] for row in H]
-        vq = [as_fmpq(x) for x in v0]
-        witness = witness_of_rows(Hq, len(vq))
-        witness = None if witness is None else tuple(witness)
+        fdata = read_floats(M, H, v0)
+        null = fdata.null_vector() if fdata is not None else None
+        if null is not None:
+            witness = tuple(null)
+        else:
+            witness = witness_of_rows([[as_fmpq(x) for x in row] for row in H], H.shape[1])
+            witness = None if witness is None else tuple(witness)
     if witness is None:
         if not elastic:
             raise DomainError("gradients: no non-zero velocity v satisfies H v >= 0 (only v = 0 would be valid, "
@@ -295,7 +304,9 @@ def resolve_sequential(mass_matrix, gradients, velocity, *, reading: str | None 
                           "(the closed contacts admit no elastic exit velocity)")
     if not elastic:
         if not exact:  # float input: every value is its exact binary value (fmpq)
-            system = _ExactSystem.from_rationals(Mq, Hq, vq, [as_fmpq(x) for x in E])
+            Eq = [as_fmpq(x) for x in E]
+            system = (_ExactSystem.from_sparse(fdata, Eq) if fdata is not None
+                      else _ExactSystem.from_rationals(*_dense_fmpq(M, H, v0), Eq))
             return _inelastic(M, H, v0, system, exact, cap, reading, select, witness, E)
         Ex = list(E)
         if data is not None and all(x.is_Rational for x in Ex):
@@ -306,12 +317,13 @@ def resolve_sequential(mass_matrix, gradients, velocity, *, reading: str | None 
             system = _ExactSystem(Mx, Hx, vx, Ex)
         return _inelastic(M, H, v0, system, exact, cap, reading, select, witness, E)
     system = (_ExactSystem.from_sparse(data) if data is not None else _ExactSystem(Mx, Hx, vx) if exact
-              else _ExactSystem.from_rationals(Mq, Hq, vq))
+              else _ExactSystem.from_sparse(fdata) if fdata is not None
+              else _ExactSystem.from_rationals(*_dense_fmpq(M, H, v0)))
     F = system.F
     two_bound = None
     short = False
     if system.k == 2 and (data.rank() if data is not None else _rank(system.H, F)) == 2:
-        from ..two_surface import _certified_bound, _Data, bound_at_most, branch_counts
+        from ..two_surface import _branch_counts_prepared, _certified_bound, _Data, bound_at_most, branch_counts
 
         path, short = two_surface, False
         if path == "auto":
@@ -330,13 +342,13 @@ def resolve_sequential(mass_matrix, gradients, velocity, *, reading: str | None 
             # iterating: refuse up front when a branch needs more than the cap (its exact states
             # grow linearly, so reaching the cap would cost memory quadratic in it)
             if data is not None:
-                from ..two_surface import _branch_counts_prepared
-
                 counts = _branch_counts_prepared(_prepared_two_surface(system))
             elif exact:
                 counts = branch_counts(Mx, Hx, vx)
-            else:  # float input: the counts of the floats' exact binary values
-                counts = branch_counts(Mq, Hq, vq)
+            elif fdata is not None:  # float input: the counts of the floats' exact binary values
+                counts = _branch_counts_prepared(_prepared_two_surface(system))
+            else:
+                counts = branch_counts(*_dense_fmpq(M, H, v0))
             if counts and max(counts.values()) > cap:
                 raise NonTermination(
                     f"max_reflections: the ordering starting with surface {max(counts, key=counts.get)} needs "

@@ -456,6 +456,40 @@ def read_rational(mass_matrix, gradients, velocity):
     return data
 
 
+def read_floats(mass_matrix, gradients, velocity):
+    """``SparseRational`` of checked float arrays at their exact binary values (the float path's
+    exact twin, read from the non-zero entries only, each distinct float converted once), or
+    ``None`` when ``M`` fails the exact check (a float ``M`` positive definite only up to
+    rounding): the caller then keeps the dense form.
+
+    >>> data = read_floats(np.eye(2), np.array([[1.0, 0.0], [-1.0, 0.1]]), np.array([-1.0, -2.0]))
+    >>> data.H[1], data.v0
+    ([(0, -1), (1, 3602879701896397/36028797018963968)], (-1, -2))
+    """
+    cache: dict = {}
+
+    def q(x):
+        x = float(x)
+        got = cache.get(x)
+        if got is None:
+            f = Fraction(x)
+            got = cache[x] = fmpq(f.numerator, f.denominator)
+        return got
+
+    M, H, v = (np.asarray(a, dtype=float) for a in (mass_matrix, gradients, velocity))
+    n, k = M.shape[0], H.shape[0]
+    Mrows: list = [{} for _ in range(n)]
+    for i, j in zip(*np.nonzero(M)):
+        Mrows[i][int(j)] = q(M[i, j])
+    Hrows: list = [[] for _ in range(k)]
+    for i, j in zip(*np.nonzero(H)):  # row-major: j increasing within a row
+        Hrows[i].append((int(j), q(H[i, j])))
+    try:
+        return SparseRational(n, k, Mrows, Hrows, [q(x) for x in v.reshape(-1)])
+    except ImpactInputError:
+        return None
+
+
 def verify_outcome(law, data: SparseRational, v, p, *, energy="equal") -> None:
     """The checks of :func:`impactsym.verify.verify_exact` on sparse data, with its messages:
     ``H_i v⁺ ≥ 0`` on every contact, the kinetic energy (``energy="equal"``: ``v⁺ᵀMv⁺ = v0ᵀMv0``;
