@@ -112,8 +112,23 @@ def _float_array(A) -> np.ndarray:
         try:
             return float(x)
         except OverflowError:  # a Fraction beyond the float range; SymPy's float gives inf there
-            return math.copysign(math.inf, x)
+            return math.inf if x > 0 else -math.inf
 
+    if is_sympy(A, "MatrixBase"):
+        from .laws.sequential.sparse import _sympy_rows
+
+        got = _sympy_rows(A)  # over ZZ or QQ: the non-zero entries as fmpq (a scene's 1000 x 1000 M)
+        if got is not None:
+            rows, cols, data = got
+            out = np.zeros((rows, cols), dtype=np.float64)
+            cache: dict = {}
+            for i, row in enumerate(data):
+                for j, q in row.items():
+                    f = cache.get(q)
+                    if f is None:  # a rational's nearest float, as SymPy's float of it (ties to even)
+                        f = cache[q] = near(Fraction(int(q.p), int(q.q)))
+                    out[i, j] = f
+            return out
     return np.array([[near(x) for x in row] for row in A.tolist()], dtype=np.float64)
 
 

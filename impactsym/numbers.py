@@ -351,6 +351,12 @@ def _leaves(obj: Any) -> Iterable[Any]:
         yield obj
 
 
+def _rational_domain(A) -> bool:
+    """Whether the SymPy matrix ``A`` is stored over ``ZZ`` or ``QQ`` (its ``DomainMatrix``)."""
+    dom = getattr(getattr(A, "_rep", None), "domain", None)
+    return dom is not None and bool(getattr(dom, "is_ZZ", False) or getattr(dom, "is_QQ", False))
+
+
 def is_exact(*objs: Any) -> bool:
     """True when every leaf is exact (int, Fraction, SymPy number, numeric text).
 
@@ -360,6 +366,8 @@ def is_exact(*objs: Any) -> bool:
     (True, False)
     """
     for obj in objs:
+        if _is_sp(obj, "MatrixBase") and _rational_domain(obj):
+            continue  # a SymPy matrix over ZZ or QQ holds no Float (1000 x 1000 scenes: not read entry by entry)
         for leaf in _leaves(obj):
             if isinstance(leaf, (float, np.floating)) or _is_sp(leaf, "Float"):
                 return False

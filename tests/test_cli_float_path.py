@@ -267,3 +267,29 @@ def test_the_number_module_loads_sympy_on_first_use():
                          env={"PYTHONPATH": str(ROOT), "PATH": "/usr/bin:/bin"})
     assert res.returncode == 0, res.stderr
     assert res.stdout.split() == ["sympy", "sqrt(2)/2", "2"]
+
+
+def test_float_twins_of_exact_and_float_matrices():
+    """The float path's conversions are the entry-by-entry ones: a SymPy matrix over QQ read
+    sparsely (each rational's nearest float, inf beyond the range, as SymPy's float), and a float
+    matrix printed with repr and its float twin (None when not finite, -0.0 kept)."""
+    import math
+
+    import numpy as np
+    import sympy as sp
+
+    from impactsym.lawbook import _float_array
+    from impactsym.resolution import _float, _text, matrix_json
+
+    x = 2 * (2 ** 53 + 1) * 2 ** 6 + 1  # x / 2**7 lies just above a tie between two floats
+    A = sp.Matrix([[sp.Rational(1, 3), 0, sp.Rational(-7, 10)], [sp.Rational(x, 2 ** 7), sp.Integer(10) ** 400, -1],
+                   [0, 0, sp.Rational(-(10 ** 400), 3)]])
+    want = np.array([[float(e) for e in row] for row in A.tolist()])
+    got = _float_array(A)
+    assert got.tolist() == want.tolist() and math.isinf(got[1, 1]) and got[2, 2] == -math.inf
+    assert _float_array(RationalMatrix([[Fraction(1, 3), Fraction(10) ** 400]])).tolist() == [[1 / 3, math.inf]]
+    F = np.array([[0.1, -0.0, math.inf], [1e300, -math.nan, 2.0]])
+    js = matrix_json("M", F)
+    assert js["M"] == [[_text(e, None) for e in row] for row in F.tolist()]
+    assert js["M_float"] == [[_float(e) for e in row] for row in F.tolist()]
+    assert js["M"][0][1] == "-0.0" and js["M_float"][0][2] is None and js["M_float"][1][1] is None
