@@ -106,7 +106,9 @@ class SequentialResolution:
     selected : tuple
         The minimizers of ``‖v − v0‖_M`` over the feasible set of ``reading`` (usually one;
         ties are all listed). Exact (SymPy) in exact mode and in float mode (computed from the
-        exact replays of the float outcomes; see ``selected_float``); with the two-surface
+        exact replays of the float outcomes; see ``selected_float``; in float mode the SymPy
+        vectors are made when this is first read, so a float run that reads only
+        ``selected_float`` imports no SymPy); with the two-surface
         closed form it is the selected outcome itself (exact, certified ``mpmath.matrix`` or
         float, like the outcome). Empty when ``select=False``, or as ``selection_note`` says.
     reading : str
@@ -129,8 +131,9 @@ class SequentialResolution:
         ``"rational"``, ``"algebraic"`` or ``"float"``.
     approaching : tuple of bool
         ``H_i v0 < 0`` for each contact (decided exactly or certified).
-    witness : sympy.Matrix
-        A non-zero valid velocity (``H v ≥ 0``), the certificate that the refusal check passed.
+    witness : sympy.Matrix or tuple of fmpq
+        A non-zero valid velocity (``H v ≥ 0``), the certificate that the refusal check passed
+        (float mode: a tuple of ``fmpq``, on the floats' exact binary values).
     method : str
         ``"iteration"`` (the DAG search) or ``"two-surface closed form"``
         (:func:`impactsym.laws.two_surface.resolve_two_surfaces`, used for two independent rows).
