@@ -63,6 +63,8 @@ COMMANDS = {
     "impactsym resolve --law sequential --float (pinched ball, refused, exit 2)": [
         "-m", "impactsym", "resolve", "--law", "sequential", "--float", "--mass-matrix", "1", "--gradients", "1;-1",
         "--velocity", "1", "--json"],
+    "impactsym resolve --law sequential --float --scene-file chain3-float (float literals, --json)": [
+        "-m", "impactsym", "resolve", "--law", "sequential", "--float", "--scene-file", "chain3-float", "--json"],
     "impactsym resolve --law sequential --float --scene cradle --n-balls 1000 (--json)": [
         "-m", "impactsym", "resolve", "--law", "sequential", "--float", "--scene", "cradle", "--n-balls", "1000",
         "--json"],
