@@ -158,10 +158,13 @@ SEQUENTIAL_FLOAT = [
     ([*SEQ, *EYE2, "--gradients", "1,0;0,1", "--velocity", "1,1", "--json"], 0),
     ([*SEQ, "--mass-matrix", "1", "--gradients", "1;-1", "--velocity", "1", "--json"], 2),
     ([*SEQ, *CHAIN, "--max-reflections", "1"], 2),
+    # a wedge of 267795 reflections: the closed form, its energy selection, the cone reading refused
+    ([*SEQ, *EYE2, "--gradients", "1,0;-1,1/100000", "--velocity", "-1,-2", "--json"], 0),
+    ([*SEQ, *EYE2, "--gradients", "1,0;-1,1/100000", "--velocity", "-1,-2", "--reading", "cone", "--json"], 2),
 ]
 
 
-@pytest.mark.parametrize("argv,status", SEQUENTIAL_FLOAT[::3] + [SEQUENTIAL_FLOAT[4], SEQUENTIAL_FLOAT[-1]])
+@pytest.mark.parametrize("argv,status", SEQUENTIAL_FLOAT[::3] + [SEQUENTIAL_FLOAT[4], SEQUENTIAL_FLOAT[-2]])
 def test_sequential_float_imports_no_sympy_or_mpmath(argv, status):
     assert _loaded(argv, status) == set()
 
