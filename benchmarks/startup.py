@@ -57,6 +57,17 @@ COMMANDS = {
         "-m", "impactsym", "resolve", "--law", "sequential", "--float", *_TWO, "--json"],
     "impactsym resolve --law sequential --float (3-ball chain, --json)": [
         "-m", "impactsym", "resolve", "--law", "sequential", "--float", *_CHAIN3, "--json"],
+    "impactsym resolve --law sequential --float (balls 1, 3, 4 and a wall: the DAG search, --json)": [
+        "-m", "impactsym", "resolve", "--law", "sequential", "--float", "--mass-matrix", "1,0,0;0,3,0;0,0,4",
+        "--gradients", "1,0,0;-1,1,0;0,-1,1", "--velocity", "-1,-3,0", "--json"],
+    "impactsym resolve --law sequential --float (pinched ball, refused, exit 2)": [
+        "-m", "impactsym", "resolve", "--law", "sequential", "--float", "--mass-matrix", "1", "--gradients", "1;-1",
+        "--velocity", "1", "--json"],
+    "impactsym resolve --law sequential --float --scene-file chain3-float (float literals, --json)": [
+        "-m", "impactsym", "resolve", "--law", "sequential", "--float", "--scene-file", "chain3-float", "--json"],
+    "impactsym resolve --law sequential --float --scene cradle --n-balls 1000 (--json)": [
+        "-m", "impactsym", "resolve", "--law", "sequential", "--float", "--scene", "cradle", "--n-balls", "1000",
+        "--json"],
     "impactsym resolve --law hertz (2x2, --json)": ["-m", "impactsym", "resolve", "--law", "hertz", *_TWO, "--json"],
     "impactsym resolve --law linear (3-ball chain, --json)": [
         "-m", "impactsym", "resolve", "--law", "linear", *_CHAIN3, "--json"],
@@ -66,7 +77,8 @@ COMMANDS = {
         "-m", "impactsym", "resolve", "--law", "lzb", *_CHAIN3, "--restitution", "0.9", "--json"],
 }
 #: exit status of a command other than 0 (a refusal is a request too)
-EXIT = {"impactsym resolve --law newton --float (refused, exit 2)": 2}
+EXIT = {"impactsym resolve --law newton --float (refused, exit 2)": 2,
+        "impactsym resolve --law sequential --float (pinched ball, refused, exit 2)": 2}
 #: (row, target ratio to ``import numpy``) of issue 15
 TARGETS = [("impactsym --help", 2.0), (REFLECT, 3.0)]
 

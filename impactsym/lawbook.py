@@ -40,6 +40,7 @@ Examples
 
 from __future__ import annotations
 
+import math
 from fractions import Fraction
 from typing import Any
 
@@ -102,6 +103,33 @@ def _sympy_column(values):
     import sympy as sp
 
     return sp.Matrix(list(values))
+
+
+def _float_array(A) -> np.ndarray:
+    """The float64 array of an exact matrix (SymPy or :class:`~impactsym.resolution.RationalMatrix`):
+    each entry's nearest float, as SymPy's ``float`` rounds a rational (``±inf`` beyond the range)."""
+    def near(x):
+        try:
+            return float(x)
+        except OverflowError:  # a Fraction beyond the float range; SymPy's float gives inf there
+            return math.inf if x > 0 else -math.inf
+
+    if is_sympy(A, "MatrixBase"):
+        from .laws.sequential.sparse import _sympy_rows
+
+        got = _sympy_rows(A)  # over ZZ or QQ: the non-zero entries as fmpq (a scene's 1000 x 1000 M)
+        if got is not None:
+            rows, cols, data = got
+            out = np.zeros((rows, cols), dtype=np.float64)
+            cache: dict = {}
+            for i, row in enumerate(data):
+                for j, q in row.items():
+                    f = cache.get(q)
+                    if f is None:  # a rational's nearest float, as SymPy's float of it (ties to even)
+                        f = cache[q] = near(Fraction(int(q.p), int(q.q)))
+                    out[i, j] = f
+            return out
+    return np.array([[near(x) for x in row] for row in A.tolist()], dtype=np.float64)
 
 
 def _is_one(x) -> bool:
@@ -385,7 +413,7 @@ class Sequential(Law):
 
         M, H, v = system.M, system.H, system.v
         if float and system.exact:
-            M, H, v = (np.array(np.array(A.tolist()), dtype=np.float64) for A in (M, H, v))
+            M, H, v = (_float_array(A) for A in (M, H, v))
             v = v.reshape(-1)
             system = System(M, H, v, system.restitution, contacts=system.contacts, scene=system.scene, exact=False,
                             coordinates=system.coordinates, source=system.source)
@@ -406,11 +434,10 @@ class Sequential(Law):
                                          "reflections_max": o.reflections_max, **_jsonable(extra)}))
         selected = []
         known = getattr(r, "selected_impulses", ()) or ()
-        for idx, s in enumerate(r.selected):
-            if (float or not system.exact) and is_sympy(s, "MatrixBase"):  # the float path reports floats
-                import sympy as sp
-
-                s = np.array([sp.N(x, 17) for x in s], dtype=np.float64)
+        floats = float or not system.exact  # the float path reports floats (of the exact selection)
+        for idx, s in enumerate(r.selected_float if floats else r.selected):
+            if floats:
+                s = np.array(s, dtype=np.float64)
             elif idx < len(known) and known[idx] is not None:  # exact, verified by the law (full row rank)
                 selected.append(Outcome(s, known[idx]))
                 continue

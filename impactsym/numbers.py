@@ -33,13 +33,18 @@ import sys
 from numbers import Integral, Rational as _NumRational
 from typing import Any, Iterable
 
-import mpmath
 import numpy as np
-import sympy as sp
 
+from .arithmetic import LazyModule
+from .arithmetic import sympy_instance as _is_sp
 from .arithmetic.literals import MAX_DIGITS, json_float, plain_rational, split_entries
 from .arithmetic.rational import float_to_rational
 from .errors import ImpactInputError
+
+# SymPy and mpmath are imported on first use: the float path's checks (float arrays, plain
+# rationals) and the type tests below run without them (issue 15)
+sp = LazyModule("sympy", globals(), "sp")
+mpmath = LazyModule("mpmath", globals(), "mpmath")
 
 __all__ = [
     "parse_number",
@@ -63,31 +68,48 @@ def _rational_call(p, q=1):
 
 def _integer_call(x):
     """``Integer(x)`` in text: ``x`` itself (checked to be an integer once evaluated)."""
-    return _IntegerCall(x, evaluate=False)
+    return _integer_call_class()(x, evaluate=False)
 
 
-class _IntegerCall(sp.Function):
-    """Marker for ``Integer(x)`` in text; evaluates to ``x`` when ``x`` is an integer."""
-
-    nargs = 1
-
-    @classmethod
-    def eval(cls, x):
-        if x.is_Integer:
-            return x
-        if x.is_number and x.is_Rational:
-            raise ImpactInputError("value", f"Integer({x}): not an integer")
-        return None
+_LAZY: dict = {}
 
 
-_ALLOWED_NAMES = {
-    "sqrt": sp.sqrt, "pi": sp.pi, "E": sp.E, "sin": sp.sin, "cos": sp.cos, "tan": sp.tan,
-    "asin": sp.asin, "acos": sp.acos, "atan": sp.atan, "exp": sp.exp, "log": sp.log,
-    "Rational": sp.Rational, "Integer": sp.Integer, "root": sp.root, "cbrt": sp.cbrt,
-}
-#: what the names of the text become while parsing: ``Rational(p, q)`` and ``Integer(x)`` are built
-#: unevaluated (renamed, because the parser itself wraps every literal in ``Integer``/``Rational``)
-_PARSE_NAMES = {**_ALLOWED_NAMES, "_text_Rational_": _rational_call, "_text_Integer_": _integer_call}
+def _integer_call_class():
+    """``_IntegerCall``, the marker for ``Integer(x)`` in text (a SymPy ``Function``, defined when the
+    parser first needs it); it evaluates to ``x`` when ``x`` is an integer."""
+    cls = _LAZY.get("IntegerCall")
+    if cls is None:
+        class _IntegerCall(sp.Function):
+            """Marker for ``Integer(x)`` in text; evaluates to ``x`` when ``x`` is an integer."""
+
+            nargs = 1
+
+            @classmethod
+            def eval(cls, x):
+                if x.is_Integer:
+                    return x
+                if x.is_number and x.is_Rational:
+                    raise ImpactInputError("value", f"Integer({x}): not an integer")
+                return None
+
+        cls = _LAZY["IntegerCall"] = _IntegerCall
+    return cls
+
+
+#: the names text may use (their SymPy objects: :func:`_parse_names`)
+_ALLOWED_NAMES = ("sqrt", "pi", "E", "sin", "cos", "tan", "asin", "acos", "atan", "exp", "log", "Rational", "Integer",
+                  "root", "cbrt")
+
+
+def _parse_names() -> dict:
+    """What the names of the text become while parsing (SymPy's objects of :data:`_ALLOWED_NAMES`):
+    ``Rational(p, q)`` and ``Integer(x)`` are built unevaluated (renamed, because the parser itself
+    wraps every literal in ``Integer``/``Rational``)."""
+    names = _LAZY.get("names")
+    if names is None:
+        names = {name: getattr(sp, name) for name in _ALLOWED_NAMES}
+        names = _LAZY["names"] = {**names, "_text_Rational_": _rational_call, "_text_Integer_": _integer_call}
+    return names
 _USER_CALL = re.compile(r"\b(Rational|Integer)\s*\(")
 
 # MAX_DIGITS (from :mod:`impactsym.arithmetic.literals`): the most decimal digits of any integer or
@@ -142,8 +164,8 @@ def parse_number(text: Any, argument: str = "value") -> sp.Expr:
     """
     if isinstance(text, bool):
         raise ImpactInputError(argument, f"must be a number, got {text!r}")
-    if isinstance(text, sp.Basic):
-        if isinstance(text, sp.Float):
+    if _is_sp(text, "Basic"):
+        if _is_sp(text, "Float"):
             return float_to_rational(float(text))
         return check_finite_exact(sp.sympify(text), argument)
     if isinstance(text, Integral):
@@ -180,7 +202,7 @@ def parse_number(text: Any, argument: str = "value") -> sp.Expr:
                                              f"(numbers are limited to {MAX_DIGITS} digits)")
     try:
         code = _USER_CALL.sub(lambda m: f"_text_{m.group(1)}_(", s.replace("^", "**"))
-        tree = sp.sympify(code, locals=_PARSE_NAMES, rational=True, evaluate=False)
+        tree = sp.sympify(code, locals=_parse_names(), rational=True, evaluate=False)
     except ImpactInputError as exc:
         raise ImpactInputError(argument, exc.condition) from None
     except (sp.SympifyError, SyntaxError, TypeError, ValueError, TokenError_, AttributeError) as exc:  # noqa: F821
@@ -195,7 +217,7 @@ def parse_number(text: Any, argument: str = "value") -> sp.Expr:
         raise ImpactInputError(argument, exc.condition) from None
     except RecursionError:
         raise ImpactInputError(argument, f"cannot read {s!r} as a number (nested too deeply)") from None
-    if value.has(_IntegerCall):
+    if value.has(_integer_call_class()):
         raise ImpactInputError(argument, f"cannot read {s!r} as a number (Integer() of a non-integer)")
     value = check_finite_exact(value, argument)
     if not value.is_Rational:
@@ -314,7 +336,7 @@ def parse_matrix(text: str, argument: str = "matrix") -> sp.Matrix:
 
 
 def _leaves(obj: Any) -> Iterable[Any]:
-    if isinstance(obj, sp.MatrixBase):
+    if _is_sp(obj, "MatrixBase"):
         for row in obj.tolist():  # tolist: one pass, not one __getitem__ per entry
             yield from row
     elif isinstance(obj, np.ndarray):
@@ -329,6 +351,12 @@ def _leaves(obj: Any) -> Iterable[Any]:
         yield obj
 
 
+def _rational_domain(A) -> bool:
+    """Whether the SymPy matrix ``A`` is stored over ``ZZ`` or ``QQ`` (its ``DomainMatrix``)."""
+    dom = getattr(getattr(A, "_rep", None), "domain", None)
+    return dom is not None and bool(getattr(dom, "is_ZZ", False) or getattr(dom, "is_QQ", False))
+
+
 def is_exact(*objs: Any) -> bool:
     """True when every leaf is exact (int, Fraction, SymPy number, numeric text).
 
@@ -338,8 +366,10 @@ def is_exact(*objs: Any) -> bool:
     (True, False)
     """
     for obj in objs:
+        if _is_sp(obj, "MatrixBase") and _rational_domain(obj):
+            continue  # a SymPy matrix over ZZ or QQ holds no Float (1000 x 1000 scenes: not read entry by entry)
         for leaf in _leaves(obj):
-            if isinstance(leaf, (float, np.floating)) or (isinstance(leaf, sp.Float)):
+            if isinstance(leaf, (float, np.floating)) or _is_sp(leaf, "Float"):
                 return False
             if isinstance(leaf, np.integer):
                 continue
@@ -368,7 +398,7 @@ def to_exact_matrix(obj: Any, argument: str = "matrix", *, vector: bool = False)
     """
     if isinstance(obj, str):
         return parse_vector(obj, argument) if vector else parse_matrix(obj, argument)
-    if isinstance(obj, sp.MatrixBase):
+    if _is_sp(obj, "MatrixBase"):
         m = sp.Matrix(obj).applyfunc(lambda x: to_exact(x, argument))
     else:
         arr = np.asarray(obj, dtype=object)
@@ -400,7 +430,7 @@ def to_float_array(obj: Any, argument: str = "array") -> np.ndarray:
     """
     if isinstance(obj, str):
         obj = parse_matrix(obj, argument) if ";" in obj else parse_vector(obj, argument)
-    if isinstance(obj, sp.MatrixBase):
+    if _is_sp(obj, "MatrixBase"):
         arr = np.array(obj.evalf(17).tolist(), dtype=float)
         if obj.cols == 1:
             arr = arr.reshape(-1)
@@ -420,12 +450,12 @@ def exact_str(x: Any) -> str:
     >>> exact_str(sp.Rational(-1, 3)), exact_str(sp.sqrt(3) / 2)
     ('-1/3', 'sqrt(3)/2')
     """
-    if isinstance(x, sp.Rational):
+    if _is_sp(x, "Rational"):
         # flint prints integers of any length; Python's int -> str stops at 4,300 digits
         # (sys.get_int_max_str_digits), which exact answers from 1,000-digit input exceed.
         from flint import fmpz
         return str(fmpz(int(x.p))) if x.q == 1 else f"{fmpz(int(x.p))}/{fmpz(int(x.q))}"
-    y = sp.nsimplify(x) if isinstance(x, sp.Float) else x
+    y = sp.nsimplify(x) if _is_sp(x, "Float") else x
     old = sys.get_int_max_str_digits()
     try:
         sys.set_int_max_str_digits(0)  # an exact expression is printed whole, however long
@@ -435,9 +465,9 @@ def exact_str(x: Any) -> str:
 
 
 def _float_of(x: Any) -> float:
-    if isinstance(x, sp.Rational):  # bit for bit float(N(x, 17)), without evalf (shared with the fast paths)
+    if _is_sp(x, "Rational"):  # bit for bit float(N(x, 17)), without evalf (shared with the fast paths)
         return json_float(int(x.p), int(x.q))
-    if isinstance(x, sp.Basic):
+    if _is_sp(x, "Basic"):
         return float(sp.N(x, 17))
     return float(x)
 
@@ -450,7 +480,7 @@ def exact_json(name: str, value: Any) -> dict:
     >>> exact_json("p", sp.Matrix([sp.Rational(4, 3), sp.Rational(2, 3)]))["p"]
     ['4/3', '2/3']
     """
-    if isinstance(value, sp.MatrixBase):
+    if _is_sp(value, "MatrixBase"):
         if value.cols == 1:
             items = list(value)
             return {name: [exact_str(v) for v in items], name + "_float": [_float_of(v) for v in items]}

@@ -176,8 +176,9 @@ def matrix_json(name: str, value) -> dict:
             text.append(tr)
             floats.append(fr)
         return {name: text, name + "_float": floats}
-    rows = np.asarray(value, dtype=float).tolist()
-    return {name: [[_text(x, None) for x in r] for r in rows], name + "_float": [[_float(x) for x in r] for r in rows]}
+    rows = np.asarray(value, dtype=float).tolist()  # Python floats: _text is repr, _float x (None if not finite)
+    return {name: [[repr(x) for x in r] for r in rows],
+            name + "_float": [[x if math.isfinite(x) else None for x in r] for r in rows]}
 
 
 def number_json(name: str, value, digits: int | None = None) -> dict:

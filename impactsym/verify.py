@@ -26,17 +26,20 @@ impactsym.errors.VerificationError: demo: verification of the outcome failed: H_
 
 from __future__ import annotations
 
-import sympy as sp
 from flint import arb, ctx, fmpq
 
 from .arithmetic import RationalField, enclose, in_row_space, sign_surd, to_fmpq
 from .errors import VerificationError
 
+# SymPy and mpmath are imported on first use: the float path (and rational data) runs without them
+from .arithmetic import LazyModule, sympy_instance
+sp = LazyModule("sympy", globals(), "sp")
+
 __all__ = ["verify_exact", "verify_balls", "enclose"]
 
 
 def _is_rational(x) -> bool:
-    return isinstance(x, (fmpq, int)) or bool(getattr(sp.sympify(x), "is_Rational", False))
+    return isinstance(x, (fmpq, int)) or bool(getattr(sp.sympify(x), "is_Rational", False))  # sp: first use
 
 
 _q = to_fmpq
@@ -46,7 +49,7 @@ def _entries(A):
     """Rows of a matrix-like (SymPy, fmpq_mat, nested lists) as a list of lists."""
     if hasattr(A, "nrows"):
         return [[A[i, j] for j in range(A.ncols())] for i in range(A.nrows())]
-    if isinstance(A, sp.MatrixBase):
+    if sympy_instance(A, "MatrixBase"):
         return [[A[i, j] for j in range(A.cols)] for i in range(A.rows)]
     return [list(r) for r in A]
 
@@ -54,7 +57,7 @@ def _entries(A):
 def _vector(v):
     if hasattr(v, "nrows"):
         return [v[i, 0] for i in range(v.nrows())]
-    if isinstance(v, sp.MatrixBase):
+    if sympy_instance(v, "MatrixBase"):
         return list(v)
     return list(v)
 

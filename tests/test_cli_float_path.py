@@ -135,3 +135,164 @@ def test_a_batch_of_float_requests_imports_no_sympy(tmp_path):
     assert answers[0]["result"]["system"]["mass_matrix"] == [["2", "1/3"], ["1/3", "1"]]
     path.write_text(path.read_text() + json.dumps({"argv": ["resolve", "--law", "newton", *CHAIN]}) + "\n")
     assert "sympy" in _loaded(["batch", "--input", str(path), "--output", str(tmp_path / "answers.jsonl")])
+
+
+# ------------------------------------------------------------------ the sequential law's --float path
+SEQ = ["resolve", "--law", "sequential", "--float"]
+EYE2 = ["--mass-matrix", "1,0;0,1"]
+#: (argv, exit status): ties beta = pi/K for K = 2 (orthogonal contacts), 4, 3, 6, both two-surface
+#: paths, the DAG search (three contacts), the cone reading, restitution < 1, refusals
+SEQUENTIAL_FLOAT = [
+    ([*SEQ, *EYE2, "--gradients", "1,0;0,1", "--velocity", "-1,-1", "--json"], 0),
+    ([*SEQ, *EYE2, "--gradients", "1,0;0,1", "--velocity", "-1,-3", "--two-surface-path", "closed-form"], 0),
+    ([*SEQ, *EYE2, "--gradients", "1,0;-1,1", "--velocity", "-1,-2", "--two-surface-path", "iterate", "--json"], 0),
+    ([*SEQ, "--mass-matrix", "1,0;0,1/3", "--gradients", "1,0;-1,1", "--velocity", "-1,-2", "--json"], 0),
+    ([*SEQ, "--mass-matrix", "1,0;0,3", "--gradients", "1,0;-1,1", "--velocity", "-1,-2", "--json"], 0),
+    ([*SEQ, "--mass-matrix", "11/10,0;0,1", "--gradients", "1,0;-1,1", "--velocity", "-1,-2", "--reading", "cone",
+      "--json"], 0),
+    ([*SEQ, "--mass-matrix", "2,1/3;1/3,1", "--gradients", "1,0.1;-1,1/7", "--velocity", "-1,-2"], 0),
+    ([*SEQ, *CHAIN, "--json"], 0),
+    ([*SEQ, *CHAIN, "--restitution", "1/2,1", "--json"], 0),
+    ([*SEQ, "--mass-matrix", "1,0,0;0,3,0;0,0,4", "--gradients", "1,0,0;-1,1,0;0,-1,1", "--velocity", "-1,-3,0",
+      "--json"], 0),
+    ([*SEQ, *EYE2, "--gradients", "1,0;0,1", "--velocity", "1,1", "--json"], 0),
+    ([*SEQ, "--mass-matrix", "1", "--gradients", "1;-1", "--velocity", "1", "--json"], 2),
+    ([*SEQ, *CHAIN, "--max-reflections", "1"], 2),
+    # a wedge of 267795 reflections: the closed form, its energy selection, the cone reading refused
+    ([*SEQ, *EYE2, "--gradients", "1,0;-1,1/100000", "--velocity", "-1,-2", "--json"], 0),
+    ([*SEQ, *EYE2, "--gradients", "1,0;-1,1/100000", "--velocity", "-1,-2", "--reading", "cone", "--json"], 2),
+]
+
+
+@pytest.mark.parametrize("argv,status", SEQUENTIAL_FLOAT[::3] + [SEQUENTIAL_FLOAT[4], SEQUENTIAL_FLOAT[-2]])
+def test_sequential_float_imports_no_sympy_or_mpmath(argv, status):
+    assert _loaded(argv, status) == set()
+
+
+@pytest.mark.parametrize("argv,status", SEQUENTIAL_FLOAT)
+def test_sequential_float_answers_as_the_general_reader(argv, status, monkeypatch):
+    """Byte for byte, with the rational reader and with the SymPy one (whose matrices the law
+    turns into the same floats)."""
+    fast = _run(argv)
+    assert fast[0] == status
+    monkeypatch.setattr(scene_args, "read_rational_system", lambda args: None)
+    assert _run(argv) == fast
+
+
+def test_float_selection_is_the_exact_selection_rounded():
+    """Float mode keeps the selection exact (SymPy vectors made on first read) and reports each
+    entry as float(N(x, 17)) of it; the surd case (a selection inside an arc) included."""
+    import numpy as np
+    import sympy as sp
+
+    from impactsym.laws.sequential import resolve_sequential
+
+    cases = [(np.diag([1.1, 1.0]), [[1.0, 0], [-1, 1]], [-1.0, -2], "cone"),
+             (np.diag([1.1, 1.0]), [[1.0, 0], [-1, 1]], [-1.0, -2], "energy"),
+             (np.diag([1.0, 3, 4]), [[1.0, 0, 0], [-1, 1, 0], [0, -1, 1]], [-1.0, -3, 0], "energy"),
+             (np.diag([1.0, 3, 4]), [[1.0, 0, 0], [-1, 1, 0], [0, -1, 1]], [-1.0, -3, 0], "cone")]
+    for M, H, v, reading in cases:
+        r = resolve_sequential(M, H, v, reading=reading, two_surface="iterate")
+        floats = r.selected_float
+        assert floats and len(floats) == len(r.selected)
+        for s, f in zip(r.selected, floats):
+            assert all(isinstance(x, sp.Expr) for x in s)
+            assert f == [float(sp.N(x, 17)) for x in s]
+
+
+def test_rational_tie_is_the_exact_tie():
+    """beta = pi/K for rational data only for K in {2, 3, 4, 6} (Niven): cos^2(pi/K) is irrational
+    for every other K (its minimal polynomial has degree > 1), and on data built to tie, or to
+    miss a tie by a little, rational_tie agrees with SymPy's certified sign."""
+    import sympy as sp
+
+    from impactsym.arithmetic import certified_sign
+    from impactsym.laws.two_surface import RATIONAL_COS2, rational_tie
+
+    x = sp.Symbol("x")
+    for K in range(2, 25):
+        c2 = sp.cos(sp.pi / K) ** 2
+        degree = sp.degree(sp.minimal_polynomial(c2, x), x)
+        assert (degree == 1) == (K in RATIONAL_COS2), K
+        if K in RATIONAL_COS2:
+            assert sp.nsimplify(c2) == sp.Rational(int(RATIONAL_COS2[K].p), int(RATIONAL_COS2[K].q))
+    from flint import fmpq
+
+    data = [(fmpq(1), fmpq(1), fmpq(0)), (fmpq(1), fmpq(2), fmpq(-1)), (fmpq(1), fmpq(4), fmpq(-1)),
+            (fmpq(1), fmpq(4, 3), fmpq(-1)), (fmpq(1), fmpq(2), fmpq(1)), (fmpq(3), fmpq(5), fmpq(-2)),
+            (fmpq(1), fmpq(4), fmpq(-1) + fmpq(1, 10**30)), (fmpq(1), fmpq(1), fmpq(1, 10**40))]
+    for sa, sb, g in data:
+        for K in range(2, 13):
+            Q = (lambda q: sp.Rational(int(q.p), int(q.q)))
+            exact = certified_sign(-Q(g) / sp.sqrt(Q(sa) * Q(sb)) - sp.cos(sp.pi / K), max_digits=200) == 0
+            assert rational_tie(sa, sb, g, K) == exact, (sa, sb, g, K)
+
+
+def test_arb_mid_float_is_mpmaths_float():
+    import random
+
+    import mpmath
+    from flint import arb, ctx
+
+    from impactsym.arithmetic import arb_mid_float, arb_to_mpf
+
+    rng = random.Random(15)
+    values = [arb(0), arb(1) / 3, -arb(2) / 7, arb(10) ** 400, arb(10) ** -400, arb(2) ** -1074 * 3, arb(2) ** 1024]
+    with ctx.workprec(200):
+        values += [arb(rng.randrange(-10**60, 10**60)) / rng.randrange(1, 10**60) * arb(2) ** rng.randrange(-1100, 1100)
+                   for _ in range(300)]
+        for x in values:
+            with mpmath.workprec(53):
+                assert arb_mid_float(x) == float(arb_to_mpf(x)), x
+
+
+@pytest.mark.parametrize("argv,loaded", [
+    (["resolve", "--law", "sequential", "--float", "--scene-file", "chain3-float", "--json"], set()),
+    (["resolve", "--law", "sequential", "--scene-file", "chain3-float"], set()),  # float literals: the float path
+    (["resolve", "--law", "hertz", "--scene-file", "chain3-float", "--json"], {"scipy"}),
+])
+def test_a_float_scene_file_imports_no_sympy(argv, loaded):
+    """A scene file of float literals is read, checked (contacts closed within its gap tolerance,
+    approach signs on the floats' exact binary values in fmpq) and resolved without SymPy."""
+    assert _loaded(argv) == loaded
+
+
+def test_the_number_module_loads_sympy_on_first_use():
+    """impactsym.numbers keeps its API (SymPy numbers out) but imports SymPy only when a SymPy
+    number is made; its float and type checks run without it."""
+    code = ("import sys\nimport numpy as np\nfrom impactsym import numbers\n"
+            "assert numbers.is_exact([[1, 2]], '1/2') and not numbers.is_exact(np.eye(2))\n"
+            "assert numbers.to_float_array([[1.0, 0.5]]).tolist() == [[1.0, 0.5]]\n"
+            "assert 'sympy' not in sys.modules and 'mpmath' not in sys.modules\n"
+            "x = numbers.parse_number('sqrt(2)/2')\n"
+            "print(type(x).__module__.split('.')[0], numbers.exact_str(x), numbers.parse_number('Integer(4)/2'))")
+    res = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, cwd=ROOT,
+                         env={"PYTHONPATH": str(ROOT), "PATH": "/usr/bin:/bin"})
+    assert res.returncode == 0, res.stderr
+    assert res.stdout.split() == ["sympy", "sqrt(2)/2", "2"]
+
+
+def test_float_twins_of_exact_and_float_matrices():
+    """The float path's conversions are the entry-by-entry ones: a SymPy matrix over QQ read
+    sparsely (each rational's nearest float, inf beyond the range, as SymPy's float), and a float
+    matrix printed with repr and its float twin (None when not finite, -0.0 kept)."""
+    import math
+
+    import numpy as np
+    import sympy as sp
+
+    from impactsym.lawbook import _float_array
+    from impactsym.resolution import _float, _text, matrix_json
+
+    x = 2 * (2 ** 53 + 1) * 2 ** 6 + 1  # x / 2**7 lies just above a tie between two floats
+    A = sp.Matrix([[sp.Rational(1, 3), 0, sp.Rational(-7, 10)], [sp.Rational(x, 2 ** 7), sp.Integer(10) ** 400, -1],
+                   [0, 0, sp.Rational(-(10 ** 400), 3)]])
+    want = np.array([[float(e) for e in row] for row in A.tolist()])
+    got = _float_array(A)
+    assert got.tolist() == want.tolist() and math.isinf(got[1, 1]) and got[2, 2] == -math.inf
+    assert _float_array(RationalMatrix([[Fraction(1, 3), Fraction(10) ** 400]])).tolist() == [[1 / 3, math.inf]]
+    F = np.array([[0.1, -0.0, math.inf], [1e300, -math.nan, 2.0]])
+    js = matrix_json("M", F)
+    assert js["M"] == [[_text(e, None) for e in row] for row in F.tolist()]
+    assert js["M_float"] == [[_float(e) for e in row] for row in F.tolist()]
+    assert js["M"][0][1] == "-0.0" and js["M_float"][0][2] is None and js["M_float"][1][1] is None

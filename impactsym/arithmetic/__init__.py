@@ -32,7 +32,7 @@ import importlib
 #: every public name and the submodule it lives in, imported on first use (PEP 562): the plain-text
 #: reader (:mod:`~impactsym.arithmetic.literals`) serves the command line's start-up without SymPy
 _NAMES = {
-    **dict.fromkeys(["arb_to_mpf", "arf_fmpq", "ball_ends", "certified_ceil", "certified_ceiling", "enclose",
+    **dict.fromkeys(["arb_mid_float", "arb_to_mpf", "arf_fmpq", "ball_ends", "certified_ceil", "certified_ceiling", "enclose",
                      "nearest_int"], "balls"),
     **dict.fromkeys(["certified_compare", "certified_sign", "tidy"], "closed_form"),
     **dict.fromkeys(["AlgebraicField", "RationalField", "compare_surds", "field_of", "sign_of", "sign_surd"],
@@ -65,6 +65,19 @@ class LazyModule:
         module = importlib.import_module(self._name)
         self._namespace[self._alias] = module
         return getattr(module, attr)
+
+
+def sympy_instance(x, kind: str = "Basic") -> bool:
+    """``isinstance(x, sympy.<kind>)`` without importing SymPy: before SymPy is loaded no object is
+    one, so a float or rational path can test its input's type for free.
+
+    >>> sympy_instance(2.0, "MatrixBase")
+    False
+    """
+    import sys
+
+    mod = sys.modules.get("sympy")
+    return mod is not None and isinstance(x, getattr(mod, kind))
 
 
 def __getattr__(name):

@@ -14,11 +14,16 @@ their result does not depend on the precision in force when they are called.
 
 from __future__ import annotations
 
-import mpmath
-import sympy as sp
+import math
+
 from flint import arb, fmpq
 
 from .closed_form import certified_sign
+
+# SymPy and mpmath are imported on first use: the float path (and rational data) runs without them
+from . import LazyModule
+mpmath = LazyModule("mpmath", globals(), "mpmath")
+sp = LazyModule("sympy", globals(), "sp")
 
 __all__ = ["enclose", "arf_fmpq", "ball_ends", "certified_ceil", "certified_ceiling", "nearest_int", "arb_to_mpf"]
 
@@ -149,6 +154,28 @@ def certified_ceiling(ball_at, tie_check, *, min_tie: int = 1, start_bits: int =
                         return j, "exact_tie", prec
         prec *= 2
     return None
+
+
+def arb_mid_float(x: arb) -> float:
+    """``float(arb_to_mpf(x))`` at mpmath's default precision (53 bits), bit for bit, without
+    mpmath: the midpoint rounded to 53 significant bits (to nearest, ties to even), then to a float
+    (``±inf`` beyond the range, gradual underflow below), as mpmath's ``to_float`` does.
+
+    >>> arb_mid_float(arb("0.5")), arb_mid_float(arb(1) / 3) == 1 / 3, arb_mid_float(arb(0))
+    (0.5, True, 0.0)
+    """
+    from .literals import _round_nearest_even
+
+    man, exp = x.mid().man_exp()
+    man, exp = int(man), int(exp)
+    if man == 0:
+        return 0.0
+    m, e = _round_nearest_even(abs(man), exp, 53)
+    try:
+        f = math.ldexp(m, e)
+    except OverflowError:
+        f = math.inf
+    return -f if man < 0 else f
 
 
 def arb_to_mpf(x: arb) -> mpmath.mpf:

@@ -13,6 +13,7 @@ only conversions the laws use.
 from __future__ import annotations
 
 import math
+import sys
 from fractions import Fraction
 from typing import Any
 
@@ -20,6 +21,7 @@ import flint
 import numpy as np
 
 from . import LazyModule
+from . import sympy_instance as _sympy_instance
 from ..errors import ImpactInputError
 
 #: SymPy, imported on first use: the rational paths (python-flint) run without it
@@ -127,7 +129,7 @@ def rational_matrix(A: Any) -> flint.fmpq_mat | None:
     [                              1/2]
     [3602879701896397/36028797018963968]
     """
-    if isinstance(A, sp.MatrixBase):
+    if _sympy_instance(A, "MatrixBase"):
         rows, cols = A.shape
         entries = list(A)
     else:
@@ -198,10 +200,9 @@ def float_vector(vel) -> np.ndarray:
     >>> float_vector(sp.Matrix([sp.Rational(1, 3), sp.sqrt(2)]))
     array([0.33333333, 1.41421356])
     """
-    import mpmath
-
-    if isinstance(vel, sp.MatrixBase):
+    if _sympy_instance(vel, "MatrixBase"):
         return np.array([float(Fraction(int(x.p), int(x.q))) if x.is_Rational else float(sp.N(x, 17)) for x in vel])
-    if isinstance(vel, mpmath.matrix):
+    mpmath = sys.modules.get("mpmath")  # an mpmath matrix exists only once mpmath is loaded
+    if mpmath is not None and isinstance(vel, mpmath.matrix):
         return np.array([float(vel[i]) for i in range(vel.rows)])
     return np.asarray(vel, dtype=float)

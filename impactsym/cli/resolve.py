@@ -143,8 +143,10 @@ def run(args) -> dict:
     from ..lawbook import get_law, resolve_all
     from .scene_args import float_range_guard, read_rational_system, read_system
 
-    # a law that computes in floats reads plain rational matrices without SymPy (issue 15)
-    system = (read_rational_system(args) if args.law in FLOAT_LAWS and path is None else None) or read_system(args)
+    # a law that computes in floats (and the sequential law's --float path) reads plain rational
+    # matrices without SymPy (issue 15)
+    floats = args.law in FLOAT_LAWS or (args.law == "sequential" and args.float and args.gaps is None)
+    system = (read_rational_system(args) if floats and path is None else None) or read_system(args)
     if args.law == "all":
         given = {law: {k: v for k, v in _cli_options(law, args).items()} for law in LAWS}
         with float_range_guard(args):

@@ -35,9 +35,7 @@ from __future__ import annotations
 
 from typing import Any
 
-import mpmath
 import numpy as np
-import sympy as sp
 
 from ..arithmetic import all_rational, rational_matrix, to_sympy_matrix
 from .. import kernels
@@ -46,6 +44,11 @@ from ..errors import DomainError, ImpactInputError
 from ..exact import certified_sign
 from ..mechanics import check_gradient, check_mass_matrix, check_velocity
 from ..numbers import float_to_rational, is_exact, to_exact
+
+# SymPy and mpmath are imported on first use: the float path (and rational data) runs without them
+from ..arithmetic import LazyModule
+mpmath = LazyModule("mpmath", globals(), "mpmath")
+sp = LazyModule("sympy", globals(), "sp")
 
 __all__ = ["reflection_map", "reflect", "impulse_multiplier", "check_restitution", "FLOAT_ERROR_FACTOR"]
 

@@ -61,18 +61,21 @@ from collections.abc import Sequence
 from dataclasses import dataclass, field
 from typing import Any
 
-import mpmath
 import numpy as np
-import sympy as sp
 from flint import arb, ctx, fmpq, fmpq_mat, fmpz
 
-from ..arithmetic import (all_rational, arb_to_mpf, bits, certified_ceiling, certified_sign, enclose, float_vector,
+from ..arithmetic import (all_rational, arb_mid_float, arb_to_mpf, bits, certified_ceiling, certified_sign, enclose, float_vector,
                           rational_matrix, sign_of, to_fmpq, to_sympy_rational)
 from ..errors import ImpactInputError, UndecidableSign, VerificationError
 from ..mechanics import check_gradients, check_mass_matrix, check_velocity
 from ..numbers import is_exact
 from ..verify import verify_balls, verify_exact
 from . import _reflection as _r
+
+# SymPy and mpmath are imported on first use: the float path (and rational data) runs without them
+from ..arithmetic import LazyModule
+mpmath = LazyModule("mpmath", globals(), "mpmath")
+sp = LazyModule("sympy", globals(), "sp")
 
 __all__ = [
     "resolve_two_surfaces",
@@ -201,7 +204,8 @@ class TwoSurfaceResolution:
         ``cos φ = H_1M⁻¹H_2ᵀ/√(s_1 s_2)`` (computed on first access); the wedge opening is
         ``β = π − φ``.
     wedge_angle : mpmath.mpf
-        ``β`` to ``digits`` digits.
+        ``β`` to ``digits`` digits (for float input made on first access: the float path of
+        the sequential law reads only the outcomes and the bound, without mpmath).
     exact : bool
         Whether the input was exact.
     decisions : dict
@@ -212,10 +216,16 @@ class TwoSurfaceResolution:
     outcomes: list
     by_first: dict
     bound: int
-    wedge_angle: Any
+    _wedge: Any = field(repr=False)  # the mpf β, or a function that makes it on first access
     exact: bool
     decisions: dict = field(default_factory=dict)
     _data: Any = field(default=None, repr=False)
+
+    @property
+    def wedge_angle(self):
+        if callable(self._wedge):
+            self._wedge = self._wedge()
+        return self._wedge
 
     @property
     def kinetic_angle_cos(self):
@@ -568,9 +578,13 @@ def _resolve(exact, M, H, v, n, digits=DEFAULT_DIGITS, max_exact_digits=DEFAULT_
     # bound N = ceil(pi/beta), certified; pi/beta is an integer only for beta = pi/K with
     # cos^2(pi/K) = g^2/(s_A s_B); decided exactly with SymPy for the candidate K.
     bound = _certified_bound(d, decisions)
-    with mpmath.workdps(digits):
-        *_, beta = d.balls(int(digits * 3.33) + 32)
-        wedge = arb_to_mpf(beta)
+
+    def wedge_angle():
+        with mpmath.workdps(digits):
+            *_, beta = d.balls(int(digits * 3.33) + 32)
+            return arb_to_mpf(beta)
+
+    wedge = wedge_angle() if exact else wedge_angle  # float input: made (with mpmath) on first access
 
     by_first: dict = {0: None, 1: None}
     outcomes = []
@@ -620,8 +634,8 @@ def _resolve(exact, M, H, v, n, digits=DEFAULT_DIGITS, max_exact_digits=DEFAULT_
                 outcomes.append(_certified_outcome(first, order, m, vel_b, imp_b, rad, digits, prec))
             else:
                 with ctx.workprec(prec):
-                    vel = np.array([float(arb_to_mpf(x)) for x in vel_b])
-                    imp = np.array([float(arb_to_mpf(x)) for x in imp_b])
+                    vel = np.array([arb_mid_float(x) for x in vel_b])
+                    imp = np.array([arb_mid_float(x) for x in imp_b])
                 outcomes.append(TwoSurfaceOutcome(first, order, m, vel, vel.copy(), imp, False,
                                                   _balls=tuple(vel_b), _prec=prec))
         else:  # irrational exact input
@@ -749,15 +763,53 @@ def _kinetic_cos(d: _Data, exact: bool):
     return sp.radsimp(d.g / sp.sqrt(d.sa * d.sb))
 
 
+#: ``cos²(π/K)`` for the ``K ≥ 2`` where it is rational (Niven's theorem; see :func:`rational_tie`)
+RATIONAL_COS2 = {2: fmpq(0), 3: fmpq(1, 4), 4: fmpq(1, 2), 6: fmpq(3, 4)}
+
+
+def rational_tie(s_a, s_b, g, K: int) -> bool:
+    """Whether the wedge of rational data has ``β = π/K`` exactly, ``K ≥ 2`` (a tie of the bound
+    ``⌈π/β⌉``): ``cos β = −g/√(s_A s_B)`` with ``s_A, s_B > 0`` and ``β ∈ (0, π)``, decided in
+    ``fmpq`` without SymPy.
+
+    Proof. If ``β = π/K`` then ``cos²(π/K) = g²/(s_A s_B)`` is rational, so ``cos(2π/K) = 2cos²(π/K)
+    − 1`` is rational. By Niven's theorem a rational multiple ``θ`` of ``π`` has a rational cosine
+    only when ``cos θ ∈ {0, ±1/2, ±1}``; with ``θ = 2π/K ∈ (0, π]`` that is ``K ∈ {2, 3, 4, 6}``
+    (``cos θ = −1, −1/2, 0, 1/2``), where ``cos²(π/K) = 0, 1/4, 1/2, 3/4``
+    (:data:`RATIONAL_COS2`). For every other ``K`` there is no tie. For those four, ``β = π/K``
+    holds iff ``cos β = cos(π/K)``, i.e. ``g² = cos²(π/K)·s_A s_B`` and ``−g`` has the sign of
+    ``cos(π/K)`` (zero for ``K = 2``, positive otherwise): both exact rational tests.
+
+    Examples
+    --------
+    Two balls and a wall (``M = I``, rows ``(1, 0)`` and ``(−1, 1)``): ``β = π/4``; orthogonal
+    contacts: ``β = π/2``.
+
+    >>> rational_tie(fmpq(1), fmpq(2), fmpq(-1), 4), rational_tie(fmpq(1), fmpq(2), fmpq(-1), 5)
+    (True, False)
+    >>> rational_tie(fmpq(1), fmpq(1), fmpq(0), 2), rational_tie(fmpq(1), fmpq(4), fmpq(1), 3)
+    (True, False)
+    """
+    c2 = RATIONAL_COS2.get(int(K))
+    if c2 is None:
+        return False
+    if g * g != c2 * s_a * s_b:
+        return False
+    return g == 0 if K == 2 else g < 0
+
+
 def _certified_bound(d: _Data, decisions: dict) -> int:
     """``⌈π/β⌉`` (sec. III-C), certified; a tie ``β = π/K`` is decided exactly
-    (``−g/√(s_A s_B) = cos(π/K)``, a certified sign)."""
+    (``−g/√(s_A s_B) = cos(π/K)``: in ``fmpq`` for rational data, :func:`rational_tie`; a
+    certified sign otherwise)."""
     def ball_at(prec):
         *_, beta = d.balls(prec)
         with ctx.workprec(prec):
             return arb.pi() / beta
 
     def tie(K):
+        if d.rational():
+            return rational_tie(d.sa, d.sb, d.g, K)
         to_sp = (lambda x: sp.Rational(int(x.p), int(x.q))) if d.rational() else (lambda x: x)
         expr = -to_sp(d.g) / sp.sqrt(to_sp(d.sa) * to_sp(d.sb)) - sp.cos(sp.pi / K)
         try:

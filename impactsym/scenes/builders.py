@@ -8,9 +8,12 @@ format that feeds these builders is :mod:`impactsym.scenes.fileformat`.
 
 from __future__ import annotations
 
-import sympy as sp
 
+from ..arithmetic import LazyModule, sympy_instance
 from .scene import Scene
+
+# SymPy is imported on first use: a float scene (and its checks) runs without it (issue 15)
+sp = LazyModule("sympy", globals(), "sp")
 
 __all__ = ["balls_on_line", "balls_in_plane", "full_velocity", "FLOAT_GAP_RTOL"]
 
@@ -44,7 +47,7 @@ def _numbers(values, argument: str, exact: bool, *, length: int | None = None):
             out.append(to_exact(x, argument))
         else:
             try:
-                xf = float(sp.sympify(x)) if isinstance(x, (str, sp.Basic)) else float(x)
+                xf = float(sp.sympify(x)) if (isinstance(x, str) or sympy_instance(x, "Basic")) else float(x)
             except (TypeError, ValueError, sp.SympifyError):
                 raise ImpactInputError(argument, f"entry {x!r} is not a number") from None
             import math
@@ -102,12 +105,11 @@ def _approaching_exact(H, v, exact: bool, nonzeros=None):
     otherwise the SymPy sum's sign is certified (:func:`impactsym.exact.certified_sign`).
     """
     from ..exact import certified_sign
-    from ..numbers import float_to_rational
 
     if nonzeros is None:
         nonzeros = [range(H.shape[1])] * H.shape[0]
     vq = None
-    if exact and all(isinstance(x, sp.Rational) for x in v):
+    if exact and all(sympy_instance(x, "Rational") for x in v):
         from flint import fmpq
 
         vq = [fmpq(int(x.p), int(x.q)) for x in v]
@@ -115,7 +117,7 @@ def _approaching_exact(H, v, exact: bool, nonzeros=None):
     for i in range(H.shape[0]):
         if exact:
             row = [(H[i, j], j) for j in nonzeros[i]]
-            if vq is not None and all(isinstance(h, sp.Rational) for h, _ in row):
+            if vq is not None and all(sympy_instance(h, "Rational") for h, _ in row):
                 w = fmpq(0)
                 for h, j in row:
                     w += fmpq(int(h.p), int(h.q)) * vq[j]
@@ -123,9 +125,11 @@ def _approaching_exact(H, v, exact: bool, nonzeros=None):
             else:
                 w = sum((h * v[j] for h, j in row), sp.Integer(0))
                 out.append(certified_sign(w) < 0)
-        else:  # decided on the floats' exact binary values, never on rounding noise
-            w = sum((float_to_rational(H[i, j]) * float_to_rational(v[j]) for j in nonzeros[i]),
-                    sp.Integer(0))
+        else:  # decided on the floats' exact binary values (fmpq), never on rounding noise
+            from ..arithmetic import as_fmpq
+            from flint import fmpq
+
+            w = sum((as_fmpq(H[i, j]) * as_fmpq(v[j]) for j in nonzeros[i]), fmpq(0))
             out.append(w < 0)
     return out
 
@@ -135,7 +139,7 @@ def _exact_matrix(shape, entries):
     (same entries, same domain) to ``sp.Matrix`` of the dense rows, without building them: for
     rational entries ``sp.zeros`` then the nonzeros set one by one (a 1000 × 1000 ``sp.Matrix`` of
     dense rows takes seconds, ``sp.diag`` of 1000 entries more); other entries take the dense path."""
-    if all(isinstance(x, (int, sp.Rational)) for x in entries.values()):
+    if all((isinstance(x, int) or sympy_instance(x, "Rational")) for x in entries.values()):
         A = sp.zeros(*shape)
         for (i, j), x in entries.items():
             if x != 0:
@@ -250,7 +254,7 @@ def balls_on_line(masses, radii, positions, velocities, walls=(), *, gap_toleran
     _positive(m, "masses", exact)
     _positive(r, "radii", exact, allow_zero=True)
     scale = max([1.0] + [abs(float(t)) for t in x + r + w])
-    rational = exact and all(isinstance(t, sp.Rational) for t in x + r + w)
+    rational = exact and all(sympy_instance(t, "Rational") for t in x + r + w)
     if rational:
         from flint import fmpq
 

@@ -110,10 +110,13 @@ import os
 from pathlib import Path
 
 import numpy as np
-import sympy as sp
 
+from ..arithmetic import LazyModule, sympy_instance
 from ..errors import ImpactInputError
 from .scene import Scene
+
+# SymPy is imported on first use: a float scene (and its checks) runs without it (issue 15)
+sp = LazyModule("sympy", globals(), "sp")
 
 __all__ = ["FORMAT", "load_scene", "load_scene_file", "read_scene_file", "scene_from_dict", "scene_to_dict"]
 
@@ -414,7 +417,7 @@ def _reorder(sc: Scene, names) -> Scene:
         raise ImpactInputError("contacts", f"{unknown[0]!r} is not a closed contact of the bodies (closed: "
                                            f"{', '.join(sc.contacts)})")
     order = [sc.contacts.index(c) for c in names]
-    H = sc.H.extract(order, list(range(sc.H.shape[1]))) if isinstance(sc.H, sp.MatrixBase) else sc.H[order]
+    H = sc.H.extract(order, list(range(sc.H.shape[1]))) if sympy_instance(sc.H, "MatrixBase") else sc.H[order]
     return Scene(sc.M, H, sc.v, sc.coordinates, names, [sc.approaching[i] for i in order], sc.meta)
 
 

@@ -31,6 +31,8 @@ impactsym.errors.ImpactInputError: n_balls: --n-balls does not apply to --scene 
 
 from __future__ import annotations
 
+import re
+
 from pathlib import Path
 from typing import TYPE_CHECKING
 
@@ -105,6 +107,9 @@ def _option(name: str) -> str:
     return "--" + name.replace("_", "-")
 
 
+_PLAIN_INT = re.compile(r"[+-]?[0-9]{1,30}")
+
+
 def int_option(text, argument, minimum, maximum=None):
     """An integer parameter, given as an integer or an exact integer expression (``10**2``).
 
@@ -115,12 +120,16 @@ def int_option(text, argument, minimum, maximum=None):
     ...
     impactsym.errors.ImpactInputError: n_balls: must be at most 200, got 1000000000000
     """
-    from ..numbers import parse_number
+    plain = str(text).strip()
+    if _PLAIN_INT.fullmatch(plain):  # a plain integer needs no parser (nor SymPy)
+        value = int(plain)
+    else:
+        from ..numbers import parse_number
 
-    value = parse_number(str(text), argument)
-    if not value.is_Integer:
-        raise ImpactInputError(argument, f"must be an integer, got {text!r}")
-    value = int(value)
+        value = parse_number(str(text), argument)
+        if not value.is_Integer:
+            raise ImpactInputError(argument, f"must be an integer, got {text!r}")
+        value = int(value)
     if value < minimum:
         raise ImpactInputError(argument, f"must be >= {minimum}, got {value}")
     if maximum is not None and value > maximum:

@@ -20,7 +20,11 @@ import math
 from dataclasses import dataclass, field
 
 import numpy as np
-import sympy as sp
+
+# SymPy is imported on first use: a float scene (and its checks) runs without it (issue 15)
+from ..arithmetic import LazyModule, sympy_instance
+
+sp = LazyModule("sympy", globals(), "sp")
 
 __all__ = ["Scene", "check_restitution"]
 
@@ -68,11 +72,11 @@ class Scene:
     @property
     def exact(self) -> bool:
         """Whether ``M``, ``H`` and ``v`` are exact SymPy matrices (else float arrays)."""
-        return isinstance(self.M, sp.MatrixBase)
+        return sympy_instance(self.M, "MatrixBase")
 
     def relative_velocity(self):
         """``w = H v`` (approaching when ``w_i < 0``)."""
-        return self.H * self.v if isinstance(self.H, sp.MatrixBase) else self.H @ self.v
+        return self.H * self.v if sympy_instance(self.H, "MatrixBase") else self.H @ self.v
 
 
 def check_restitution(values, k: int, contacts=(), argument: str = "restitution") -> list:

@@ -2,11 +2,14 @@
 
 from __future__ import annotations
 
-import sympy as sp
 
 from ...arithmetic import all_rational, rational_matrix, sign_of
 from ...errors import DomainError, ImpactInputError
 from ...mechanics import check_gradients, check_mass_matrix
+
+# SymPy and mpmath are imported on first use: the float path (and rational data) runs without them
+from ...arithmetic import LazyModule
+sp = LazyModule("sympy", globals(), "sp")
 
 
 def termination_bound(mass_matrix, gradients):

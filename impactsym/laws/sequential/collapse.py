@@ -52,9 +52,12 @@ would be approached infinitely often (infinitely many orderings branch off the c
 
 from __future__ import annotations
 
-import sympy as sp
 
 from ...errors import DomainError, ImpactInputError, NonTermination, VerificationError
+
+# SymPy and mpmath are imported on first use: the float path (and rational data) runs without them
+from ...arithmetic import LazyModule
+sp = LazyModule("sympy", globals(), "sp")
 
 __all__ = ["critical_restitution", "alternation_limit"]
 

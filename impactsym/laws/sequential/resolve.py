@@ -5,9 +5,8 @@ closed form, the exact merge of outcomes, and the selection.
 from __future__ import annotations
 
 import numpy as np
-import sympy as sp
 
-from ...arithmetic import certified_sign, float_to_rational
+from ...arithmetic import as_fmpq, certified_sign
 from ...errors import DomainError, ImpactInputError, NonTermination
 from ...mechanics import check_gradients, check_mass_matrix, check_velocity
 from ...numbers import check_finite_exact, is_exact, to_exact
@@ -21,13 +20,23 @@ from .search import (_ExactSystem, _Reflector, _aggregate, _cap_error, _diff_key
                      _merge_exact_keys, _state_bits_error, _verified_replay)
 from .selection import _select, _select_two_surface, _verify_selected
 from .independence import ProductGraph, combine, components, length_distributions
-from .sparse import read_rational
-from .witness import valid_velocity_witness
+from .sparse import read_floats, read_rational
+from .witness import valid_velocity_witness, witness_of_rows
+
+# SymPy and mpmath are imported on first use: the float path (and rational data) runs without them
+from ...arithmetic import LazyModule, sympy_instance
+sp = LazyModule("sympy", globals(), "sp")
 
 
 #: split the exact rational search into independent groups of contacts (:mod:`.independence`);
 #: ``False`` searches the whole system as one DAG (the tests compare the two)
 DECOMPOSE_INDEPENDENT = True
+
+
+def _dense_fmpq(M, H, v0):
+    """Dense ``fmpq`` rows of float ``M``, ``H`` and the list of ``v0``: their exact binary values."""
+    return ([[as_fmpq(x) for x in row] for row in M], [[as_fmpq(x) for x in row] for row in H],
+            [as_fmpq(x) for x in v0])
 
 
 def _coordinates(mass_matrix):
@@ -47,7 +56,7 @@ def _restitution_entries(restitution):
     if isinstance(restitution, str):
         parts = [t.strip() for t in restitution.split(",")]
         return parts[0] if len(parts) == 1 else parts, len(parts) > 1
-    if isinstance(restitution, sp.MatrixBase):
+    if sympy_instance(restitution, "MatrixBase"):
         return list(restitution), True
     if isinstance(restitution, np.ndarray):
         if restitution.ndim == 0:
@@ -250,7 +259,7 @@ def resolve_sequential(mass_matrix, gradients, velocity, *, reading: str | None 
             "mass_matrix", f"has {size} coordinates, more than the sequential law's limit MAX_COORDINATES="
             f"{MAX_COORDINATES}")
     # exact rational input is read once into sparse fmpq data and checked there (never again)
-    data = None
+    data = fdata = None
     if exact is not False and is_exact(restitution):
         data = read_rational(mass_matrix, gradients, velocity)
     if data is not None:
@@ -272,14 +281,21 @@ def resolve_sequential(mass_matrix, gradients, velocity, *, reading: str | None 
         null = data.null_vector()
         witness = (sp.Matrix([sp.Rational(int(x.p), int(x.q)) for x in null]) if null is not None
                    else valid_velocity_witness(data.to_sympy()[1]))
-    else:
-        if exact:
-            Mx, Hx, vx = M, H, v0
-        else:
-            Mx = sp.Matrix([[float_to_rational(x) for x in row] for row in M])
-            Hx = sp.Matrix([[float_to_rational(x) for x in row] for row in H])
-            vx = sp.Matrix([float_to_rational(x) for x in v0])
+    elif exact:
+        Mx, Hx, vx = M, H, v0
         witness = valid_velocity_witness(Hx)
+    else:
+        # float input: the floats' exact binary values, in fmpq (no SymPy); the witness is a tuple
+        # of them, decided exactly as valid_velocity_witness decides it
+        # (sparse when M passes the exact check, as rational input is read; dense rows otherwise)
+        Mx = Hx = vx = None
+        fdata = read_floats(M, H, v0)
+        null = fdata.null_vector() if fdata is not None else None
+        if null is not None:
+            witness = tuple(null)
+        else:
+            witness = witness_of_rows([[as_fmpq(x) for x in row] for row in H], H.shape[1])
+            witness = None if witness is None else tuple(witness)
     if witness is None:
         if not elastic:
             raise DomainError("gradients: no non-zero velocity v satisfies H v >= 0 (only v = 0 would be valid, "
@@ -287,7 +303,12 @@ def resolve_sequential(mass_matrix, gradients, velocity, *, reading: str | None 
         raise DomainError("gradients: no non-zero velocity v satisfies H v >= 0 "
                           "(the closed contacts admit no elastic exit velocity)")
     if not elastic:
-        Ex = [x if exact else float_to_rational(x) for x in E]
+        if not exact:  # float input: every value is its exact binary value (fmpq)
+            Eq = [as_fmpq(x) for x in E]
+            system = (_ExactSystem.from_sparse(fdata, Eq) if fdata is not None
+                      else _ExactSystem.from_rationals(*_dense_fmpq(M, H, v0), Eq))
+            return _inelastic(M, H, v0, system, exact, cap, reading, select, witness, E)
+        Ex = list(E)
         if data is not None and all(x.is_Rational for x in Ex):
             system = _ExactSystem.from_sparse(data, Ex)
         else:  # an irrational restitution: the algebraic backend
@@ -295,12 +316,14 @@ def resolve_sequential(mass_matrix, gradients, velocity, *, reading: str | None 
                 Mx, Hx, vx = data.to_sympy()
             system = _ExactSystem(Mx, Hx, vx, Ex)
         return _inelastic(M, H, v0, system, exact, cap, reading, select, witness, E)
-    system = _ExactSystem.from_sparse(data) if data is not None else _ExactSystem(Mx, Hx, vx)
+    system = (_ExactSystem.from_sparse(data) if data is not None else _ExactSystem(Mx, Hx, vx) if exact
+              else _ExactSystem.from_sparse(fdata) if fdata is not None
+              else _ExactSystem.from_rationals(*_dense_fmpq(M, H, v0)))
     F = system.F
     two_bound = None
     short = False
     if system.k == 2 and (data.rank() if data is not None else _rank(system.H, F)) == 2:
-        from ..two_surface import _certified_bound, _Data, bound_at_most, branch_counts
+        from ..two_surface import _branch_counts_prepared, _certified_bound, _Data, bound_at_most, branch_counts
 
         path, short = two_surface, False
         if path == "auto":
@@ -319,11 +342,13 @@ def resolve_sequential(mass_matrix, gradients, velocity, *, reading: str | None 
             # iterating: refuse up front when a branch needs more than the cap (its exact states
             # grow linearly, so reaching the cap would cost memory quadratic in it)
             if data is not None:
-                from ..two_surface import _branch_counts_prepared
-
+                counts = _branch_counts_prepared(_prepared_two_surface(system))
+            elif exact:
+                counts = branch_counts(Mx, Hx, vx)
+            elif fdata is not None:  # float input: the counts of the floats' exact binary values
                 counts = _branch_counts_prepared(_prepared_two_surface(system))
             else:
-                counts = branch_counts(Mx, Hx, vx)
+                counts = branch_counts(*_dense_fmpq(M, H, v0))
             if counts and max(counts.values()) > cap:
                 raise NonTermination(
                     f"max_reflections: the ordering starting with surface {max(counts, key=counts.get)} needs "
@@ -391,7 +416,8 @@ def resolve_sequential(mass_matrix, gradients, velocity, *, reading: str | None 
     longest = max(o.reflections_max for o in outcomes)
     if longest > cap:
         raise _cap_error(cap)
-    selected: tuple = ()
+    selected: tuple | None = ()
+    selected_raw = None
     selected_impulses: tuple = ()
     if select:
         if short and reading == "energy":
@@ -399,11 +425,15 @@ def resolve_sequential(mass_matrix, gradients, velocity, *, reading: str | None 
             # <v, v0>_M on it is largest at an end point (see _two_surface_path): compare exactly
             selected = _select_arc_end(system, [v for v, _ in exact_outcomes])
         else:
-            selected = _select(system, [v for v, _ in exact_outcomes], [p for _, p in exact_outcomes], reading)
-        selected_impulses = _verify_selected(system, selected, reading, exact_outcomes)
+            selected = _select(system, [v for v, _ in exact_outcomes], [p for _, p in exact_outcomes], reading,
+                               raw=not exact)
+        selected_impulses = _verify_selected(system, selected, reading, exact_outcomes, raw=not exact)
+        if not exact:  # float mode: SymPy vectors only when read (SequentialResolution.selected)
+            selected_raw, selected = (F, selected), None
     res = SequentialResolution(tuple(outcomes), selected, reading, total, longest, len(g.vel), tests,
                                fallbacks, exact, F.name if exact else "float", approaching, witness, _graph=g,
                                restitution=tuple(sp.Integer(1) if exact else 1.0 for _ in range(system.k)))
+    res._selected_raw = selected_raw
     if data is not None and data.rank() == data.k:
         # H has full row rank: p of M(v+ - v0) = H^T p is unique, the one verified with the outcome
         res.selected_impulses = selected_impulses
@@ -579,13 +609,19 @@ def _inelastic(M, H, v0, system, exact, cap, reading, select, witness, E):
             outcomes.append(Outcome(rep, len(rep), vel, imp, cnt, lo, hi))
     total = sum(o.orderings for o in outcomes)
     longest = max((o.reflections_max for o in outcomes if not o.collapse), default=0)
-    selected: tuple = ()
+    selected: tuple | None = ()
+    selected_raw = None
     if select:
-        selected = _select(system, [v for v, _ in exact_outcomes], [p for _, p in exact_outcomes], reading)
-        _verify_selected(system, selected, reading)
-    return SequentialResolution(tuple(outcomes), selected, reading, total, longest, len(g.vel), tests,
-                                fallbacks, exact, F.name if exact else "float", approaching, witness, _graph=g,
-                                restitution=tuple(E), collapse=any(o.collapse for o in outcomes))
+        selected = _select(system, [v for v, _ in exact_outcomes], [p for _, p in exact_outcomes], reading,
+                           raw=not exact)
+        _verify_selected(system, selected, reading, raw=not exact)
+        if not exact:
+            selected_raw, selected = (F, selected), None
+    res = SequentialResolution(tuple(outcomes), selected, reading, total, longest, len(g.vel), tests,
+                               fallbacks, exact, F.name if exact else "float", approaching, witness, _graph=g,
+                               restitution=tuple(E), collapse=any(o.collapse for o in outcomes))
+    res._selected_raw = selected_raw
+    return res
 
 
 def _two_surface_path(M, H, v0, system, exact, reading, select, witness, prepared=None):
@@ -627,7 +663,8 @@ def _two_surface_path(M, H, v0, system, exact, reading, select, witness, prepare
         lens = [t[0] for t in ords]
         outcomes.append(Outcome(ords[0][2], lens[0], vel, imp, len(ords), min(lens), max(lens)))
         orders.extend((t[2], idx) for t in ords)
-    selected: tuple = ()
+    selected: tuple | None = ()
+    selected_raw = None
     note = None
     all_exact = all(g[3] for g in groups)
     short = max(o.reflections for o in outcomes) <= 10_000
@@ -643,7 +680,9 @@ def _two_surface_path(M, H, v0, system, exact, reading, select, witness, prepare
                 f"select: the {reading} reading needs the exact outcomes, but the orderings take "
                 f"{max(o.reflections for o in outcomes)} reflections (more than 10000 are not replayed "
                 "exactly); use reading='energy' or select=False")
-        selected = _select(system, exact_outs, None, reading)
+        selected = _select(system, exact_outs, None, reading, raw=not exact)
+        if not exact:
+            selected_raw, selected = (F, selected), None
     elif select:
         note = (f"the {reading} reading needs exact outcomes; these are certified digits "
                 "(use reading='energy')")
@@ -653,6 +692,7 @@ def _two_surface_path(M, H, v0, system, exact, reading, select, witness, prepare
                                (F.name if exact else "float"), approaching, witness,
                                method="two-surface closed form", bound=ts.bound, _orders=orders)
     res.selection_note = note
+    res._selected_raw = selected_raw
     res.restitution = tuple(sp.Integer(1) if exact else 1.0 for _ in range(system.k))
     if exact and selected:
         # two independent rows: p of M(v+ - v0) = H^T p is unique; a selected outcome's impulse is

@@ -3,11 +3,15 @@
 
 from __future__ import annotations
 
+import sys
 from dataclasses import dataclass, field
 from typing import Any, Iterator
 
 import numpy as np
-import sympy as sp
+
+# SymPy and mpmath are imported on first use: the float path (and rational data) runs without them
+from ...arithmetic import LazyModule, sympy_instance
+sp = LazyModule("sympy", globals(), "sp")
 
 
 # ---------------------------------------------------------------------------------------------
@@ -55,11 +59,10 @@ class Outcome:
 
 
 def _floats(v) -> list[float]:
-    import mpmath
-
-    if isinstance(v, mpmath.matrix):
+    mpmath = sys.modules.get("mpmath")  # an mpmath matrix exists only once mpmath is loaded
+    if mpmath is not None and isinstance(v, mpmath.matrix):
         return [float(v[i]) for i in range(v.rows)]
-    if isinstance(v, sp.MatrixBase):
+    if sympy_instance(v, "MatrixBase"):
         return [float(sp.N(x, 17)) for x in v]
     return [float(x) for x in np.asarray(v, dtype=float).reshape(-1)]
 
@@ -103,7 +106,9 @@ class SequentialResolution:
     selected : tuple
         The minimizers of ``‖v − v0‖_M`` over the feasible set of ``reading`` (usually one;
         ties are all listed). Exact (SymPy) in exact mode and in float mode (computed from the
-        exact replays of the float outcomes; see ``selected_float``); with the two-surface
+        exact replays of the float outcomes; see ``selected_float``; in float mode the SymPy
+        vectors are made when this is first read, so a float run that reads only
+        ``selected_float`` imports no SymPy); with the two-surface
         closed form it is the selected outcome itself (exact, certified ``mpmath.matrix`` or
         float, like the outcome). Empty when ``select=False``, or as ``selection_note`` says.
     reading : str
@@ -126,8 +131,9 @@ class SequentialResolution:
         ``"rational"``, ``"algebraic"`` or ``"float"``.
     approaching : tuple of bool
         ``H_i v0 < 0`` for each contact (decided exactly or certified).
-    witness : sympy.Matrix
-        A non-zero valid velocity (``H v ≥ 0``), the certificate that the refusal check passed.
+    witness : sympy.Matrix or tuple of fmpq
+        A non-zero valid velocity (``H v ≥ 0``), the certificate that the refusal check passed
+        (float mode: a tuple of ``fmpq``, on the floats' exact binary values).
     method : str
         ``"iteration"`` (the DAG search) or ``"two-surface closed form"``
         (:func:`impactsym.laws.two_surface.resolve_two_surfaces`, used for two independent rows).
@@ -144,7 +150,7 @@ class SequentialResolution:
     """
 
     outcomes: tuple
-    selected: tuple
+    _selected: tuple | None  # None: made from _selected_raw on first access (float mode)
     reading: str
     orderings: int
     max_reflections_used: int
@@ -166,9 +172,26 @@ class SequentialResolution:
     selected_impulses: tuple = ()
     _graph: Any = field(default=None, repr=False, compare=False)
     _orders: Any = field(default=None, repr=False, compare=False)
+    #: float mode: ``(field, (a, b, q) triples)`` of the exact selection, turned into SymPy vectors
+    #: only when :attr:`selected` is read (the float path reports :attr:`selected_float`)
+    _selected_raw: Any = field(default=None, repr=False, compare=False)
+
+    @property
+    def selected(self) -> tuple:
+        if self._selected is None:
+            from .selection import _vel_sympy
+
+            F, raw = self._selected_raw
+            self._selected = tuple(_vel_sympy(v, F) for v in raw)
+        return self._selected
 
     @property
     def selected_float(self) -> list[list[float]]:
+        if self._selected is None:  # float mode: rounded from the exact triples (SymPy only for a surd)
+            from .selection import _float_selection
+
+            F, raw = self._selected_raw
+            return [[float(x) for x in _float_selection(v, F)] for v in raw]
         return [_floats(v) for v in self.selected]
 
     def iter_orderings(self, limit: int | None = None) -> Iterator[tuple[tuple, int]]:

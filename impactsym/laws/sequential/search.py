@@ -6,13 +6,16 @@ of the benchmarks; algebraic data: SymPy numbers, every sign certified).
 
 from __future__ import annotations
 
-import sympy as sp
 from flint import fmpq, fmpq_mat
 
 from ...arithmetic import certified_sign
 from ...errors import NonTermination
 from .. import _reflection as _r
 from .common import MAX_STATE_BITS, _Algebraic, _Rational, _all_rational, _dot
+
+# SymPy and mpmath are imported on first use: the float path (and rational data) runs without them
+from ...arithmetic import LazyModule
+sp = LazyModule("sympy", globals(), "sp")
 
 
 # ---------------------------------------------------------------------------------------------
@@ -63,6 +66,25 @@ class _ExactSystem:
         self.rows = [[(j, h) for j, h in enumerate(r) if F.sign(h) != 0] for r in self._H]
         self.wcols = [[(j, w) for j, w in enumerate(c) if F.sign(w) != 0] for c in self._W]
         self._finish(restitution)
+
+    @classmethod
+    def from_rationals(cls, M, H, v0, restitution=None):
+        """The rational system of dense ``fmpq`` rows (``M``, ``H``), ``v0`` and optional ``fmpq``
+        restitutions: the same data as ``_ExactSystem(Mx, Hx, vx)`` of the SymPy rationals with
+        those values, built without SymPy (the float path's exact binary values)."""
+        self = cls.__new__(cls)
+        self.F = F = _Rational
+        self.n, self.k = n, k = len(M), len(H)
+        self.sparse = None
+        self._M = [list(row) for row in M]
+        self._H = [list(row) for row in H]
+        self.v0 = tuple(v0)
+        Wm = fmpq_mat(self._M).solve(fmpq_mat([list(col) for col in zip(*self._H)]) if k else fmpq_mat(n, 0))
+        self._W = [[Wm[j, i] for j in range(n)] for i in range(k)]
+        self.rows = [[(j, h) for j, h in enumerate(r) if F.sign(h) != 0] for r in self._H]
+        self.wcols = [[(j, w) for j, w in enumerate(c) if F.sign(w) != 0] for c in self._W]
+        self._finish(None if restitution is None else list(restitution))
+        return self
 
     @classmethod
     def from_sparse(cls, data, restitution=None):

@@ -8,11 +8,14 @@ from __future__ import annotations
 import math
 
 import numpy as np
-import sympy as sp
 
 from ...arithmetic import certified_sign, compare_surds, rational_sqrt
 from ...errors import DomainError
 from .common import _Algebraic, _Rational, _dot, _independent, _matvec, _minner, _rank, _rref, _solve_columns
+
+# SymPy and mpmath are imported on first use: the float path (and rational data) runs without them
+from ...arithmetic import LazyModule
+sp = LazyModule("sympy", globals(), "sp")
 
 
 # ---------------------------------------------------------------------------------------------
@@ -22,18 +25,22 @@ from .common import _Algebraic, _Rational, _dot, _independent, _matvec, _minner,
 SELECTION_FACE_LIMIT = 200_000
 
 
-def _select(system, outcomes, impulses, reading):
+def _select(system, outcomes, impulses, reading, raw=False):
     """Minimizers of ‖v − v0‖_M over the feasible set (see the docstring of :mod:`impactsym.laws.sequential`).
 
     Values are kept as ``(a, b, q)`` meaning ``a + b√q`` and compared exactly; a face's candidate
     is tested for feasibility only when its value can beat (or tie) the best found so far, and the
-    outcomes themselves (feasible by construction) seed the search.
+    outcomes themselves (feasible by construction) seed the search. The minimizers are returned as
+    SymPy column vectors, or with ``raw=True`` as those ``(a, b, q)`` triples of field elements
+    (the float path: no SymPy; :func:`_float_selection` rounds them).
     """
     F = system.F
     n = system.n
     O = [list(o) for o in outcomes]
     if reading == "energy" and len(O) == 1:
         # cone(o) ∩ sphere = {o}; o satisfies the momentum requirement by construction
+        if raw:
+            return ((O[0], [F.zero] * n, F.zero),)
         return (sp.Matrix([F.to_sympy(x) for x in O[0]]),)
     v0 = list(system.v0)
     M = system.M
@@ -119,7 +126,27 @@ def _select(system, outcomes, impulses, reading):
                 if not _in_cone(O, all_O, alpha, beta, q, F):
                     continue
                 offer(vel, val)
+    if raw:
+        return tuple(best)
     return tuple(_vel_sympy(v, F) for v in best)
+
+
+def _float_selection(vel, F):
+    """The float64 array of a selected velocity ``(a, b, q)`` (``a + b√q``, :func:`_select` with
+    ``raw=True``) as the float path reports it: each entry ``float(N(x, 17))`` of the exact value,
+    bit for bit: :func:`~impactsym.arithmetic.literals.json_float` of a rational entry, SymPy's
+    ``N`` only when a square root remains.
+
+    >>> from flint import fmpq
+    >>> _float_selection(([fmpq(1, 3), fmpq(2)], [fmpq(0), fmpq(0)], fmpq(0)), _Rational)
+    array([0.33333333, 2.        ])
+    """
+    alpha, beta, q = _fold_surd(vel, F)
+    if F is _Rational and all(b == 0 for b in beta):
+        from ...arithmetic.literals import json_float
+
+        return np.array([json_float(int(a.p), int(a.q)) for a in alpha], dtype=np.float64)
+    return np.array([sp.N(x, 17) for x in _vel_sympy(vel, F)], dtype=np.float64)
 
 
 def _affine_key(c0, U, F):
@@ -367,22 +394,29 @@ def _certified_compare_balls(system, oa, ob) -> int:
     return s
 
 
-def _verify_selected(system, selected, reading, outcomes=()):
+def _verify_selected(system, selected, reading, outcomes=(), raw=False):
     """A rational selected velocity is checked exactly: valid, on the energy sphere (energy
     reading) and with its momentum jump in the row space of ``Hᵀ``. (Its impulse sign is part
     of the selection's own exact feasibility test.) A selected velocity that is one of the exact
     ``outcomes`` (``(v, p)`` pairs, verified with their impulse) is checked with that impulse,
     ``M(v − v0) = Hᵀp`` (a stronger statement than the row-space membership).
 
-    Returns the impulse of each selected velocity when it is an outcome's (else ``None``)."""
+    Returns the impulse of each selected velocity when it is an outcome's (else ``None``).
+    ``raw=True``: ``selected`` holds :func:`_select`'s ``(a, b, q)`` triples (a rational one,
+    ``b = 0``, is checked; the impulses are returned as lists of field elements, no SymPy)."""
     from ...verify import verify_exact
 
     F = system.F
     impulses = []
     for vel in selected:
         p = None
-        if all(x.is_Rational for x in vel):
-            exact_vel = [F.num(x) if F is _Rational else x for x in vel]
+        if raw:
+            alpha, beta, _ = _fold_surd(vel, F)
+            rational = F is _Rational and all(b == 0 for b in beta)
+        else:
+            rational = all(x.is_Rational for x in vel)
+        if rational:
+            exact_vel = list(alpha) if raw else [F.num(x) if F is _Rational else x for x in vel]
             if F is _Rational:
                 p = next((q for v, q in outcomes if list(v) == exact_vel), None)
             if p is not None:
@@ -390,5 +424,5 @@ def _verify_selected(system, selected, reading, outcomes=()):
             else:
                 verify_exact("sequential (selection)", system.M, system.H, list(system.v0), exact_vel, None,
                              energy_ratio=1 if reading == "energy" else None)
-        impulses.append(None if p is None else sp.Matrix([F.to_sympy(x) for x in p]))
+        impulses.append(None if p is None else list(p) if raw else sp.Matrix([F.to_sympy(x) for x in p]))
     return tuple(impulses)

@@ -37,10 +37,13 @@ from numbers import Integral
 from numbers import Rational as _NumRational
 
 import numpy as np
-import sympy as sp
 from flint import fmpq, fmpz
 
 from ...errors import ImpactInputError, VerificationError
+
+# SymPy and mpmath are imported on first use: the float path (and rational data) runs without them
+from ...arithmetic import LazyModule, sympy_instance
+sp = LazyModule("sympy", globals(), "sp")
 
 __all__ = ["SparseRational", "read_rational", "verify_outcome", "verify_matrices", "two_surface_data"]
 
@@ -60,9 +63,9 @@ def _entry(x):
         return None
     if isinstance(x, (int, np.integer, fmpz)):
         return fmpq(int(x))
-    if isinstance(x, sp.Rational):  # Integer too
+    if sympy_instance(x, "Rational"):  # Integer too
         return fmpq(int(x.p), int(x.q))
-    if isinstance(x, sp.Basic):
+    if sympy_instance(x, "Basic"):
         return None
     if isinstance(x, str):
         s = x.strip()
@@ -102,7 +105,7 @@ def _sympy_rows(A):
 
 def _matrix_rows(obj):
     """``(rows, cols, sparse rows)`` of an exact rational matrix-like, or ``None``."""
-    if isinstance(obj, sp.MatrixBase):
+    if sympy_instance(obj, "MatrixBase"):
         return _sympy_rows(obj)
     if isinstance(obj, str):
         if not obj.strip():
@@ -134,7 +137,7 @@ def _matrix_rows(obj):
 
 def _vector(obj):
     """An exact rational vector as a list of ``fmpq``, or ``None``."""
-    if isinstance(obj, sp.MatrixBase):
+    if sympy_instance(obj, "MatrixBase"):
         got = _sympy_rows(obj)
         if got is None or 1 not in got[:2]:
             return None
@@ -451,6 +454,40 @@ def read_rational(mass_matrix, gradients, velocity):
                                    f"row {i} is the zero covector (a constraint gradient must be non-zero)")
     data.H = [sorted(r.items()) for r in Hd]
     return data
+
+
+def read_floats(mass_matrix, gradients, velocity):
+    """``SparseRational`` of checked float arrays at their exact binary values (the float path's
+    exact twin, read from the non-zero entries only, each distinct float converted once), or
+    ``None`` when ``M`` fails the exact check (a float ``M`` positive definite only up to
+    rounding): the caller then keeps the dense form.
+
+    >>> data = read_floats(np.eye(2), np.array([[1.0, 0.0], [-1.0, 0.1]]), np.array([-1.0, -2.0]))
+    >>> data.H[1], data.v0
+    ([(0, -1), (1, 3602879701896397/36028797018963968)], (-1, -2))
+    """
+    cache: dict = {}
+
+    def q(x):
+        x = float(x)
+        got = cache.get(x)
+        if got is None:
+            f = Fraction(x)
+            got = cache[x] = fmpq(f.numerator, f.denominator)
+        return got
+
+    M, H, v = (np.asarray(a, dtype=float) for a in (mass_matrix, gradients, velocity))
+    n, k = M.shape[0], H.shape[0]
+    Mrows: list = [{} for _ in range(n)]
+    for i, j in zip(*np.nonzero(M)):
+        Mrows[i][int(j)] = q(M[i, j])
+    Hrows: list = [[] for _ in range(k)]
+    for i, j in zip(*np.nonzero(H)):  # row-major: j increasing within a row
+        Hrows[i].append((int(j), q(H[i, j])))
+    try:
+        return SparseRational(n, k, Mrows, Hrows, [q(x) for x in v.reshape(-1)])
+    except ImpactInputError:
+        return None
 
 
 def verify_outcome(law, data: SparseRational, v, p, *, energy="equal") -> None:
