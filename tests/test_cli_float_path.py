@@ -36,20 +36,48 @@ FLOAT_REQUESTS = [
 ]
 
 
-def _loaded(argv, status=0) -> set:
+def _loaded_many(requests) -> list:
+    """Run ``(argv, status)`` requests in order in one fresh interpreter; after each, the heavy
+    libraries loaded so far (SymPy, mpmath, SciPy). A library a request loads stays loaded, so the
+    sets only grow: the first request that loads a library is the one whose set shows it first."""
     code = ("import contextlib, io, sys\nfrom impactsym.cli import main\n"
-            "with contextlib.redirect_stdout(io.StringIO()), contextlib.redirect_stderr(io.StringIO()):\n"
-            f"    assert main({argv!r}) == {status}\n"
-            "print(' '.join(m for m in ('sympy', 'mpmath', 'scipy') if m in sys.modules))")
+            f"for argv, status in {[(list(a), s) for a, s in requests]!r}:\n"
+            "    with contextlib.redirect_stdout(io.StringIO()), contextlib.redirect_stderr(io.StringIO()):\n"
+            "        assert main(argv) == status, argv\n"
+            "    print(' '.join(m for m in ('sympy', 'mpmath', 'scipy') if m in sys.modules) + ';')")
     res = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, cwd=ROOT,
                          env={"PYTHONPATH": str(ROOT), "PATH": "/usr/bin:/bin"})
     assert res.returncode == 0, res.stderr
-    return set(res.stdout.split())
+    return [set(x.split()) for x in res.stdout.split(";")[:-1]]
+
+
+def _loaded(argv, status=0) -> set:
+    return _loaded_many([(argv, status)])[0]
+
+
+class _Probes:
+    """The requests of one parametrized test probed in one interpreter (``_loaded_many``), in the
+    order given: each request's expected set must contain the previous ones' (else a library an
+    earlier request loads would hide in a later one's set), which ``expect`` checks."""
+
+    def __init__(self, cases):
+        self.cases = [(list(argv), status, frozenset(loaded)) for argv, status, loaded in cases]
+        for (_, _, a), (_, _, b) in zip(self.cases, self.cases[1:]):
+            assert a <= b, "order the probes by growing expected sets"
+        self._sets = None
+
+    def loaded(self, argv, status=0) -> set:
+        if self._sets is None:
+            self._sets = _loaded_many([(a, s) for a, s, _ in self.cases])
+        return self._sets[[(a, s) for a, s, _ in self.cases].index((list(argv), status))]
+
+
+_FLOAT_LAW_PROBES = _Probes([(a, 0, {"scipy"}) for a in FLOAT_REQUESTS[::2] + [FLOAT_REQUESTS[-1]]])
 
 
 @pytest.mark.parametrize("argv", FLOAT_REQUESTS[::2] + [FLOAT_REQUESTS[-1]])
 def test_a_float_law_on_plain_rationals_imports_no_sympy(argv):
-    assert _loaded(argv) == {"scipy"}  # the integrator's SciPy; no SymPy, no mpmath
+    assert _FLOAT_LAW_PROBES.loaded(argv) == {"scipy"}  # the integrator's SciPy; no SymPy, no mpmath
 
 
 @pytest.mark.parametrize("argv", [
@@ -164,9 +192,12 @@ SEQUENTIAL_FLOAT = [
 ]
 
 
+_SEQUENTIAL_PROBES = _Probes([(a, s, ()) for a, s in SEQUENTIAL_FLOAT[::3] + [SEQUENTIAL_FLOAT[4], SEQUENTIAL_FLOAT[-2]]])
+
+
 @pytest.mark.parametrize("argv,status", SEQUENTIAL_FLOAT[::3] + [SEQUENTIAL_FLOAT[4], SEQUENTIAL_FLOAT[-2]])
 def test_sequential_float_imports_no_sympy_or_mpmath(argv, status):
-    assert _loaded(argv, status) == set()
+    assert _SEQUENTIAL_PROBES.loaded(argv, status) == set()
 
 
 @pytest.mark.parametrize("argv,status", SEQUENTIAL_FLOAT)
@@ -246,15 +277,27 @@ def test_arb_mid_float_is_mpmaths_float():
                 assert arb_mid_float(x) == float(arb_to_mpf(x)), x
 
 
-@pytest.mark.parametrize("argv,loaded", [
+_SCENE_FILE_CASES = [
     (["resolve", "--law", "sequential", "--float", "--scene-file", "chain3-float", "--json"], set()),
     (["resolve", "--law", "sequential", "--scene-file", "chain3-float"], set()),  # float literals: the float path
     (["resolve", "--law", "hertz", "--scene-file", "chain3-float", "--json"], {"scipy"}),
-])
+]
+_SCENE_FILE_PROBES = _Probes([(a, 0, loaded) for a, loaded in _SCENE_FILE_CASES])
+
+
+@pytest.mark.parametrize("argv,loaded", _SCENE_FILE_CASES)
 def test_a_float_scene_file_imports_no_sympy(argv, loaded):
     """A scene file of float literals is read, checked (contacts closed within its gap tolerance,
     approach signs on the floats' exact binary values in fmpq) and resolved without SymPy."""
-    assert _loaded(argv) == loaded
+    assert _SCENE_FILE_PROBES.loaded(argv) == loaded
+
+
+def test_one_interpreter_probes_each_request():
+    """The shared probe sees what each request loads: a request that loads SymPy shows it in its
+    own set and every later one, not in the earlier ones."""
+    newton = ["resolve", "--law", "newton", *CHAIN]
+    sets = _loaded_many([(FLOAT_REQUESTS[0], 0), (newton, 0), (FLOAT_REQUESTS[2], 0)])
+    assert sets[0] == {"scipy"} and {"sympy", "scipy"} <= sets[1] and sets[2] == sets[1]
 
 
 def test_the_number_module_loads_sympy_on_first_use():
