@@ -77,13 +77,31 @@ _RESOLVE = ("import contextlib, io\nfrom impactsym.cli import main\n"
 _CHAIN = ["--mass-matrix", "1,0,0;0,1,0;0,0,1", "--gradients", "-1,1,0;0,-1,1", "--velocity", "1,0,0"]
 
 
-@pytest.mark.parametrize("law", ["newton", "poisson", "energetic", "impulse-ratio", "two-surface", "han-gilmore",
-                                 "hertz", "lzb"])
+_FLOAT_REFUSERS = ["newton", "poisson", "energetic", "impulse-ratio", "two-surface", "han-gilmore", "hertz", "lzb"]
+_REFUSALS: list = []
+
+
+def _refusal_sets() -> list:
+    """Every law's ``--float`` refusal in one interpreter, in ``_FLOAT_REFUSERS`` order; after each,
+    the heavy libraries loaded so far (they only grow: the first refusal that loaded SymPy is the
+    first whose set shows it)."""
+    if not _REFUSALS:
+        code = "".join(_RESOLVE.format(argv=["resolve", "--law", law, "--float", *_CHAIN, "--json"], status=2)
+                       + f"\nprint(' '.join(m for m in {HEAVY!r} if m in sys.modules) + ';')\n"
+                       for law in _FLOAT_REFUSERS)
+        probe = f"import sys\n{code}"
+        res = subprocess.run([sys.executable, "-c", probe], capture_output=True, text=True, cwd=ROOT,
+                             env={"PYTHONPATH": str(ROOT), "PATH": "/usr/bin:/bin"})
+        assert res.returncode == 0, res.stderr
+        _REFUSALS.extend(set(x.split()) for x in res.stdout.split(";")[:-1])
+    return _REFUSALS
+
+
+@pytest.mark.parametrize("law", _FLOAT_REFUSERS)
 def test_refusing_float_for_a_law_without_it_imports_no_sympy(law):
     """``--float`` belongs to ``--law sequential``: every other law refuses it (exit 2) before any
-    number is read, without SymPy."""
-    argv = ["resolve", "--law", law, "--float", *_CHAIN, "--json"]
-    assert "sympy" not in _loaded_after(_RESOLVE.format(argv=argv, status=2))
+    number is read, without SymPy (all refusals probed in one interpreter, in order)."""
+    assert "sympy" not in _refusal_sets()[_FLOAT_REFUSERS.index(law)]
 
 
 def test_the_refusal_probe_can_fail():
