@@ -68,6 +68,14 @@ class _Printer(NumPyPrinter):
     def __init__(self):
         super().__init__({"fully_qualified_modules": True, "inline": True, "allow_unknown_functions": False})
 
+    def _print_Max(self, expr):
+        """``numpy.maximum`` nested pairwise (the stock printer needs ``functools``, which the
+        generated modules do not import)."""
+        out = self._print(expr.args[-1])
+        for a in reversed(expr.args[:-1]):
+            out = f"numpy.maximum({self._print(a)}, {out})"
+        return out
+
 
 def numpy_code(expr: sp.Expr) -> str:
     """Print one SymPy expression as NumPy code (``numpy`` functions as ``numpy.f``).
@@ -464,6 +472,13 @@ class _RustPrinter(RustCodePrinter):
 
     def _print_Mul(self, expr):
         return CodePrinter._print_Mul(self, expr)
+
+    def _print_Max(self, expr):
+        """``a.max(b)`` (``f64::max``; the stock ``max(a, b)`` needs ``Ord``, which ``f64`` lacks)."""
+        out = self._print(expr.args[0])
+        for a in expr.args[1:]:
+            out = f"({out}).max({self._print(a)})"
+        return out
 
     def _print_Add(self, expr, order=None):
         return CodePrinter._print_Add(self, expr, order)

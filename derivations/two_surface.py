@@ -784,6 +784,38 @@ def _branch_expressions(first_is_a: bool):
     return count, ea, eb
 
 
+#: the floor of the float det(M) of the (M, H, v) closed form, relative to m_00 m_11 (about the
+#: rounding error of m_00 m_11 - m_01^2)
+DET_M_FLOOR = sp.Rational(1, 2**52)
+
+
+def _floored_det_m(outs, m00, m01, m11):
+    """``outs`` with ``det M = m_00 m_11 − m_01²`` evaluated as ``max(det M, 2⁻⁵² m_00 m_11)`` (issue 15).
+
+    An SPD ``M`` with ``cond ≥ 1e16`` (``m_00 m_11 ≈ m_01²``) has a float ``det M`` of ``0`` (or
+    negative): ``1/det M`` was ``inf`` and the count ``⌈ψ/β⌉`` came out of ``atan2(inf, inf)`` as 1
+    where every input within 64 eps needs 5 (or 4896700). ``det M`` enters the outputs only through
+    ``√Δ = √det M |det H|`` (with ``adj M``, which is accurate): in a thin wedge ``ψ`` and ``β`` are both
+    proportional to ``√det M`` and the count and exits depend on their ratio. Below the floor the
+    exact ``det M`` of the float data is within about one rounding error, ``eps m_00 m_11``, of the
+    floor: the floored value is the ``det M`` of an input within a few eps (``m_00`` raised by that
+    relative amount), the backward perturbation a float evaluation commits anyway. At or above the
+    floor the expression is unchanged: every output is identical to the proved form there (asserted:
+    the substitution leaves no other ``det M``).
+
+    >>> a, b, c, d = sp.symbols("a b c d", positive=True)
+    >>> _floored_det_m([1 / (a * c - b**2) + d], a, b, c)[0]
+    d + 1/Max(a*c/4503599627370496, a*c - b**2)
+    """
+    det = m00 * m11 - m01**2
+    d = sp.Symbol("det_M_floored", positive=True)
+    subbed = [o.subs(det, d) for o in outs]
+    if any(s.has(m00 * m11) for s in subbed):
+        raise DerivationError("derivation check failed: det M occurs in a form the floor does not reach")
+    floor = DET_M_FLOOR * m00 * m11
+    return [s.subs(d, sp.Max(det, floor)) for s in subbed]
+
+
 def kernels() -> list:
     """Float kernels of the O(1) two-surface resolution (uncertified: the law certifies).
 
@@ -958,6 +990,7 @@ def kernels() -> list:
                                                approach), (vexit[i], True)) for i in range(2)]
         outs2 += [cnt, vexit[0], vexit[1]]
         names2 += [f"count_{tag}", f"v0_{tag}", f"v1_{tag}"]
+    outs2 = _floored_det_m(outs2, m00, m01, m11)
     out.append(ScalarKernel(
         "two_surface_resolution_2", [m00, m01, m11, *h, v0, v1], outs2, names2,
         "n = 2 closed form: M by its upper triangle, H = [[h_00, h_01], [h_10, h_11]], v = (v_0, v_1).\n"

@@ -288,77 +288,79 @@ def _two_surface_resolution_2_python(m_00, m_01, m_11, h_00, h_01, h_10, h_11, v
     x19 = -x11*x17 + x12
     x20 = (x19 <= 0)
     x21 = h_00*h_11 - h_01*h_10
-    x22 = 1/(m_00*m_11 - m_01**2)
-    x23 = math.sqrt(x22)
-    x24 = x23*abs(x21)
-    x25 = math.atan2(x24, -x22*x9)
-    x26 = 1/x25
-    x27 = x21*x22
-    x28 = math.atan2(-x0*x24, x27*(v_0*x4 + v_1*x3))
-    x29 = math.ceil(x26*x28)
-    x30 = (x0 < 0)
-    x31 = 2*x6
-    x32 = x3*x31
-    x33 = x0*x32
-    x34 = v_0 - x33
-    x35 = -v_0
-    x36 = 2*x16
-    x37 = x36*x7
-    x38 = 1/x21
-    x39 = math.sqrt(x22*(v_0*(m_00*v_0 + m_01*v_1) + v_1*(m_01*v_0 + m_11*v_1)))/x23
-    x40 = x39*math.sqrt(x22*x5)
-    x41 = -x28
-    x42 = x25*(x29 - 1) + x41
-    x43 = -math.sin(x42)
-    x44 = ((x29 % 2) == 1)
-    x45 = (1/2)*x25
-    x46 = (x28 <= x45*(2*x29 - 1))
-    x47 = x44 and x46
-    x48 = x25*x29 + x41
-    x49 = math.sin(x25 - x48)
-    x50 = math.sin(x25 - (-x42))
-    x51 = math.sin(x48)
-    x52 = ((x0) if x2 else (((-x0) if x13 else (-x17) if x18 else (x17) if x20 else (x40*((x43) if x47 else (x49) if x44 else (x50) if x46 else (x51))))) if x30 else (math.nan))
-    x53 = x39*math.sqrt(x14*x22)
-    x54 = ((x1) if x2 else (((x12) if x13 else (-x12) if x18 else (-x19) if x20 else (x53*((x50) if x47 else (x51) if x44 else (x43) if x46 else (x49))))) if x30 else (math.nan))
-    x55 = x38*(-h_01*x54 + h_11*x52)
-    x56 = x31*x4
-    x57 = v_1 + x0*x56
-    x58 = x36*x8 + x57
-    x59 = x38*(h_00*x54 - h_10*x52)
-    x60 = x10*x15
-    x61 = x0 - x1*x60
-    x62 = (x61 >= 0)
-    x63 = x1 + x11*x61
-    x64 = (x63 <= 0)
-    x65 = -x60*x63 + x61
+    x22 = m_00*m_11
+    x23 = max((1/4503599627370496)*x22, -m_01**2 + x22)
+    x24 = 1/math.sqrt(x23)
+    x25 = x24*abs(x21)
+    x26 = 1/x23
+    x27 = math.atan2(x25, -x26*x9)
+    x28 = 1/x27
+    x29 = x21*x26
+    x30 = math.atan2(-x0*x25, x29*(v_0*x4 + v_1*x3))
+    x31 = math.ceil(x28*x30)
+    x32 = (x0 < 0)
+    x33 = 2*x6
+    x34 = x3*x33
+    x35 = x0*x34
+    x36 = v_0 - x35
+    x37 = -v_0
+    x38 = 2*x16
+    x39 = x38*x7
+    x40 = 1/x21
+    x41 = x24*math.sqrt(v_0*(m_00*v_0 + m_01*v_1) + v_1*(m_01*v_0 + m_11*v_1))
+    x42 = x41*math.sqrt(x5)
+    x43 = -x30
+    x44 = x27*(x31 - 1) + x43
+    x45 = -math.sin(x44)
+    x46 = ((x31 % 2) == 1)
+    x47 = (1/2)*x27
+    x48 = (x30 <= x47*(2*x31 - 1))
+    x49 = x46 and x48
+    x50 = x27*x31 + x43
+    x51 = math.sin(x27 - x50)
+    x52 = math.sin(x27 - (-x44))
+    x53 = math.sin(x50)
+    x54 = ((x0) if x2 else (((-x0) if x13 else (-x17) if x18 else (x17) if x20 else (x42*((x45) if x49 else (x51) if x46 else (x52) if x48 else (x53))))) if x32 else (math.nan))
+    x55 = math.sqrt(x14)*x41
+    x56 = ((x1) if x2 else (((x12) if x13 else (-x12) if x18 else (-x19) if x20 else (x55*((x52) if x49 else (x53) if x46 else (x45) if x48 else (x51))))) if x32 else (math.nan))
+    x57 = x40*(-h_01*x56 + h_11*x54)
+    x58 = x33*x4
+    x59 = v_1 + x0*x58
+    x60 = x38*x8 + x59
+    x61 = x40*(h_00*x56 - h_10*x54)
+    x62 = x10*x15
+    x63 = x0 - x1*x62
+    x64 = (x63 >= 0)
+    x65 = x1 + x11*x63
     x66 = (x65 <= 0)
-    x67 = math.atan2(-x1*x24, -x27*(v_0*x8 + v_1*x7))
-    x68 = math.ceil(x26*x67)
-    x69 = (x1 < 0)
-    x70 = 2*x15
-    x71 = x7*x70
-    x72 = x1*x71
-    x73 = v_0 - x72
-    x74 = x32*x61
-    x75 = -x67
-    x76 = x25*(x68 - 1) + x75
-    x77 = -math.sin(x76)
-    x78 = ((x68 % 2) == 1)
-    x79 = (x67 <= x45*(2*x68 - 1))
-    x80 = x78 and x79
-    x81 = x25*x68 + x75
-    x82 = math.sin(x25 - x81)
-    x83 = math.sin(x25 - (-x76))
-    x84 = math.sin(x81)
-    x85 = ((x1) if x2 else (((-x1) if x62 else (-x63) if x64 else (x63) if x66 else (x53*((x77) if x80 else (x82) if x78 else (x83) if x79 else (x84))))) if x69 else (math.nan))
-    x86 = ((x0) if x2 else (((x61) if x62 else (-x61) if x64 else (-x65) if x66 else (x40*((x83) if x80 else (x84) if x78 else (x77) if x79 else (x82))))) if x69 else (math.nan))
-    x87 = x38*(-h_01*x85 + h_11*x86)
-    x88 = x70*x8
-    x89 = v_1 + x1*x88
-    x90 = x56*x61 + x89
-    x91 = x38*(h_00*x85 - h_10*x86)
-    return (float(((0) if x2 else (((1) if x13 else (2) if x18 else (3) if x20 else (x29))) if x30 else (-1))), float(((v_0) if x2 else (((x34) if x13 else (-x33 - x35 - x37) if x18 else (x17*x32 + x34 - x37) if x20 else (x55))) if x30 else (x55))), float(((v_1) if x2 else (((x57) if x13 else (x58) if x18 else (-x17*x56 + x58) if x20 else (x59))) if x30 else (x59))), float(((0) if x2 else (((1) if x62 else (2) if x64 else (3) if x66 else (x68))) if x69 else (-1))), float(((v_0) if x2 else (((x73) if x62 else (-x35 - x72 - x74) if x64 else (x63*x71 + x73 - x74) if x66 else (x87))) if x69 else (x87))), float(((v_1) if x2 else (((x89) if x62 else (x90) if x64 else (-x63*x88 + x90) if x66 else (x91))) if x69 else (x91))))
+    x67 = -x62*x65 + x63
+    x68 = (x67 <= 0)
+    x69 = math.atan2(-x1*x25, -x29*(v_0*x8 + v_1*x7))
+    x70 = math.ceil(x28*x69)
+    x71 = (x1 < 0)
+    x72 = 2*x15
+    x73 = x7*x72
+    x74 = x1*x73
+    x75 = v_0 - x74
+    x76 = x34*x63
+    x77 = -x69
+    x78 = x27*(x70 - 1) + x77
+    x79 = -math.sin(x78)
+    x80 = ((x70 % 2) == 1)
+    x81 = (x69 <= x47*(2*x70 - 1))
+    x82 = x80 and x81
+    x83 = x27*x70 + x77
+    x84 = math.sin(x27 - x83)
+    x85 = math.sin(x27 - (-x78))
+    x86 = math.sin(x83)
+    x87 = ((x1) if x2 else (((-x1) if x64 else (-x65) if x66 else (x65) if x68 else (x55*((x79) if x82 else (x84) if x80 else (x85) if x81 else (x86))))) if x71 else (math.nan))
+    x88 = ((x0) if x2 else (((x63) if x64 else (-x63) if x66 else (-x67) if x68 else (x42*((x85) if x82 else (x86) if x80 else (x79) if x81 else (x84))))) if x71 else (math.nan))
+    x89 = x40*(-h_01*x87 + h_11*x88)
+    x90 = x72*x8
+    x91 = v_1 + x1*x90
+    x92 = x58*x63 + x91
+    x93 = x40*(h_00*x87 - h_10*x88)
+    return (float(((0) if x2 else (((1) if x13 else (2) if x18 else (3) if x20 else (x31))) if x32 else (-1))), float(((v_0) if x2 else (((x36) if x13 else (-x35 - x37 - x39) if x18 else (x17*x34 + x36 - x39) if x20 else (x57))) if x32 else (x57))), float(((v_1) if x2 else (((x59) if x13 else (x60) if x18 else (-x17*x58 + x60) if x20 else (x61))) if x32 else (x61))), float(((0) if x2 else (((1) if x64 else (2) if x66 else (3) if x68 else (x70))) if x71 else (-1))), float(((v_0) if x2 else (((x75) if x64 else (-x37 - x74 - x76) if x66 else (x65*x73 + x75 - x76) if x68 else (x89))) if x71 else (x89))), float(((v_1) if x2 else (((x91) if x64 else (x92) if x66 else (-x65*x90 + x92) if x68 else (x93))) if x71 else (x93))))
 
 
 def two_surface_resolution_2(m_00, m_01, m_11, h_00, h_01, h_10, h_11, v_0, v_1):
@@ -405,80 +407,82 @@ def two_surface_resolution_2(m_00, m_01, m_11, h_00, h_01, h_10, h_11, v_0, v_1)
     x19 = -x11*x17 + x12
     x20 = numpy.less_equal(x19, 0)
     x21 = h_00*h_11 - h_01*h_10
-    x22 = (m_00*m_11 - m_01**2)**(-1.0)
-    x23 = numpy.sqrt(x22)
-    x24 = x23*abs(x21)
-    x25 = numpy.arctan2(x24, -x22*x9)
-    x26 = x25**(-1.0)
-    x27 = x21*x22
-    x28 = numpy.arctan2(-x0*x24, x27*(v_0*x4 + v_1*x3))
-    x29 = numpy.ceil(x26*x28)
-    x30 = numpy.less(x0, 0)
-    x31 = 2*x6
-    x32 = x3*x31
-    x33 = x0*x32
-    x34 = v_0 - x33
-    x35 = -v_0
-    x36 = 2*x16
-    x37 = x36*x7
-    x38 = x21**(-1.0)
-    x39 = numpy.sqrt(x22*(v_0*(m_00*v_0 + m_01*v_1) + v_1*(m_01*v_0 + m_11*v_1)))/x23
-    x40 = x39*numpy.sqrt(x22*x5)
-    x41 = -x28
-    x42 = x25*(x29 - 1) + x41
-    x43 = -numpy.sin(x42)
-    x44 = numpy.equal(numpy.mod(x29, 2), 1)
-    x45 = (1/2)*x25
-    x46 = numpy.less_equal(x28, x45*(2*x29 - 1))
-    x47 = numpy.logical_and.reduce((x44,x46))
-    x48 = x25*x29 + x41
-    x49 = numpy.sin(x25 - x48)
-    x50 = numpy.sin(x25 - (-x42))
-    x51 = numpy.sin(x48)
-    x52 = numpy.select([x2,x30,True], [x0,numpy.select([x13,x18,x20,True], [-x0,-x17,x17,x40*numpy.select([x47,x44,x46,True], [x43,x49,x50,x51], default=numpy.nan)], default=numpy.nan),numpy.nan], default=numpy.nan)
-    x53 = x39*numpy.sqrt(x14*x22)
-    x54 = numpy.select([x2,x30,True], [x1,numpy.select([x13,x18,x20,True], [x12,-x12,-x19,x53*numpy.select([x47,x44,x46,True], [x50,x51,x43,x49], default=numpy.nan)], default=numpy.nan),numpy.nan], default=numpy.nan)
-    x55 = x38*(-h_01*x54 + h_11*x52)
-    x56 = x31*x4
-    x57 = v_1 + x0*x56
-    x58 = x36*x8 + x57
-    x59 = x38*(h_00*x54 - h_10*x52)
-    x60 = x10*x15
-    x61 = x0 - x1*x60
-    x62 = numpy.greater_equal(x61, 0)
-    x63 = x1 + x11*x61
-    x64 = numpy.less_equal(x63, 0)
-    x65 = -x60*x63 + x61
+    x22 = m_00*m_11
+    x23 = numpy.maximum((1/4503599627370496)*x22, -m_01**2 + x22)
+    x24 = 1/numpy.sqrt(x23)
+    x25 = x24*abs(x21)
+    x26 = x23**(-1.0)
+    x27 = numpy.arctan2(x25, -x26*x9)
+    x28 = x27**(-1.0)
+    x29 = x21*x26
+    x30 = numpy.arctan2(-x0*x25, x29*(v_0*x4 + v_1*x3))
+    x31 = numpy.ceil(x28*x30)
+    x32 = numpy.less(x0, 0)
+    x33 = 2*x6
+    x34 = x3*x33
+    x35 = x0*x34
+    x36 = v_0 - x35
+    x37 = -v_0
+    x38 = 2*x16
+    x39 = x38*x7
+    x40 = x21**(-1.0)
+    x41 = x24*numpy.sqrt(v_0*(m_00*v_0 + m_01*v_1) + v_1*(m_01*v_0 + m_11*v_1))
+    x42 = x41*numpy.sqrt(x5)
+    x43 = -x30
+    x44 = x27*(x31 - 1) + x43
+    x45 = -numpy.sin(x44)
+    x46 = numpy.equal(numpy.mod(x31, 2), 1)
+    x47 = (1/2)*x27
+    x48 = numpy.less_equal(x30, x47*(2*x31 - 1))
+    x49 = numpy.logical_and.reduce((x46,x48))
+    x50 = x27*x31 + x43
+    x51 = numpy.sin(x27 - x50)
+    x52 = numpy.sin(x27 - (-x44))
+    x53 = numpy.sin(x50)
+    x54 = numpy.select([x2,x32,True], [x0,numpy.select([x13,x18,x20,True], [-x0,-x17,x17,x42*numpy.select([x49,x46,x48,True], [x45,x51,x52,x53], default=numpy.nan)], default=numpy.nan),numpy.nan], default=numpy.nan)
+    x55 = numpy.sqrt(x14)*x41
+    x56 = numpy.select([x2,x32,True], [x1,numpy.select([x13,x18,x20,True], [x12,-x12,-x19,x55*numpy.select([x49,x46,x48,True], [x52,x53,x45,x51], default=numpy.nan)], default=numpy.nan),numpy.nan], default=numpy.nan)
+    x57 = x40*(-h_01*x56 + h_11*x54)
+    x58 = x33*x4
+    x59 = v_1 + x0*x58
+    x60 = x38*x8 + x59
+    x61 = x40*(h_00*x56 - h_10*x54)
+    x62 = x10*x15
+    x63 = x0 - x1*x62
+    x64 = numpy.greater_equal(x63, 0)
+    x65 = x1 + x11*x63
     x66 = numpy.less_equal(x65, 0)
-    x67 = numpy.arctan2(-x1*x24, -x27*(v_0*x8 + v_1*x7))
-    x68 = numpy.ceil(x26*x67)
-    x69 = numpy.less(x1, 0)
-    x70 = 2*x15
-    x71 = x7*x70
-    x72 = x1*x71
-    x73 = v_0 - x72
-    x74 = x32*x61
-    x75 = -x67
-    x76 = x25*(x68 - 1) + x75
-    x77 = -numpy.sin(x76)
-    x78 = numpy.equal(numpy.mod(x68, 2), 1)
-    x79 = numpy.less_equal(x67, x45*(2*x68 - 1))
-    x80 = numpy.logical_and.reduce((x78,x79))
-    x81 = x25*x68 + x75
-    x82 = numpy.sin(x25 - x81)
-    x83 = numpy.sin(x25 - (-x76))
-    x84 = numpy.sin(x81)
-    x85 = numpy.select([x2,x69,True], [x1,numpy.select([x62,x64,x66,True], [-x1,-x63,x63,x53*numpy.select([x80,x78,x79,True], [x77,x82,x83,x84], default=numpy.nan)], default=numpy.nan),numpy.nan], default=numpy.nan)
-    x86 = numpy.select([x2,x69,True], [x0,numpy.select([x62,x64,x66,True], [x61,-x61,-x65,x40*numpy.select([x80,x78,x79,True], [x83,x84,x77,x82], default=numpy.nan)], default=numpy.nan),numpy.nan], default=numpy.nan)
-    x87 = x38*(-h_01*x85 + h_11*x86)
-    x88 = x70*x8
-    x89 = v_1 + x1*x88
-    x90 = x56*x61 + x89
-    x91 = x38*(h_00*x85 - h_10*x86)
-    count_a = numpy.select([x2,x30,True], [0,numpy.select([x13,x18,x20,True], [1,2,3,x29], default=numpy.nan),-1], default=numpy.nan)
-    v0_a = numpy.select([x2,x30,True], [v_0,numpy.select([x13,x18,x20,True], [x34,-x33 - x35 - x37,x17*x32 + x34 - x37,x55], default=numpy.nan),x55], default=numpy.nan)
-    v1_a = numpy.select([x2,x30,True], [v_1,numpy.select([x13,x18,x20,True], [x57,x58,-x17*x56 + x58,x59], default=numpy.nan),x59], default=numpy.nan)
-    count_b = numpy.select([x2,x69,True], [0,numpy.select([x62,x64,x66,True], [1,2,3,x68], default=numpy.nan),-1], default=numpy.nan)
-    v0_b = numpy.select([x2,x69,True], [v_0,numpy.select([x62,x64,x66,True], [x73,-x35 - x72 - x74,x63*x71 + x73 - x74,x87], default=numpy.nan),x87], default=numpy.nan)
-    v1_b = numpy.select([x2,x69,True], [v_1,numpy.select([x62,x64,x66,True], [x89,x90,-x63*x88 + x90,x91], default=numpy.nan),x91], default=numpy.nan)
+    x67 = -x62*x65 + x63
+    x68 = numpy.less_equal(x67, 0)
+    x69 = numpy.arctan2(-x1*x25, -x29*(v_0*x8 + v_1*x7))
+    x70 = numpy.ceil(x28*x69)
+    x71 = numpy.less(x1, 0)
+    x72 = 2*x15
+    x73 = x7*x72
+    x74 = x1*x73
+    x75 = v_0 - x74
+    x76 = x34*x63
+    x77 = -x69
+    x78 = x27*(x70 - 1) + x77
+    x79 = -numpy.sin(x78)
+    x80 = numpy.equal(numpy.mod(x70, 2), 1)
+    x81 = numpy.less_equal(x69, x47*(2*x70 - 1))
+    x82 = numpy.logical_and.reduce((x80,x81))
+    x83 = x27*x70 + x77
+    x84 = numpy.sin(x27 - x83)
+    x85 = numpy.sin(x27 - (-x78))
+    x86 = numpy.sin(x83)
+    x87 = numpy.select([x2,x71,True], [x1,numpy.select([x64,x66,x68,True], [-x1,-x65,x65,x55*numpy.select([x82,x80,x81,True], [x79,x84,x85,x86], default=numpy.nan)], default=numpy.nan),numpy.nan], default=numpy.nan)
+    x88 = numpy.select([x2,x71,True], [x0,numpy.select([x64,x66,x68,True], [x63,-x63,-x67,x42*numpy.select([x82,x80,x81,True], [x85,x86,x79,x84], default=numpy.nan)], default=numpy.nan),numpy.nan], default=numpy.nan)
+    x89 = x40*(-h_01*x87 + h_11*x88)
+    x90 = x72*x8
+    x91 = v_1 + x1*x90
+    x92 = x58*x63 + x91
+    x93 = x40*(h_00*x87 - h_10*x88)
+    count_a = numpy.select([x2,x32,True], [0,numpy.select([x13,x18,x20,True], [1,2,3,x31], default=numpy.nan),-1], default=numpy.nan)
+    v0_a = numpy.select([x2,x32,True], [v_0,numpy.select([x13,x18,x20,True], [x36,-x35 - x37 - x39,x17*x34 + x36 - x39,x57], default=numpy.nan),x57], default=numpy.nan)
+    v1_a = numpy.select([x2,x32,True], [v_1,numpy.select([x13,x18,x20,True], [x59,x60,-x17*x58 + x60,x61], default=numpy.nan),x61], default=numpy.nan)
+    count_b = numpy.select([x2,x71,True], [0,numpy.select([x64,x66,x68,True], [1,2,3,x70], default=numpy.nan),-1], default=numpy.nan)
+    v0_b = numpy.select([x2,x71,True], [v_0,numpy.select([x64,x66,x68,True], [x75,-x37 - x74 - x76,x65*x73 + x75 - x76,x89], default=numpy.nan),x89], default=numpy.nan)
+    v1_b = numpy.select([x2,x71,True], [v_1,numpy.select([x64,x66,x68,True], [x91,x92,-x65*x90 + x92,x93], default=numpy.nan),x93], default=numpy.nan)
     return (count_a, v0_a, v1_a, count_b, v0_b, v1_b)
