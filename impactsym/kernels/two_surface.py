@@ -285,17 +285,17 @@ def _two_surface_resolution_2_python(m_00, m_01, m_11, h_00, h_01, h_10, h_11, v
     x16 = x12*x15
     x17 = x0 + x10*x16
     x18 = (x17 <= 0)
-    x19 = -x11*x17 + x12
-    x20 = (x19 <= 0)
-    x21 = h_00*h_11 - h_01*h_10
+    x19 = (-x11*x17 + x12 <= 0)
+    x20 = h_00*h_11 - h_01*h_10
+    x21 = abs(x20)
     x22 = m_00*m_11
     x23 = max((1/4503599627370496)*x22, -m_01**2 + x22)
     x24 = 1/math.sqrt(x23)
-    x25 = x24*abs(x21)
+    x25 = x21*x24
     x26 = 1/x23
     x27 = math.atan2(x25, -x26*x9)
     x28 = 1/x27
-    x29 = x21*x26
+    x29 = x20*x26
     x30 = math.atan2(-x0*x25, x29*(v_0*x4 + v_1*x3))
     x31 = math.ceil(x28*x30)
     x32 = (x0 < 0)
@@ -306,68 +306,67 @@ def _two_surface_resolution_2_python(m_00, m_01, m_11, h_00, h_01, h_10, h_11, v
     x37 = -v_0
     x38 = 2*x16
     x39 = x38*x7
-    x40 = 1/x21
-    x41 = x24*math.sqrt(v_0*(m_00*v_0 + m_01*v_1) + v_1*(m_01*v_0 + m_11*v_1))
-    x42 = x41*math.sqrt(x5)
-    x43 = -x30
-    x44 = x27*(x31 - 1) + x43
-    x45 = -math.sin(x44)
-    x46 = ((x31 % 2) == 1)
-    x47 = (1/2)*x27
-    x48 = (x30 <= x47*(2*x31 - 1))
-    x49 = x46 and x48
-    x50 = x27*x31 + x43
-    x51 = math.sin(x27 - x50)
-    x52 = math.sin(x27 - (-x44))
-    x53 = math.sin(x50)
-    x54 = ((x0) if x2 else (((-x0) if x13 else (-x17) if x18 else (x17) if x20 else (x42*((x45) if x49 else (x51) if x46 else (x52) if x48 else (x53))))) if x32 else (math.nan))
-    x55 = math.sqrt(x14)*x41
-    x56 = ((x1) if x2 else (((x12) if x13 else (-x12) if x18 else (-x19) if x20 else (x55*((x52) if x49 else (x53) if x46 else (x45) if x48 else (x51))))) if x32 else (math.nan))
-    x57 = x40*(-h_01*x56 + h_11*x54)
-    x58 = x33*x4
-    x59 = v_1 + x0*x58
-    x60 = x38*x8 + x59
-    x61 = x40*(h_00*x56 - h_10*x54)
-    x62 = x10*x15
-    x63 = x0 - x1*x62
-    x64 = (x63 >= 0)
-    x65 = x1 + x11*x63
-    x66 = (x65 <= 0)
-    x67 = -x62*x65 + x63
-    x68 = (x67 <= 0)
-    x69 = math.atan2(-x1*x25, -x29*(v_0*x8 + v_1*x7))
-    x70 = math.ceil(x28*x69)
-    x71 = (x1 < 0)
-    x72 = 2*x15
-    x73 = x7*x72
-    x74 = x1*x73
-    x75 = v_0 - x74
-    x76 = x34*x63
-    x77 = -x69
-    x78 = x27*(x70 - 1) + x77
-    x79 = -math.sin(x78)
-    x80 = ((x70 % 2) == 1)
-    x81 = (x69 <= x47*(2*x70 - 1))
-    x82 = x80 and x81
-    x83 = x27*x70 + x77
-    x84 = math.sin(x27 - x83)
-    x85 = math.sin(x27 - (-x78))
-    x86 = math.sin(x83)
-    x87 = ((x1) if x2 else (((-x1) if x64 else (-x65) if x66 else (x65) if x68 else (x55*((x79) if x82 else (x84) if x80 else (x85) if x81 else (x86))))) if x71 else (math.nan))
-    x88 = ((x0) if x2 else (((x63) if x64 else (-x63) if x66 else (-x67) if x68 else (x42*((x85) if x82 else (x86) if x80 else (x79) if x81 else (x84))))) if x71 else (math.nan))
-    x89 = x40*(-h_01*x87 + h_11*x88)
-    x90 = x72*x8
-    x91 = v_1 + x1*x90
-    x92 = x58*x63 + x91
-    x93 = x40*(h_00*x87 - h_10*x88)
-    return (float(((0) if x2 else (((1) if x13 else (2) if x18 else (3) if x20 else (x31))) if x32 else (-1))), float(((v_0) if x2 else (((x36) if x13 else (-x35 - x37 - x39) if x18 else (x17*x34 + x36 - x39) if x20 else (x57))) if x32 else (x57))), float(((v_1) if x2 else (((x59) if x13 else (x60) if x18 else (-x17*x58 + x60) if x20 else (x61))) if x32 else (x61))), float(((0) if x2 else (((1) if x64 else (2) if x66 else (3) if x68 else (x70))) if x71 else (-1))), float(((v_0) if x2 else (((x75) if x64 else (-x37 - x74 - x76) if x66 else (x65*x73 + x75 - x76) if x68 else (x89))) if x71 else (x89))), float(((v_1) if x2 else (((x91) if x64 else (x92) if x66 else (-x65*x90 + x92) if x68 else (x93))) if x71 else (x93))))
+    x40 = -x30
+    x41 = x27*(x31 - 1) + x40
+    x42 = x20/x21
+    x43 = x42*math.cos(x41)
+    x44 = x24*math.sin(x41)
+    x45 = math.sqrt(v_0*(m_00*v_0 + m_01*v_1) + v_1*(m_01*v_0 + m_11*v_1))
+    x46 = x45/math.sqrt(x5)
+    x47 = ((x31 % 2) == 1)
+    x48 = (1/2)*x27
+    x49 = (x30 <= x48*(2*x31 - 1))
+    x50 = x47 and x49
+    x51 = x27*x31 + x40
+    x52 = x42*math.cos(x51)
+    x53 = x24*math.sin(x51)
+    x54 = x45/math.sqrt(x14)
+    x55 = x33*x4
+    x56 = v_1 + x0*x55
+    x57 = x38*x8 + x56
+    x58 = x10*x15
+    x59 = x0 - x1*x58
+    x60 = (x59 >= 0)
+    x61 = x1 + x11*x59
+    x62 = (x61 <= 0)
+    x63 = (-x58*x61 + x59 <= 0)
+    x64 = -x1*x25
+    x65 = math.atan2(x64, -x29*(v_0*x8 + v_1*x7))
+    x66 = math.ceil(x28*x65)
+    x67 = (x1 < 0)
+    x68 = 2*x15
+    x69 = x68*x7
+    x70 = x1*x69
+    x71 = v_0 - x70
+    x72 = x34*x59
+    x73 = -x65
+    x74 = x27*(x66 - 1) + x73
+    x75 = x42*math.cos(x74)
+    x76 = math.sin(x74)
+    x77 = x24*x7
+    x78 = ((x66 % 2) == 1)
+    x79 = (x65 <= x48*(2*x66 - 1))
+    x80 = x78 and x79
+    x81 = x27*x66 + x73
+    x82 = x42*math.cos(x81)
+    x83 = math.sin(x81)
+    x84 = x24*x3
+    x85 = math.atan2(x64, x29*(-v_0*x8 - v_1*x7))
+    x86 = -x85
+    x87 = math.ceil(x28*x85)
+    x88 = x68*x8
+    x89 = v_1 + x1*x88
+    x90 = x55*x59 + x89
+    x91 = x24*x76
+    return (float(((0) if x2 else (((1) if x13 else (2) if x18 else (3) if x19 else (x31))) if x32 else (-1))), float(((v_0) if x2 else (((x36) if x13 else (-x35 - x37 - x39) if x18 else (x17*x34 + x36 - x39) if x19 else (((-x46*(h_01*x43 + x3*x44)) if x50 else (x54*(h_11*x52 + x53*x7)) if x47 else (x54*(h_11*x43 - x44*x7)) if x49 else (-x46*(h_01*x52 - x3*x53)))))) if x32 else (math.nan))), float(((v_1) if x2 else (((x56) if x13 else (x57) if x18 else (-x17*x55 + x57) if x19 else (((x46*(h_00*x43 + x4*x44)) if x50 else (-x54*(h_10*x52 + x53*x8)) if x47 else (-x54*(h_10*x43 - x44*x8)) if x49 else (x46*(h_00*x52 - x4*x53)))))) if x32 else (math.nan))), float(((0) if x2 else (((1) if x60 else (2) if x62 else (3) if x63 else (x66))) if x67 else (-1))), float(((v_0) if x2 else (((x71) if x60 else (-x37 - x70 - x72) if x62 else (x61*x69 + x71 - x72) if x63 else (((x54*(h_11*x75 - x76*x77)) if x80 else (-x46*(h_01*x82 - x83*x84)) if x78 else (-x46*(h_01*x75 + x84*math.sin(x27*(x87 - 1) + x86))) if x79 else (x54*(h_11*x82 + x77*x83)))))) if x67 else (math.nan))), float(((v_1) if x2 else (((x89) if x60 else (x90) if x62 else (-x61*x88 + x90) if x63 else (((-x54*(h_10*x75 - x8*x91)) if x80 else (x46*(h_00*x82 - x24*x4*x83)) if x78 else (x46*(h_00*x75 + x4*x91)) if x79 else (-x54*(h_10*x82 + x24*x8*math.sin(x27*x87 + x86))))))) if x67 else (math.nan))))
 
 
 def two_surface_resolution_2(m_00, m_01, m_11, h_00, h_01, h_10, h_11, v_0, v_1):
     """n = 2 closed form: M by its upper triangle, H = [[h_00, h_01], [h_10, h_11]], v = (v_0, v_1).
     Returns (count_a, v0_a, v1_a, count_b, v0_b, v1_b): counts and exit velocities of the branches
     starting with row 0 (a) and row 1 (b): v itself when valid, its reflections for counts 1-3,
-    H^-1 c' above. Float, uncertified (see impactsym.laws.two_surface).
+    above H^-1 c' as |v|_M (cos t e + sin t n) in the frame of the nearer edge (no 1/det H); det M
+    floored at 2^-52 m_00 m_11. Float, uncertified (see impactsym.laws.two_surface).
     """
     if _scalars(m_00, m_01, m_11, h_00, h_01, h_10, h_11, v_0, v_1):  # plain Python: ~40-300x faster than NumPy on one point
         try:
@@ -404,17 +403,17 @@ def two_surface_resolution_2(m_00, m_01, m_11, h_00, h_01, h_10, h_11, v_0, v_1)
     x16 = x12*x15
     x17 = x0 + x10*x16
     x18 = numpy.less_equal(x17, 0)
-    x19 = -x11*x17 + x12
-    x20 = numpy.less_equal(x19, 0)
-    x21 = h_00*h_11 - h_01*h_10
+    x19 = numpy.less_equal(-x11*x17 + x12, 0)
+    x20 = h_00*h_11 - h_01*h_10
+    x21 = abs(x20)
     x22 = m_00*m_11
     x23 = numpy.maximum((1/4503599627370496)*x22, -m_01**2 + x22)
     x24 = 1/numpy.sqrt(x23)
-    x25 = x24*abs(x21)
+    x25 = x21*x24
     x26 = x23**(-1.0)
     x27 = numpy.arctan2(x25, -x26*x9)
     x28 = x27**(-1.0)
-    x29 = x21*x26
+    x29 = x20*x26
     x30 = numpy.arctan2(-x0*x25, x29*(v_0*x4 + v_1*x3))
     x31 = numpy.ceil(x28*x30)
     x32 = numpy.less(x0, 0)
@@ -425,64 +424,62 @@ def two_surface_resolution_2(m_00, m_01, m_11, h_00, h_01, h_10, h_11, v_0, v_1)
     x37 = -v_0
     x38 = 2*x16
     x39 = x38*x7
-    x40 = x21**(-1.0)
-    x41 = x24*numpy.sqrt(v_0*(m_00*v_0 + m_01*v_1) + v_1*(m_01*v_0 + m_11*v_1))
-    x42 = x41*numpy.sqrt(x5)
-    x43 = -x30
-    x44 = x27*(x31 - 1) + x43
-    x45 = -numpy.sin(x44)
-    x46 = numpy.equal(numpy.mod(x31, 2), 1)
-    x47 = (1/2)*x27
-    x48 = numpy.less_equal(x30, x47*(2*x31 - 1))
-    x49 = numpy.logical_and.reduce((x46,x48))
-    x50 = x27*x31 + x43
-    x51 = numpy.sin(x27 - x50)
-    x52 = numpy.sin(x27 - (-x44))
-    x53 = numpy.sin(x50)
-    x54 = numpy.select([x2,x32,True], [x0,numpy.select([x13,x18,x20,True], [-x0,-x17,x17,x42*numpy.select([x49,x46,x48,True], [x45,x51,x52,x53], default=numpy.nan)], default=numpy.nan),numpy.nan], default=numpy.nan)
-    x55 = numpy.sqrt(x14)*x41
-    x56 = numpy.select([x2,x32,True], [x1,numpy.select([x13,x18,x20,True], [x12,-x12,-x19,x55*numpy.select([x49,x46,x48,True], [x52,x53,x45,x51], default=numpy.nan)], default=numpy.nan),numpy.nan], default=numpy.nan)
-    x57 = x40*(-h_01*x56 + h_11*x54)
-    x58 = x33*x4
-    x59 = v_1 + x0*x58
-    x60 = x38*x8 + x59
-    x61 = x40*(h_00*x56 - h_10*x54)
-    x62 = x10*x15
-    x63 = x0 - x1*x62
-    x64 = numpy.greater_equal(x63, 0)
-    x65 = x1 + x11*x63
-    x66 = numpy.less_equal(x65, 0)
-    x67 = -x62*x65 + x63
-    x68 = numpy.less_equal(x67, 0)
-    x69 = numpy.arctan2(-x1*x25, -x29*(v_0*x8 + v_1*x7))
-    x70 = numpy.ceil(x28*x69)
-    x71 = numpy.less(x1, 0)
-    x72 = 2*x15
-    x73 = x7*x72
-    x74 = x1*x73
-    x75 = v_0 - x74
-    x76 = x34*x63
-    x77 = -x69
-    x78 = x27*(x70 - 1) + x77
-    x79 = -numpy.sin(x78)
-    x80 = numpy.equal(numpy.mod(x70, 2), 1)
-    x81 = numpy.less_equal(x69, x47*(2*x70 - 1))
-    x82 = numpy.logical_and.reduce((x80,x81))
-    x83 = x27*x70 + x77
-    x84 = numpy.sin(x27 - x83)
-    x85 = numpy.sin(x27 - (-x78))
-    x86 = numpy.sin(x83)
-    x87 = numpy.select([x2,x71,True], [x1,numpy.select([x64,x66,x68,True], [-x1,-x65,x65,x55*numpy.select([x82,x80,x81,True], [x79,x84,x85,x86], default=numpy.nan)], default=numpy.nan),numpy.nan], default=numpy.nan)
-    x88 = numpy.select([x2,x71,True], [x0,numpy.select([x64,x66,x68,True], [x63,-x63,-x67,x42*numpy.select([x82,x80,x81,True], [x85,x86,x79,x84], default=numpy.nan)], default=numpy.nan),numpy.nan], default=numpy.nan)
-    x89 = x40*(-h_01*x87 + h_11*x88)
-    x90 = x72*x8
-    x91 = v_1 + x1*x90
-    x92 = x58*x63 + x91
-    x93 = x40*(h_00*x87 - h_10*x88)
-    count_a = numpy.select([x2,x32,True], [0,numpy.select([x13,x18,x20,True], [1,2,3,x31], default=numpy.nan),-1], default=numpy.nan)
-    v0_a = numpy.select([x2,x32,True], [v_0,numpy.select([x13,x18,x20,True], [x36,-x35 - x37 - x39,x17*x34 + x36 - x39,x57], default=numpy.nan),x57], default=numpy.nan)
-    v1_a = numpy.select([x2,x32,True], [v_1,numpy.select([x13,x18,x20,True], [x59,x60,-x17*x58 + x60,x61], default=numpy.nan),x61], default=numpy.nan)
-    count_b = numpy.select([x2,x71,True], [0,numpy.select([x64,x66,x68,True], [1,2,3,x70], default=numpy.nan),-1], default=numpy.nan)
-    v0_b = numpy.select([x2,x71,True], [v_0,numpy.select([x64,x66,x68,True], [x75,-x37 - x74 - x76,x65*x73 + x75 - x76,x89], default=numpy.nan),x89], default=numpy.nan)
-    v1_b = numpy.select([x2,x71,True], [v_1,numpy.select([x64,x66,x68,True], [x91,x92,-x65*x90 + x92,x93], default=numpy.nan),x93], default=numpy.nan)
+    x40 = -x30
+    x41 = x27*(x31 - 1) + x40
+    x42 = x20/x21
+    x43 = x42*numpy.cos(x41)
+    x44 = x24*numpy.sin(x41)
+    x45 = numpy.sqrt(v_0*(m_00*v_0 + m_01*v_1) + v_1*(m_01*v_0 + m_11*v_1))
+    x46 = x45/numpy.sqrt(x5)
+    x47 = numpy.equal(numpy.mod(x31, 2), 1)
+    x48 = (1/2)*x27
+    x49 = numpy.less_equal(x30, x48*(2*x31 - 1))
+    x50 = numpy.logical_and.reduce((x47,x49))
+    x51 = x27*x31 + x40
+    x52 = x42*numpy.cos(x51)
+    x53 = x24*numpy.sin(x51)
+    x54 = x45/numpy.sqrt(x14)
+    x55 = x33*x4
+    x56 = v_1 + x0*x55
+    x57 = x38*x8 + x56
+    x58 = x10*x15
+    x59 = x0 - x1*x58
+    x60 = numpy.greater_equal(x59, 0)
+    x61 = x1 + x11*x59
+    x62 = numpy.less_equal(x61, 0)
+    x63 = numpy.less_equal(-x58*x61 + x59, 0)
+    x64 = -x1*x25
+    x65 = numpy.arctan2(x64, -x29*(v_0*x8 + v_1*x7))
+    x66 = numpy.ceil(x28*x65)
+    x67 = numpy.less(x1, 0)
+    x68 = 2*x15
+    x69 = x68*x7
+    x70 = x1*x69
+    x71 = v_0 - x70
+    x72 = x34*x59
+    x73 = -x65
+    x74 = x27*(x66 - 1) + x73
+    x75 = x42*numpy.cos(x74)
+    x76 = numpy.sin(x74)
+    x77 = x24*x7
+    x78 = numpy.equal(numpy.mod(x66, 2), 1)
+    x79 = numpy.less_equal(x65, x48*(2*x66 - 1))
+    x80 = numpy.logical_and.reduce((x78,x79))
+    x81 = x27*x66 + x73
+    x82 = x42*numpy.cos(x81)
+    x83 = numpy.sin(x81)
+    x84 = x24*x3
+    x85 = numpy.arctan2(x64, x29*(-v_0*x8 - v_1*x7))
+    x86 = -x85
+    x87 = numpy.ceil(x28*x85)
+    x88 = x68*x8
+    x89 = v_1 + x1*x88
+    x90 = x55*x59 + x89
+    x91 = x24*x76
+    count_a = numpy.select([x2,x32,True], [0,numpy.select([x13,x18,x19,True], [1,2,3,x31], default=numpy.nan),-1], default=numpy.nan)
+    v0_a = numpy.select([x2,x32,True], [v_0,numpy.select([x13,x18,x19,True], [x36,-x35 - x37 - x39,x17*x34 + x36 - x39,numpy.select([x50,x47,x49,True], [-x46*(h_01*x43 + x3*x44),x54*(h_11*x52 + x53*x7),x54*(h_11*x43 - x44*x7),-x46*(h_01*x52 - x3*x53)], default=numpy.nan)], default=numpy.nan),numpy.nan], default=numpy.nan)
+    v1_a = numpy.select([x2,x32,True], [v_1,numpy.select([x13,x18,x19,True], [x56,x57,-x17*x55 + x57,numpy.select([x50,x47,x49,True], [x46*(h_00*x43 + x4*x44),-x54*(h_10*x52 + x53*x8),-x54*(h_10*x43 - x44*x8),x46*(h_00*x52 - x4*x53)], default=numpy.nan)], default=numpy.nan),numpy.nan], default=numpy.nan)
+    count_b = numpy.select([x2,x67,True], [0,numpy.select([x60,x62,x63,True], [1,2,3,x66], default=numpy.nan),-1], default=numpy.nan)
+    v0_b = numpy.select([x2,x67,True], [v_0,numpy.select([x60,x62,x63,True], [x71,-x37 - x70 - x72,x61*x69 + x71 - x72,numpy.select([x80,x78,x79,True], [x54*(h_11*x75 - x76*x77),-x46*(h_01*x82 - x83*x84),-x46*(h_01*x75 + x84*numpy.sin(x27*(x87 - 1) + x86)),x54*(h_11*x82 + x77*x83)], default=numpy.nan)], default=numpy.nan),numpy.nan], default=numpy.nan)
+    v1_b = numpy.select([x2,x67,True], [v_1,numpy.select([x60,x62,x63,True], [x89,x90,-x61*x88 + x90,numpy.select([x80,x78,x79,True], [-x54*(h_10*x75 - x8*x91),x46*(h_00*x82 - x24*x4*x83),x46*(h_00*x75 + x4*x91),-x54*(h_10*x82 + x24*x8*numpy.sin(x27*x87 + x86))], default=numpy.nan)], default=numpy.nan),numpy.nan], default=numpy.nan)
     return (count_a, v0_a, v1_a, count_b, v0_b, v1_b)
