@@ -37,6 +37,9 @@ class ScalarKernel:
     output_names: Sequence[str]
     doc: str
     defaults: dict = field(default_factory=dict)
+    #: the exact formulas the references evaluate (catalog ``sympy``), where ``outputs`` add a
+    #: float-only guard to them (the two-surface floor of a cancelling det M); default ``outputs``
+    exact_outputs: Sequence[sp.Expr] | None = None
 
     @property
     def codegen_name(self) -> str:
@@ -943,7 +946,8 @@ def catalog_entry(family: str, derivation: str, k) -> dict:
         "summary": doc.splitlines()[0] if doc else "",
         "code": {lang: kernel_code(k, lang) for lang in LANGUAGES},
         # the exact formulas (srepr keeps assumptions): references evaluate these, not the code
-        "sympy": {"args": [sp.srepr(a) for a in k.args], "outputs": [_srepr(o) for o in k.outputs]}
+        "sympy": {"args": [sp.srepr(a) for a in k.args],
+                  "outputs": [_srepr(o) for o in (k.exact_outputs or k.outputs)]}
         if scalar else None,
     }
     return entry

@@ -942,7 +942,8 @@ def _floored_det_m(outs, m00, m01, m11):
     exact ``det M`` of the float data is within about one rounding error, ``eps m_00 m_11``, of the
     floor: the floored value is the ``det M`` of an input within 1 eps (``m_00`` raised by at most
     ``2⁻⁵²`` relative, since ``0 < det M < floor``), the backward perturbation a float evaluation
-    commits anyway; the 50-digit references evaluate the same floored formula. At or above the
+    commits anyway. The 50-digit references evaluate the formulas without the floor (the kernel's
+    ``exact_outputs``): where the exact ``det M ≤ 0`` (M not positive definite) they leave the domain. At or above the
     floor the expression is unchanged: every output is identical to the proved form there (asserted:
     the substitution leaves no other ``det M``).
 
@@ -1139,7 +1140,7 @@ def kernels() -> list:
                                                approach), (sp.nan, True)) for i in range(2)]
         outs2 += [cnt, vexit[0], vexit[1]]
         names2 += [f"count_{tag}", f"v0_{tag}", f"v1_{tag}"]
-    outs2 = _floored_det_m(outs2, m00, m01, m11)
+    exact2, outs2 = outs2, _floored_det_m(outs2, m00, m01, m11)
     out.append(ScalarKernel(
         "two_surface_resolution_2", [m00, m01, m11, *h, v0, v1], outs2, names2,
         "n = 2 closed form: M by its upper triangle, H = [[h_00, h_01], [h_10, h_11]], v = (v_0, v_1).\n"
@@ -1147,6 +1148,7 @@ def kernels() -> list:
         "starting with row 0 (a) and row 1 (b): v itself when valid, its reflections for counts 1-3,\n"
         "above H^-1 c' as |v|_M (cos t e + sin t n) in the frame of the nearer edge (no 1/det H); det M\n"
         "floored at 2^-52 m_00 m_11. Float, uncertified (see impactsym.laws.two_surface).",
+        exact_outputs=exact2,  # the references evaluate the true det M (the floor is a float guard)
     ))
     return out
 

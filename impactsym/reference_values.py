@@ -103,8 +103,7 @@ class _DagEvaluator:
             "StrictGreaterThan": lambda a, b: a > b, "StrictLessThan": lambda a, b: a < b,
             "Equality": lambda a, b: a == b, "Unequality": lambda a, b: a != b}
     _FUN = {"atan2": mpmath.atan2, "sin": mpmath.sin, "cos": mpmath.cos, "tan": mpmath.tan, "atan": mpmath.atan,
-            "exp": mpmath.exp, "log": mpmath.log, "ceiling": mpmath.ceil, "floor": mpmath.floor, "Abs": abs,
-            "Max": max}
+            "exp": mpmath.exp, "log": mpmath.log, "ceiling": mpmath.ceil, "floor": mpmath.floor, "Abs": abs}
 
     def __init__(self, args, outputs):
         self.index: dict = {}
