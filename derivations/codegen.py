@@ -37,6 +37,9 @@ class ScalarKernel:
     output_names: Sequence[str]
     doc: str
     defaults: dict = field(default_factory=dict)
+    #: the exact formulas the references evaluate (catalog ``sympy``), where ``outputs`` add a
+    #: float-only guard to them (the two-surface floor of a cancelling det M); default ``outputs``
+    exact_outputs: Sequence[sp.Expr] | None = None
 
     @property
     def codegen_name(self) -> str:
@@ -67,6 +70,14 @@ class _Printer(NumPyPrinter):
 
     def __init__(self):
         super().__init__({"fully_qualified_modules": True, "inline": True, "allow_unknown_functions": False})
+
+    def _print_Max(self, expr):
+        """``numpy.maximum`` nested pairwise (the stock printer needs ``functools``, which the
+        generated modules do not import)."""
+        out = self._print(expr.args[-1])
+        for a in reversed(expr.args[:-1]):
+            out = f"numpy.maximum({self._print(a)}, {out})"
+        return out
 
 
 def numpy_code(expr: sp.Expr) -> str:
@@ -464,6 +475,13 @@ class _RustPrinter(RustCodePrinter):
 
     def _print_Mul(self, expr):
         return CodePrinter._print_Mul(self, expr)
+
+    def _print_Max(self, expr):
+        """``a.max(b)`` (``f64::max``; the stock ``max(a, b)`` needs ``Ord``, which ``f64`` lacks)."""
+        out = self._print(expr.args[0])
+        for a in expr.args[1:]:
+            out = f"({out}).max({self._print(a)})"
+        return out
 
     def _print_Add(self, expr, order=None):
         return CodePrinter._print_Add(self, expr, order)
@@ -928,7 +946,8 @@ def catalog_entry(family: str, derivation: str, k) -> dict:
         "summary": doc.splitlines()[0] if doc else "",
         "code": {lang: kernel_code(k, lang) for lang in LANGUAGES},
         # the exact formulas (srepr keeps assumptions): references evaluate these, not the code
-        "sympy": {"args": [sp.srepr(a) for a in k.args], "outputs": [_srepr(o) for o in k.outputs]}
+        "sympy": {"args": [sp.srepr(a) for a in k.args],
+                  "outputs": [_srepr(o) for o in (k.exact_outputs or k.outputs)]}
         if scalar else None,
     }
     return entry

@@ -84,6 +84,9 @@ __all__ = [
     "area_step_counterexample",
     "reachable_arc_lengths",
     "paper_example_counts",
+    "exit_frame_branches",
+    "frame_exit_velocity",
+    "frame_exit_steps",
     "kernels",
     "generate",
 ]
@@ -784,6 +787,179 @@ def _branch_expressions(first_is_a: bool):
     return count, ea, eb
 
 
+def _same_condition(a, b) -> bool:
+    """``a`` and ``b`` are the same condition up to SymPy's normal form of a relational (each
+    ``x <= y`` of one is ``x' <= y'`` of the other with ``x − y`` a positive multiple of ``x' − y'``)."""
+    if a == b:
+        return True
+    if type(a) is not type(b):
+        return False
+    if isinstance(a, sp.core.relational.Relational):
+        ratio = sp.simplify((a.lhs - a.rhs) / (b.lhs - b.rhs))
+        return bool(ratio.is_number and ratio > 0)
+    if isinstance(a, (sp.And, sp.Or)) and len(a.args) == len(b.args):
+        rest = list(b.args)
+        for x in a.args:
+            match = next((y for y in rest if _same_condition(x, y)), None)
+            if match is None:
+                return False
+            rest.remove(match)
+        return True
+    return False
+
+
+def _branch_frames(first_is_a: bool):
+    """:func:`exit_frame_branches` in the kernel's arguments (``m = ⌈ψ/β⌉``), frames as rows of ``H``
+    (0 for the row the branch starts with), checked against :func:`_emitted_exit`'s sines."""
+    sa, sb, gg, ca, cb = _ARGS
+    if not first_is_a:
+        sa, sb, ca, cb = sb, sa, cb, ca
+    der = reflection_count_derivation()
+    sub = {s_A: sa, s_B: sb, g: gg, c_A: ca, c_B: cb, Delta: sa * sb - gg**2}
+    psi_e, beta_e = der["psi_A"].subs(sub), der["beta"].subs(sub)
+    mm = sp.Symbol("m_count", real=True)
+    ea, eb = _emitted_exit(mm)
+    inner = [e.args[-1].expr.atoms(sp.Piecewise) for e in (ea, eb)]
+    if not all(len(x) == 1 for x in inner):
+        raise DerivationError("derivation check failed: the trigonometric exit has one Piecewise of sines")
+    inner = [x.pop() for x in inner]
+    out = []
+    for idx, (cond, frame, angle) in enumerate(exit_frame_branches(mm)):
+        t_first, t_other = (angle, beta - angle) if frame == 0 else (beta - angle, angle)
+        for pw, t in zip(inner, (t_first, t_other)):
+            got = pw.args[idx]
+            if not (_same_condition(got.cond, cond) and sp.simplify(sp.expand_trig(got.expr.doit() - sp.sin(t))) == 0):
+                raise DerivationError(f"derivation check failed: frame branch {idx} is not _emitted_exit's")
+        rep = {psi: psi_e, beta: beta_e}
+        cond_e, angle_e = (x.subs(rep).subs(mm, sp.ceiling(psi_e / beta_e)) for x in (cond, angle))
+        row = frame if first_is_a else 1 - frame
+        out.append((cond_e, row, angle_e))
+    return out
+
+
+def exit_frame_branches(mm=m_):
+    """The trigonometric exit (count ``m ≥ 4``) as an angle from the nearer edge: a list of
+    ``(condition, frame, angle)``, ``frame`` 0 for the edge in the first surface (A), 1 for B, in the
+    order of :func:`_emitted_exit`'s branches (``a = ψ − (m − 1)β``, ``b = mβ − ψ``, ``a + b = β``).
+
+    The exit's angle from A's edge is ``θ_f``, from B's ``β − θ_f``; the branch picks the smaller one
+    of ``a``, ``b`` (the one :func:`_emitted_exit` evaluates directly) and the edge it is measured from.
+
+    >>> [f for _, f, _ in exit_frame_branches()]
+    [0, 1, 1, 0]
+    """
+    odd = sp.Eq(sp.Mod(mm, 2), 1)
+    a_d, b_d = psi - (mm - 1) * beta, mm * beta - psi
+    small_a = 2 * psi <= (2 * mm - 1) * beta
+    return [(sp.And(odd, small_a), 0, a_d), (odd, 1, b_d), (small_a, 1, a_d), (sp.true, 0, b_d)]
+
+
+def frame_exit_velocity(M, H, v, frame: int, cos_t, sin_t, det_m=None):
+    """``v⁺ = |v|_M (cos t ê + sin t n)`` for ``n = 2``: ``ê`` the M-unit edge of the wedge lying in
+    surface ``frame`` (``H_frame ê = 0``, the other row positive), ``n`` that surface's M-normal, ``t``
+    the exit's angle from that edge (issue 15: ``H⁻¹ c'`` lost an exit whose rows are parallel to 4e7,
+    ``v_1⁺ = −v_1`` to 1e-23 came back off by 901 eps; here ``ê = sgn(det H) adj(H)_{:,other} / √q``,
+    ``q = H_i adj(M) H_iᵀ = |adj(H)_{:,other}|²_M``, ``n = adj(M) H_iᵀ / √(det M q)``: no ``1/det H``).
+
+    Equal to ``H⁻¹ c'`` with the trigonometric ``c'`` (proved in :func:`frame_exit_steps`).
+
+    Examples
+    --------
+    The quadrant ``v_1 ≥ 0`` (A), ``v_0 ≥ 0`` (B) with ``M = I``: A's edge is ``(1, 0)``, B's ``(0, 1)``.
+
+    >>> H = sp.Matrix([[0, 1], [1, 0]])
+    >>> frame_exit_velocity(sp.eye(2), H, sp.Matrix([3, 4]), 0, sp.Rational(3, 5), sp.Rational(4, 5)).T
+    Matrix([[3, 4]])
+    >>> frame_exit_velocity(sp.eye(2), H, sp.Matrix([3, 4]), 1, sp.Rational(3, 5), sp.Rational(4, 5)).T
+    Matrix([[4, 3]])
+    """
+    det_m = M.det() if det_m is None else det_m
+    i, j = frame, 1 - frame
+    adj_m = M.adjugate()
+    row = H[i, :].T
+    q = (row.T * adj_m * row)[0, 0]
+    dh = H.det()
+    e = H.adjugate()[:, j] * dh / sp.Abs(dh)
+    speed = sp.sqrt((v.T * M * v)[0, 0])
+    return speed * (cos_t * e / sp.sqrt(q) + sin_t * adj_m * row / sp.sqrt(det_m * q))
+
+
+def frame_exit_steps() -> dict:
+    """Prove ``H v⁺ = c'`` for :func:`frame_exit_velocity` in both frames: ``c'_i = √s_i |p| sin t``,
+    ``c'_j = √s_j |p| sin(β − t) = √s_j |p| (sin β cos t − cos β sin t)``, with ``s = q/det M``,
+    ``g = H_A adj(M) H_Bᵀ / det M``, ``√Δ = |det H|/√det M`` (``Δ = det H²/det M``), ``|p|² = vᵀMv`` (n = 2),
+    ``cos β = −g/√(s_A s_B)``, ``sin β = √Δ/√(s_A s_B)``. Every square root is a symbol ``r`` and the
+    difference's numerator is reduced modulo ``r² − (its radicand)``: exactly zero.
+
+    >>> frame_exit_steps()["proven"]
+    True
+    """
+    m00, m01, m11, h00, h01, h10, h11, v0, v1 = sp.symbols("m00 m01 m11 h00 h01 h10 h11 v0 v1", real=True)
+    M = sp.Matrix([[m00, m01], [m01, m11]])
+    H = sp.Matrix([[h00, h01], [h10, h11]])
+    v = sp.Matrix([v0, v1])
+    cs, sn = sp.symbols("cos_t sin_t", real=True)
+    r_d, r_v, r_0, r_1, sg = sp.symbols("r_D r_v r_0 r_1 sigma", positive=True)
+    det_m, dh, adj_m = M.det(), H.det(), M.adjugate()
+    q = [(H[i, :] * adj_m * H[i, :].T)[0, 0] for i in range(2)]
+    gq = (H[0, :] * adj_m * H[1, :].T)[0, 0]
+    r = [r_0, r_1]
+    rels = [(r_d, det_m), (r_v, (v.T * M * v)[0, 0]), (r_0, q[0]), (r_1, q[1]), (sg, dh**2)]
+    ok = True
+    for i in range(2):
+        j = 1 - i
+        # frame_exit_velocity with sqrt(q_i) = r_i, sqrt(det M q_i) = r_D r_i, |v|_M = r_v, |det H| = sigma
+        e = H.adjugate()[:, j] * dh / sg
+        vp = r_v * (cs * e / r[i] + sn * adj_m * H[i, :].T / (r_d * r[i]))
+        root_s = [r[0] / r_d, r[1] / r_d]  # sqrt(s_i) = sqrt(q_i / det M)
+        root_ss = root_s[0] * root_s[1]
+        cos_b, sin_b = -(gq / det_m) / root_ss, (sg / r_d) / root_ss
+        want = [None, None]
+        want[i] = root_s[i] * r_v * sn
+        want[j] = root_s[j] * r_v * (sin_b * cs - cos_b * sn)
+        for comp in range(2):
+            num, _ = sp.fraction(sp.together((H[comp, :] * vp)[0, 0] - want[comp]))
+            num = sp.expand(num)
+            for sym, val in rels:
+                num = sp.expand(sp.rem(num, sym**2 - val, sym))
+            ok &= num == 0
+    return {"proven": bool(ok)}
+
+
+#: the floor of the float det(M) of the (M, H, v) closed form, relative to m_00 m_11 (about the
+#: rounding error of m_00 m_11 - m_01^2)
+DET_M_FLOOR = sp.Rational(1, 2**52)
+
+
+def _floored_det_m(outs, m00, m01, m11):
+    """``outs`` with ``det M = m_00 m_11 − m_01²`` evaluated as ``max(det M, 2⁻⁵² m_00 m_11)`` (issue 15).
+
+    An SPD ``M`` with ``cond ≥ 1e16`` (``m_00 m_11 ≈ m_01²``) has a float ``det M`` of ``0`` (or
+    negative): ``1/det M`` was ``inf`` and the count ``⌈ψ/β⌉`` came out of ``atan2(inf, inf)`` as 1
+    where every input within 64 eps needs 5 (or 4896700). ``det M`` enters the outputs only through
+    ``√Δ = √det M |det H|`` (with ``adj M``, which is accurate): in a thin wedge ``ψ`` and ``β`` are both
+    proportional to ``√det M`` and the count and exits depend on their ratio. Below the floor the
+    exact ``det M`` of the float data is within about one rounding error, ``eps m_00 m_11``, of the
+    floor: the floored value is the ``det M`` of an input within 1 eps (``m_00`` raised by at most
+    ``2⁻⁵²`` relative, since ``0 < det M < floor``), the backward perturbation a float evaluation
+    commits anyway. The 50-digit references evaluate the formulas without the floor (the kernel's
+    ``exact_outputs``): where the exact ``det M ≤ 0`` (M not positive definite) they leave the domain. At or above the
+    floor the expression is unchanged: every output is identical to the proved form there (asserted:
+    the substitution leaves no other ``det M``).
+
+    >>> a, b, c, d = sp.symbols("a b c d", positive=True)
+    >>> _floored_det_m([1 / (a * c - b**2) + d], a, b, c)[0]
+    d + 1/Max(a*c/4503599627370496, a*c - b**2)
+    """
+    det = m00 * m11 - m01**2
+    d = sp.Symbol("det_M_floored", positive=True)
+    subbed = [o.subs(det, d) for o in outs]
+    if any(s.has(m00 * m11) for s in subbed):
+        raise DerivationError("derivation check failed: det M occurs in a form the floor does not reach")
+    floor = DET_M_FLOOR * m00 * m11
+    return [s.subs(d, sp.Max(det, floor)) for s in subbed]
+
+
 def kernels() -> list:
     """Float kernels of the O(1) two-surface resolution (uncertified: the law certifies).
 
@@ -799,6 +975,8 @@ def kernels() -> list:
     sa, sb, gg, ca, cb = _ARGS
     if not count_form_steps()["proven"]:
         raise DerivationError("derivation check failed: the emitted count is not ceiling(psi/beta)")
+    if not frame_exit_steps()["proven"]:
+        raise DerivationError("derivation check failed: the frame exit is not H^-1 c'")
     valid = sp.And(ca >= 0, cb >= 0)
     outs_count, outs_res = [], []
     for first_is_a, c_first in ((True, ca), (False, cb)):
@@ -926,11 +1104,9 @@ def kernels() -> list:
     adjM = M.adjugate()
     for k, tag in ((0, "a"), (3, "b")):
         cnt = _factored(outs_res[k])
-        cprime = sp.Matrix([_factored(outs_res[k + 1]), _factored(outs_res[k + 2])])
-        # Stable form of v+ = v + W Gamma^-1 (c' - c): for n = 2, H is square and W Gamma^-1 = H^-1
-        # (checked below), so v+ = H^-1 c' = adj(H) c' / det(H); the general form adds and cancels
-        # terms of size |Gamma^-1| ~ 1/Delta ~ 1/beta^2 around an O(1) result.
-        vexit = H.adjugate() * cprime / H.det()
+        # v+ = v + W Gamma^-1 (c' - c): for n = 2, H is square and W Gamma^-1 = H^-1 (checked above), so
+        # v+ = H^-1 c'; the general form adds and cancels terms of size |Gamma^-1| ~ 1/Delta ~ 1/beta^2
+        # around an O(1) result. Every branch below is H^-1 c' in a form that does not divide by det H.
         # Issue 15: H^-1 c' amplifies the rounding of c' by cond(H), which a valid velocity (v+ = v:
         # v_0 = 1e-12 next to v_1 = 1e12 came back as 0) or nearly parallel rows with one or two
         # reflections (beta near pi, cond(H) ~ 1/(pi - beta)) do not have. Counts 0..3 take the
@@ -953,17 +1129,26 @@ def kernels() -> list:
                 raise DerivationError(f"derivation check failed: H v_{j} != the rational iterate {j} ({tag})")
         t1, t2, t3 = (_factored(t) for t in (count_tests(sa, sb, gg, ca, cb) if k == 0 else
                                               count_tests(sb, sa, gg, cb, ca)))
+        # above three reflections the exit in the frame of the nearer edge (frame_exit_velocity, equal
+        # to H^-1 c' by frame_exit_steps): H^-1 c' amplified the rounding of c' by cond(H) (issue 15)
+        frames = [(_factored(cond), row, _factored(angle)) for cond, row, angle in _branch_frames(k == 0)]
+        vframe = [sp.Piecewise(*[(frame_exit_velocity(M, H, v, row, sp.cos(angle), sp.sin(angle), det)[i],
+                                  True if n == len(frames) - 1 else cond)
+                                 for n, (cond, row, angle) in enumerate(frames)]) for i in range(2)]
         valid2, approach = sp.And(cvec[0] >= 0, cvec[1] >= 0), cvec[first] < 0
-        vexit = [sp.Piecewise((v[i], valid2), (sp.Piecewise((vr1[i], t1), (vr2[i], t2), (vr3[i], t3), (vexit[i], True)),
-                                               approach), (vexit[i], True)) for i in range(2)]
+        vexit = [sp.Piecewise((v[i], valid2), (sp.Piecewise((vr1[i], t1), (vr2[i], t2), (vr3[i], t3), (vframe[i], True)),
+                                               approach), (sp.nan, True)) for i in range(2)]
         outs2 += [cnt, vexit[0], vexit[1]]
         names2 += [f"count_{tag}", f"v0_{tag}", f"v1_{tag}"]
+    exact2, outs2 = outs2, _floored_det_m(outs2, m00, m01, m11)
     out.append(ScalarKernel(
         "two_surface_resolution_2", [m00, m01, m11, *h, v0, v1], outs2, names2,
         "n = 2 closed form: M by its upper triangle, H = [[h_00, h_01], [h_10, h_11]], v = (v_0, v_1).\n"
         "Returns (count_a, v0_a, v1_a, count_b, v0_b, v1_b): counts and exit velocities of the branches\n"
         "starting with row 0 (a) and row 1 (b): v itself when valid, its reflections for counts 1-3,\n"
-        "H^-1 c' above. Float, uncertified (see impactsym.laws.two_surface).",
+        "above H^-1 c' as |v|_M (cos t e + sin t n) in the frame of the nearer edge (no 1/det H); det M\n"
+        "floored at 2^-52 m_00 m_11. Float, uncertified (see impactsym.laws.two_surface).",
+        exact_outputs=exact2,  # the references evaluate the true det M (the floor is a float guard)
     ))
     return out
 

@@ -962,8 +962,12 @@ SEARCH_DOMAIN = {"e": (0.0, 1.0), "alpha": (0.0, math.inf), "alpha13": (0.0, mat
 
 def _in_search_domain(kernel: str, x: dict) -> bool:
     """Inside :data:`SEARCH_DOMAIN`, with a positive definite Gram matrix ``(s_a, g; g, s_b)``
-    and mass matrix (leading minors of the upper triangle ``m_ij``)."""
+    and mass matrix (leading minors of the upper triangle ``m_ij``), and non-zero gradient rows
+    ``h_i*`` (the two-surface law refuses a zero covector)."""
     if "s_a" in x and not x["s_a"] * x["s_b"] - x["g"] ** 2 > 0:
+        return False
+    rows = [[v for k, v in x.items() if k.startswith(f"h_{i}")] for i in (0, 1)]
+    if any(r and not any(r) for r in rows):  # a zero gradient row: the law refuses it (ImpactInputError)
         return False
     if "m_00" in x:
         n = 3 if "m_22" in x else 2

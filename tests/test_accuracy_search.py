@@ -451,12 +451,17 @@ def test_general_two_surface_reduction_is_exact(n):
 
 
 #: Found by benchmarks/accuracy.py (2 x 500 random hard wedges of the n = 3 general kernel, whose
-#: decoupled third coordinate shifts the sampler's stream): the (M, H, v) closed form itself (NumPy,
-#: Python and C alike; the n = 3 reduction hands it these inputs unchanged) answers count 1 where every
-#: input within 64 eps needs 5 (M nearly singular: det M cancels 1.6e10 - 1.6e10; rows of scales 1e5
-#: and 1e-2) or 4896700, and an exit off by 901 eps (M = diag(2e-12, 2e11)). Open: the count tests'
-#: rational iterates are computed in a form that cancels here (derivations/two_surface.py).
-_CLOSED_FORM_2_OPEN = [
+#: decoupled third coordinate shifts the sampler's stream), the (M, H, v) closed form itself (NumPy,
+#: Python and C alike; the n = 3 reduction hands it these inputs unchanged). Fixed, kept as regression
+#: tests:
+#: * count 1 where every input within 64 eps needs 5 (M nearly singular: det M cancels
+#:   1.6e10 - 1.6e10 to 0 in floats, exact 1.3e-6) or 4896700 (det M 1.6e17 - 1.6e17, exact 29.7):
+#:   1/det M was inf and atan2(inf, inf) gave psi/beta = 1; the kernels now floor det M at
+#:   2^-52 m_00 m_11 (the det of an input within 1 eps);
+#: * an exit off by 901 eps (M = diag(2e-12, 2e11), rows parallel to 4e7, count 4e19): v1_a = -v_1 to
+#:   1e-23 (the energy is m_11 v_1^2), but H^-1 c' lost it through det H; counts above 3 now take the
+#:   frame form v+ = |v|_M (cos t e + sin t n) of the nearer edge (no 1/det H).
+_CLOSED_FORM_2_FOUND = [
     {"m_00": 63235.063513811954, "m_01": -125528.26911966197, "m_11": 249186.85097448388,
      "h_00": -359517.6353418259, "h_01": -712088.0800233753, "h_10": -0.0008545063354632156,
      "h_11": 0.015179871187295269, "v_0": -0.00041794305350209825, "v_1": -0.00015696606999407938},
@@ -469,10 +474,8 @@ _CLOSED_FORM_2_OPEN = [
 ]
 
 
-@pytest.mark.xfail(strict=True, reason="open: the (M, H, v) closed form's count tests and an exit at the "
-                                       "bench's n = 3 wedge samples (see _CLOSED_FORM_2_OPEN)")
-@pytest.mark.parametrize("i", range(len(_CLOSED_FORM_2_OPEN)))
+@pytest.mark.parametrize("i", range(len(_CLOSED_FORM_2_FOUND)))
 def test_closed_form_2_bench_findings(i, impls):
     k = "two_surface_resolution_2"
-    v = accuracy_check(k, _CLOSED_FORM_2_OPEN[i], impls[k], BOUND, screen=False)
+    v = accuracy_check(k, _CLOSED_FORM_2_FOUND[i], impls[k], BOUND, screen=False)
     assert not v.problems, v.problems

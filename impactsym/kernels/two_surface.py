@@ -285,87 +285,88 @@ def _two_surface_resolution_2_python(m_00, m_01, m_11, h_00, h_01, h_10, h_11, v
     x16 = x12*x15
     x17 = x0 + x10*x16
     x18 = (x17 <= 0)
-    x19 = -x11*x17 + x12
-    x20 = (x19 <= 0)
-    x21 = h_00*h_11 - h_01*h_10
-    x22 = 1/(m_00*m_11 - m_01**2)
-    x23 = math.sqrt(x22)
-    x24 = x23*abs(x21)
-    x25 = math.atan2(x24, -x22*x9)
-    x26 = 1/x25
-    x27 = x21*x22
-    x28 = math.atan2(-x0*x24, x27*(v_0*x4 + v_1*x3))
-    x29 = math.ceil(x26*x28)
-    x30 = (x0 < 0)
-    x31 = 2*x6
-    x32 = x3*x31
-    x33 = x0*x32
-    x34 = v_0 - x33
-    x35 = -v_0
-    x36 = 2*x16
-    x37 = x36*x7
-    x38 = 1/x21
-    x39 = math.sqrt(x22*(v_0*(m_00*v_0 + m_01*v_1) + v_1*(m_01*v_0 + m_11*v_1)))/x23
-    x40 = x39*math.sqrt(x22*x5)
-    x41 = -x28
-    x42 = x25*(x29 - 1) + x41
-    x43 = -math.sin(x42)
-    x44 = ((x29 % 2) == 1)
-    x45 = (1/2)*x25
-    x46 = (x28 <= x45*(2*x29 - 1))
-    x47 = x44 and x46
-    x48 = x25*x29 + x41
-    x49 = math.sin(x25 - x48)
-    x50 = math.sin(x25 - (-x42))
-    x51 = math.sin(x48)
-    x52 = ((x0) if x2 else (((-x0) if x13 else (-x17) if x18 else (x17) if x20 else (x40*((x43) if x47 else (x49) if x44 else (x50) if x46 else (x51))))) if x30 else (math.nan))
-    x53 = x39*math.sqrt(x14*x22)
-    x54 = ((x1) if x2 else (((x12) if x13 else (-x12) if x18 else (-x19) if x20 else (x53*((x50) if x47 else (x51) if x44 else (x43) if x46 else (x49))))) if x30 else (math.nan))
-    x55 = x38*(-h_01*x54 + h_11*x52)
-    x56 = x31*x4
-    x57 = v_1 + x0*x56
-    x58 = x36*x8 + x57
-    x59 = x38*(h_00*x54 - h_10*x52)
-    x60 = x10*x15
-    x61 = x0 - x1*x60
-    x62 = (x61 >= 0)
-    x63 = x1 + x11*x61
-    x64 = (x63 <= 0)
-    x65 = -x60*x63 + x61
-    x66 = (x65 <= 0)
-    x67 = math.atan2(-x1*x24, -x27*(v_0*x8 + v_1*x7))
-    x68 = math.ceil(x26*x67)
-    x69 = (x1 < 0)
-    x70 = 2*x15
-    x71 = x7*x70
-    x72 = x1*x71
-    x73 = v_0 - x72
-    x74 = x32*x61
-    x75 = -x67
-    x76 = x25*(x68 - 1) + x75
-    x77 = -math.sin(x76)
-    x78 = ((x68 % 2) == 1)
-    x79 = (x67 <= x45*(2*x68 - 1))
+    x19 = (-x11*x17 + x12 <= 0)
+    x20 = h_00*h_11 - h_01*h_10
+    x21 = abs(x20)
+    x22 = m_00*m_11
+    x23 = max((1/4503599627370496)*x22, -m_01**2 + x22)
+    x24 = 1/math.sqrt(x23)
+    x25 = x21*x24
+    x26 = 1/x23
+    x27 = math.atan2(x25, -x26*x9)
+    x28 = 1/x27
+    x29 = x20*x26
+    x30 = math.atan2(-x0*x25, x29*(v_0*x4 + v_1*x3))
+    x31 = math.ceil(x28*x30)
+    x32 = (x0 < 0)
+    x33 = 2*x6
+    x34 = x3*x33
+    x35 = x0*x34
+    x36 = v_0 - x35
+    x37 = -v_0
+    x38 = 2*x16
+    x39 = x38*x7
+    x40 = -x30
+    x41 = x27*(x31 - 1) + x40
+    x42 = x20/x21
+    x43 = x42*math.cos(x41)
+    x44 = x24*math.sin(x41)
+    x45 = math.sqrt(v_0*(m_00*v_0 + m_01*v_1) + v_1*(m_01*v_0 + m_11*v_1))
+    x46 = x45/math.sqrt(x5)
+    x47 = ((x31 % 2) == 1)
+    x48 = (1/2)*x27
+    x49 = (x30 <= x48*(2*x31 - 1))
+    x50 = x47 and x49
+    x51 = x27*x31 + x40
+    x52 = x42*math.cos(x51)
+    x53 = x24*math.sin(x51)
+    x54 = x45/math.sqrt(x14)
+    x55 = x33*x4
+    x56 = v_1 + x0*x55
+    x57 = x38*x8 + x56
+    x58 = x10*x15
+    x59 = x0 - x1*x58
+    x60 = (x59 >= 0)
+    x61 = x1 + x11*x59
+    x62 = (x61 <= 0)
+    x63 = (-x58*x61 + x59 <= 0)
+    x64 = -x1*x25
+    x65 = math.atan2(x64, -x29*(v_0*x8 + v_1*x7))
+    x66 = math.ceil(x28*x65)
+    x67 = (x1 < 0)
+    x68 = 2*x15
+    x69 = x68*x7
+    x70 = x1*x69
+    x71 = v_0 - x70
+    x72 = x34*x59
+    x73 = -x65
+    x74 = x27*(x66 - 1) + x73
+    x75 = x42*math.cos(x74)
+    x76 = math.sin(x74)
+    x77 = x24*x7
+    x78 = ((x66 % 2) == 1)
+    x79 = (x65 <= x48*(2*x66 - 1))
     x80 = x78 and x79
-    x81 = x25*x68 + x75
-    x82 = math.sin(x25 - x81)
-    x83 = math.sin(x25 - (-x76))
-    x84 = math.sin(x81)
-    x85 = ((x1) if x2 else (((-x1) if x62 else (-x63) if x64 else (x63) if x66 else (x53*((x77) if x80 else (x82) if x78 else (x83) if x79 else (x84))))) if x69 else (math.nan))
-    x86 = ((x0) if x2 else (((x61) if x62 else (-x61) if x64 else (-x65) if x66 else (x40*((x83) if x80 else (x84) if x78 else (x77) if x79 else (x82))))) if x69 else (math.nan))
-    x87 = x38*(-h_01*x85 + h_11*x86)
-    x88 = x70*x8
+    x81 = x27*x66 + x73
+    x82 = x42*math.cos(x81)
+    x83 = math.sin(x81)
+    x84 = x24*x3
+    x85 = math.atan2(x64, x29*(-v_0*x8 - v_1*x7))
+    x86 = -x85
+    x87 = math.ceil(x28*x85)
+    x88 = x68*x8
     x89 = v_1 + x1*x88
-    x90 = x56*x61 + x89
-    x91 = x38*(h_00*x85 - h_10*x86)
-    return (float(((0) if x2 else (((1) if x13 else (2) if x18 else (3) if x20 else (x29))) if x30 else (-1))), float(((v_0) if x2 else (((x34) if x13 else (-x33 - x35 - x37) if x18 else (x17*x32 + x34 - x37) if x20 else (x55))) if x30 else (x55))), float(((v_1) if x2 else (((x57) if x13 else (x58) if x18 else (-x17*x56 + x58) if x20 else (x59))) if x30 else (x59))), float(((0) if x2 else (((1) if x62 else (2) if x64 else (3) if x66 else (x68))) if x69 else (-1))), float(((v_0) if x2 else (((x73) if x62 else (-x35 - x72 - x74) if x64 else (x63*x71 + x73 - x74) if x66 else (x87))) if x69 else (x87))), float(((v_1) if x2 else (((x89) if x62 else (x90) if x64 else (-x63*x88 + x90) if x66 else (x91))) if x69 else (x91))))
+    x90 = x55*x59 + x89
+    x91 = x24*x76
+    return (float(((0) if x2 else (((1) if x13 else (2) if x18 else (3) if x19 else (x31))) if x32 else (-1))), float(((v_0) if x2 else (((x36) if x13 else (-x35 - x37 - x39) if x18 else (x17*x34 + x36 - x39) if x19 else (((-x46*(h_01*x43 + x3*x44)) if x50 else (x54*(h_11*x52 + x53*x7)) if x47 else (x54*(h_11*x43 - x44*x7)) if x49 else (-x46*(h_01*x52 - x3*x53)))))) if x32 else (math.nan))), float(((v_1) if x2 else (((x56) if x13 else (x57) if x18 else (-x17*x55 + x57) if x19 else (((x46*(h_00*x43 + x4*x44)) if x50 else (-x54*(h_10*x52 + x53*x8)) if x47 else (-x54*(h_10*x43 - x44*x8)) if x49 else (x46*(h_00*x52 - x4*x53)))))) if x32 else (math.nan))), float(((0) if x2 else (((1) if x60 else (2) if x62 else (3) if x63 else (x66))) if x67 else (-1))), float(((v_0) if x2 else (((x71) if x60 else (-x37 - x70 - x72) if x62 else (x61*x69 + x71 - x72) if x63 else (((x54*(h_11*x75 - x76*x77)) if x80 else (-x46*(h_01*x82 - x83*x84)) if x78 else (-x46*(h_01*x75 + x84*math.sin(x27*(x87 - 1) + x86))) if x79 else (x54*(h_11*x82 + x77*x83)))))) if x67 else (math.nan))), float(((v_1) if x2 else (((x89) if x60 else (x90) if x62 else (-x61*x88 + x90) if x63 else (((-x54*(h_10*x75 - x8*x91)) if x80 else (x46*(h_00*x82 - x24*x4*x83)) if x78 else (x46*(h_00*x75 + x4*x91)) if x79 else (-x54*(h_10*x82 + x24*x8*math.sin(x27*x87 + x86))))))) if x67 else (math.nan))))
 
 
 def two_surface_resolution_2(m_00, m_01, m_11, h_00, h_01, h_10, h_11, v_0, v_1):
     """n = 2 closed form: M by its upper triangle, H = [[h_00, h_01], [h_10, h_11]], v = (v_0, v_1).
     Returns (count_a, v0_a, v1_a, count_b, v0_b, v1_b): counts and exit velocities of the branches
     starting with row 0 (a) and row 1 (b): v itself when valid, its reflections for counts 1-3,
-    H^-1 c' above. Float, uncertified (see impactsym.laws.two_surface).
+    above H^-1 c' as |v|_M (cos t e + sin t n) in the frame of the nearer edge (no 1/det H); det M
+    floored at 2^-52 m_00 m_11. Float, uncertified (see impactsym.laws.two_surface).
     """
     if _scalars(m_00, m_01, m_11, h_00, h_01, h_10, h_11, v_0, v_1):  # plain Python: ~40-300x faster than NumPy on one point
         try:
@@ -402,83 +403,83 @@ def two_surface_resolution_2(m_00, m_01, m_11, h_00, h_01, h_10, h_11, v_0, v_1)
     x16 = x12*x15
     x17 = x0 + x10*x16
     x18 = numpy.less_equal(x17, 0)
-    x19 = -x11*x17 + x12
-    x20 = numpy.less_equal(x19, 0)
-    x21 = h_00*h_11 - h_01*h_10
-    x22 = (m_00*m_11 - m_01**2)**(-1.0)
-    x23 = numpy.sqrt(x22)
-    x24 = x23*abs(x21)
-    x25 = numpy.arctan2(x24, -x22*x9)
-    x26 = x25**(-1.0)
-    x27 = x21*x22
-    x28 = numpy.arctan2(-x0*x24, x27*(v_0*x4 + v_1*x3))
-    x29 = numpy.ceil(x26*x28)
-    x30 = numpy.less(x0, 0)
-    x31 = 2*x6
-    x32 = x3*x31
-    x33 = x0*x32
-    x34 = v_0 - x33
-    x35 = -v_0
-    x36 = 2*x16
-    x37 = x36*x7
-    x38 = x21**(-1.0)
-    x39 = numpy.sqrt(x22*(v_0*(m_00*v_0 + m_01*v_1) + v_1*(m_01*v_0 + m_11*v_1)))/x23
-    x40 = x39*numpy.sqrt(x22*x5)
-    x41 = -x28
-    x42 = x25*(x29 - 1) + x41
-    x43 = -numpy.sin(x42)
-    x44 = numpy.equal(numpy.mod(x29, 2), 1)
-    x45 = (1/2)*x25
-    x46 = numpy.less_equal(x28, x45*(2*x29 - 1))
-    x47 = numpy.logical_and.reduce((x44,x46))
-    x48 = x25*x29 + x41
-    x49 = numpy.sin(x25 - x48)
-    x50 = numpy.sin(x25 - (-x42))
-    x51 = numpy.sin(x48)
-    x52 = numpy.select([x2,x30,True], [x0,numpy.select([x13,x18,x20,True], [-x0,-x17,x17,x40*numpy.select([x47,x44,x46,True], [x43,x49,x50,x51], default=numpy.nan)], default=numpy.nan),numpy.nan], default=numpy.nan)
-    x53 = x39*numpy.sqrt(x14*x22)
-    x54 = numpy.select([x2,x30,True], [x1,numpy.select([x13,x18,x20,True], [x12,-x12,-x19,x53*numpy.select([x47,x44,x46,True], [x50,x51,x43,x49], default=numpy.nan)], default=numpy.nan),numpy.nan], default=numpy.nan)
-    x55 = x38*(-h_01*x54 + h_11*x52)
-    x56 = x31*x4
-    x57 = v_1 + x0*x56
-    x58 = x36*x8 + x57
-    x59 = x38*(h_00*x54 - h_10*x52)
-    x60 = x10*x15
-    x61 = x0 - x1*x60
-    x62 = numpy.greater_equal(x61, 0)
-    x63 = x1 + x11*x61
-    x64 = numpy.less_equal(x63, 0)
-    x65 = -x60*x63 + x61
-    x66 = numpy.less_equal(x65, 0)
-    x67 = numpy.arctan2(-x1*x24, -x27*(v_0*x8 + v_1*x7))
-    x68 = numpy.ceil(x26*x67)
-    x69 = numpy.less(x1, 0)
-    x70 = 2*x15
-    x71 = x7*x70
-    x72 = x1*x71
-    x73 = v_0 - x72
-    x74 = x32*x61
-    x75 = -x67
-    x76 = x25*(x68 - 1) + x75
-    x77 = -numpy.sin(x76)
-    x78 = numpy.equal(numpy.mod(x68, 2), 1)
-    x79 = numpy.less_equal(x67, x45*(2*x68 - 1))
+    x19 = numpy.less_equal(-x11*x17 + x12, 0)
+    x20 = h_00*h_11 - h_01*h_10
+    x21 = abs(x20)
+    x22 = m_00*m_11
+    x23 = numpy.maximum((1/4503599627370496)*x22, -m_01**2 + x22)
+    x24 = 1/numpy.sqrt(x23)
+    x25 = x21*x24
+    x26 = x23**(-1.0)
+    x27 = numpy.arctan2(x25, -x26*x9)
+    x28 = x27**(-1.0)
+    x29 = x20*x26
+    x30 = numpy.arctan2(-x0*x25, x29*(v_0*x4 + v_1*x3))
+    x31 = numpy.ceil(x28*x30)
+    x32 = numpy.less(x0, 0)
+    x33 = 2*x6
+    x34 = x3*x33
+    x35 = x0*x34
+    x36 = v_0 - x35
+    x37 = -v_0
+    x38 = 2*x16
+    x39 = x38*x7
+    x40 = -x30
+    x41 = x27*(x31 - 1) + x40
+    x42 = x20/x21
+    x43 = x42*numpy.cos(x41)
+    x44 = x24*numpy.sin(x41)
+    x45 = numpy.sqrt(v_0*(m_00*v_0 + m_01*v_1) + v_1*(m_01*v_0 + m_11*v_1))
+    x46 = x45/numpy.sqrt(x5)
+    x47 = numpy.equal(numpy.mod(x31, 2), 1)
+    x48 = (1/2)*x27
+    x49 = numpy.less_equal(x30, x48*(2*x31 - 1))
+    x50 = numpy.logical_and.reduce((x47,x49))
+    x51 = x27*x31 + x40
+    x52 = x42*numpy.cos(x51)
+    x53 = x24*numpy.sin(x51)
+    x54 = x45/numpy.sqrt(x14)
+    x55 = x33*x4
+    x56 = v_1 + x0*x55
+    x57 = x38*x8 + x56
+    x58 = x10*x15
+    x59 = x0 - x1*x58
+    x60 = numpy.greater_equal(x59, 0)
+    x61 = x1 + x11*x59
+    x62 = numpy.less_equal(x61, 0)
+    x63 = numpy.less_equal(-x58*x61 + x59, 0)
+    x64 = -x1*x25
+    x65 = numpy.arctan2(x64, -x29*(v_0*x8 + v_1*x7))
+    x66 = numpy.ceil(x28*x65)
+    x67 = numpy.less(x1, 0)
+    x68 = 2*x15
+    x69 = x68*x7
+    x70 = x1*x69
+    x71 = v_0 - x70
+    x72 = x34*x59
+    x73 = -x65
+    x74 = x27*(x66 - 1) + x73
+    x75 = x42*numpy.cos(x74)
+    x76 = numpy.sin(x74)
+    x77 = x24*x7
+    x78 = numpy.equal(numpy.mod(x66, 2), 1)
+    x79 = numpy.less_equal(x65, x48*(2*x66 - 1))
     x80 = numpy.logical_and.reduce((x78,x79))
-    x81 = x25*x68 + x75
-    x82 = numpy.sin(x25 - x81)
-    x83 = numpy.sin(x25 - (-x76))
-    x84 = numpy.sin(x81)
-    x85 = numpy.select([x2,x69,True], [x1,numpy.select([x62,x64,x66,True], [-x1,-x63,x63,x53*numpy.select([x80,x78,x79,True], [x77,x82,x83,x84], default=numpy.nan)], default=numpy.nan),numpy.nan], default=numpy.nan)
-    x86 = numpy.select([x2,x69,True], [x0,numpy.select([x62,x64,x66,True], [x61,-x61,-x65,x40*numpy.select([x80,x78,x79,True], [x83,x84,x77,x82], default=numpy.nan)], default=numpy.nan),numpy.nan], default=numpy.nan)
-    x87 = x38*(-h_01*x85 + h_11*x86)
-    x88 = x70*x8
+    x81 = x27*x66 + x73
+    x82 = x42*numpy.cos(x81)
+    x83 = numpy.sin(x81)
+    x84 = x24*x3
+    x85 = numpy.arctan2(x64, x29*(-v_0*x8 - v_1*x7))
+    x86 = -x85
+    x87 = numpy.ceil(x28*x85)
+    x88 = x68*x8
     x89 = v_1 + x1*x88
-    x90 = x56*x61 + x89
-    x91 = x38*(h_00*x85 - h_10*x86)
-    count_a = numpy.select([x2,x30,True], [0,numpy.select([x13,x18,x20,True], [1,2,3,x29], default=numpy.nan),-1], default=numpy.nan)
-    v0_a = numpy.select([x2,x30,True], [v_0,numpy.select([x13,x18,x20,True], [x34,-x33 - x35 - x37,x17*x32 + x34 - x37,x55], default=numpy.nan),x55], default=numpy.nan)
-    v1_a = numpy.select([x2,x30,True], [v_1,numpy.select([x13,x18,x20,True], [x57,x58,-x17*x56 + x58,x59], default=numpy.nan),x59], default=numpy.nan)
-    count_b = numpy.select([x2,x69,True], [0,numpy.select([x62,x64,x66,True], [1,2,3,x68], default=numpy.nan),-1], default=numpy.nan)
-    v0_b = numpy.select([x2,x69,True], [v_0,numpy.select([x62,x64,x66,True], [x73,-x35 - x72 - x74,x63*x71 + x73 - x74,x87], default=numpy.nan),x87], default=numpy.nan)
-    v1_b = numpy.select([x2,x69,True], [v_1,numpy.select([x62,x64,x66,True], [x89,x90,-x63*x88 + x90,x91], default=numpy.nan),x91], default=numpy.nan)
+    x90 = x55*x59 + x89
+    x91 = x24*x76
+    count_a = numpy.select([x2,x32,True], [0,numpy.select([x13,x18,x19,True], [1,2,3,x31], default=numpy.nan),-1], default=numpy.nan)
+    v0_a = numpy.select([x2,x32,True], [v_0,numpy.select([x13,x18,x19,True], [x36,-x35 - x37 - x39,x17*x34 + x36 - x39,numpy.select([x50,x47,x49,True], [-x46*(h_01*x43 + x3*x44),x54*(h_11*x52 + x53*x7),x54*(h_11*x43 - x44*x7),-x46*(h_01*x52 - x3*x53)], default=numpy.nan)], default=numpy.nan),numpy.nan], default=numpy.nan)
+    v1_a = numpy.select([x2,x32,True], [v_1,numpy.select([x13,x18,x19,True], [x56,x57,-x17*x55 + x57,numpy.select([x50,x47,x49,True], [x46*(h_00*x43 + x4*x44),-x54*(h_10*x52 + x53*x8),-x54*(h_10*x43 - x44*x8),x46*(h_00*x52 - x4*x53)], default=numpy.nan)], default=numpy.nan),numpy.nan], default=numpy.nan)
+    count_b = numpy.select([x2,x67,True], [0,numpy.select([x60,x62,x63,True], [1,2,3,x66], default=numpy.nan),-1], default=numpy.nan)
+    v0_b = numpy.select([x2,x67,True], [v_0,numpy.select([x60,x62,x63,True], [x71,-x37 - x70 - x72,x61*x69 + x71 - x72,numpy.select([x80,x78,x79,True], [x54*(h_11*x75 - x76*x77),-x46*(h_01*x82 - x83*x84),-x46*(h_01*x75 + x84*numpy.sin(x27*(x87 - 1) + x86)),x54*(h_11*x82 + x77*x83)], default=numpy.nan)], default=numpy.nan),numpy.nan], default=numpy.nan)
+    v1_b = numpy.select([x2,x67,True], [v_1,numpy.select([x60,x62,x63,True], [x89,x90,-x61*x88 + x90,numpy.select([x80,x78,x79,True], [-x54*(h_10*x75 - x8*x91),x46*(h_00*x82 - x24*x4*x83),x46*(h_00*x75 + x4*x91),-x54*(h_10*x82 + x24*x8*numpy.sin(x27*x87 + x86))], default=numpy.nan)], default=numpy.nan),numpy.nan], default=numpy.nan)
     return (count_a, v0_a, v1_a, count_b, v0_b, v1_b)

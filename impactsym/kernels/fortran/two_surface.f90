@@ -147,17 +147,18 @@ end subroutine two_surface_resolution
 ! n = 2 closed form: M by its upper triangle, H = [[h_00, h_01], [h_10, h_11]], v = (v_0, v_1).
 ! Returns (count_a, v0_a, v1_a, count_b, v0_b, v1_b): counts and exit velocities of the branches
 ! starting with row 0 (a) and row 1 (b): v itself when valid, its reflections for counts 1-3,
-! H^-1 c' above. Float, uncertified (see impactsym.laws.two_surface).
+! above H^-1 c' as |v|_M (cos t e + sin t n) in the frame of the nearer edge (no 1/det H); det M
+! floored at 2^-52 m_00 m_11. Float, uncertified (see impactsym.laws.two_surface).
 pure subroutine two_surface_resolution_2(m_00, m_01, m_11, h_00, h_01, h_10, h_11, v_0, v_1, &
     count_a, v0_a, v1_a, count_b, v0_b, v1_b) bind(C, name="f_two_surface_resolution_2")
     real(c_double), value, intent(in) :: m_00, m_01, m_11, h_00, h_01, h_10, h_11, v_0, v_1
     real(c_double), intent(out) :: count_a, v0_a, v1_a, count_b, v0_b, v1_b
-    real(c_double) :: x0, x1, x3, x4, x5, x6, x7, x8, x9, x10, x11, x12, x14, x15, x16, x17, x19, &
-        x21, x22, x23, x24, x25, x26, x27, x28, x29, x31, x32, x33, x34, x35, x36, x37, x38, x39, &
-        x40, x41, x42, x43, x45, x48, x49, x50, x51, x52, x53, x54, x55, x56, x57, x58, x59, x60, &
-        x61, x63, x65, x67, x68, x70, x71, x72, x73, x74, x75, x76, x77, x81, x82, x83, x84, x85, &
+    real(c_double) :: x0, x1, x3, x4, x5, x6, x7, x8, x9, x10, x11, x12, x14, x15, x16, x17, x20, &
+        x21, x22, x23, x24, x25, x26, x27, x28, x29, x30, x31, x33, x34, x35, x36, x37, x38, x39, &
+        x40, x41, x42, x43, x44, x45, x46, x48, x51, x52, x53, x54, x55, x56, x57, x58, x59, x61, &
+        x64, x65, x66, x68, x69, x70, x71, x72, x73, x74, x75, x76, x77, x81, x82, x83, x84, x85, &
         x86, x87, x88, x89, x90, x91
-    logical :: x2, x13, x18, x20, x30, x44, x46, x47, x62, x64, x66, x69, x78, x79, x80
+    logical :: x2, x13, x18, x19, x32, x47, x49, x50, x60, x62, x63, x67, x78, x79, x80
     x0 = h_00*v_0 + h_01*v_1
     x1 = h_10*v_0 + h_11*v_1
     x2 = x0 >= 0 .and. x1 >= 0
@@ -177,112 +178,108 @@ pure subroutine two_surface_resolution_2(m_00, m_01, m_11, h_00, h_01, h_10, h_1
     x16 = x12*x15
     x17 = x0 + x10*x16
     x18 = x17 <= 0
-    x19 = -x11*x17 + x12
-    x20 = x19 <= 0
-    x21 = h_00*h_11 - h_01*h_10
-    x22 = 1d0/(m_00*m_11 - m_01**2)
-    x23 = sqrt(x22)
-    x24 = x23*abs(x21)
-    x25 = atan2(x24, -x22*x9)
-    x26 = 1d0/x25
-    x27 = x21*x22
-    x28 = atan2(-x0*x24, x27*(v_0*x4 + v_1*x3))
-    x29 = merge(aint(x26*x28) + 1d0, aint(x26*x28), aint(x26*x28) < x26*x28)
-    x30 = x0 < 0
-    x31 = 2*x6
-    x32 = x3*x31
-    x33 = x0*x32
-    x34 = v_0 - x33
-    x35 = -v_0
-    x36 = 2*x16
-    x37 = x36*x7
-    x38 = 1d0/x21
-    x39 = sqrt(x22*(v_0*(m_00*v_0 + m_01*v_1) + v_1*(m_01*v_0 + m_11*v_1)))/x23
-    x40 = x39*sqrt(x22*x5)
-    x41 = -x28
-    x42 = x25*(x29 - 1) + x41
-    x43 = -sin(x42)
-    x44 = modulo(real(x29, c_double), real(2, c_double)) == 1
-    x45 = (1.0d0/2.0d0)*x25
-    x46 = x28 <= x45*(2*x29 - 1)
-    x47 = x44 .and. x46
-    x48 = x25*x29 + x41
-    x49 = sin(x25 - x48)
-    x50 = sin(x25 - (-x42))
-    x51 = sin(x48)
-    x52 = merge(real(x0, c_double), merge(real(merge(real(-x0, c_double), merge( real(-x17, &
-        c_double), merge(real(x17, c_double), real(x40*merge( real(x43, c_double), merge(real(x49, &
-        c_double), merge(real(x50, c_double), real(x51, c_double), x46), x44), x47), c_double), &
-        x20) , x18), x13), c_double), real(ieee_value(0.0_c_double, ieee_quiet_nan), c_double), &
-        x30), x2)
-    x53 = x39*sqrt(x14*x22)
-    x54 = merge(real(x1, c_double), merge(real(merge(real(x12, c_double), merge( real(-x12, &
-        c_double), merge(real(-x19, c_double), real(x53*merge( real(x50, c_double), merge(real(x51, &
-        c_double), merge(real(x43, c_double), real(x49, c_double), x46), x44), x47), c_double), &
-        x20) , x18), x13), c_double), real(ieee_value(0.0_c_double, ieee_quiet_nan), c_double), &
-        x30), x2)
-    x55 = x38*(-h_01*x54 + h_11*x52)
-    x56 = x31*x4
-    x57 = v_1 + x0*x56
-    x58 = x36*x8 + x57
-    x59 = x38*(h_00*x54 - h_10*x52)
-    x60 = x10*x15
-    x61 = x0 - x1*x60
-    x62 = x61 >= 0
-    x63 = x1 + x11*x61
-    x64 = x63 <= 0
-    x65 = -x60*x63 + x61
-    x66 = x65 <= 0
-    x67 = atan2(-x1*x24, -x27*(v_0*x8 + v_1*x7))
-    x68 = merge(aint(x26*x67) + 1d0, aint(x26*x67), aint(x26*x67) < x26*x67)
-    x69 = x1 < 0
-    x70 = 2*x15
-    x71 = x7*x70
-    x72 = x1*x71
-    x73 = v_0 - x72
-    x74 = x32*x61
-    x75 = -x67
-    x76 = x25*(x68 - 1) + x75
-    x77 = -sin(x76)
-    x78 = modulo(real(x68, c_double), real(2, c_double)) == 1
-    x79 = x67 <= x45*(2*x68 - 1)
+    x19 = -x11*x17 + x12 <= 0
+    x20 = h_00*h_11 - h_01*h_10
+    x21 = abs(x20)
+    x22 = m_00*m_11
+    x23 = max((1.0d0/4503599627370496.0d0)*x22, -m_01**2 + x22)
+    x24 = 1/sqrt(x23)
+    x25 = x21*x24
+    x26 = 1d0/x23
+    x27 = atan2(x25, -x26*x9)
+    x28 = 1d0/x27
+    x29 = x20*x26
+    x30 = atan2(-x0*x25, x29*(v_0*x4 + v_1*x3))
+    x31 = merge(aint(x28*x30) + 1d0, aint(x28*x30), aint(x28*x30) < x28*x30)
+    x32 = x0 < 0
+    x33 = 2*x6
+    x34 = x3*x33
+    x35 = x0*x34
+    x36 = v_0 - x35
+    x37 = -v_0
+    x38 = 2*x16
+    x39 = x38*x7
+    x40 = -x30
+    x41 = x27*(x31 - 1) + x40
+    x42 = x20/x21
+    x43 = x42*cos(x41)
+    x44 = x24*sin(x41)
+    x45 = sqrt(v_0*(m_00*v_0 + m_01*v_1) + v_1*(m_01*v_0 + m_11*v_1))
+    x46 = x45/sqrt(x5)
+    x47 = modulo(real(x31, c_double), real(2, c_double)) == 1
+    x48 = (1.0d0/2.0d0)*x27
+    x49 = x30 <= x48*(2*x31 - 1)
+    x50 = x47 .and. x49
+    x51 = x27*x31 + x40
+    x52 = x42*cos(x51)
+    x53 = x24*sin(x51)
+    x54 = x45/sqrt(x14)
+    x55 = x33*x4
+    x56 = v_1 + x0*x55
+    x57 = x38*x8 + x56
+    x58 = x10*x15
+    x59 = x0 - x1*x58
+    x60 = x59 >= 0
+    x61 = x1 + x11*x59
+    x62 = x61 <= 0
+    x63 = -x58*x61 + x59 <= 0
+    x64 = -x1*x25
+    x65 = atan2(x64, -x29*(v_0*x8 + v_1*x7))
+    x66 = merge(aint(x28*x65) + 1d0, aint(x28*x65), aint(x28*x65) < x28*x65)
+    x67 = x1 < 0
+    x68 = 2*x15
+    x69 = x68*x7
+    x70 = x1*x69
+    x71 = v_0 - x70
+    x72 = x34*x59
+    x73 = -x65
+    x74 = x27*(x66 - 1) + x73
+    x75 = x42*cos(x74)
+    x76 = sin(x74)
+    x77 = x24*x7
+    x78 = modulo(real(x66, c_double), real(2, c_double)) == 1
+    x79 = x65 <= x48*(2*x66 - 1)
     x80 = x78 .and. x79
-    x81 = x25*x68 + x75
-    x82 = sin(x25 - x81)
-    x83 = sin(x25 - (-x76))
-    x84 = sin(x81)
-    x85 = merge(real(x1, c_double), merge(real(merge(real(-x1, c_double), merge( real(-x63, &
-        c_double), merge(real(x63, c_double), real(x53*merge( real(x77, c_double), merge(real(x82, &
-        c_double), merge(real(x83, c_double), real(x84, c_double), x79), x78), x80), c_double), &
-        x66) , x64), x62), c_double), real(ieee_value(0.0_c_double, ieee_quiet_nan), c_double), &
-        x69), x2)
-    x86 = merge(real(x0, c_double), merge(real(merge(real(x61, c_double), merge( real(-x61, &
-        c_double), merge(real(-x65, c_double), real(x40*merge( real(x83, c_double), merge(real(x84, &
-        c_double), merge(real(x77, c_double), real(x82, c_double), x79), x78), x80), c_double), &
-        x66) , x64), x62), c_double), real(ieee_value(0.0_c_double, ieee_quiet_nan), c_double), &
-        x69), x2)
-    x87 = x38*(-h_01*x85 + h_11*x86)
-    x88 = x70*x8
+    x81 = x27*x66 + x73
+    x82 = x42*cos(x81)
+    x83 = sin(x81)
+    x84 = x24*x3
+    x85 = atan2(x64, x29*(-v_0*x8 - v_1*x7))
+    x86 = -x85
+    x87 = merge(aint(x28*x85) + 1d0, aint(x28*x85), aint(x28*x85) < x28*x85)
+    x88 = x68*x8
     x89 = v_1 + x1*x88
-    x90 = x56*x61 + x89
-    x91 = x38*(h_00*x85 - h_10*x86)
+    x90 = x55*x59 + x89
+    x91 = x24*x76
     count_a = merge(real(0, c_double), merge(real(merge(real(1, c_double), merge(real( 2, &
-        c_double), merge(real(3, c_double), real(x29, c_double), x20), x18), x13), c_double), &
-        real(-1, c_double), x30), x2)
-    v0_a = merge(real(v_0, c_double), merge(real(merge(real(x34, c_double), merge( real(-x33 - x35 &
-        - x37, c_double), merge(real(x17*x32 + x34 - x37, c_double), real(x55, c_double), x20), &
-        x18), x13), c_double), real (x55, c_double), x30), x2)
-    v1_a = merge(real(v_1, c_double), merge(real(merge(real(x57, c_double), merge( real(x58, &
-        c_double), merge(real(-x17*x56 + x58, c_double), real( x59, c_double), x20), x18), x13), &
-        c_double), real(x59, c_double), x30), x2)
+        c_double), merge(real(3, c_double), real(x31, c_double), x19), x18), x13), c_double), &
+        real(-1, c_double), x32), x2)
+    v0_a = merge(real(v_0, c_double), merge(real(merge(real(x36, c_double), merge( real(-x35 - x37 &
+        - x39, c_double), merge(real(x17*x34 + x36 - x39, c_double), real(merge(real(-x46*(h_01*x43 &
+        + x3*x44), c_double), merge(real(x54*(h_11*x52 + x53*x7), c_double), merge(real(x54*( &
+        h_11*x43 - x44*x7), c_double), real(-x46*(h_01*x52 - x3*x53), c_double), x49), x47), x50), &
+        c_double), x19), x18), x13), c_double), real(ieee_value(0.0_c_double, ieee_quiet_nan), &
+        c_double), x32), x2)
+    v1_a = merge(real(v_1, c_double), merge(real(merge(real(x56, c_double), merge( real(x57, &
+        c_double), merge(real(-x17*x55 + x57, c_double), real( merge(real(x46*(h_00*x43 + x4*x44), &
+        c_double), merge(real(-x54*( h_10*x52 + x53*x8), c_double), merge(real(-x54*(h_10*x43 - &
+        x44*x8 ), c_double), real(x46*(h_00*x52 - x4*x53), c_double), x49), x47) , x50), c_double), &
+        x19), x18), x13), c_double), real(ieee_value( 0.0_c_double, ieee_quiet_nan), c_double), &
+        x32), x2)
     count_b = merge(real(0, c_double), merge(real(merge(real(1, c_double), merge(real( 2, &
-        c_double), merge(real(3, c_double), real(x68, c_double), x66), x64), x62), c_double), &
-        real(-1, c_double), x69), x2)
-    v0_b = merge(real(v_0, c_double), merge(real(merge(real(x73, c_double), merge( real(-x35 - x72 &
-        - x74, c_double), merge(real(x63*x71 + x73 - x74, c_double), real(x87, c_double), x66), &
-        x64), x62), c_double), real (x87, c_double), x69), x2)
+        c_double), merge(real(3, c_double), real(x66, c_double), x63), x62), x60), c_double), &
+        real(-1, c_double), x67), x2)
+    v0_b = merge(real(v_0, c_double), merge(real(merge(real(x71, c_double), merge( real(-x37 - x70 &
+        - x72, c_double), merge(real(x61*x69 + x71 - x72, c_double), real(merge(real(x54*(h_11*x75 &
+        - x76*x77), c_double), merge(real(-x46*(h_01*x82 - x83*x84), c_double), merge(real(-x46* &
+        (h_01*x75 + x84*sin(x27*(x87 - 1.0d0) + x86)), c_double), real( x54*(h_11*x82 + x77*x83), &
+        c_double), x79), x78), x80), c_double), x63), x62), x60), c_double), &
+        real(ieee_value(0.0_c_double, ieee_quiet_nan), c_double), x67), x2)
     v1_b = merge(real(v_1, c_double), merge(real(merge(real(x89, c_double), merge( real(x90, &
-        c_double), merge(real(-x63*x88 + x90, c_double), real( x91, c_double), x66), x64), x62), &
-        c_double), real(x91, c_double), x69), x2)
+        c_double), merge(real(-x61*x88 + x90, c_double), real( merge(real(-x54*(h_10*x75 - x8*x91), &
+        c_double), merge(real(x46*( h_00*x82 - x24*x4*x83), c_double), merge(real(x46*(h_00*x75 + &
+        x4* x91), c_double), real(-x54*(h_10*x82 + x24*x8*sin(x27*x87 + x86)) , c_double), x79), &
+        x78), x80), c_double), x63), x62), x60), c_double), real(ieee_value(0.0_c_double, &
+        ieee_quiet_nan), c_double), x67), x2)
 end subroutine two_surface_resolution_2
 end module impactsym_two_surface
