@@ -600,6 +600,24 @@ def _coefficient() -> sp.Expr:
     return simplify(c)
 
 
+#: the NumPy general-n kernels' shared text (each printed kernel carries it, so that it runs on its
+#: own): the sums without the i-th term, and w = M^-1 u^T on M equilibrated by powers of two
+_EXCLUDING = """            def excluding(t):  # sum_(k != i) t_k for every i (last axis): prefix + suffix sums
+                zero = numpy.zeros_like(t[..., :1])
+                before = numpy.concatenate([zero, numpy.cumsum(t[..., :-1], axis=-1)], axis=-1)
+                after = numpy.concatenate([numpy.cumsum(t[..., :0:-1], axis=-1)[..., ::-1], zero], axis=-1)
+                return before + after"""
+_EQUILIBRATED = """            # w = M^-1 u^T on M equilibrated by powers of two (exact): D M D has unit-order diagonal
+            # (LU's partial pivoting is not invariant under M's diagonal scaling; Cholesky, the C
+            # kernel's, is); 1e17 eps on g10 without it at m_11 ~ 1e-10, m_22 ~ 1e12 (issue 15)
+            d = numpy.ldexp(1.0, -(numpy.frexp(numpy.diagonal(mass_matrix, axis1=-2, axis2=-1))[1] // 2))
+            w = d*numpy.linalg.solve(d[..., :, None]*mass_matrix*d[..., None, :], (d*gradient)[..., :, None])[..., 0]
+            t = gradient*w
+            s = numpy.sum(t, axis=-1)[..., None]
+            e = restitution[..., None]
+            rest = excluding(t)"""
+
+
 def kernels() -> list:
     """The kernels this derivation emits (general n, and closed forms for n = 2 and 3)."""
     e, s = e_, s_
@@ -621,24 +639,12 @@ def kernels() -> list:
             The diagonal is emitted as (sum_{{k!=i}} u_k w_k - e u_i w_i)/s, the sum without u_i w_i
             taken as prefix + suffix sums (no subtraction; issue 15).
             """
-            def excluding(t):  # sum_(k != i) t_k for every i (last axis): prefix + suffix sums
-                zero = numpy.zeros_like(t[..., :1])
-                before = numpy.concatenate([zero, numpy.cumsum(t[..., :-1], axis=-1)], axis=-1)
-                after = numpy.concatenate([numpy.cumsum(t[..., :0:-1], axis=-1)[..., ::-1], zero], axis=-1)
-                return before + after
+{_EXCLUDING}
 
             mass_matrix = numpy.asarray(mass_matrix, dtype=float)
             gradient = numpy.asarray(gradient, dtype=float)
             restitution = numpy.asarray(restitution, dtype=float)
-            # w = M^-1 u^T on M equilibrated by powers of two (exact): D M D has unit-order diagonal
-            # (LU's partial pivoting is not invariant under M's diagonal scaling; Cholesky, the C
-            # kernel's, is); 1e17 eps on g10 without it at m_11 ~ 1e-10, m_22 ~ 1e12 (issue 15)
-            d = numpy.ldexp(1.0, -(numpy.frexp(numpy.diagonal(mass_matrix, axis1=-2, axis2=-1))[1] // 2))
-            w = d*numpy.linalg.solve(d[..., :, None]*mass_matrix*d[..., None, :], (d*gradient)[..., :, None])[..., 0]
-            t = gradient*w
-            s = numpy.sum(t, axis=-1)[..., None]
-            e = restitution[..., None]
-            rest = excluding(t)
+{_EQUILIBRATED}
             diag = ({pieces["diag_num"]})/({pieces["den"]})
             off = ({pieces["off_coeff_num"]})/({pieces["den"]})
             n = gradient.shape[-1]
@@ -656,25 +662,13 @@ def kernels() -> list:
             Emitted as ((sum_{{k!=i}} u_k w_k - e u_i w_i) v_i - (1+e) w_i sum_{{k!=i}} u_k v_k)/s,
             each sum without the i-th term taken as prefix + suffix sums (issue 15).
             """
-            def excluding(t):  # sum_(k != i) t_k for every i (last axis): prefix + suffix sums
-                zero = numpy.zeros_like(t[..., :1])
-                before = numpy.concatenate([zero, numpy.cumsum(t[..., :-1], axis=-1)], axis=-1)
-                after = numpy.concatenate([numpy.cumsum(t[..., :0:-1], axis=-1)[..., ::-1], zero], axis=-1)
-                return before + after
+{_EXCLUDING}
 
             mass_matrix = numpy.asarray(mass_matrix, dtype=float)
             gradient = numpy.asarray(gradient, dtype=float)
             velocity = numpy.asarray(velocity, dtype=float)
             restitution = numpy.asarray(restitution, dtype=float)
-            # w = M^-1 u^T on M equilibrated by powers of two (exact): D M D has unit-order diagonal
-            # (LU's partial pivoting is not invariant under M's diagonal scaling; Cholesky, the C
-            # kernel's, is); 1e17 eps on g10 without it at m_11 ~ 1e-10, m_22 ~ 1e12 (issue 15)
-            d = numpy.ldexp(1.0, -(numpy.frexp(numpy.diagonal(mass_matrix, axis1=-2, axis2=-1))[1] // 2))
-            w = d*numpy.linalg.solve(d[..., :, None]*mass_matrix*d[..., None, :], (d*gradient)[..., :, None])[..., 0]
-            t = gradient*w
-            s = numpy.sum(t, axis=-1)[..., None]
-            e = restitution[..., None]
-            rest = excluding(t)
+{_EQUILIBRATED}
             rest_uv = excluding(gradient*velocity)
             return ({pieces["apply_num"]})/({pieces["den"]})
         ''',

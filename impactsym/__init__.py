@@ -11,7 +11,7 @@ Matrix([
 [1, 0]])
 """
 
-import importlib
+from ._lazy import lazy_attributes
 
 #: every public name, and the module it lives in: imported on first use (PEP 562), so that
 #: ``import impactsym`` (and the CLI's start-up) costs no SymPy, NumPy or SciPy until a law is used
@@ -32,17 +32,7 @@ _LAZY = {
 }
 
 
-def __getattr__(name):
-    module = _LAZY.get(name)
-    if module is None:
-        raise AttributeError(f"module 'impactsym' has no attribute {name!r}")
-    value = getattr(importlib.import_module(f".{module}", __name__), name)
-    globals()[name] = value  # later lookups skip __getattr__
-    return value
-
-
-def __dir__():
-    return sorted(set(globals()) | set(_LAZY))
+__getattr__, __dir__ = lazy_attributes(__name__, _LAZY, globals())
 
 
 __version__ = "0.1.0"

@@ -45,14 +45,13 @@ Exact algebraic rows (a point in a corner of a floor and a 60° wall) are decide
 
 from __future__ import annotations
 
-import sys
 from collections import OrderedDict
 from dataclasses import dataclass
 from fractions import Fraction
 
 import numpy as np
 
-from .arithmetic import LazyModule
+from .arithmetic import LazyModule, sympy_instance
 from .errors import ImpactInputError, UndecidableSign, VerificationError
 
 #: SymPy, imported on first use: rational rows are decided and certified in python-flint alone
@@ -70,12 +69,6 @@ MOMENTUM_TOL = 1e-9
 
 
 # --------------------------------------------------------------------------------- exact data
-def _is_sympy(x, kind: str) -> bool:
-    """Whether ``x`` is a SymPy ``kind``, without importing SymPy (when it is not loaded, nothing is)."""
-    mod = sys.modules.get("sympy")
-    return mod is not None and isinstance(x, getattr(mod, kind))
-
-
 def _exact(F, x):
     """A field element as the certificate keeps it: ``fmpq`` for rational rows, SymPy otherwise."""
     return x if F.name == "rational" else F.to_sympy(x)
@@ -98,7 +91,7 @@ def _exact_rows(H):
     from .arithmetic.fields import AlgebraicField, RationalField
     from .arithmetic.rational import as_fmpq, float_to_rational
 
-    if _is_sympy(H, "MatrixBase"):
+    if sympy_instance(H, "MatrixBase"):
         k, n = H.shape
         entries = list(H)
     else:
@@ -115,7 +108,7 @@ def _exact_rows(H):
     for x in entries:
         if isinstance(x, str):
             x = sp.sympify(x)
-        if _is_sympy(x, "Float"):
+        if sympy_instance(x, "Float"):
             x = float_to_rational(float(x))
         fixed.append(x)
     q = [as_fmpq(x) for x in fixed]
@@ -414,7 +407,7 @@ def _certificate_key(H):
     frozen dataclass of exact numbers (fmpq or SymPy): the one returned again is the one verified before."""
     if isinstance(H, np.ndarray) and H.dtype == np.float64 and H.ndim == 2:
         return ("float64", H.shape, H.tobytes())
-    if _is_sympy(H, "MatrixBase"):
+    if sympy_instance(H, "MatrixBase"):
         try:
             return ("sympy", H.shape, tuple(H))
         except TypeError:  # pragma: no cover - an unhashable entry

@@ -45,10 +45,15 @@ def _loaded_many(requests) -> list:
             "    with contextlib.redirect_stdout(io.StringIO()), contextlib.redirect_stderr(io.StringIO()):\n"
             "        assert main(argv) == status, argv\n"
             "    print(' '.join(m for m in ('sympy', 'mpmath', 'scipy') if m in sys.modules) + ';')")
+    return [set(x.split()) for x in _python(code).split(";")[:-1]]
+
+
+def _python(code: str) -> str:
+    """The standard output of ``code`` run by a fresh interpreter on this checkout (which must exit 0)."""
     res = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, cwd=ROOT,
                          env={"PYTHONPATH": str(ROOT), "PATH": "/usr/bin:/bin"})
     assert res.returncode == 0, res.stderr
-    return [set(x.split()) for x in res.stdout.split(";")[:-1]]
+    return res.stdout
 
 
 def _loaded(argv, status=0) -> set:
@@ -309,10 +314,7 @@ def test_the_number_module_loads_sympy_on_first_use():
             "assert 'sympy' not in sys.modules and 'mpmath' not in sys.modules\n"
             "x = numbers.parse_number('sqrt(2)/2')\n"
             "print(type(x).__module__.split('.')[0], numbers.exact_str(x), numbers.parse_number('Integer(4)/2'))")
-    res = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, cwd=ROOT,
-                         env={"PYTHONPATH": str(ROOT), "PATH": "/usr/bin:/bin"})
-    assert res.returncode == 0, res.stderr
-    assert res.stdout.split() == ["sympy", "sqrt(2)/2", "2"]
+    assert _python(code).split() == ["sympy", "sqrt(2)/2", "2"]
 
 
 def test_float_twins_of_exact_and_float_matrices():

@@ -29,6 +29,8 @@ It depends only on :mod:`impactsym.errors`; the laws, :mod:`impactsym.verify` an
 
 import importlib
 
+from .._lazy import lazy_attributes
+
 #: every public name and the submodule it lives in, imported on first use (PEP 562): the plain-text
 #: reader (:mod:`~impactsym.arithmetic.literals`) serves the command line's start-up without SymPy
 _NAMES = {
@@ -80,17 +82,7 @@ def sympy_instance(x, kind: str = "Basic") -> bool:
     return mod is not None and isinstance(x, getattr(mod, kind))
 
 
-def __getattr__(name):
-    module = _NAMES.get(name)
-    if module is None:
-        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
-    value = getattr(importlib.import_module(f".{module}", __name__), name)
-    globals()[name] = value  # later lookups skip __getattr__
-    return value
-
-
-def __dir__():
-    return sorted(set(globals()) | set(_NAMES))
+__getattr__, __dir__ = lazy_attributes(__name__, _NAMES, globals())
 
 
 __all__ = [

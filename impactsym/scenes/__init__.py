@@ -34,7 +34,7 @@ True
 
 from __future__ import annotations
 
-import importlib
+from .._lazy import lazy_attributes
 
 #: every public name -> the submodule it lives in
 _LAZY = {
@@ -54,14 +54,4 @@ __all__ = ["Scene", "check_restitution", "balls_on_line", "balls_in_plane", "ful
            "describe_scene", "kinetic_angles"]
 
 
-def __getattr__(name):
-    module = _LAZY.get(name)
-    if module is None:
-        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
-    value = getattr(importlib.import_module(f".{module}", __name__), name)
-    globals()[name] = value  # later lookups skip __getattr__
-    return value
-
-
-def __dir__():
-    return sorted(set(globals()) | set(_LAZY))
+__getattr__, __dir__ = lazy_attributes(__name__, _LAZY, globals())
