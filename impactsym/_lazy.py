@@ -2,7 +2,6 @@
 module is imported when the name is first read, so that ``import impactsym`` (and the command line's
 start-up) loads no heavy library it does not use.
 
->>> import types
 >>> ns = {}
 >>> getattr_, dir_ = lazy_attributes("impactsym", {"ImpactInputError": "errors"}, ns)
 >>> getattr_("ImpactInputError").__name__, "ImpactInputError" in ns, dir_()
