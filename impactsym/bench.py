@@ -243,7 +243,7 @@ def _measure(name, backend, inp: _Inputs, min_time: float, slow_n: int):
 def run(quick: bool = False, formulas=None, backends=BACKENDS, progress=None) -> dict:
     """Measure every (formula, backend, case set); returns ``{"results": [...], "targets": [...]}``."""
     formulas = formulas or (QUICK_FORMULAS if quick else FORMULAS)
-    batch = 1_000_000
+    batch = 100_000 if quick else 1_000_000  # --quick: "smaller batches" (impactsym bench --help)
     n_err = 60 if quick else 300
     slow_n = 4 if quick else 20
     min_time = 0.05 if quick else 0.3

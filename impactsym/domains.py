@@ -30,7 +30,8 @@ Examples
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+import copy
+from dataclasses import dataclass, field, replace
 from functools import lru_cache
 from typing import Any
 
@@ -315,8 +316,15 @@ def validity_domain(scene: str, theta=None, tau=None) -> ValidityDomain:
         if certified_sign(abs(t) - sp.pi) > 0:
             raise ImpactInputError("tau", f"must lie in [-pi, pi], got {t}")
         if certified_sign(t) != 0:
-            return _pool_tau(_parse_theta(theta), t)
-    return _validity_domain(scene, _parse_theta(theta) if scene == "pool" else theta)
+            return _fresh(_pool_tau(_parse_theta(theta), t))
+    return _fresh(_validity_domain(scene, _parse_theta(theta) if scene == "pool" else theta))
+
+
+def _fresh(d: ValidityDomain) -> ValidityDomain:
+    """The caller's own copy of a memoized domain: new lists, dicts and boundaries (the SymPy values
+    in them are immutable), so a caller that edits its domain cannot change the memo."""
+    return replace(d, boundaries=[replace(b) for b in d.boundaries], inequalities=list(d.inequalities),
+                   region=dict(d.region), sweep=copy.deepcopy(d.sweep))
 
 
 @lru_cache(maxsize=None)

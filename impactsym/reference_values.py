@@ -183,7 +183,109 @@ class _DagEvaluator:
         k = self.index[e] = len(self.nodes) - 1
         return k
 
+    #: the straight-line text is used up to this many lines (beyond: the node-by-node evaluator)
+    MAX_LINES = 20_000
+
+    def straight_line(self):
+        """The DAG as one Python function of the inputs: the same operations in the same order as
+        :meth:`evaluate_nodes` (a depth-first walk from the roots, each node once), without a Python
+        call per node (issue 15: the accuracy tests evaluate some 50,000 references). ``None`` for a
+        DAG with a Piecewise, ``And`` or ``Or`` (lazy: computed node by node, where a node first met
+        in a branch is not recomputed) or too long to compile.
+
+        >>> x, y = sp.symbols("x y")
+        >>> dag = _DagEvaluator([x, y], [1 / x + sp.sqrt(y**2 + sp.Rational(1, 3)) * sp.pi, x * y])
+        >>> xs = (mpmath.mpf(-1), mpmath.mpf(2))
+        >>> with mpmath.workdps(30):
+        ...     dag.straight_line()(*xs) == dag.evaluate_nodes(*xs)
+        True
+        >>> _DagEvaluator([x], [sp.Piecewise((x, x > 0), (-x, True))]).straight_line() is None
+        True
+        """
+        nodes, argpos = self.nodes, self.argpos
+        consts: list = []
+        lines: list = []
+
+        def const(obj) -> str:
+            consts.append(obj)
+            return f"K[{len(consts) - 1}]"
+
+        def gen(k, done, ind):
+            if k in done:
+                return done[k]
+            if len(lines) > self.MAX_LINES:
+                raise _Unsupported("too long")
+            kind, p, ch = nodes[k]
+            v = f"v{k}"
+            pad = "    " * ind
+
+            def emit(text):
+                lines.append(pad + text)
+
+            if kind == "sym":
+                emit(f"{v} = xs[{argpos[p]}]")
+            elif kind == "const":
+                emit(f"{v} = {const(mpmath.nan if p == 'nan' else p)}")
+            elif kind == "pi":
+                emit(f"{v} = +mpmath.pi")
+            elif kind == "rat":
+                emit(f"{v} = mpmath.mpf({const(p[0])}) / mpmath.mpf({const(p[1])})")
+            elif kind == "add":
+                emit(f"{v} = {gen(ch[0], done, ind)}")
+                for c in ch[1:]:
+                    emit(f"{v} = {v} + {gen(c, done, ind)}")
+            elif kind == "mul":
+                emit(f"{v} = {gen(ch[0], done, ind)}" if p else f"{v} = 1")
+                for c in ch[1:p]:
+                    emit(f"{v} = {v} * {gen(c, done, ind)}")
+                for c in ch[p:]:
+                    emit(f"{v} = {v} / {gen(c, done, ind)}")
+            elif kind == "sqrt":
+                emit(f"{v} = mpmath.sqrt({gen(ch[0], done, ind)})")
+            elif kind == "rsqrt":
+                emit(f"{v} = 1 / mpmath.sqrt({gen(ch[0], done, ind)})")
+            elif kind == "inv":
+                emit(f"{v} = 1 / {gen(ch[0], done, ind)}")
+            elif kind == "ipow":
+                emit(f"{v} = {gen(ch[0], done, ind)} ** {const(p)}")
+            elif kind == "pow":
+                a = gen(ch[0], done, ind)
+                emit(f"{v} = {a} ** {gen(ch[1], done, ind)}")
+            elif kind == "mod":
+                a = gen(ch[0], done, ind)
+                emit(f"{v} = {a} % {gen(ch[1], done, ind)}")
+            elif kind in ("fun", "rel"):
+                args = [gen(c, done, ind) for c in ch]
+                emit(f"{v} = {const(p)}({', '.join(args)})")
+            elif kind == "not":
+                emit(f"{v} = not {gen(ch[0], done, ind)}")
+            else:  # piecewise, and, or: lazy (see the class docstring), evaluated node by node
+                raise _Unsupported(kind)
+            done[k] = v
+            return v
+
+        try:
+            done: dict = {}
+            outs = [gen(r, done, 1) for r in self.roots]  # (ind: the function body's indentation)
+            if len(lines) > self.MAX_LINES:
+                raise _Unsupported("too long")
+            text = "def _straight(*xs):\n" + "\n".join(lines) + f"\n    return [{', '.join(outs)}]\n"
+            ns = {"mpmath": mpmath, "K": consts}
+            exec(compile(text, "<reference straight line>", "exec"), ns)
+        except (_Unsupported, RecursionError, SyntaxError, MemoryError):
+            return None
+        return ns["_straight"]
+
     def __call__(self, *xs):
+        fast = self.__dict__.get("_fast", _UNSET)
+        if fast is _UNSET:
+            fast = self._fast = self.straight_line()
+        if fast is not None:
+            return fast(*xs)
+        return self.evaluate_nodes(*xs)
+
+    def evaluate_nodes(self, *xs):
+        """The outputs at ``xs``, node by node (memo per call)."""
         memo: list = [_UNSET] * len(self.nodes)
         nodes, argpos = self.nodes, self.argpos
 

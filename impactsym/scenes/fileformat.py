@@ -105,8 +105,10 @@ impactsym.errors.ImpactInputError: bodies[0].mass: must be positive (ball 1), go
 
 from __future__ import annotations
 
+import copy
 import math
 import os
+from functools import lru_cache
 from pathlib import Path
 
 import numpy as np
@@ -144,6 +146,24 @@ def load_scene_file(path, *, name: str | None = None) -> Scene:
     >>> sc.v.T, sc.meta["scene_json"]["scene"]
     (Matrix([[1, 1, 0, 0, 0]]), 'newton-cradle-5-strikers-2')
     """
+    p = Path(path)
+    try:
+        st = p.stat()
+    except OSError:  # read_scene_file names the problem (argument ``scene``)
+        return _load_scene_file(str(p), name)
+    # a scene file is read once per (path as given, working directory, name, device, inode,
+    # modification time, size); every caller gets its own copy (a Scene's matrices, lists and meta
+    # are mutable) (issue 15)
+    key = (os.getcwd(), st.st_dev, st.st_ino, st.st_mtime_ns, st.st_size)
+    return copy.deepcopy(_load_scene_file_cached(str(p), name, key))
+
+
+@lru_cache(maxsize=256)
+def _load_scene_file_cached(path: str, name, key: tuple) -> Scene:
+    return _load_scene_file(path, name)
+
+
+def _load_scene_file(path: str, name) -> Scene:
     from .registry import SCENE_FILES_DIR
 
     p = Path(path)

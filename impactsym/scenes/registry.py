@@ -31,8 +31,9 @@ impactsym.errors.ImpactInputError: n_balls: --n-balls does not apply to --scene 
 
 from __future__ import annotations
 
+import copy
 import re
-
+from functools import lru_cache
 from pathlib import Path
 from typing import TYPE_CHECKING
 
@@ -205,6 +206,22 @@ def build_scene(name: str, params: dict | None = None) -> Scene:
         from .fileformat import load_scene_file
 
         return load_scene_file(SHIPPED_SCENES[name], name=name)
+    try:
+        frozen = tuple(sorted(given.items()))
+        hash(frozen)
+    except TypeError:  # an unhashable parameter value: built afresh
+        return _build_builtin(name, given)
+    # a built-in scene is a pure function of its parameters: built once, and every caller gets its
+    # own copy (a Scene's matrices, lists and meta are mutable) (issue 15)
+    return copy.deepcopy(_build_builtin_cached(name, frozen))
+
+
+@lru_cache(maxsize=256)
+def _build_builtin_cached(name: str, frozen: tuple) -> Scene:
+    return _build_builtin(name, dict(frozen))
+
+
+def _build_builtin(name: str, given: dict) -> Scene:
     if name in ("chain3", "pool", "bernoulli"):
         sc, desc = _acary_taha(name, given)
     else:
