@@ -158,7 +158,7 @@ class Derivation:
     lam: sp.Expr
     qplus: object
     G: object
-    roots: list
+    roots: list  # as sp.solve(..., simplify=False) finds them (simplify to print)
     discarded_roots: list = field(default_factory=list)
     matches_printed_G: bool | None = None
     matches_printed_lambda: bool | None = None
@@ -193,9 +193,10 @@ def derive_single_impact(n: int) -> Derivation:
     energy = (qp_of_lam.T * M * qp_of_lam)[0, 0] - (qm.T * M * qm)[0, 0]  # eq. 1b
     # its numerator over the denominators' product (det M powers, free of lambda), factored by flint
     energy_num = factored_numerator(energy, free_of=[lam])
-    # solve's own simplify=True costs as much again as simplifying each root, to the same form
-    # (tests/test_reflection_roots.py compares them, srepr for srepr, for n = 2 and 3)
-    roots = [sp.simplify(r) for r in sp.solve(energy_num, lam, check=False, simplify=False)]
+    # the roots as solve finds them, unsimplified (simplifying costs more than the solve; only the
+    # n = 2 roots are printed, and the claims that print them simplify them: solve's default form,
+    # tests/test_reflection_roots.py); the kept root is factored below, the zero root decided exactly
+    roots = sp.solve(energy_num, lam, check=False, simplify=False)
     if not all(is_zero_rational_function(energy_num.xreplace({lam: r})) for r in roots):
         raise DerivationError("a root of the energy equation does not satisfy it")
     discarded = [(r, TRIVIAL_ROOT_REASON) for r in roots if is_zero(r)]

@@ -244,7 +244,7 @@ def quadratic():
     pub = lam * (lam * (u * M.inv() * u.T)[0, 0] - ((u * qm)[0, 0] + (qm.T * u.T)[0, 0]))
     r = identical(derived, pub)
     d = _single(2)
-    roots = d.roots
+    roots = [simplify(r) for r in d.roots]  # derive_single_impact keeps them as solve found them
     # the derived multiplier must be the non-trivial root of the published bracket
     root = identical(pub.subs(lam, d.lam) / d.lam, 0)
     if not root.equal:
@@ -268,7 +268,7 @@ def trivial_root():
     ok = disc == [0] and len(d.roots) == 2 and all(solve) and stays
     return Finding("exact-match" if ok else "refuted",
                    published="The solution λ_A = 0 is trivial and gives q̇_{A+} = q̇_{A−} ... we will discard this solution.",
-                   derived={"roots": d.roots, "discarded": disc},
+                   derived={"roots": [simplify(r) for r in d.roots], "discarded": disc},
                    note="SymPy finds exactly two roots; λ = 0 keeps q̇⁻, which crosses the surface when u q̇⁻ < 0 "
                         "('always false' holds for an approaching velocity; for grazing, u q̇⁻ = 0, the roots coincide).")
 
