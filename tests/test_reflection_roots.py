@@ -33,3 +33,22 @@ def test_the_claims_print_the_simplified_roots():
     framework.load_all()
     trivial = framework.evaluate("sm-II-A-trivial-root")
     assert trivial.status == "ok" and [str(r) for r in trivial.derived["roots"]] == want
+
+
+@pytest.mark.parametrize("derive", [R.derive_single_impact, R.derive_restitution])
+@pytest.mark.parametrize("n", [2, 3])
+def test_G_is_the_cancelled_jacobian(derive, n):
+    """G is taken column by column from the linear q̇⁺ (verified G q̇⁻ = q̇⁺); it must be the
+    cancelled Jacobian it replaces, srepr for srepr."""
+    from derivations.rational_zero import cancel
+
+    d = derive(n)
+    assert sp.srepr(d.G) == sp.srepr(d.qplus.jacobian(d.qminus).applyfunc(cancel))
+
+
+def test_a_nonlinear_qplus_is_refused():
+    from impactsym.errors import DerivationError
+
+    a, b = sp.symbols("a b")
+    with pytest.raises(DerivationError, match="not linear"):
+        R._jacobian_of_linear(sp.Matrix([a * b, b]), sp.Matrix([a, b]))
