@@ -55,7 +55,7 @@ class QuadraticLaw:
     vplus: sp.Matrix  # v + M^-1 H^T p
 
 
-def general_quadratic(M, H, v, e, alphas) -> QuadraticLaw:
+def general_quadratic(M, H, v, e, alphas, *, simplified: bool = True) -> QuadraticLaw:
     """Derive the quadratic in ``p₁`` for given (numeric or symbolic) ``M``, ``H``, ``v⁻``, ``e``, ratios.
 
     Parameters
@@ -63,6 +63,9 @@ def general_quadratic(M, H, v, e, alphas) -> QuadraticLaw:
     M : sympy.Matrix (n×n), H : sympy.Matrix (k×n), v : sympy.Matrix (n×1)
     e : energetic coefficient (symbol or number)
     alphas : sequence of k−1 ratios ``α₁ⱼ = p_j / p_1``
+    simplified : ``A``, ``B``, ``C`` simplified (default); ``False`` leaves them as the expanded
+        balance's coefficients (the same values, checked the same way), for a caller that only
+        decides identities of the state (an exact zero test or a certified point needs no form)
     """
     M, H, v = sp.Matrix(M), sp.Matrix(H), sp.Matrix(v)
     if len(alphas) != H.rows - 1:
@@ -75,7 +78,7 @@ def general_quadratic(M, H, v, e, alphas) -> QuadraticLaw:
     T_minus = (v.T * M * v)[0, 0] / 2
     balance = sp.expand((vplus_of_p1.T * M * vplus_of_p1)[0, 0] / 2 - e * T_minus)
     poly = sp.Poly(balance, p1)
-    A, B, C = (simplify(poly.coeff_monomial(p1**k)) for k in (2, 1, 0))
+    A, B, C = ((simplify if simplified else sp.sympify)(poly.coeff_monomial(p1**k)) for k in (2, 1, 0))
     # identification with the closed forms stated in the docstring (checked, not assumed)
     if not (is_zero(A - (r.T * w)[0, 0] / 2)):
         raise DerivationError('derivation check failed: sp.simplify(A - (r.T * w)[0, 0] / 2) == 0')

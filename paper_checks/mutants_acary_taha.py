@@ -69,8 +69,8 @@ def _impulse_ratio_law(original):
 @mutation("at.general_quadratic", "derivations.impulse_ratio:general_quadratic",
           "the symbolic law derived from eq. 12 as printed (T⁺ = 2eT⁻)")
 def _general_quadratic(original):
-    def wrong(M, H, v, e, alphas):
-        return original(M, H, v, 2 * sp.sympify(e), alphas)
+    def wrong(M, H, v, e, alphas, **kw):
+        return original(M, H, v, 2 * sp.sympify(e), alphas, **kw)
 
     return _wrapped(original, wrong)
 

@@ -160,7 +160,7 @@ def eq1a():
         _misprint(lit, jmp, "eq. 1a"),
         published=r"\frac{\partial L}{\partial \dot q}\Big|_{t_A^+} + \lambda_A D\phi_A(q_A) = 0",
         published_expr=sp.Eq(sp.Symbol("p(t_A^+)") + L_sym * sp.Symbol("Dphi_A"), 0),
-        derived=simplify(jump),
+        derived=sp.zeros(2, 1) if jmp.equal else simplify(jump),  # proved zero: its simplified form
         corrected=r"\left[\frac{\partial L}{\partial \dot q}\right]_{t_A^-}^{t_A^+} + \lambda_A D\phi_A(q_A) = 0",
         note="The printed evaluation at t_A^+ alone is not the impact equation: the derived solution "
              "(symbolic 2×2 M, u, q̇⁻; derivations.reflection) satisfies the jump form identically "
@@ -180,7 +180,7 @@ def eq1b():
     return Finding(
         _misprint(lit, jmp, "eq. 1b"),
         published=r"\left[\frac{\partial L}{\partial \dot q}\cdot\dot q - L\right]_{t_A^+} = 0",
-        derived=simplify(E(qp) - E(qm)),
+        derived=sp.Integer(0) if jmp.equal else simplify(E(qp) - E(qm)),  # proved zero: its simplified form
         corrected=r"\left[\frac{\partial L}{\partial \dot q}\cdot\dot q - L\right]_{t_A^-}^{t_A^+} = 0",
         note="Literally, the energy T⁺ + V would vanish at t_A^+; the derived post-impact state has "
              f"T⁺ = T⁻ (jump zero: {jmp.method}; literal: {lit.method}). The jump is meant, as in eq. 2b.",
@@ -244,7 +244,7 @@ def quadratic():
     pub = lam * (lam * (u * M.inv() * u.T)[0, 0] - ((u * qm)[0, 0] + (qm.T * u.T)[0, 0]))
     r = identical(derived, pub)
     d = _single(2)
-    roots = d.roots
+    roots = [simplify(r) for r in d.roots]  # derive_single_impact keeps them as solve found them
     # the derived multiplier must be the non-trivial root of the published bracket
     root = identical(pub.subs(lam, d.lam) / d.lam, 0)
     if not root.equal:
@@ -268,7 +268,7 @@ def trivial_root():
     ok = disc == [0] and len(d.roots) == 2 and all(solve) and stays
     return Finding("exact-match" if ok else "refuted",
                    published="The solution λ_A = 0 is trivial and gives q̇_{A+} = q̇_{A−} ... we will discard this solution.",
-                   derived={"roots": d.roots, "discarded": disc},
+                   derived={"roots": [simplify(r) for r in d.roots], "discarded": disc},
                    note="SymPy finds exactly two roots; λ = 0 keeps q̇⁻, which crosses the surface when u q̇⁻ < 0 "
                         "('always false' holds for an approaching velocity; for grazing, u q̇⁻ = 0, the roots coincide).")
 

@@ -39,6 +39,7 @@ Acary & Taha, eqs. 39–45 and sec. 4.1.1 (θ ≥ π/2 forces ``α₁₂ = 0``).
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from functools import lru_cache
 
 import numpy as np
 import sympy as sp
@@ -159,6 +160,23 @@ def coupling_decision(M, H, v) -> CouplingDecision:
     ([True, True], [True, False], [True, True], -1/2)
     """
     exact, Mx, Hx, vx = _checked(M, H, v)
+    if exact:
+        # a pure function of the exact scene: remembered per scene (the coupled and the uncoupled
+        # request, and every ratio, on one scene share it); a fresh copy of the containers each time
+        d = _exact_decision(sp.ImmutableMatrix(Mx), sp.ImmutableMatrix(Hx), sp.ImmutableMatrix(vx))
+        return CouplingDecision(list(d.participating), list(d.approaching), dict(d.coupled), dict(d.cosines),
+                                list(d.reachable))
+    return _decide(Mx, Hx, vx)
+
+
+@lru_cache(maxsize=256)
+def _exact_decision(Mx, Hx, vx) -> CouplingDecision:
+    """:func:`coupling_decision` of an exact, checked scene (immutable, hashable matrices),
+    remembered; ``paper_checks.mutations.clear_caches`` forgets it with every other memo."""
+    return _decide(Mx, Hx, vx)
+
+
+def _decide(Mx, Hx, vx) -> CouplingDecision:
     w, W = _exact_w_and_W(Mx, Hx, vx)
     k = Hx.shape[0]
     sw = [sign_of(w[i, 0]) for i in range(k)]

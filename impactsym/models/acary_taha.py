@@ -154,7 +154,23 @@ def _pool_gradients(theta, third_contact: bool, constraint: str, a) -> sp.Immuta
         hs.append(sp.sqrt(d2) - 2 * a if constraint == "distance" else d2 - 4 * a**2)
     P = pool_positions(theta, a)
     at = dict(zip(q, [*P[0], *P[1], *P[2]]))
-    return sp.ImmutableMatrix([[sp.simplify(sp.diff(h, qj).subs(at)) for qj in q] for h in hs])
+    rows = []
+    for h in hs:
+        # a contact's gradient wrt ball j is minus its gradient wrt ball i (h depends on the
+        # difference of the two positions only): each such pair is simplified once
+        raw = [sp.diff(h, qj).subs(at) for qj in q]
+        done: dict = {}
+        row = []
+        for x in raw:
+            if x in done:
+                row.append(done[x])
+            elif -x in done:
+                row.append(-done[-x])
+            else:
+                done[x] = sp.simplify(x)
+                row.append(done[x])
+        rows.append(row)
+    return sp.ImmutableMatrix(rows)
 
 
 def bernoulli(tau=-sp.pi / 6, **kw):
