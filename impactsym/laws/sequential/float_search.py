@@ -12,7 +12,7 @@ from ...arithmetic import certified_sign
 from .. import _reflection as _r
 from ..reflection import FLOAT_ERROR_FACTOR
 from .common import FLOAT_SAFETY, _EPS, _Algebraic, _Rational
-from .search import _aggregate, _explore
+from .search import _aggregate, _explore, _touching
 
 
 # ---------------------------------------------------------------------------------------------
@@ -63,6 +63,32 @@ class _FloatSystem:
         return p
 
 
+def _affected(fs, system):
+    """Per contact ``i``, the contacts ``j`` (increasing) whose sign decision a reflection on ``i``
+    can change: ``(H M⁻¹ Hᵀ)_ij ≠ 0`` (the exact ``w_j`` changes, the exact search's
+    :attr:`~impactsym.laws.sequential.search._ExactSystem.gcols`), or ``H_j`` shares a coordinate
+    with the float ``W_i`` (the float ``w_j`` and its bound are computed from changed entries).
+    Any other ``w_j`` is unchanged in floats and exactly, and so is its decision.
+
+    >>> import numpy as np
+    >>> from flint import fmpq
+    >>> from .search import _ExactSystem
+    >>> M, H, v = [[fmpq(1), 0, 0], [0, fmpq(1), 0], [0, 0, fmpq(1)]], [[-1, 1, 0], [0, -1, 1]], [1, 0, 0]
+    >>> system = _ExactSystem.from_rationals([[fmpq(x) for x in r] for r in M],
+    ...                                      [[fmpq(x) for x in r] for r in H], [fmpq(x) for x in v])
+    >>> _affected(_FloatSystem(np.eye(3), np.array(H, dtype=float), np.array(v, dtype=float), 10), system)
+    [(0, 1), (0, 1)]
+    """
+    touching = _touching(fs.rows)
+    out = []
+    for i in range(fs.k):
+        js = {j for j, _ in system.gcols[i]}
+        for c, _ in fs.wcols[i]:
+            js.update(touching.get(c, ()))
+        out.append(tuple(sorted(js)))
+    return out
+
+
 #: restitution < 1, float mode: the most sign decisions re-made exactly before the float search
 #: gives way to the exact search (an inelastic collapse drives the velocities towards a limit
 #: closer than the float error bound, where every decision falls back and the float memo stops
@@ -110,11 +136,20 @@ def _float_search(M, H, v0, system, cap, restitution=None, collapse=False, cap_e
     def sign_of(v, i, node):
         wi, bound = fs.w_and_bound(v, i)
         if abs(wi) > bound:
-            return (1 if wi > 0 else -1), wi
+            return (1 if wi > 0 else -1), wi, False
         spend()
         holder["g"].fallback[node] = True
         s = F.sign(system.w(exact_state(node), i))
-        return s, wi
+        return s, wi, True
+
+    def inherit_exact(count):
+        # a state's decisions kept from its parent that were made exactly count as its own
+        # fallbacks (and against the budget), as when every contact was decided at every state
+        stats["fallbacks"] += count
+        if budget is not None and stats["fallbacks"] > budget:
+            raise _FallbackBudget()
+
+    holder["inherit_exact"] = inherit_exact
 
     def same_exact(node, i, cand):
         spend()
@@ -137,7 +172,7 @@ def _float_search(M, H, v0, system, cap, restitution=None, collapse=False, cap_e
         detector = _CollapseDetector(system, exact_state, lambda v: tuple(float(F.to_sympy(x)) for x in v),
                                      lambda v: v)
     g, tests = _explore(sign_of, _R(), tuple(float(x) for x in fs.v0), cap, holder, collapse=detector,
-                        cap_error=cap_error)
+                        cap_error=cap_error, affected=_affected(fs, system))
     root_table = _aggregate(g, lambda v: v)
     keys = [key for key in root_table if not (isinstance(key[0], str) and key[0] == "collapse")]
     # merge nearby float outcomes by exact comparison of their replays
