@@ -12,7 +12,7 @@ from ...arithmetic import certified_sign
 from .. import _reflection as _r
 from ..reflection import FLOAT_ERROR_FACTOR
 from .common import FLOAT_SAFETY, _EPS, _Algebraic, _Rational
-from .search import _aggregate, _explore
+from .search import _aggregate, _explore, _touching
 
 
 # ---------------------------------------------------------------------------------------------
@@ -24,19 +24,25 @@ class _FloatSystem:
         self.H = np.asarray(H, dtype=float)
         self.v0 = np.asarray(v0, dtype=float)
         self.n, self.k = self.M.shape[0], self.H.shape[0]
-        W = np.linalg.solve(self.M, self.H.T)
-        self.W = W.T.copy()
+        d = _plain_diagonal(self.M)
+        if d is not None and bool(np.all(np.frexp(d)[0] == 0.5)):
+            # every mass a power of two: W_i = H_i / d exactly, the dense LU solve's bits
+            self.W = self.H / d
+        else:
+            W = np.linalg.solve(self.M, self.H.T)
+            self.W = W.T.copy()
         self.s = np.einsum("ij,ij->i", self.H, self.W)
         # restitution < 1: G_u(e) is non-expansive in the kinetic norm (‖G_u(e)‖_M = max(1, e) = 1),
         # so the bound below (stated for the isometries G_u) still holds
         self.coef = _r.gain(self.s, 1.0 if restitution is None else np.asarray(restitution, dtype=float))
-        kappa = float(np.linalg.cond(self.M))
+        # a diagonal M: its singular values are the masses, exactly (the SVD's value, without it)
+        kappa = float(d.max() / d.min()) if d is not None else float(np.linalg.cond(self.M))
         gamma = FLOAT_ERROR_FACTOR * self.n * kappa * _EPS
         vnorm = math.sqrt(max(float(self.v0 @ self.M @ self.v0), 0.0))
         #: bound on ‖v_float − v_exact‖_M after any ordering of at most `cap` reflections
         self.energy_error = cap * gamma * vnorm
-        self.rows = [[(j, float(h)) for j, h in enumerate(r) if h != 0.0] for r in self.H]
-        self.wcols = [[(j, float(w)) for j, w in enumerate(c) if w != 0.0] for c in self.W]
+        self.rows = [_nonzeros(r) for r in self.H]
+        self.wcols = [_nonzeros(c) for c in self.W]
         self.sqrt_s = np.sqrt(self.s)
         self.k_ = self.k
 
@@ -61,6 +67,57 @@ class _FloatSystem:
             v, pi = self.reflect(v, i, wi)
             p[i] += pi
         return p
+
+
+def _affected(fs, system):
+    """Per contact ``i``, the contacts ``j`` (increasing) whose sign decision a reflection on ``i``
+    can change: ``(H M⁻¹ Hᵀ)_ij ≠ 0`` (the exact ``w_j`` changes, the exact search's
+    :attr:`~impactsym.laws.sequential.search._ExactSystem.gcols`), or ``H_j`` shares a coordinate
+    with the float ``W_i`` (the float ``w_j`` and its bound are computed from changed entries).
+    Any other ``w_j`` is unchanged in floats and exactly, and so is its decision.
+
+    >>> import numpy as np
+    >>> from flint import fmpq
+    >>> from .search import _ExactSystem
+    >>> M, H, v = [[fmpq(1), 0, 0], [0, fmpq(1), 0], [0, 0, fmpq(1)]], [[-1, 1, 0], [0, -1, 1]], [1, 0, 0]
+    >>> system = _ExactSystem.from_rationals([[fmpq(x) for x in r] for r in M],
+    ...                                      [[fmpq(x) for x in r] for r in H], [fmpq(x) for x in v])
+    >>> _affected(_FloatSystem(np.eye(3), np.array(H, dtype=float), np.array(v, dtype=float), 10), system)
+    [(0, 1), (0, 1)]
+    """
+    touching = _touching(fs.rows)
+    out = []
+    for i in range(fs.k):
+        js = {j for j, _ in system.gcols[i]}
+        for c, _ in fs.wcols[i]:
+            js.update(touching.get(c, ()))
+        out.append(tuple(sorted(js)))
+    return out
+
+
+def _plain_diagonal(M):
+    """The diagonal of a diagonal ``M`` whose largest entry lies in ``[1e-130, 1e130]``, else
+    ``None``. In that range LAPACK's SVD does not rescale the matrix and no Householder step acts
+    on a diagonal one, so ``np.linalg.cond(M)`` is exactly ``d.max() / d.min()``.
+
+    >>> _plain_diagonal(np.diag([1.0, 4.0])), _plain_diagonal(np.array([[1.0, 0.5], [0.5, 1.0]]))
+    (array([1., 4.]), None)
+    """
+    d = np.diag(M).copy()
+    if np.count_nonzero(M) != np.count_nonzero(d) or not (1e-130 <= d.max() <= 1e130) or d.min() <= 0:
+        return None
+    return d
+
+
+def _nonzeros(row):
+    """``[(j, x_j), ...]`` over the non-zero entries of a float row (``j`` increasing, Python
+    ints and floats).
+
+    >>> _nonzeros(np.array([0.0, -2.5, 0.0, 1.0]))
+    [(1, -2.5), (3, 1.0)]
+    """
+    idx = np.flatnonzero(row)
+    return list(zip(idx.tolist(), row[idx].tolist()))
 
 
 #: restitution < 1, float mode: the most sign decisions re-made exactly before the float search
@@ -110,11 +167,20 @@ def _float_search(M, H, v0, system, cap, restitution=None, collapse=False, cap_e
     def sign_of(v, i, node):
         wi, bound = fs.w_and_bound(v, i)
         if abs(wi) > bound:
-            return (1 if wi > 0 else -1), wi
+            return (1 if wi > 0 else -1), wi, False
         spend()
         holder["g"].fallback[node] = True
         s = F.sign(system.w(exact_state(node), i))
-        return s, wi
+        return s, wi, True
+
+    def inherit_exact(count):
+        # a state's decisions kept from its parent that were made exactly count as its own
+        # fallbacks (and against the budget), as when every contact was decided at every state
+        stats["fallbacks"] += count
+        if budget is not None and stats["fallbacks"] > budget:
+            raise _FallbackBudget()
+
+    holder["inherit_exact"] = inherit_exact
 
     def same_exact(node, i, cand):
         spend()
@@ -137,7 +203,7 @@ def _float_search(M, H, v0, system, cap, restitution=None, collapse=False, cap_e
         detector = _CollapseDetector(system, exact_state, lambda v: tuple(float(F.to_sympy(x)) for x in v),
                                      lambda v: v)
     g, tests = _explore(sign_of, _R(), tuple(float(x) for x in fs.v0), cap, holder, collapse=detector,
-                        cap_error=cap_error)
+                        cap_error=cap_error, affected=_affected(fs, system))
     root_table = _aggregate(g, lambda v: v)
     keys = [key for key in root_table if not (isinstance(key[0], str) and key[0] == "collapse")]
     # merge nearby float outcomes by exact comparison of their replays

@@ -120,11 +120,12 @@ class SequentialResolution:
     states_visited : int
         Distinct states (velocity, legal surfaces) of the DAG.
     sign_tests : int
-        Sign decisions ``H_i v`` made.
+        Sign decisions ``H_i v`` made. Float mode: ``k`` per state, the decisions a state keeps
+        from its parent (``w_i`` unchanged by the reflection, in floats and exactly) included.
     exact_fallbacks : int
-        Float mode: decisions re-made exactly because the float bound straddled zero, plus the
-        exact comparisons that let such a state be shared in the DAG and that merge nearby float
-        outcomes. 0 in exact mode.
+        Float mode: decisions re-made exactly because the float bound straddled zero (per state,
+        those kept from the parent included), plus the exact comparisons that let such a state be
+        shared in the DAG and that merge nearby float outcomes. 0 in exact mode.
     exact : bool
         Whether the outcome velocities are exact.
     backend : str

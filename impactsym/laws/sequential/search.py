@@ -114,10 +114,7 @@ class _ExactSystem:
             self.coef = [F.norm(_r.gain(s, e)) for s, e in zip(self.s, self.e)]
         # column i of the Gram matrix H M^-1 H^T, sparse: how w = H v changes when surface i acts;
         # only the contacts that share a coordinate with W_i can have a non-zero entry
-        touching: dict = {}
-        for j, r in enumerate(self.rows):
-            for c, _ in r:
-                touching.setdefault(c, []).append(j)
+        touching = _touching(self.rows)
         self.gcols = []
         for i in range(k):
             acc: dict = {}
@@ -178,6 +175,16 @@ class _ExactSystem:
             v, pi = self.reflect(v, i)
             p[i] = self.F.norm(p[i] + pi)
         return v, p
+
+
+def _touching(rows):
+    """``{coordinate c: [contacts j whose row H_j has a non-zero entry c]}`` of sparse rows: the
+    contacts whose ``w_j = H_j v`` a change of ``v_c`` can change."""
+    touching: dict = {}
+    for j, r in enumerate(rows):
+        for c, _ in r:
+            touching.setdefault(c, []).append(j)
+    return touching
 
 
 def _dense(pairs, n, zero):
@@ -404,7 +411,8 @@ def _path_to(g, node):
     return tuple(reversed(path))
 
 
-def _explore(sign_of, reflect, v0, cap, holder, key_of=lambda v: v, collapse=None, cap_error=None):
+def _explore(sign_of, reflect, v0, cap, holder, key_of=lambda v: v, collapse=None, cap_error=None,
+             affected=None):
     """Depth-first construction of the DAG of states, memoized on the velocity.
 
     ``sign_of(v, i, node) -> (sign, w_i)``; the graph is published in ``holder["g"]`` so that
@@ -413,10 +421,24 @@ def _explore(sign_of, reflect, v0, cap, holder, key_of=lambda v: v, collapse=Non
     ``collapse(node, i)`` (restitution < 1): ``None``, or ``(leaf state, cycle, exact key)`` when
     the edge ``i`` out of ``node`` starts an infinite alternation (inelastic collapse) whose limit
     is certified: the edge then ends at a collapse leaf (``g.collapse``), never shared in the
-    memo. ``cap_error(path)`` builds the exception raised when a path exceeds ``cap``."""
+    memo. ``cap_error(path)`` builds the exception raised when a path exceeds ``cap``.
+
+    ``affected`` (optional, the float search): per contact ``i``, the contacts whose decision a
+    reflection on ``i`` can change (those whose ``w_j`` changes: :attr:`_ExactSystem.gcols` and
+    the float support, see :func:`~impactsym.laws.sequential.float_search._float_search`). A new
+    state then re-decides only those and keeps its parent's other decisions, each equal to what
+    deciding it again would give (the same ``w_j``, float and exact). ``sign_of`` returns
+    ``(sign, w_i, exact)`` in this mode, ``exact`` saying the decision was re-made exactly; a state
+    with an exactly made decision, inherited or not, is marked in ``g.fallback``, and
+    ``holder["inherit_exact"](count)`` (when given) is told how many such decisions each new
+    state inherited. The count of sign decisions is ``k`` per state in both modes."""
     g = _Graph()
     holder["g"] = g
     counters = {"tests": 0}
+    k = reflect.k
+    #: incremental mode: per open state, which of its decisions were made exactly (1) or in floats
+    exact_of: dict = {}
+    inherit_exact = holder.get("inherit_exact")
 
     def new_node(v, parent):
         idx = len(g.vel)
@@ -424,15 +446,46 @@ def _explore(sign_of, reflect, v0, cap, holder, key_of=lambda v: v, collapse=Non
         g.parent.append(parent)
         g.fallback.append(False)
         g.children.append([])
-        legal = []
-        ws = {}
-        for i in range(reflect.k):
-            counters["tests"] += 1
-            s, wi = sign_of(v, i, idx)
+        if affected is None:
+            legal = []
+            ws = {}
+            for i in range(k):
+                counters["tests"] += 1
+                s, wi = sign_of(v, i, idx)
+                if s < 0:
+                    legal.append(i)
+                    ws[i] = wi
+            g.legal.append((tuple(legal), ws))
+            return idx
+        counters["tests"] += k
+        if parent is None:
+            redo = range(k)
+            legal_set: set = set()
+            ws = {}
+            ex = bytearray(k)
+        else:
+            pnode, pi = parent
+            redo = affected[pi]
+            plegal, pws = g.legal[pnode]
+            legal_set = set(plegal)
+            ws = dict(pws)
+            ex = bytearray(exact_of[pnode])
+            kept = ex.count(1) - sum(ex[j] for j in redo)
+            if kept:
+                g.fallback[idx] = True
+                if inherit_exact is not None:
+                    inherit_exact(kept)
+        for i in redo:
+            s, wi, exact = sign_of(v, i, idx)
+            ex[i] = 1 if exact else 0
             if s < 0:
-                legal.append(i)
+                legal_set.add(i)
                 ws[i] = wi
-        g.legal.append((tuple(legal), ws))
+            else:
+                legal_set.discard(i)
+                ws.pop(i, None)
+        exact_of[idx] = ex
+        g.legal.append((tuple(sorted(legal_set)), ws))
         return idx
 
     root = new_node(v0, None)
@@ -445,6 +498,7 @@ def _explore(sign_of, reflect, v0, cap, holder, key_of=lambda v: v, collapse=Non
         if i is None:
             stack.pop()
             state[node] = 2
+            exact_of.pop(node, None)  # a closed state makes no more children
             continue
         if collapse is not None:
             term = collapse(node, i)
