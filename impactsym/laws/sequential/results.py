@@ -120,8 +120,9 @@ class SequentialResolution:
     states_visited : int
         Distinct states (velocity, legal surfaces) of the DAG.
     sign_tests : int
-        Sign decisions ``H_i v`` made. Float mode: ``k`` per state, the decisions a state keeps
-        from its parent (``w_i`` unchanged by the reflection, in floats and exactly) included.
+        Sign decisions ``H_i v`` made. Float mode: a state re-decides only the contacts whose
+        ``w_i`` the reflection that made it can change, and keeps its parent's other decisions
+        (not counted here).
     exact_fallbacks : int
         Float mode: decisions re-made exactly because the float bound straddled zero (per state,
         those kept from the parent included), plus the exact comparisons that let such a state be

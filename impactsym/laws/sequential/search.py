@@ -431,7 +431,7 @@ def _explore(sign_of, reflect, v0, cap, holder, key_of=lambda v: v, collapse=Non
     ``(sign, w_i, exact)`` in this mode, ``exact`` saying the decision was re-made exactly; a state
     with an exactly made decision, inherited or not, is marked in ``g.fallback``, and
     ``holder["inherit_exact"](count)`` (when given) is told how many such decisions each new
-    state inherited. The count of sign decisions is ``k`` per state in both modes."""
+    state inherited. The count of sign tests is of the decisions made (re-made ones in this mode)."""
     g = _Graph()
     holder["g"] = g
     counters = {"tests": 0}
@@ -457,7 +457,6 @@ def _explore(sign_of, reflect, v0, cap, holder, key_of=lambda v: v, collapse=Non
                     ws[i] = wi
             g.legal.append((tuple(legal), ws))
             return idx
-        counters["tests"] += k
         if parent is None:
             redo = range(k)
             legal_set: set = set()
@@ -476,6 +475,7 @@ def _explore(sign_of, reflect, v0, cap, holder, key_of=lambda v: v, collapse=Non
                 if inherit_exact is not None:
                     inherit_exact(kept)
         for i in redo:
+            counters["tests"] += 1
             s, wi, exact = sign_of(v, i, idx)
             ex[i] = 1 if exact else 0
             if s < 0:
