@@ -139,7 +139,10 @@ def _float_search(M, H, v0, system, cap, restitution=None, collapse=False, cap_e
     fs = _FloatSystem(M, H, v0, cap, restitution)
     F = system.F
     exact_cache: dict[int, tuple] = {}
-    stats = {"fallbacks": 0}
+    #: fallbacks: the exact decisions and comparisons made; budget: what the inelastic budget is
+    #: charged, which also counts the exact decisions a state keeps from its parent (the search
+    #: switches to exact at the same state as when every contact was decided at every state)
+    stats = {"fallbacks": 0, "budget": 0}
     holder: dict = {}
 
     def exact_state(node):
@@ -161,7 +164,8 @@ def _float_search(M, H, v0, system, cap, restitution=None, collapse=False, cap_e
 
     def spend():
         stats["fallbacks"] += 1
-        if budget is not None and stats["fallbacks"] > budget:
+        stats["budget"] += 1
+        if budget is not None and stats["budget"] > budget:
             raise _FallbackBudget()
 
     def sign_of(v, i, node):
@@ -174,10 +178,10 @@ def _float_search(M, H, v0, system, cap, restitution=None, collapse=False, cap_e
         return s, wi, True
 
     def inherit_exact(count):
-        # a state's decisions kept from its parent that were made exactly count as its own
-        # fallbacks (and against the budget), as when every contact was decided at every state
-        stats["fallbacks"] += count
-        if budget is not None and stats["fallbacks"] > budget:
+        # a state's decisions kept from its parent that were made exactly are charged to the
+        # budget as if made again (not counted as fallbacks: they were not re-made)
+        stats["budget"] += count
+        if budget is not None and stats["budget"] > budget:
             raise _FallbackBudget()
 
     holder["inherit_exact"] = inherit_exact
@@ -217,6 +221,7 @@ def _float_search(M, H, v0, system, cap, restitution=None, collapse=False, cap_e
             if key == r or math.sqrt(max(float(d @ fs.M @ d), 0.0)) <= tol:
                 if key != r:
                     stats["fallbacks"] += 1
+                    stats["budget"] += 1
                     for kk in (key, r):
                         if kk not in exact_of:
                             exact_of[kk] = system.replay(root_table[kk][3])[0]

@@ -124,9 +124,10 @@ class SequentialResolution:
         ``w_i`` the reflection that made it can change, and keeps its parent's other decisions
         (not counted here).
     exact_fallbacks : int
-        Float mode: decisions re-made exactly because the float bound straddled zero (per state,
-        those kept from the parent included), plus the exact comparisons that let such a state be
-        shared in the DAG and that merge nearby float outcomes. 0 in exact mode.
+        Float mode: decisions made exactly because the float bound straddled zero (a decision a
+        state keeps from its parent is not made again and not counted), plus the exact comparisons
+        that let such a state be shared in the DAG and that merge nearby float outcomes. 0 in
+        exact mode.
     exact : bool
         Whether the outcome velocities are exact.
     backend : str
