@@ -92,3 +92,32 @@ def test_certified_ceiling_refines_and_ties():
     assert calls == [64, 128, 256]
     assert certified_ceiling(lambda prec: arb(7), lambda j: j == 7) == (7, "exact_tie", 64)
     assert certified_ceiling(lambda prec: arb(7), lambda j: None, max_bits=256) is None
+
+
+def _quadratic_surds(rng, count):
+    """``r + q·√D`` built as the laws build ``p₁ = (−B + √D)/(2A)``: rationals of 1 to 8 digits."""
+    def rat(digits):
+        return sp.Rational(rng.randint(-10**digits, 10**digits), rng.randint(1, 10**rng.randint(1, 8)))
+    out = [sp.sqrt(2), -sp.sqrt(3) / 7, 1 + sp.sqrt(5), sp.Rational(-3, 4) - sp.sqrt(10**20 + 7) / 9]
+    while len(out) < count:
+        r, q = rat(rng.randint(1, 8)), rat(rng.randint(1, 8))
+        D = sp.Rational(rng.randint(1, 10**rng.randint(1, 12)), rng.randint(1, 10**rng.randint(1, 8)))
+        x = (r if rng.random() < 0.8 else 0) + (q if rng.random() < 0.8 else 1) * sp.sqrt(D)
+        if not x.is_Rational:
+            out.append(x)
+    return out
+
+
+def test_tidy_keeps_a_quadratic_surd_as_the_generic_route_would():
+    """``tidy`` returns ``r + q√n`` as it is without the generic route; the generic route (expand,
+    sqrtdenest, radsimp, simplify, rational guess) gives the same expression, argument for argument."""
+    from impactsym.arithmetic import closed_form
+
+    for x in _quadratic_surds(random.Random(15), 40):
+        assert closed_form._quadratic_surd(x), x
+        assert closed_form._tidy(x) is x
+        assert sp.srepr(closed_form._tidy_generic(x)) == sp.srepr(x), x
+    # what the fast path must not take: sums of two surds, nested roots, symbols, other radicals
+    for x in (sp.sqrt(2) + sp.sqrt(3), sp.sqrt(2 + sp.sqrt(3)), sp.sqrt(sp.Symbol("a")), sp.cbrt(2),
+              1 + sp.sqrt(2) + sp.sqrt(3), sp.sqrt(2) * sp.sqrt(sp.Rational(1, 3) + sp.sqrt(2))):
+        assert not closed_form._quadratic_surd(x), x

@@ -148,10 +148,40 @@ def tidy(x):
         return _tidy(x)
 
 
+def _surd_term(t) -> bool:
+    """``t`` is ``√n`` or ``q·√n`` as SymPy builds it (``q`` rational, ``n`` an integer > 1)."""
+    if t.is_Mul:
+        if len(t.args) != 2 or not t.args[0].is_Rational:
+            return False
+        t = t.args[1]
+    return t.is_Pow and t.exp is sp.S.Half and t.base.is_Integer and t.base > 1
+
+
+def _quadratic_surd(x) -> bool:
+    """``x`` is ``r + q·√n`` (``r``, ``q`` rational, ``n > 1`` an integer) in the form SymPy's
+    constructors give it: the canonical element of ``Q(√n)``, which ``tidy`` leaves as it is."""
+    if x.is_Add:
+        if len(x.args) != 2:
+            return False
+        a, b = x.args
+        return (a.is_Rational and _surd_term(b)) or (b.is_Rational and _surd_term(a))
+    return _surd_term(x)
+
+
 def _tidy(x):
     x = sp.sympify(x)
     if x.is_Rational:
         return x
+    if _quadratic_surd(x):
+        # r + q√n: nothing to denest, no denominator to rationalize, and irrational (SymPy
+        # evaluates the √ of a perfect square); the generic route (expand, sqrtdenest, radsimp,
+        # simplify, a 40-digit rational guess) returns the same expression at ~10 ms a number
+        # (tests/test_arithmetic.py compares the two routes)
+        return x
+    return _tidy_generic(x)
+
+
+def _tidy_generic(x):
     if x.free_symbols:
         return sp.simplify(x)
     y = sp.radsimp(sp.sqrtdenest(sp.expand(x)))
