@@ -110,13 +110,16 @@ def _quadratic_surds(rng, count):
 
 def test_tidy_keeps_a_quadratic_surd_as_the_generic_route_would():
     """``tidy`` returns ``r + q√n`` as it is without the generic route; the generic route (expand,
-    sqrtdenest, radsimp, simplify, rational guess) gives the same expression, argument for argument."""
+    sqrtdenest, radsimp, simplify, rational guess) gives the same expression, argument for argument
+    (and so does ``radsimp``, which :meth:`AlgebraicField.norm` skips for them)."""
     from impactsym.arithmetic import closed_form
 
     for x in _quadratic_surds(random.Random(15), 40):
         assert closed_form._quadratic_surd(x), x
         assert closed_form._tidy(x) is x
         assert sp.srepr(closed_form._tidy_generic(x)) == sp.srepr(x), x
+        # and AlgebraicField.norm, which skips radsimp for them, is radsimp's answer
+        assert sp.srepr(sp.radsimp(x)) == sp.srepr(x) == sp.srepr(AlgebraicField.norm(x)), x
     # what the fast path must not take: sums of two surds, nested roots, symbols, other radicals
     for x in (sp.sqrt(2) + sp.sqrt(3), sp.sqrt(2 + sp.sqrt(3)), sp.sqrt(sp.Symbol("a")), sp.cbrt(2),
               1 + sp.sqrt(2) + sp.sqrt(3), sp.sqrt(2) * sp.sqrt(sp.Rational(1, 3) + sp.sqrt(2))):
