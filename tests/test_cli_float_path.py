@@ -153,21 +153,26 @@ def test_from_rationals_checks_exactly_and_prints_as_sympy():
 
 def test_a_batch_of_float_requests_imports_no_sympy(tmp_path):
     """``impactsym batch`` answers float-path requests without SymPy (the check machinery of
-    :mod:`impactsym.oracle` imports it on first use), and one exact request still takes it."""
+    :mod:`impactsym.oracle` imports it on first use), and one exact request still takes it: both
+    batches probed in one interpreter, in that order (the first set has no SymPy, so the second
+    batch is the one that loads it)."""
     import json
 
     lines = [{"argv": ["resolve", "--law", "hertz", *SKEW], "id": 1},
              {"command": "resolve", "args": {"law": "lzb", "mass_matrix": "1,0,0;0,1,0;0,0,1",
                                              "gradients": "-1,1,0;0,-1,1", "velocity": "1,0,0", "restitution": "0.9"}},
              {"argv": ["scene", "list"]}]
-    path = tmp_path / "requests.jsonl"
-    path.write_text("\n".join(json.dumps(x) for x in lines) + "\n")
-    assert _loaded(["batch", "--input", str(path), "--output", str(tmp_path / "answers.jsonl")]) == {"scipy"}
+    floats, exact = tmp_path / "requests.jsonl", tmp_path / "with-newton.jsonl"
+    floats.write_text("\n".join(json.dumps(x) for x in lines) + "\n")
+    exact.write_text(floats.read_text() + json.dumps({"argv": ["resolve", "--law", "newton", *CHAIN]}) + "\n")
+    first, second = _loaded_many([(["batch", "--input", str(floats), "--output", str(tmp_path / "answers.jsonl")], 0),
+                                  (["batch", "--input", str(exact), "--output", str(tmp_path / "answers2.jsonl")], 0)])
+    assert first == {"scipy"}
     answers = [json.loads(x) for x in (tmp_path / "answers.jsonl").read_text().splitlines()]
     assert [a["exit_status"] for a in answers] == [0, 0, 0]
     assert answers[0]["result"]["system"]["mass_matrix"] == [["2", "1/3"], ["1/3", "1"]]
-    path.write_text(path.read_text() + json.dumps({"argv": ["resolve", "--law", "newton", *CHAIN]}) + "\n")
-    assert "sympy" in _loaded(["batch", "--input", str(path), "--output", str(tmp_path / "answers.jsonl")])
+    assert "sympy" in second
+    assert [json.loads(x)["exit_status"] for x in (tmp_path / "answers2.jsonl").read_text().splitlines()] == [0] * 4
 
 
 # ------------------------------------------------------------------ the sequential law's --float path
