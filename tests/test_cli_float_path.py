@@ -61,9 +61,9 @@ def _loaded(argv, status=0) -> set:
 
 
 class _Probes:
-    """The requests of one parametrized test probed in one interpreter (``_loaded_many``), in the
-    order given: each request's expected set must contain the previous ones' (else a library an
-    earlier request loads would hide in a later one's set), which ``expect`` checks."""
+    """Requests probed in one interpreter (``_loaded_many``), in the order given: each request's
+    expected set must contain the previous ones' (else a library an earlier request loads would
+    hide in a later one's set), which the constructor checks."""
 
     def __init__(self, cases):
         self.cases = [(list(argv), status, frozenset(loaded)) for argv, status, loaded in cases]
@@ -71,18 +71,23 @@ class _Probes:
             assert a <= b, "order the probes by growing expected sets"
         self._sets = None
 
-    def loaded(self, argv, status=0) -> set:
+    def sets(self) -> list:
+        """The loaded set after each request, in order."""
         if self._sets is None:
             self._sets = _loaded_many([(a, s) for a, s, _ in self.cases])
-        return self._sets[[(a, s) for a, s, _ in self.cases].index((list(argv), status))]
+        return self._sets
+
+    def loaded(self, argv, status=0) -> set:
+        """The set after the first probe of ``(argv, status)``."""
+        return self.sets()[[(a, s) for a, s, _ in self.cases].index((list(argv), status))]
 
 
-_FLOAT_LAW_PROBES = _Probes([(a, 0, {"scipy"}) for a in FLOAT_REQUESTS[::2] + [FLOAT_REQUESTS[-1]]])
+FLOAT_LAW_PROBED = FLOAT_REQUESTS[::2] + [FLOAT_REQUESTS[-1]]
 
 
-@pytest.mark.parametrize("argv", FLOAT_REQUESTS[::2] + [FLOAT_REQUESTS[-1]])
+@pytest.mark.parametrize("argv", FLOAT_LAW_PROBED)
 def test_a_float_law_on_plain_rationals_imports_no_sympy(argv):
-    assert _FLOAT_LAW_PROBES.loaded(argv) == {"scipy"}  # the integrator's SciPy; no SymPy, no mpmath
+    assert _PROBES.loaded(argv) == {"scipy"}  # the integrator's SciPy; no SymPy, no mpmath
 
 
 @pytest.mark.parametrize("argv", [
@@ -202,12 +207,12 @@ SEQUENTIAL_FLOAT = [
 ]
 
 
-_SEQUENTIAL_PROBES = _Probes([(a, s, ()) for a, s in SEQUENTIAL_FLOAT[::3] + [SEQUENTIAL_FLOAT[4], SEQUENTIAL_FLOAT[-2]]])
+SEQUENTIAL_PROBED = SEQUENTIAL_FLOAT[::3] + [SEQUENTIAL_FLOAT[4], SEQUENTIAL_FLOAT[-2]]
 
 
-@pytest.mark.parametrize("argv,status", SEQUENTIAL_FLOAT[::3] + [SEQUENTIAL_FLOAT[4], SEQUENTIAL_FLOAT[-2]])
+@pytest.mark.parametrize("argv,status", SEQUENTIAL_PROBED)
 def test_sequential_float_imports_no_sympy_or_mpmath(argv, status):
-    assert _SEQUENTIAL_PROBES.loaded(argv, status) == set()
+    assert _PROBES.loaded(argv, status) == set()
 
 
 @pytest.mark.parametrize("argv,status", SEQUENTIAL_FLOAT)
@@ -292,21 +297,28 @@ _SCENE_FILE_CASES = [
     (["resolve", "--law", "sequential", "--scene-file", "chain3-float"], set()),  # float literals: the float path
     (["resolve", "--law", "hertz", "--scene-file", "chain3-float", "--json"], {"scipy"}),
 ]
-_SCENE_FILE_PROBES = _Probes([(a, 0, loaded) for a, loaded in _SCENE_FILE_CASES])
+_NEWTON = ["resolve", "--law", "newton", *CHAIN]
+#: every probe of this module that needs no interpreter of its own, in one interpreter, by growing
+#: sets: the sequential law's float path and the float scene file's (nothing heavy), the scene
+#: file's Hertz request (the first to load SciPy), the float laws (SciPy), then an exact request
+#: (SymPy from there on) and a float one again (test_one_interpreter_probes_each_request)
+_PROBES = _Probes([(a, s, ()) for a, s in SEQUENTIAL_PROBED] + [(a, 0, loaded) for a, loaded in _SCENE_FILE_CASES]
+                  + [(a, 0, {"scipy"}) for a in FLOAT_LAW_PROBED]
+                  + [(_NEWTON, 0, {"scipy", "sympy", "mpmath"}), (FLOAT_REQUESTS[2], 0, {"scipy", "sympy", "mpmath"})])
 
 
 @pytest.mark.parametrize("argv,loaded", _SCENE_FILE_CASES)
 def test_a_float_scene_file_imports_no_sympy(argv, loaded):
     """A scene file of float literals is read, checked (contacts closed within its gap tolerance,
     approach signs on the floats' exact binary values in fmpq) and resolved without SymPy."""
-    assert _SCENE_FILE_PROBES.loaded(argv) == loaded
+    assert _PROBES.loaded(argv) == loaded
 
 
 def test_one_interpreter_probes_each_request():
     """The shared probe sees what each request loads: a request that loads SymPy shows it in its
-    own set and every later one, not in the earlier ones."""
-    newton = ["resolve", "--law", "newton", *CHAIN]
-    sets = _loaded_many([(FLOAT_REQUESTS[0], 0), (newton, 0), (FLOAT_REQUESTS[2], 0)])
+    own set and every later one, not in the earlier ones (the shared probe's last two requests)."""
+    assert _PROBES.cases[-2][:2] == (_NEWTON, 0) and _PROBES.cases[-1][:2] == (FLOAT_REQUESTS[2], 0)
+    sets = [_PROBES.loaded(FLOAT_REQUESTS[0])] + _PROBES.sets()[-2:]
     assert sets[0] == {"scipy"} and {"sympy", "scipy"} <= sets[1] and sets[2] == sets[1]
 
 
