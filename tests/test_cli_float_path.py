@@ -90,13 +90,20 @@ def test_a_float_law_on_plain_rationals_imports_no_sympy(argv):
     assert _PROBES.loaded(argv) == {"scipy"}  # the integrator's SciPy; no SymPy, no mpmath
 
 
-@pytest.mark.parametrize("argv", [
-    ["resolve", "--law", "hertz", "--mass-matrix", "1,0;0,sqrt(2)", "--gradients", "1,0;0,1", "--velocity", "-1,-1"],
-    ["resolve", "--law", "hertz", "--scene", "chain3"],
-])
+IRRATIONAL = ["resolve", "--law", "hertz", "--mass-matrix", "1,0;0,sqrt(2)", "--gradients", "1,0;0,1", "--velocity",
+              "-1,-1"]
+
+
+@pytest.mark.parametrize("argv", [IRRATIONAL, ["resolve", "--law", "hertz", "--scene", "chain3"]])
 def test_the_probe_can_fail(argv):
-    """Irrational entries and scenes take the general (SymPy) reader."""
-    assert "sympy" in _loaded(argv)
+    """Irrational entries and scenes take the general (SymPy) reader: the irrational request is
+    the shared probe's first to load SymPy (none in the set before it), the scene runs alone."""
+    if argv == IRRATIONAL:
+        sets = _PROBES.sets()
+        i = [a for a, _, _ in _PROBES.cases].index(argv)
+        assert "sympy" not in sets[i - 1] and "sympy" in sets[i]
+    else:
+        assert "sympy" in _loaded(argv)
 
 
 def _run(argv):
@@ -297,14 +304,14 @@ _SCENE_FILE_CASES = [
     (["resolve", "--law", "sequential", "--scene-file", "chain3-float"], set()),  # float literals: the float path
     (["resolve", "--law", "hertz", "--scene-file", "chain3-float", "--json"], {"scipy"}),
 ]
-_NEWTON = ["resolve", "--law", "newton", *CHAIN]
 #: every probe of this module that needs no interpreter of its own, in one interpreter, by growing
 #: sets: the sequential law's float path and the float scene file's (nothing heavy), the scene
-#: file's Hertz request (the first to load SciPy), the float laws (SciPy), then an exact request
-#: (SymPy from there on) and a float one again (test_one_interpreter_probes_each_request)
+#: file's Hertz request (the first to load SciPy), the float laws (SciPy), then irrational entries
+#: (the general reader: SymPy from there on) and a float request again
+#: (test_the_probe_can_fail, test_one_interpreter_probes_each_request)
 _PROBES = _Probes([(a, s, ()) for a, s in SEQUENTIAL_PROBED] + [(a, 0, loaded) for a, loaded in _SCENE_FILE_CASES]
                   + [(a, 0, {"scipy"}) for a in FLOAT_LAW_PROBED]
-                  + [(_NEWTON, 0, {"scipy", "sympy", "mpmath"}), (FLOAT_REQUESTS[2], 0, {"scipy", "sympy", "mpmath"})])
+                  + [(IRRATIONAL, 0, {"scipy", "sympy", "mpmath"}), (FLOAT_REQUESTS[2], 0, {"scipy", "sympy", "mpmath"})])
 
 
 @pytest.mark.parametrize("argv,loaded", _SCENE_FILE_CASES)
@@ -317,7 +324,7 @@ def test_a_float_scene_file_imports_no_sympy(argv, loaded):
 def test_one_interpreter_probes_each_request():
     """The shared probe sees what each request loads: a request that loads SymPy shows it in its
     own set and every later one, not in the earlier ones (the shared probe's last two requests)."""
-    assert _PROBES.cases[-2][:2] == (_NEWTON, 0) and _PROBES.cases[-1][:2] == (FLOAT_REQUESTS[2], 0)
+    assert _PROBES.cases[-2][:2] == (IRRATIONAL, 0) and _PROBES.cases[-1][:2] == (FLOAT_REQUESTS[2], 0)
     sets = [_PROBES.loaded(FLOAT_REQUESTS[0])] + _PROBES.sets()[-2:]
     assert sets[0] == {"scipy"} and {"sympy", "scipy"} <= sets[1] and sets[2] == sets[1]
 
