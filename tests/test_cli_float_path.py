@@ -61,9 +61,9 @@ def _loaded(argv, status=0) -> set:
 
 
 class _Probes:
-    """The requests of one parametrized test probed in one interpreter (``_loaded_many``), in the
-    order given: each request's expected set must contain the previous ones' (else a library an
-    earlier request loads would hide in a later one's set), which ``expect`` checks."""
+    """Requests probed in one interpreter (``_loaded_many``), in the order given: each request's
+    expected set must contain the previous ones' (else a library an earlier request loads would
+    hide in a later one's set), which the constructor checks."""
 
     def __init__(self, cases):
         self.cases = [(list(argv), status, frozenset(loaded)) for argv, status, loaded in cases]
@@ -71,27 +71,39 @@ class _Probes:
             assert a <= b, "order the probes by growing expected sets"
         self._sets = None
 
-    def loaded(self, argv, status=0) -> set:
+    def sets(self) -> list:
+        """The loaded set after each request, in order."""
         if self._sets is None:
             self._sets = _loaded_many([(a, s) for a, s, _ in self.cases])
-        return self._sets[[(a, s) for a, s, _ in self.cases].index((list(argv), status))]
+        return self._sets
+
+    def loaded(self, argv, status=0) -> set:
+        """The set after the first probe of ``(argv, status)``."""
+        return self.sets()[[(a, s) for a, s, _ in self.cases].index((list(argv), status))]
 
 
-_FLOAT_LAW_PROBES = _Probes([(a, 0, {"scipy"}) for a in FLOAT_REQUESTS[::2] + [FLOAT_REQUESTS[-1]]])
+FLOAT_LAW_PROBED = FLOAT_REQUESTS[::2] + [FLOAT_REQUESTS[-1]]
 
 
-@pytest.mark.parametrize("argv", FLOAT_REQUESTS[::2] + [FLOAT_REQUESTS[-1]])
+@pytest.mark.parametrize("argv", FLOAT_LAW_PROBED)
 def test_a_float_law_on_plain_rationals_imports_no_sympy(argv):
-    assert _FLOAT_LAW_PROBES.loaded(argv) == {"scipy"}  # the integrator's SciPy; no SymPy, no mpmath
+    assert _PROBES.loaded(argv) == {"scipy"}  # the integrator's SciPy; no SymPy, no mpmath
 
 
-@pytest.mark.parametrize("argv", [
-    ["resolve", "--law", "hertz", "--mass-matrix", "1,0;0,sqrt(2)", "--gradients", "1,0;0,1", "--velocity", "-1,-1"],
-    ["resolve", "--law", "hertz", "--scene", "chain3"],
-])
+IRRATIONAL = ["resolve", "--law", "hertz", "--mass-matrix", "1,0;0,sqrt(2)", "--gradients", "1,0;0,1", "--velocity",
+              "-1,-1"]
+
+
+@pytest.mark.parametrize("argv", [IRRATIONAL, ["resolve", "--law", "hertz", "--scene", "chain3"]])
 def test_the_probe_can_fail(argv):
-    """Irrational entries and scenes take the general (SymPy) reader."""
-    assert "sympy" in _loaded(argv)
+    """Irrational entries and scenes take the general (SymPy) reader: the irrational request is
+    the shared probe's first to load SymPy (none in the set before it), the scene runs alone."""
+    if argv == IRRATIONAL:
+        sets = _PROBES.sets()
+        i = [a for a, _, _ in _PROBES.cases].index(argv)
+        assert "sympy" not in sets[i - 1] and "sympy" in sets[i]
+    else:
+        assert "sympy" in _loaded(argv)
 
 
 def _run(argv):
@@ -153,21 +165,26 @@ def test_from_rationals_checks_exactly_and_prints_as_sympy():
 
 def test_a_batch_of_float_requests_imports_no_sympy(tmp_path):
     """``impactsym batch`` answers float-path requests without SymPy (the check machinery of
-    :mod:`impactsym.oracle` imports it on first use), and one exact request still takes it."""
+    :mod:`impactsym.oracle` imports it on first use), and one exact request still takes it: both
+    batches probed in one interpreter, in that order (the first set has no SymPy, so the second
+    batch is the one that loads it)."""
     import json
 
     lines = [{"argv": ["resolve", "--law", "hertz", *SKEW], "id": 1},
              {"command": "resolve", "args": {"law": "lzb", "mass_matrix": "1,0,0;0,1,0;0,0,1",
                                              "gradients": "-1,1,0;0,-1,1", "velocity": "1,0,0", "restitution": "0.9"}},
              {"argv": ["scene", "list"]}]
-    path = tmp_path / "requests.jsonl"
-    path.write_text("\n".join(json.dumps(x) for x in lines) + "\n")
-    assert _loaded(["batch", "--input", str(path), "--output", str(tmp_path / "answers.jsonl")]) == {"scipy"}
+    floats, exact = tmp_path / "requests.jsonl", tmp_path / "with-newton.jsonl"
+    floats.write_text("\n".join(json.dumps(x) for x in lines) + "\n")
+    exact.write_text(floats.read_text() + json.dumps({"argv": ["resolve", "--law", "newton", *CHAIN]}) + "\n")
+    first, second = _loaded_many([(["batch", "--input", str(floats), "--output", str(tmp_path / "answers.jsonl")], 0),
+                                  (["batch", "--input", str(exact), "--output", str(tmp_path / "answers2.jsonl")], 0)])
+    assert first == {"scipy"}
     answers = [json.loads(x) for x in (tmp_path / "answers.jsonl").read_text().splitlines()]
     assert [a["exit_status"] for a in answers] == [0, 0, 0]
     assert answers[0]["result"]["system"]["mass_matrix"] == [["2", "1/3"], ["1/3", "1"]]
-    path.write_text(path.read_text() + json.dumps({"argv": ["resolve", "--law", "newton", *CHAIN]}) + "\n")
-    assert "sympy" in _loaded(["batch", "--input", str(path), "--output", str(tmp_path / "answers.jsonl")])
+    assert "sympy" in second
+    assert [json.loads(x)["exit_status"] for x in (tmp_path / "answers2.jsonl").read_text().splitlines()] == [0] * 4
 
 
 # ------------------------------------------------------------------ the sequential law's --float path
@@ -197,12 +214,12 @@ SEQUENTIAL_FLOAT = [
 ]
 
 
-_SEQUENTIAL_PROBES = _Probes([(a, s, ()) for a, s in SEQUENTIAL_FLOAT[::3] + [SEQUENTIAL_FLOAT[4], SEQUENTIAL_FLOAT[-2]]])
+SEQUENTIAL_PROBED = SEQUENTIAL_FLOAT[::3] + [SEQUENTIAL_FLOAT[4], SEQUENTIAL_FLOAT[-2]]
 
 
-@pytest.mark.parametrize("argv,status", SEQUENTIAL_FLOAT[::3] + [SEQUENTIAL_FLOAT[4], SEQUENTIAL_FLOAT[-2]])
+@pytest.mark.parametrize("argv,status", SEQUENTIAL_PROBED)
 def test_sequential_float_imports_no_sympy_or_mpmath(argv, status):
-    assert _SEQUENTIAL_PROBES.loaded(argv, status) == set()
+    assert _PROBES.loaded(argv, status) == set()
 
 
 @pytest.mark.parametrize("argv,status", SEQUENTIAL_FLOAT)
@@ -287,21 +304,28 @@ _SCENE_FILE_CASES = [
     (["resolve", "--law", "sequential", "--scene-file", "chain3-float"], set()),  # float literals: the float path
     (["resolve", "--law", "hertz", "--scene-file", "chain3-float", "--json"], {"scipy"}),
 ]
-_SCENE_FILE_PROBES = _Probes([(a, 0, loaded) for a, loaded in _SCENE_FILE_CASES])
+#: every probe of this module that needs no interpreter of its own, in one interpreter, by growing
+#: sets: the sequential law's float path and the float scene file's (nothing heavy), the scene
+#: file's Hertz request (the first to load SciPy), the float laws (SciPy), then irrational entries
+#: (the general reader: SymPy from there on) and a float request again
+#: (test_the_probe_can_fail, test_one_interpreter_probes_each_request)
+_PROBES = _Probes([(a, s, ()) for a, s in SEQUENTIAL_PROBED] + [(a, 0, loaded) for a, loaded in _SCENE_FILE_CASES]
+                  + [(a, 0, {"scipy"}) for a in FLOAT_LAW_PROBED]
+                  + [(IRRATIONAL, 0, {"scipy", "sympy", "mpmath"}), (FLOAT_REQUESTS[2], 0, {"scipy", "sympy", "mpmath"})])
 
 
 @pytest.mark.parametrize("argv,loaded", _SCENE_FILE_CASES)
 def test_a_float_scene_file_imports_no_sympy(argv, loaded):
     """A scene file of float literals is read, checked (contacts closed within its gap tolerance,
     approach signs on the floats' exact binary values in fmpq) and resolved without SymPy."""
-    assert _SCENE_FILE_PROBES.loaded(argv) == loaded
+    assert _PROBES.loaded(argv) == loaded
 
 
 def test_one_interpreter_probes_each_request():
     """The shared probe sees what each request loads: a request that loads SymPy shows it in its
-    own set and every later one, not in the earlier ones."""
-    newton = ["resolve", "--law", "newton", *CHAIN]
-    sets = _loaded_many([(FLOAT_REQUESTS[0], 0), (newton, 0), (FLOAT_REQUESTS[2], 0)])
+    own set and every later one, not in the earlier ones (the shared probe's last two requests)."""
+    assert _PROBES.cases[-2][:2] == (IRRATIONAL, 0) and _PROBES.cases[-1][:2] == (FLOAT_REQUESTS[2], 0)
+    sets = [_PROBES.loaded(FLOAT_REQUESTS[0])] + _PROBES.sets()[-2:]
     assert sets[0] == {"scipy"} and {"sympy", "scipy"} <= sets[1] and sets[2] == sets[1]
 
 

@@ -1,8 +1,9 @@
 """Start-up stays light: ``import impactsym``, ``impactsym --help``, ``impactsym codegen --list`` and
 ``impactsym scene list`` import no SymPy, NumPy, SciPy, mpmath or flint, ``impactsym reflect`` on
 rational input only flint, and the law interface (:mod:`impactsym.lawbook`,
-:mod:`impactsym.resolution`) no SymPy or mpmath, so that refusing an option costs none (each runs
-in a fresh interpreter, checked through ``sys.modules``, not by timing); the lazy names of
+:mod:`impactsym.resolution`) no SymPy or mpmath, so that refusing an option costs none (probed in
+fresh interpreters, snippets whose expected sets grow sharing one, checked through ``sys.modules``,
+not by timing); the lazy names of
 ``impactsym`` and ``impactsym.scenes`` resolve to the objects of their modules; the domain parser's
 scene names are the domains' own."""
 
@@ -20,15 +21,23 @@ HEAVY = ("sympy", "numpy", "scipy", "mpmath", "flint", "matplotlib")
 
 
 def _loaded_after(code: str) -> set:
-    probe = (f"import sys\n{code}\n"
-             f"print(' '.join(m for m in {HEAVY!r} if m in sys.modules))")
+    return _loaded_after_each([code])[0]
+
+
+def _loaded_after_each(codes) -> list:
+    """Run the snippets ``codes`` in order in one fresh interpreter; after each, the heavy
+    libraries loaded so far. A library stays loaded, so the sets only grow: probe in one
+    interpreter only snippets whose expected sets grow (the first one that loads a library is
+    the first whose set shows it)."""
+    probe = "import sys\n" + "".join(f"{code}\nprint(' '.join(m for m in {HEAVY!r} if m in sys.modules) + ';')\n"
+                                     for code in codes)
     res = subprocess.run([sys.executable, "-c", probe], capture_output=True, text=True, cwd=ROOT,
                          env={"PYTHONPATH": str(ROOT), "PATH": "/usr/bin:/bin"})
     assert res.returncode == 0, res.stderr
-    return set(res.stdout.split())
+    return [set(x.split()) for x in res.stdout.split(";")[:-1]]
 
 
-@pytest.mark.parametrize("code", [
+_START_UP = [
     "import impactsym",
     "import contextlib, io\nfrom impactsym.cli import main\n"
     "with contextlib.redirect_stdout(io.StringIO()): main(['--help'])",
@@ -39,24 +48,39 @@ def _loaded_after(code: str) -> set:
     "import contextlib, io\nfrom impactsym.cli import main\n"
     "with contextlib.redirect_stdout(io.StringIO()): assert main(['scene', 'list', '--json']) == 0",
     "import impactsym.scenes.registry, impactsym.scenes.reading",
-])
-def test_start_up_imports_no_heavy_library(code):
-    assert _loaded_after(code) == set()
+]
 
 
 _REFLECT = ("import contextlib, io\nfrom impactsym.cli import main\n"
             "with contextlib.redirect_stdout(io.StringIO()): assert main({argv!r}) == 0")
 
 
-@pytest.mark.parametrize("argv", [
+_RATIONAL_REFLECT = [
     ["reflect", "--mass-matrix", "2,0;0,1", "--gradient=-1,1", "--velocity", "1,0", "--json"],
     ["reflect", "--mass-matrix", "1.5,1/4;0.25,2", "--gradient", "1e-3,2", "--restitution", "0.9", "--timeout", "30"],
     ["reflect", "--mass-matrix", "3,1,0;1,3,1;0,1,3", "--gradient", "1,0,0"],
-])
+]
+_SETS: list = []
+
+
+def _start_up_sets() -> list:
+    """The start-up snippets, then the rational ``reflect`` requests, in one fresh interpreter (the
+    sets grow: nothing heavy, then flint)."""
+    if not _SETS:
+        _SETS.extend(_loaded_after_each(_START_UP + [_REFLECT.format(argv=argv) for argv in _RATIONAL_REFLECT]))
+    return _SETS
+
+
+@pytest.mark.parametrize("code", _START_UP)
+def test_start_up_imports_no_heavy_library(code):
+    assert _start_up_sets()[_START_UP.index(code)] == set()
+
+
+@pytest.mark.parametrize("argv", _RATIONAL_REFLECT)
 def test_reflect_on_rational_input_imports_only_flint(argv):
     """``reflect`` on plain rational entries runs in python-flint alone (issue 15): no SymPy, NumPy
     or mpmath at start-up."""
-    assert _loaded_after(_REFLECT.format(argv=argv)) == {"flint"}
+    assert _start_up_sets()[len(_START_UP) + _RATIONAL_REFLECT.index(argv)] == {"flint"}
 
 
 def test_reflect_on_irrational_input_still_takes_sympy():
