@@ -87,10 +87,11 @@ def test_a_float_law_on_plain_rationals_imports_no_sympy(argv):
 
 @pytest.mark.parametrize("argv", [
     ["resolve", "--law", "hertz", "--mass-matrix", "1,0;0,sqrt(2)", "--gradients", "1,0;0,1", "--velocity", "-1,-1"],
-    ["resolve", "--law", "hertz", "--scene", "chain3"],
+    ["resolve", "--law", "hertz", "--scene", "pool", "--theta", "pi/4"],
 ])
 def test_the_probe_can_fail(argv):
-    """Irrational entries and scenes take the general (SymPy) reader."""
+    """Irrational entries and scenes (the pool: cos and sin of its angles) take the general (SymPy)
+    reader; the built-in scenes of rational data do not (tests/test_cli_scene_float_path.py)."""
     assert "sympy" in _loaded(argv)
 
 
