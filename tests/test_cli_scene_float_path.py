@@ -1,10 +1,10 @@
 """Float-path requests on the built-in scenes import no SymPy (issue 15): chain3 and the scenes of
 balls on a line (two-balls-wall, three-ball-cradle, cradle, balls-against-wall), whose data are
-rational for rational parameters, are built in Fractions
-(:func:`impactsym.scenes.registry.build_rational_scene`) and read as a
+rational for rational parameters, and the pool at θ = 0 and π/2 (θ − τ a multiple of π/2), are
+built in Fractions (:func:`impactsym.scenes.registry.build_rational_scene`) and read as a
 :class:`~impactsym.resolution.RationalMatrix` system, answering byte for byte as the SymPy build
-does. The pool and Bernoulli's problem (cos and sin of their angles) and non-plain parameters
-(``sqrt(2)``, ``2*3``) still take the general reader."""
+does. Every other pool and Bernoulli's problem (cos and sin of their angles are irrational) and
+non-plain parameters (``sqrt(2)``, ``2*3``) still take the general reader."""
 
 from __future__ import annotations
 
@@ -28,6 +28,8 @@ SCENES = [
     ["--scene", "cradle", "--n-balls", "4", "--masses", "1,2,3,4"],
     ["--scene", "balls-against-wall"],
     ["--scene", "balls-against-wall", "--n-balls", "4", "--masses", "1,2,3,4", "--velocities", "0,0,0,-1"],
+    ["--scene", "pool", "--theta", "pi/2"],
+    ["--scene", "pool", "--theta", "0", "--tau", "-3*pi/2"],
 ]
 #: (argv, exit status, libraries loaded so far): the sequential law's --float path loads none, the
 #: integrators SciPy; a refused request (strikers = n_balls) takes the general reader's words
@@ -36,6 +38,7 @@ _CASES = [
     ([*SEQ, *SCENES[4], "--json"], 0, set()),
     ([*SEQ, *SCENES[6], "--restitution", "1/2"], 0, set()),
     ([*SEQ, *SCENES[2], "--json"], 0, set()),
+    ([*SEQ, *SCENES[8], "--json"], 0, set()),
     (["resolve", "--law", "hertz", *SCENES[1], "--json"], 0, {"scipy"}),
     (["resolve", "--law", "lzb", *SCENES[3], "--restitution", "0.9", "--json"], 0, {"scipy"}),
     (["resolve", "--law", "power", "--exponent", "5/2", *SCENES[5], "--json"], 0, {"scipy"}),
@@ -74,7 +77,10 @@ REFUSED_SCENE = ["--scene", "cradle", "--n-balls", "3", "--masses", "1,0,1"]
 PAIRS = [(law, scene) for scene in SCENES + [REFUSED_SCENE] for law in ["sequential"]] + [
     ("hertz", SCENES[0]), ("refused", SCENES[0]), ("cone", SCENES[1]), ("hunt-crossley", SCENES[1]),
     ("lzb", SCENES[2]), ("linear", SCENES[3]), ("power", SCENES[4]), ("hunt-crossley", SCENES[5]),
-    ("hertz", SCENES[6]), ("linear", SCENES[7]), ("hertz", REFUSED_SCENE)]
+    ("hertz", SCENES[6]), ("linear", SCENES[7]), ("hertz", REFUSED_SCENE), ("cone", SCENES[8]), ("lzb", SCENES[9]),
+    ("sequential", ["--scene", "pool", "--theta", "pi/2", "--tau", "pi/2"]),
+    ("sequential", ["--scene", "pool", "--theta", "pi/2", "--tau", "pi/3"]),  # irrational: the general reader
+    ("sequential", ["--scene", "pool", "--theta", "pi"])]  # refused
 
 
 @pytest.mark.parametrize("law,scene", PAIRS)
@@ -99,6 +105,8 @@ PARAMS = [
     ("three-ball-cradle", {}), ("three-ball-cradle", {"masses": "1,1/2,2", "velocities": "1,0,-1"}),
     ("cradle", {}), ("cradle", {"n_balls": "6", "strikers": "3", "masses": "1,2,3,4,5,1/6"}),
     ("balls-against-wall", {}), ("balls-against-wall", {"n_balls": "4", "velocities": "0,1,0,-1"}),
+    ("pool", {"theta": "0"}), ("pool", {"theta": "pi/2"}), ("pool", {"theta": "0.0", "tau": "pi/2"}),
+    ("pool", {"theta": "2*pi/4", "tau": "-3*pi/2"}), ("pool", {"theta": "+pi/2", "tau": "0*pi"}),
 ]
 
 
@@ -118,8 +126,11 @@ def test_the_rational_build_is_the_sympy_build(name, params):
 
 
 def test_the_rational_build_declines_what_it_cannot_read():
-    assert set(RATIONAL_SCENES) == {"chain3", "two-balls-wall", "three-ball-cradle", "cradle", "balls-against-wall"}
-    for name, params in [("pool", {"theta": "0"}), ("bernoulli", {}), ("chain3", {"masses": "sqrt(2),1,1"}),
+    assert set(RATIONAL_SCENES) == {"chain3", "pool", "two-balls-wall", "three-ball-cradle", "cradle",
+                                     "balls-against-wall"}
+    for name, params in [("pool", {"theta": "pi/3"}), ("pool", {"theta": "pi/4"}), ("pool", {"theta": "2*pi/3"}),
+                         ("pool", {"theta": "pi/2", "tau": "pi/4"}), ("pool", {"theta": "1/2"}),
+                         ("pool", {"theta": "pi"}), ("pool", {"theta": "pi/0"}), ("pool", {}), ("bernoulli", {}), ("chain3", {"masses": "sqrt(2),1,1"}),
                          ("chain3", {"masses": "1,2"}), ("chain3", {"masses": "1,-1,1"}),
                          ("cradle", {"n_balls": "2*3"}), ("cradle", {"n_balls": "3", "strikers": "3"}),
                          ("cradle", {"n_balls": "10001"}), ("cradle", {"theta": "1"}),

@@ -181,6 +181,52 @@ def pool(theta, tau=0, *, incidence="theta-minus-tau", constraint="distance", th
                   "theta": theta, "tau": tau, "incidence": incidence, "constraint": constraint})
 
 
+#: ``(cos, sin)`` of ``k·π/2`` for ``k mod 4``: the only angles in ``π·Q`` whose cosine and sine are
+#: both rational (Niven's theorem)
+_QUARTER_TURNS = ((1, 0), (0, 1), (-1, 0), (0, -1))
+
+
+def pool_rational(theta_turns, tau_turns=0):
+    """The pool of :func:`pool` (default incidence and constraint, ``a = 1``) at ``θ = theta_turns·π``
+    and ``τ = tau_turns·π`` with ``M``, ``H``, ``v`` :class:`~impactsym.resolution.RationalMatrix`,
+    built without SymPy, or ``None`` when its data are not rational.
+
+    Its data are rational exactly when ``cos θ``, ``sin θ``, ``cos(θ − τ)``, ``sin(θ − τ)`` are
+    (Niven: ``θ`` and ``θ − τ`` multiples of ``π/2``), so for ``θ ∈ [0, 2π/3]`` only ``θ = 0`` and
+    ``θ = π/2``; every other pool (``sqrt(3)/2`` at ``θ = π/3``, Bernoulli's ``θ = 2π/3``) gives
+    ``None``. The gradient of ``h = ‖G_j − G_i‖ − 2`` at contact is ``∓(G_j − G_i)/2`` on balls
+    ``i``, ``j`` (the unit normal that :func:`pool` obtains by differentiating ``h``).
+
+    >>> sc = pool_rational(Fraction(1, 2))
+    >>> sc.H, sc.v.tolist()[:2], sc.contacts
+    (RationalMatrix([['0', '-1', '0', '1', '0', '0'], ['0', '0', '-1', '0', '1', '0']]), [[Fraction(0, 1)], [Fraction(1, 1)]], ['1-2', '2-3'])
+    >>> pool_rational(Fraction(1, 3)) is None
+    True
+    """
+    from ..resolution import RationalMatrix
+
+    theta, tau = Fraction(theta_turns), Fraction(tau_turns)
+    if theta not in (0, Fraction(1, 2)) or (2 * (theta - tau)).denominator != 1:
+        return None
+    c, s = _QUARTER_TURNS[int(2 * theta) % 4]
+    vx, vy = _QUARTER_TURNS[int(2 * (theta - tau)) % 4]
+    G = [(-2 * c, -2 * s), (0, 0), (2, 0)]  # pool_positions at a = 1
+    pairs = [(0, 1), (1, 2)]  # the third contact closes only at θ = 2π/3
+    H = {}
+    for r, (i, j) in enumerate(pairs):
+        for d in range(2):
+            n = Fraction(G[j][d] - G[i][d], 2)
+            if n:
+                H[r, 2 * i + d], H[r, 2 * j + d] = -n, n
+    H = RationalMatrix.from_entries((2, 6), H)
+    v = RationalMatrix.column([vx, vy, 0, 0, 0, 0])
+    approaching = [sum((H[r, k] * v[k, 0] for k in range(6)), Fraction(0)) < 0 for r in range(2)]
+    return Scene(RationalMatrix.from_entries((6, 6), {(k, k): 1 for k in range(6)}), H, v, _coord_names(3, planar=True),
+                 [f"{i + 1}-{j + 1}" for i, j in pairs], approaching,
+                 {"paper": "acary-taha", "ref": "sec. 4, eqs. 24-27", "scene": "pool", "theta": theta, "tau": tau,
+                  "incidence": "theta-minus-tau", "constraint": "distance"})
+
+
 @lru_cache(maxsize=256)  # bounded: a sweep over θ must not grow it without end
 def _pool_gradients(theta, third_contact: bool, constraint: str, a) -> sp.ImmutableMatrix:
     """The gradient rows of the pool's contacts at the balls' positions (simplified entries):

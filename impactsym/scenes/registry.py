@@ -233,12 +233,42 @@ def _build_builtin(name: str, given: dict) -> Scene:
     return sc
 
 
-#: the built-in scenes whose data are rational for rational parameters (balls on a line): what
-#: :func:`build_rational_scene` builds. The pool and Bernoulli's problem are not among them: their
-#: gradient rows and velocity hold cos and sin of the angles (``sqrt(3)/2`` at θ = π/3, ``sqrt(2)/2``
-#: at π/4, ``(1 + sqrt(5))/4`` at π/5), irrational for every angle the ``--theta`` text can give
-#: except the multiples of π/2 (Niven), and reading ``pi/3`` at all takes SymPy's parser.
-RATIONAL_SCENES = ("chain3", "two-balls-wall", "three-ball-cradle", "cradle", "balls-against-wall")
+#: the built-in scenes whose data are rational for rational parameters (balls on a line), and the
+#: pool at θ = 0 and θ = π/2 (with θ − τ a multiple of π/2): what :func:`build_rational_scene`
+#: builds. Every other pool, and Bernoulli's problem (θ = 2π/3), is not: their gradient rows and
+#: velocity hold cos and sin of the angles (``sqrt(3)/2`` at θ = π/3, ``sqrt(2)/2`` at π/4), irrational
+#: for every angle in π·Q but the multiples of π/2 (Niven).
+RATIONAL_SCENES = ("chain3", "pool", "two-balls-wall", "three-ball-cradle", "cradle", "balls-against-wall")
+
+#: an angle given as a plain multiple of pi: ``pi``, ``-pi/2``, ``3*pi/2``
+_PI_MULTIPLE = re.compile(r"([+-]?)(?:([0-9]{1,30})\*)?pi(?:/([0-9]{1,30}))?")
+
+
+def _pi_turns(text):
+    """``k`` with ``text`` = ``k·π`` (a Fraction), for ``0`` and plain multiples of ``pi``; else None."""
+    from ..arithmetic.literals import plain_rational
+
+    t = str(text).strip()
+    m = _PI_MULTIPLE.fullmatch(t)
+    if m:
+        sign, p, q = m.groups()
+        if q is not None and int(q) == 0:
+            return None
+        return Fraction(int(p or 1) * (-1 if sign == "-" else 1), int(q or 1))
+    try:
+        x = plain_rational(t)
+    except ZeroDivisionError:
+        return None
+    return x if x == 0 else None  # a non-zero rational angle (radians) has an irrational cosine
+
+
+def _pi_text(k: Fraction) -> str:
+    """SymPy's ``str`` of ``k·π``: ``0``, ``pi``, ``-pi/2``, ``3*pi/2``."""
+    if k == 0:
+        return "0"
+    p, q = k.numerator, k.denominator
+    head = "pi" if p == 1 else "-pi" if p == -1 else f"{p}*pi"
+    return head if q == 1 else f"{head}/{q}"
 
 
 def build_rational_scene(name: str, params: dict | None = None):
@@ -297,6 +327,18 @@ def _rational_builtin(name, given):
             if not _PLAIN_INT.fullmatch(str(given[key]).strip()):
                 return None
             kw[key] = given[key]
+    if name == "pool":
+        from ..models import acary_taha
+
+        if given.get("theta") is None:
+            return None
+        theta, tau = _pi_turns(given["theta"]), _pi_turns(given["tau"]) if given.get("tau") else Fraction(0)
+        if theta is None or tau is None:
+            return None
+        sc = acary_taha.pool_rational(theta, tau)
+        if sc is None:
+            return None
+        return sc, {"scene": "pool", "theta": _pi_text(theta), "tau": _pi_text(tau), "contacts": sc.contacts}
     if name == "chain3":
         from ..models import acary_taha
 
