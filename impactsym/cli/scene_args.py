@@ -108,11 +108,12 @@ def read_rational_system(args):
     """The :class:`~impactsym.resolution.System` of explicit matrices whose every entry (and
     ``--restitution``) is plain rational text (``2``, ``-1/3``, ``1.5``, ``1e-3``), or of a built-in
     scene of rational data whose parameters are plain rational text
-    (:func:`~impactsym.scenes.registry.build_rational_scene`: chain3 and the scenes of balls on a
-    line), read and checked exactly without SymPy
+    (:func:`~impactsym.scenes.registry.build_rational_scene`: chain3, the scenes of balls on a
+    line, the pool at θ = 0 and π/2), read and checked exactly without SymPy
     (:meth:`~impactsym.resolution.System.from_rationals`): for the laws that compute in floats.
-    ``None`` for anything else (the pool, a scene file, ``sqrt(2)``, malformed text, input the checks
-    refuse): :func:`read_system` then reads it, and words every error as it always has."""
+    ``None`` for anything else (any other pool, Bernoulli's problem, a scene file, ``sqrt(2)``,
+    malformed text, input the checks refuse): :func:`read_system` then reads it, and words every
+    error as it always has."""
     from ..arithmetic.literals import plain_matrix, plain_rational, plain_vector
     from ..errors import ImpactError
     from ..resolution import System
