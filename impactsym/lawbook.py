@@ -47,7 +47,7 @@ from typing import Any
 import numpy as np
 
 from .errors import DomainError, ImpactInputError, NonTermination
-from .resolution import Outcome, Resolution, System, is_mpmath, is_sympy
+from .resolution import Outcome, RationalMatrix, Resolution, System, is_mpmath, is_sympy
 
 # SymPy and mpmath are imported where an exact or certified value is handled: the laws' table, their
 # options and a float law's answer (the compliant laws) need neither.
@@ -129,6 +129,11 @@ def _float_array(A) -> np.ndarray:
                         f = cache[q] = near(Fraction(int(q.p), int(q.q)))
                     out[i, j] = f
             return out
+    if isinstance(A, RationalMatrix):  # the non-zero entries only (a 1000-ball scene's M is diagonal)
+        out = np.zeros(A.shape, dtype=np.float64)
+        for (i, j), x in A.nonzeros().items():
+            out[i, j] = near(x)
+        return out
     return np.array([[near(x) for x in row] for row in A.tolist()], dtype=np.float64)
 
 

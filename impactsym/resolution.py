@@ -158,9 +158,21 @@ def _rational_pair(x, cache: dict) -> tuple:
 
 def matrix_json(name: str, value) -> dict:
     if isinstance(value, RationalMatrix):
-        rows = value.tolist()
-        return {name: [[_fraction_text(x) for x in r] for r in rows],
-                name + "_float": [[_fraction_float(x) for x in r] for r in rows]}
+        # memoised on the entry: most entries of a scene's M and H are 0 or ±1
+        cache: dict = {}
+
+        def pair(x):
+            got = cache.get(x)
+            if got is None:
+                got = cache[x] = (_fraction_text(x), _fraction_float(x))
+            return got
+
+        rows, cols = value.shape
+        zt, zf = pair(Fraction(0))
+        text, floats = [[zt] * cols for _ in range(rows)], [[zf] * cols for _ in range(rows)]
+        for (i, j), x in value.nonzeros().items():
+            text[i][j], floats[i][j] = pair(x)
+        return {name: text, name + "_float": floats}
     if is_sympy(value, "MatrixBase"):
         import sympy as sp
 
@@ -207,16 +219,51 @@ class RationalMatrix:
     [[0.3333333333333333], [-1.0]]
     """
 
-    __slots__ = ("_rows",)
+    __slots__ = ("_rows", "_nz")
 
     def __init__(self, rows):
         self._rows = [[Fraction(x) for x in r] for r in rows]
+        self._nz = None
         if not self._rows or len({len(r) for r in self._rows}) != 1 or not self._rows[0]:
             raise ValueError("RationalMatrix: rows of one non-zero length, at least one")
 
     @classmethod
     def column(cls, entries) -> "RationalMatrix":
         return cls([[x] for x in entries])
+
+    @classmethod
+    def from_entries(cls, shape: tuple[int, int], entries: dict) -> "RationalMatrix":
+        """The matrix of ``shape`` whose nonzero entries are ``entries`` (``{(i, j): value}``, each
+        an ``int`` or a ``Fraction``); every other entry is 0 (one shared ``Fraction``: a
+        1000-ball scene's ``M`` is a million entries, almost all zero).
+
+        >>> RationalMatrix.from_entries((2, 3), {(0, 0): 1, (1, 2): Fraction(-1, 2)})
+        RationalMatrix([['1', '0', '0'], ['0', '0', '-1/2']])
+        """
+        n, m = shape
+        if n < 1 or m < 1:
+            raise ValueError("RationalMatrix: rows of one non-zero length, at least one")
+        zero = Fraction(0)
+        rows = [[zero] * m for _ in range(n)]
+        nz = {}
+        for (i, j), x in sorted(entries.items()):
+            rows[i][j] = Fraction(x)
+            if x:
+                nz[i, j] = rows[i][j]
+        out = cls.__new__(cls)
+        out._rows, out._nz = rows, nz
+        return out
+
+    def nonzeros(self) -> dict:
+        """``{(i, j): entry}`` of the non-zero entries, row by row (each row's columns in order):
+        what the float path reads of a large sparse scene (its ``M`` is diagonal).
+
+        >>> RationalMatrix([[0, 2], [Fraction(1, 3), 0]]).nonzeros()
+        {(0, 1): Fraction(2, 1), (1, 0): Fraction(1, 3)}
+        """
+        if self._nz is None:
+            self._nz = {(i, j): x for i, r in enumerate(self._rows) for j, x in enumerate(r) if x}
+        return self._nz
 
     @property
     def shape(self) -> tuple[int, int]:
@@ -320,14 +367,16 @@ class System:
         return cls(Mx, Hx, vx, restitution, exact=exact, **kw)
 
     @classmethod
-    def from_rationals(cls, M, H, v, restitution=None) -> "System":
+    def from_rationals(cls, M, H, v, restitution=None, **kw) -> "System":
         """A system from rational entries (nested lists of ``Fraction``, as
         :func:`impactsym.arithmetic.literals.plain_matrix` reads them), checked exactly in
         python-flint without SymPy: ``M`` square, symmetric and positive definite (Sylvester's
         criterion), ``H`` with ``n`` columns and no zero row, ``v`` of length ``n``. ``restitution``:
         None, a ``Fraction``, or a list of them. A violated condition raises
         :class:`~impactsym.errors.ImpactInputError` (the command line then lets
-        :meth:`from_matrices` word it, as it always has).
+        :meth:`from_matrices` word it, as it always has). ``M`` and ``H`` may also be
+        :class:`RationalMatrix` (taken as they are); ``kw`` (``contacts``, ``scene``,
+        ``coordinates``, ``source``) go to the system as :meth:`from_scene` gives them.
 
         >>> from fractions import Fraction as Q
         >>> s = System.from_rationals([[Q(2), Q(0)], [Q(0), Q(1)]], [[Q(-1), Q(1)]], [Q(1), Q(0)])
@@ -342,11 +391,15 @@ class System:
 
         from .mechanics import first_asymmetric_pair, positive_definite_by_fflu, symmetric_elimination
 
-        Mx, Hx, vx = RationalMatrix(M), RationalMatrix(H), RationalMatrix.column(v)
+        Mx = M if isinstance(M, RationalMatrix) else RationalMatrix(M)
+        Hx = H if isinstance(H, RationalMatrix) else RationalMatrix(H)
+        vx = RationalMatrix.column(v)
         n = Mx.rows
         if Mx.cols != n:
             raise ImpactInputError("mass_matrix", f"must be a non-empty square matrix, got shape {Mx.shape}")
-        rows = [{j: fmpq(x.numerator, x.denominator) for j, x in enumerate(r) if x} for r in Mx.tolist()]
+        rows = [{} for _ in range(n)]
+        for (i, j), x in Mx.nonzeros().items():
+            rows[i][j] = fmpq(x.numerator, x.denominator)
         bad = first_asymmetric_pair(rows)
         if bad is not None:
             i, j = bad
@@ -356,8 +409,9 @@ class System:
             symmetric_elimination(rows, n, "mass_matrix")  # as check_mass_matrix: fflu first when dense
         if Hx.cols != n:
             raise ImpactInputError("gradients", f"has {Hx.cols} columns, expected {n} (the mass matrix is {n}×{n})")
-        for i, r in enumerate(Hx.tolist()):
-            if not any(r):
+        nonzero_rows = {i for i, _ in Hx.nonzeros()}
+        for i in range(Hx.rows):
+            if i not in nonzero_rows:
                 raise ImpactInputError("gradients", f"row {i} is the zero covector (a constraint gradient must be "
                                                     "non-zero)")
         if vx.rows != n:
@@ -366,7 +420,7 @@ class System:
             restitution = [Fraction(x) for x in restitution]
         elif restitution is not None:
             restitution = Fraction(restitution)
-        return cls(Mx, Hx, vx, restitution, exact=True)
+        return cls(Mx, Hx, vx, restitution, exact=True, **kw)
 
     @property
     def rational(self) -> bool:

@@ -38,7 +38,8 @@ LAW_CLI: dict[str, str] = {
     "lzb": "resolve_compliant:lzb_options",
 }
 LAWS = tuple(LAW_CLI)
-#: the laws that compute in floats (integrators): they read plain rational matrices without SymPy
+#: the laws that compute in floats (integrators): they read plain rational matrices and the built-in
+#: scenes of rational data without SymPy (:func:`~impactsym.cli.scene_args.read_rational_system`)
 FLOAT_LAWS = ("hertz", "linear", "power", "hunt-crossley", "lzb")
 
 #: why an option is absent from a law (appended to the refusal)
@@ -144,7 +145,7 @@ def run(args) -> dict:
     from .scene_args import float_range_guard, read_rational_system, read_system
 
     # a law that computes in floats (and the sequential law's --float path) reads plain rational
-    # matrices without SymPy (issue 15)
+    # matrices, and the built-in scenes of rational data (built in Fractions), without SymPy (issue 15)
     floats = args.law in FLOAT_LAWS or (args.law == "sequential" and args.float and args.gaps is None)
     system = (read_rational_system(args) if floats and path is None else None) or read_system(args)
     if args.law == "all":

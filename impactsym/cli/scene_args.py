@@ -106,23 +106,38 @@ def read_system(args):
 
 def read_rational_system(args):
     """The :class:`~impactsym.resolution.System` of explicit matrices whose every entry (and
-    ``--restitution``) is plain rational text (``2``, ``-1/3``, ``1.5``, ``1e-3``), read and checked
-    exactly without SymPy (:meth:`~impactsym.resolution.System.from_rationals`): for the laws that
-    compute in floats. ``None`` for anything else (a scene, ``sqrt(2)``, malformed text, input the
-    checks refuse): :func:`read_system` then reads it, and words every error as it always has."""
+    ``--restitution``) is plain rational text (``2``, ``-1/3``, ``1.5``, ``1e-3``), or of a built-in
+    scene of rational data whose parameters are plain rational text
+    (:func:`~impactsym.scenes.registry.build_rational_scene`: chain3, the scenes of balls on a
+    line, the pool at θ = 0 and π/2), read and checked exactly without SymPy
+    (:meth:`~impactsym.resolution.System.from_rationals`): for the laws that compute in floats.
+    ``None`` for anything else (any other pool, Bernoulli's problem, a scene file, ``sqrt(2)``,
+    malformed text, input the checks refuse): :func:`read_system` then reads it, and words every
+    error as it always has."""
     from ..arithmetic.literals import plain_matrix, plain_rational, plain_vector
     from ..errors import ImpactError
     from ..resolution import System
 
-    if getattr(args, "scene_file", None) is not None or args.scene is not None:
+    if getattr(args, "scene_file", None) is not None:
         return None
-    if any(getattr(args, name, None) is not None for name in ALL_PARAMS):
-        return None
-    if any(getattr(args, opt) is None for opt in MATRIX_OPTIONS):
-        return None
-    M, H, v = plain_matrix(args.mass_matrix), plain_matrix(args.gradients), plain_vector(args.velocity)
-    if M is None or H is None or v is None:
-        return None
+    scene = None
+    if args.scene is not None:  # a built-in scene of rational data (balls on a line), built in Fractions
+        from ..scenes.registry import build_rational_scene
+
+        if any(getattr(args, opt) is not None for opt in MATRIX_OPTIONS):
+            return None
+        scene = build_rational_scene(args.scene, {p: getattr(args, p, None) for p in ALL_PARAMS})
+        if scene is None:
+            return None
+        M, H, v = scene.M, scene.H, list(scene.v)
+    else:
+        if any(getattr(args, name, None) is not None for name in ALL_PARAMS):
+            return None
+        if any(getattr(args, opt) is None for opt in MATRIX_OPTIONS):
+            return None
+        M, H, v = plain_matrix(args.mass_matrix), plain_matrix(args.gradients), plain_vector(args.velocity)
+        if M is None or H is None or v is None:
+            return None
     text = getattr(args, "restitution", None)
     try:
         e = None if text is None else ([plain_rational(x) for x in str(text).split(",")] if "," in str(text)
@@ -132,7 +147,10 @@ def read_rational_system(args):
     if e is not None and (e if isinstance(e, list) else [e]).count(None):
         return None
     try:
-        return System.from_rationals(M, H, v, e)
+        if scene is None:
+            return System.from_rationals(M, H, v, e)
+        return System.from_rationals(M, H, v, e, contacts=list(scene.contacts), scene=scene.meta["scene_json"],
+                                     coordinates=list(scene.coordinates), source=scene)
     except ImpactError:
         return None
 

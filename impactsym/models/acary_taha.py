@@ -37,24 +37,30 @@ Examples
 
 from __future__ import annotations
 
+from fractions import Fraction
 from functools import lru_cache
 
-import sympy as sp
-
+from ..arithmetic import LazyModule
 from ..errors import ImpactInputError
 from ..exact import certified_sign
 from ..scenes import Scene
+
+# SymPy is imported on first use: ``chain3(..., rational=True)`` builds the chain without it (issue 15)
+sp = LazyModule("sympy", globals(), "sp")
 
 __all__ = ["chain3", "pool", "bernoulli", "pool_positions", "INCIDENCES"]
 
 INCIDENCES = ("theta-minus-tau", "theta-plus-tau", "printed")
 
 
-def _coords(n_balls: int, planar: bool):
+def _coord_names(n_balls: int, planar: bool) -> list[str]:
     if planar:
-        names = [f"{c}{i}" for i in range(1, n_balls + 1) for c in ("x", "y")]
-    else:
-        names = [f"q{i}" for i in range(1, n_balls + 1)]
+        return [f"{c}{i}" for i in range(1, n_balls + 1) for c in ("x", "y")]
+    return [f"q{i}" for i in range(1, n_balls + 1)]
+
+
+def _coords(n_balls: int, planar: bool):
+    names = _coord_names(n_balls, planar)
     return list(sp.symbols(" ".join(names), real=True)), names
 
 
@@ -68,7 +74,14 @@ def _approaching(H, v):
     return out
 
 
-def chain3(masses=(1, 1, 1), velocities=(1, 0, 0), radius=1):
+def _chain3_constraints(r):
+    """The chain's constraints (eq. 14), ``h₁ = q₂ − q₁ − 2r``, ``h₂ = q₃ − q₂ − 2r``, each as
+    ``({index of q: coefficient}, constant)``: linear in ``q``, so their gradient rows are the
+    coefficients (the rational build reads them so; the SymPy one differentiates ``h``)."""
+    return [({1: 1, 0: -1}, -2 * r), ({2: 1, 1: -1}, -2 * r)]
+
+
+def chain3(masses=(1, 1, 1), velocities=(1, 0, 0), radius=1, *, rational=False):
     """The 3-ball chain of sec. 3.2: balls on a line touching, contacts 1–2 and 2–3 closed.
 
     Constraints ``h₁ = q₂ − q₁ − 2r ≥ 0``, ``h₂ = q₃ − q₂ − 2r ≥ 0`` (eq. 14); ``M = diag(m)``.
@@ -77,16 +90,43 @@ def chain3(masses=(1, 1, 1), velocities=(1, 0, 0), radius=1):
     Parameters
     ----------
     masses, velocities : three numbers or symbols each (defaults: unit masses, ``q̇⁻ = (1, 0, 0)``).
+    rational : every number an ``int`` or a ``Fraction`` (masses positive), and ``M``, ``H``, ``v``
+        :class:`~impactsym.resolution.RationalMatrix`, built without SymPy (the command line's
+        float path, issue 15); the same entries as the SymPy build.
+
+    >>> from fractions import Fraction
+    >>> chain3((1, Fraction(1, 2), 4), rational=True).M
+    RationalMatrix([['1', '0', '0'], ['0', '1/2', '0'], ['0', '0', '4']])
     """
     if len(masses) != 3 or len(velocities) != 3:
         raise ImpactInputError("masses/velocities", "chain3 needs exactly three of each")
+    if rational:
+        return _chain3_rational(masses, velocities, radius)
     q, names = _coords(3, planar=False)
     r = sp.sympify(radius)
-    h = [q[1] - q[0] - 2 * r, q[2] - q[1] - 2 * r]
+    h = [sum((c * q[j] for j, c in coef.items()), const) for coef, const in _chain3_constraints(r)]
     H = sp.Matrix([[sp.diff(hi, qj) for qj in q] for hi in h])
     M = sp.diag(*[sp.sympify(m) for m in masses])
     v = sp.Matrix([sp.sympify(x) for x in velocities])
     return Scene(M, H, v, names, ["1-2", "2-3"], _approaching(H, v),
+                 {"paper": "acary-taha", "ref": "sec. 3.2, eqs. 13-14", "scene": "chain3"})
+
+
+def _chain3_rational(masses, velocities, radius):
+    from ..resolution import RationalMatrix
+
+    values = [*masses, *velocities, radius]
+    if any(isinstance(x, bool) or not isinstance(x, (int, Fraction)) for x in values):
+        raise ImpactInputError("masses/velocities", "rational=True takes ints and Fractions")
+    for m in masses:
+        if m <= 0:
+            raise ImpactInputError("masses", f"must be positive, got {m}")
+    H = RationalMatrix.from_entries((2, 3), {(i, j): c for i, (coef, _) in enumerate(_chain3_constraints(Fraction(radius)))
+                                             for j, c in coef.items()})
+    M = RationalMatrix.from_entries((3, 3), {(i, i): m for i, m in enumerate(masses)})
+    v = RationalMatrix.column(velocities)
+    approaching = [sum((H[i, j] * v[j, 0] for j in range(3)), Fraction(0)) < 0 for i in range(2)]
+    return Scene(M, H, v, _coord_names(3, planar=False), ["1-2", "2-3"], approaching,
                  {"paper": "acary-taha", "ref": "sec. 3.2, eqs. 13-14", "scene": "chain3"})
 
 
@@ -141,6 +181,52 @@ def pool(theta, tau=0, *, incidence="theta-minus-tau", constraint="distance", th
                   "theta": theta, "tau": tau, "incidence": incidence, "constraint": constraint})
 
 
+#: ``(cos, sin)`` of ``k·π/2`` for ``k mod 4``: the only angles in ``π·Q`` whose cosine and sine are
+#: both rational (Niven's theorem)
+_QUARTER_TURNS = ((1, 0), (0, 1), (-1, 0), (0, -1))
+
+
+def pool_rational(theta_turns, tau_turns=0):
+    """The pool of :func:`pool` (default incidence and constraint, ``a = 1``) at ``θ = theta_turns·π``
+    and ``τ = tau_turns·π`` with ``M``, ``H``, ``v`` :class:`~impactsym.resolution.RationalMatrix`,
+    built without SymPy, or ``None`` when its data are not rational.
+
+    Its data are rational exactly when ``cos θ``, ``sin θ``, ``cos(θ − τ)``, ``sin(θ − τ)`` are
+    (Niven: ``θ`` and ``θ − τ`` multiples of ``π/2``), so for ``θ ∈ [0, 2π/3]`` only ``θ = 0`` and
+    ``θ = π/2``; every other pool (``sqrt(3)/2`` at ``θ = π/3``, Bernoulli's ``θ = 2π/3``) gives
+    ``None``. The gradient of ``h = ‖G_j − G_i‖ − 2`` at contact is ``∓(G_j − G_i)/2`` on balls
+    ``i``, ``j`` (the unit normal that :func:`pool` obtains by differentiating ``h``).
+
+    >>> sc = pool_rational(Fraction(1, 2))
+    >>> sc.H, sc.v.tolist()[:2], sc.contacts
+    (RationalMatrix([['0', '-1', '0', '1', '0', '0'], ['0', '0', '-1', '0', '1', '0']]), [[Fraction(0, 1)], [Fraction(1, 1)]], ['1-2', '2-3'])
+    >>> pool_rational(Fraction(1, 3)) is None
+    True
+    """
+    from ..resolution import RationalMatrix
+
+    theta, tau = Fraction(theta_turns), Fraction(tau_turns)
+    if theta not in (0, Fraction(1, 2)) or (2 * (theta - tau)).denominator != 1:
+        return None
+    c, s = _QUARTER_TURNS[int(2 * theta) % 4]
+    vx, vy = _QUARTER_TURNS[int(2 * (theta - tau)) % 4]
+    G = [(-2 * c, -2 * s), (0, 0), (2, 0)]  # pool_positions at a = 1
+    pairs = [(0, 1), (1, 2)]  # the third contact closes only at θ = 2π/3
+    H = {}
+    for r, (i, j) in enumerate(pairs):
+        for d in range(2):
+            n = Fraction(G[j][d] - G[i][d], 2)
+            if n:
+                H[r, 2 * i + d], H[r, 2 * j + d] = -n, n
+    H = RationalMatrix.from_entries((2, 6), H)
+    v = RationalMatrix.column([vx, vy, 0, 0, 0, 0])
+    approaching = [sum((H[r, k] * v[k, 0] for k in range(6)), Fraction(0)) < 0 for r in range(2)]
+    return Scene(RationalMatrix.from_entries((6, 6), {(k, k): 1 for k in range(6)}), H, v, _coord_names(3, planar=True),
+                 [f"{i + 1}-{j + 1}" for i, j in pairs], approaching,
+                 {"paper": "acary-taha", "ref": "sec. 4, eqs. 24-27", "scene": "pool", "theta": theta, "tau": tau,
+                  "incidence": "theta-minus-tau", "constraint": "distance"})
+
+
 @lru_cache(maxsize=256)  # bounded: a sweep over θ must not grow it without end
 def _pool_gradients(theta, third_contact: bool, constraint: str, a) -> sp.ImmutableMatrix:
     """The gradient rows of the pool's contacts at the balls' positions (simplified entries):
@@ -173,6 +259,7 @@ def _pool_gradients(theta, third_contact: bool, constraint: str, a) -> sp.Immuta
     return sp.ImmutableMatrix(rows)
 
 
-def bernoulli(tau=-sp.pi / 6, **kw):
-    """Bernoulli's problem (sec. 4.2, case 3, eq. 37): the pool at θ = 2π/3, three closed contacts."""
-    return pool(2 * sp.pi / 3, tau, third_contact=True, **kw)
+def bernoulli(tau=None, **kw):
+    """Bernoulli's problem (sec. 4.2, case 3, eq. 37): the pool at θ = 2π/3, three closed contacts
+    (``tau`` default ``−π/6``)."""
+    return pool(2 * sp.pi / 3, -sp.pi / 6 if tau is None else tau, third_contact=True, **kw)

@@ -27,10 +27,14 @@ Matrix([[1, 1, 0, 0, 0]])
 
 from __future__ import annotations
 
-import sympy as sp
+from fractions import Fraction
 
+from ..arithmetic import LazyModule, sympy_instance
 from ..errors import ImpactInputError
 from ..scenes import Scene, balls_on_line
+
+# SymPy is imported on first use: ``rational=True`` builds a scene in Fractions without it (issue 15)
+sp = LazyModule("sympy", globals(), "sp")
 
 __all__ = ["two_balls_wall", "three_ball_cradle", "cradle", "balls_against_wall", "SCENES"]
 
@@ -53,24 +57,29 @@ def _ball_count(value):
     return n
 
 
-def _row_positions(n, radius, start):
-    r = sp.sympify(radius)
+def _row_positions(n, radius, start, rational=False):
+    r = Fraction(radius) if rational else sp.sympify(radius)
     return [start + r + 2 * r * i for i in range(n)]
 
 
-def two_balls_wall(masses=(1, 1), velocities=(-1, -2), radius=1) -> Scene:
+def two_balls_wall(masses=(1, 1), velocities=(-1, -2), radius=1, *, rational=False) -> Scene:
     """Two balls in a row against a wall (fig. 3): wall at 0, balls at ``r`` and ``3r``.
 
     ``φ_u = x₁ − r`` and ``φ_v = x₂ − x₁ − 2r``: ``u = [1, 0]``, ``v = [−1, 1]`` (sec. II-C.1).
     The default ``v0 = (−1, −2)`` approaches both contacts (``u v0 = −1``, ``v v0 = −1``).
     ``masses=("11/10", 1)`` is sec. III-B.3's ``M = diag(1.1, 1)``.
 
+    Every builder here takes ``rational=True``: its numbers ``int`` or ``Fraction``, and the
+    scene's ``M``, ``H``, ``v`` :class:`~impactsym.resolution.RationalMatrix`, built without SymPy
+    (:func:`impactsym.scenes.balls_on_line`).
+
     >>> two_balls_wall().contacts
     ['wall@0-1', '1-2']
     """
     if len(masses) != 2 or len(velocities) != 2:
         raise ImpactInputError("masses/velocities", "two_balls_wall needs exactly two of each")
-    sc = balls_on_line(list(masses), [radius, radius], _row_positions(2, radius, 0), list(velocities), [0])
+    sc = balls_on_line(list(masses), [radius, radius], _row_positions(2, radius, 0, rational), list(velocities), [0],
+                       rational=rational)
     # the paper's order of the surfaces: u (wall) first, then v (ball-ball)
     order = [sc.contacts.index("wall@0-1"), sc.contacts.index("1-2")]
     return _reorder(sc, order, {"paper": "seghete-murphey", "ref": "sec. II-C.1, III-B.1, III-B.3",
@@ -78,13 +87,19 @@ def two_balls_wall(masses=(1, 1), velocities=(-1, -2), radius=1) -> Scene:
 
 
 def _reorder(sc: Scene, order, meta) -> Scene:
-    H = sc.H.extract(order, list(range(sc.H.shape[1]))) if isinstance(sc.H, sp.MatrixBase) else sc.H[order]
+    from ..resolution import RationalMatrix
+
+    if isinstance(sc.H, RationalMatrix):
+        rows = sc.H.tolist()
+        H = RationalMatrix([rows[i] for i in order])
+    else:
+        H = sc.H.extract(order, list(range(sc.H.shape[1]))) if sympy_instance(sc.H, "MatrixBase") else sc.H[order]
     sc.meta.update(meta)
     return Scene(sc.M, H, sc.v, sc.coordinates, [sc.contacts[i] for i in order],
                  [sc.approaching[i] for i in order], sc.meta)
 
 
-def three_ball_cradle(velocities=(1, 0, 0), masses=(1, 1, 1), radius=1) -> Scene:
+def three_ball_cradle(velocities=(1, 0, 0), masses=(1, 1, 1), radius=1, *, rational=False) -> Scene:
     """Newton's cradle with three balls (fig. 5, sec. III-B.2): ``u = [−1, 1, 0]``, ``v = [0, −1, 1]``.
 
     >>> three_ball_cradle().H
@@ -94,12 +109,13 @@ def three_ball_cradle(velocities=(1, 0, 0), masses=(1, 1, 1), radius=1) -> Scene
     """
     if len(masses) != 3 or len(velocities) != 3:
         raise ImpactInputError("masses/velocities", "three_ball_cradle needs exactly three of each")
-    sc = balls_on_line(list(masses), [radius] * 3, _row_positions(3, radius, 0), list(velocities))
+    sc = balls_on_line(list(masses), [radius] * 3, _row_positions(3, radius, 0, rational), list(velocities),
+                       rational=rational)
     sc.meta.update({"paper": "seghete-murphey", "ref": "sec. II-C.2, III-B.2, eq. 4", "scene": "three-ball-cradle"})
     return sc
 
 
-def cradle(n_balls=3, strikers=1, masses=None, speed=1, radius=1) -> Scene:
+def cradle(n_balls=3, strikers=1, masses=None, speed=1, radius=1, *, rational=False) -> Scene:
     """An ``n``-ball cradle: balls touching in a row, the first ``strikers`` moving at ``speed``.
 
     Contacts ``1-2, …, (n−1)-n`` with rows ``[…, −1, 1, …]``; only contact ``k–(k+1)`` approaches
@@ -123,13 +139,14 @@ def cradle(n_balls=3, strikers=1, masses=None, speed=1, radius=1) -> Scene:
     masses = [1] * n if masses is None else list(masses)
     if len(masses) != n:
         raise ImpactInputError("masses", f"has {len(masses)} entries, expected n_balls={n}")
-    sc = balls_on_line(masses, [radius] * n, _row_positions(n, radius, 0), [speed] * k + [0] * (n - k))
+    sc = balls_on_line(masses, [radius] * n, _row_positions(n, radius, 0, rational), [speed] * k + [0] * (n - k),
+                       rational=rational)
     sc.meta.update({"paper": "seghete-murphey", "ref": "sec. III-B.2 (generalized)", "scene": "cradle",
                     "n_balls": n, "strikers": k})
     return sc
 
 
-def balls_against_wall(n_balls=2, masses=None, velocities=None, radius=1) -> Scene:
+def balls_against_wall(n_balls=2, masses=None, velocities=None, radius=1, *, rational=False) -> Scene:
     """``n`` balls in a row, the first touching a wall at 0 (fig. 3 for ``n = 2``).
 
     Default velocities: the last ball strikes (``v = −1``), the others rest.
@@ -142,7 +159,8 @@ def balls_against_wall(n_balls=2, masses=None, velocities=None, radius=1) -> Sce
     velocities = [0] * (n - 1) + [-1] if velocities is None else list(velocities)
     if len(masses) != n or len(velocities) != n:
         raise ImpactInputError("masses/velocities", f"need n_balls={n} entries each")
-    sc = balls_on_line(masses, [radius] * n, _row_positions(n, radius, 0), velocities, [0])
+    sc = balls_on_line(masses, [radius] * n, _row_positions(n, radius, 0, rational), velocities, [0],
+                       rational=rational)
     sc.meta.update({"paper": "seghete-murphey", "ref": "sec. II-C.1 (generalized)", "scene": "balls-against-wall",
                     "n_balls": n})
     return sc

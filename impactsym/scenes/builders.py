@@ -8,8 +8,10 @@ format that feeds these builders is :mod:`impactsym.scenes.fileformat`.
 
 from __future__ import annotations
 
+from fractions import Fraction
 
 from ..arithmetic import LazyModule, sympy_instance
+from ..resolution import RationalMatrix
 from .scene import Scene
 
 # SymPy is imported on first use: a float scene (and its checks) runs without it (issue 15)
@@ -59,11 +61,37 @@ def _numbers(values, argument: str, exact: bool, *, length: int | None = None):
 
 
 def _sign(x, exact: bool) -> int:
+    if isinstance(x, (int, Fraction)):  # exact by construction (the rational builders' numbers)
+        return (x > 0) - (x < 0)
     from ..exact import certified_sign
 
     if exact:
         return certified_sign(x)
     return (x > 0) - (x < 0)
+
+
+def _fractions(values, argument: str, *, length: int | None = None) -> list:
+    """The rational builders' numbers: each an ``int`` or a ``Fraction`` (kept as ``Fraction``)."""
+    from ..errors import ImpactInputError
+
+    if isinstance(values, (str, bytes)) or not hasattr(values, "__len__"):
+        raise ImpactInputError(argument, f"must be a sequence of numbers, got {values!r}")
+    vals = list(values)
+    if length is not None and len(vals) != length:
+        raise ImpactInputError(argument, f"has {len(vals)} entries, expected {length} (one per ball)")
+    for x in vals:
+        if isinstance(x, bool) or not isinstance(x, (int, Fraction)):
+            raise ImpactInputError(argument, f"entry {x!r} is not an int or a Fraction (rational=True)")
+    return [Fraction(x) for x in vals]
+
+
+def _fmpq(x):
+    """A rational (SymPy ``Rational`` or ``Fraction``) as flint ``fmpq``."""
+    from flint import fmpq
+
+    if isinstance(x, Fraction):
+        return fmpq(x.numerator, x.denominator)
+    return fmpq(int(x.p), int(x.q))
 
 
 def _classify_gap(gap, scale, exact: bool, tol, what: str, balls=(), wall=None):
@@ -108,6 +136,11 @@ def _approaching_exact(H, v, exact: bool, nonzeros=None):
 
     if nonzeros is None:
         nonzeros = [range(H.shape[1])] * H.shape[0]
+    if isinstance(H, RationalMatrix):  # Fractions: summed in fmpq, exact
+        from flint import fmpq
+
+        vq = [_fmpq(x) for x in v]
+        return [sum((_fmpq(H[i, j]) * vq[j] for j in nonzeros[i]), fmpq(0)) < 0 for i in range(H.shape[0])]
     vq = None
     if exact and all(sympy_instance(x, "Rational") for x in v):
         from flint import fmpq
@@ -151,10 +184,12 @@ def _exact_matrix(shape, entries):
     return sp.Matrix(shape[0], shape[1], [x for r in rows for x in r])
 
 
-def _assemble(masses, velocities, dim, contacts, exact, coords_of, meta):
+def _assemble(masses, velocities, dim, contacts, exact, coords_of, meta, rational=False):
     """Reduce to the involved bodies: M, H, v and the bookkeeping for :func:`full_velocity`.
 
     H is built from its nonzeros (a contact touches one or two balls), never as dense rows.
+    ``rational``: ``M``, ``H``, ``v`` as :class:`~impactsym.resolution.RationalMatrix` (the entries
+    are ``Fraction``), the same entries as the SymPy matrices of the exact path.
     """
     import numpy as np
 
@@ -178,7 +213,11 @@ def _assemble(masses, velocities, dim, contacts, exact, coords_of, meta):
         nonzeros[r].append(c)
     mdiag = [masses[b] for b in involved for _ in range(dim)]
     vel = [velocities[b][d] if dim > 1 else velocities[b] for b in involved for d in range(dim)]
-    if exact:
+    if rational:
+        M = RationalMatrix.from_entries((n, n), {(i, i): x for i, x in enumerate(mdiag)})
+        H = RationalMatrix.from_entries((len(contacts), n), hent)
+        v = RationalMatrix.column(vel)
+    elif exact:
         M = _exact_matrix((n, n), {(i, i): x for i, x in enumerate(mdiag)})
         H = _exact_matrix((len(contacts), n), hent)
         v = sp.Matrix(vel)
@@ -197,7 +236,8 @@ def _assemble(masses, velocities, dim, contacts, exact, coords_of, meta):
     return scene
 
 
-def balls_on_line(masses, radii, positions, velocities, walls=(), *, gap_tolerance=None) -> Scene:
+def balls_on_line(masses, radii, positions, velocities, walls=(), *, gap_tolerance=None,
+                  rational: bool = False) -> Scene:
     """Balls on a line (and fixed walls), reduced to the contacts closed at the impact instant.
 
     Coordinates are the centres ``x_b`` of the *involved* balls (those in a closed contact); a
@@ -215,6 +255,12 @@ def balls_on_line(masses, radii, positions, velocities, walls=(), *, gap_toleran
     masses, radii, positions, velocities : sequences, one entry per ball (masses > 0, radii ≥ 0)
     walls : sequence of wall positions (fixed, infinite mass)
     gap_tolerance : float, optional (float input only)
+    rational : bool
+        Every number an ``int`` or a ``Fraction``, and ``M``, ``H``, ``v`` returned as
+        :class:`~impactsym.resolution.RationalMatrix` (exact, without SymPy: what the float path
+        of the command line reads a built-in line scene with, issue 15). The contacts, their
+        order and the entries are those of the exact (SymPy) path; every decision is exact
+        (``Fraction`` and flint ``fmpq`` comparisons).
 
     Returns
     -------
@@ -239,26 +285,30 @@ def balls_on_line(masses, radii, positions, velocities, walls=(), *, gap_toleran
     Traceback (most recent call last):
     ...
     impactsym.errors.ImpactInputError: positions: balls 1 and 2 overlap (gap -1/2 < 0)
+    >>> from fractions import Fraction
+    >>> sc = balls_on_line([1, Fraction(1, 2)], [1, 1], [1, 3], [1, 0], [0], rational=True)
+    >>> sc.M, sc.H, sc.contacts, sc.approaching
+    (RationalMatrix([['1', '0'], ['0', '1/2']]), RationalMatrix([['-1', '1'], ['1', '0']]), ['1-2', 'wall@0-1'], [True, False])
     """
     from ..errors import ImpactInputError
 
-    exact = not _is_float_input(masses, radii, positions, velocities, list(walls))
+    fractions = rational
+    exact = fractions or not _is_float_input(masses, radii, positions, velocities, list(walls))
     nb = len(masses) if hasattr(masses, "__len__") else None
     if not nb:
         raise ImpactInputError("masses", "at least one ball is needed")
-    m = _numbers(masses, "masses", exact, length=nb)
-    r = _numbers(radii, "radii", exact, length=nb)
-    x = _numbers(positions, "positions", exact, length=nb)
-    v = _numbers(velocities, "velocities", exact, length=nb)
-    w = _numbers(walls, "walls", exact) if len(walls) else []
+    numbers = (lambda vals, arg, _exact, length=None: _fractions(vals, arg, length=length)) if fractions else _numbers
+    m = numbers(masses, "masses", exact, length=nb)
+    r = numbers(radii, "radii", exact, length=nb)
+    x = numbers(positions, "positions", exact, length=nb)
+    v = numbers(velocities, "velocities", exact, length=nb)
+    w = numbers(walls, "walls", exact) if len(walls) else []
     _positive(m, "masses", exact)
     _positive(r, "radii", exact, allow_zero=True)
     scale = max([1.0] + [abs(float(t)) for t in x + r + w])
-    rational = exact and all(sympy_instance(t, "Rational") for t in x + r + w)
+    rational = fractions or (exact and all(sympy_instance(t, "Rational") for t in x + r + w))
     if rational:
-        from flint import fmpq
-
-        xq, rq, wq = ([fmpq(int(t.p), int(t.q)) for t in seq] for seq in (x, r, w))
+        xq, rq, wq = ([_fmpq(t) for t in seq] for seq in (x, r, w))
         contacts = _line_pairs_sorted(x, r, xq, rq, scale)
     else:
         contacts = _line_pairs_all(x, r, exact, scale, gap_tolerance)
@@ -281,7 +331,7 @@ def balls_on_line(masses, radii, positions, velocities, walls=(), *, gap_toleran
                 contacts.append((f"wall@{wall}-{b + 1}", [(b, (side,)), (None, None)]))
     contacts = _dedupe(contacts)
     return _assemble(m, v, 1, contacts, exact, lambda inv: [f"x{b + 1}" for b in inv],
-                     {"builder": "balls_on_line", "walls": w, "masses": m, "radii": r, "positions": x})
+                     {"builder": "balls_on_line", "walls": w, "masses": m, "radii": r, "positions": x}, fractions)
 
 
 def _line_pairs_all(x, r, exact, scale, gap_tolerance):

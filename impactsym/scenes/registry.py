@@ -33,6 +33,7 @@ from __future__ import annotations
 
 import copy
 import re
+from fractions import Fraction
 from functools import lru_cache
 from pathlib import Path
 from typing import TYPE_CHECKING
@@ -43,7 +44,7 @@ if TYPE_CHECKING:  # the registry's names and parameters are read without SymPy 
     from .scene import Scene
 
 __all__ = ["int_option", "BUILTIN_SCENES", "SCENE_PARAMS", "ALL_PARAMS", "SHIPPED_SCENES", "SCENE_FILES_DIR", "build_scene",
-           "scene_names", "is_scene_name"]
+           "build_rational_scene", "RATIONAL_SCENES", "scene_names", "is_scene_name"]
 
 #: built-in scene name -> one-line description (paper and section)
 BUILTIN_SCENES: dict[str, str] = {
@@ -230,6 +231,132 @@ def _build_builtin(name: str, given: dict) -> Scene:
     sc.meta.setdefault("name", name)
     sc.meta.setdefault("description", BUILTIN_SCENES[name])
     return sc
+
+
+#: the built-in scenes whose data are rational for rational parameters (balls on a line), and the
+#: pool at θ = 0 and θ = π/2 (with θ − τ a multiple of π/2): what :func:`build_rational_scene`
+#: builds. Every other pool, and Bernoulli's problem (θ = 2π/3), is not: their gradient rows and
+#: velocity hold cos and sin of the angles (``sqrt(3)/2`` at θ = π/3, ``sqrt(2)/2`` at π/4), irrational
+#: for every angle in π·Q but the multiples of π/2 (Niven).
+RATIONAL_SCENES = ("chain3", "pool", "two-balls-wall", "three-ball-cradle", "cradle", "balls-against-wall")
+
+#: an angle given as a plain multiple of pi: ``pi``, ``-pi/2``, ``3*pi/2``
+_PI_MULTIPLE = re.compile(r"([+-]?)(?:([0-9]{1,30})\*)?pi(?:/([0-9]{1,30}))?")
+
+
+def _pi_turns(text):
+    """``k`` with ``text`` = ``k·π`` (a Fraction), for ``0`` and plain multiples of ``pi``; else None."""
+    from ..arithmetic.literals import plain_rational
+
+    t = str(text).strip()
+    m = _PI_MULTIPLE.fullmatch(t)
+    if m:
+        sign, p, q = m.groups()
+        if q is not None and int(q) == 0:
+            return None
+        return Fraction(int(p or 1) * (-1 if sign == "-" else 1), int(q or 1))
+    try:
+        x = plain_rational(t)
+    except ZeroDivisionError:
+        return None
+    return x if x == 0 else None  # a non-zero rational angle (radians) has an irrational cosine
+
+
+def _pi_text(k: Fraction) -> str:
+    """SymPy's ``str`` of ``k·π``: ``0``, ``pi``, ``-pi/2``, ``3*pi/2``."""
+    if k == 0:
+        return "0"
+    p, q = k.numerator, k.denominator
+    head = "pi" if p == 1 else "-pi" if p == -1 else f"{p}*pi"
+    return head if q == 1 else f"{head}/{q}"
+
+
+def build_rational_scene(name: str, params: dict | None = None):
+    """The built-in scene ``name`` with ``M``, ``H``, ``v`` as
+    :class:`~impactsym.resolution.RationalMatrix`, built without SymPy, or ``None``.
+
+    The rational twin of :func:`build_scene` for the float path of the command line (issue 15):
+    the same entries, contacts, coordinates and ``meta["scene_json"]``, when ``name`` is one of
+    :data:`RATIONAL_SCENES` and every parameter given is plain rational text
+    (:func:`impactsym.arithmetic.literals.plain_vector`; integers for ``n_balls``, ``strikers``).
+    ``None`` for anything else (the pool, ``sqrt(2)``, ``2*3``, a shipped file) and for any
+    parameter the scene refuses: the caller then takes :func:`build_scene`, which reads every
+    text and words every error as it always has.
+
+    Examples
+    --------
+    >>> sc = build_rational_scene("cradle", {"n_balls": "4", "masses": "1,2,3,1/2"})
+    >>> sc.M.tolist()[3][3], sc.contacts, sc.meta["scene_json"]
+    (Fraction(1, 2), ['1-2', '2-3', '3-4'], {'scene': 'cradle', 'masses': ['1', '2', '3', '1/2'], 'n_balls': 4})
+    >>> build_rational_scene("pool", {"theta": "pi/3"}) is None, build_rational_scene("chain3", {"masses": "1,0,1"})
+    (True, None)
+    """
+    from ..errors import ImpactError
+
+    if name not in RATIONAL_SCENES:
+        return None
+    try:
+        given = _given(name, params)
+        built = _rational_builtin(name, given)
+    except ImpactError:
+        return None
+    if built is None:
+        return None
+    sc, desc = built
+    sc.meta["scene_json"] = desc
+    sc.meta.setdefault("name", name)
+    sc.meta.setdefault("description", BUILTIN_SCENES[name])
+    return sc
+
+
+def _rational_builtin(name, given):
+    """``(scene, description)`` as :func:`_acary_taha` / :func:`_seghete_murphey` give them, from
+    plain rational text, or None (text that is not plain)."""
+    from ..arithmetic.literals import plain_vector
+    from ..resolution import _fraction_text
+
+    kw = {}
+    for key in ("masses", "velocities"):
+        if given.get(key) is not None:
+            vals = plain_vector(str(given[key]))
+            if vals is None:
+                return None
+            kw[key] = vals
+    for key in ("n_balls", "strikers"):
+        if given.get(key) is not None:
+            if not _PLAIN_INT.fullmatch(str(given[key]).strip()):
+                return None
+            kw[key] = given[key]
+    if name == "pool":
+        from ..models import acary_taha
+
+        if given.get("theta") is None:
+            return None
+        theta, tau = _pi_turns(given["theta"]), _pi_turns(given["tau"]) if given.get("tau") else Fraction(0)
+        if theta is None or tau is None:
+            return None
+        sc = acary_taha.pool_rational(theta, tau)
+        if sc is None:
+            return None
+        return sc, {"scene": "pool", "theta": _pi_text(theta), "tau": _pi_text(tau), "contacts": sc.contacts}
+    if name == "chain3":
+        from ..models import acary_taha
+
+        masses, vels = kw.get("masses", [1, 1, 1]), kw.get("velocities", [1, 0, 0])
+        if len(masses) != 3 or len(vels) != 3:
+            return None
+        sc = acary_taha.chain3(masses, vels, rational=True)
+        return sc, {"scene": "chain3", "masses": [_fraction_text(Fraction(m)) for m in masses],
+                    "velocities": [_fraction_text(Fraction(x)) for x in vels]}
+    from ..laws.sequential import MAX_COORDINATES
+    from ..models import seghete_murphey as sm
+
+    for key in ("n_balls", "strikers"):
+        if key in kw:
+            kw[key] = int_option(kw[key], key, 1, MAX_COORDINATES)
+    sc = sm.SCENES[name](**kw, rational=True)
+    desc = {"scene": name, **{k: (v if isinstance(v, int) else [_fraction_text(x) for x in v]) for k, v in kw.items()}}
+    return sc, desc
 
 
 def _acary_taha(name, given):

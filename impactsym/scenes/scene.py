@@ -18,6 +18,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
+from fractions import Fraction
 
 import numpy as np
 
@@ -71,11 +72,19 @@ class Scene:
 
     @property
     def exact(self) -> bool:
-        """Whether ``M``, ``H`` and ``v`` are exact SymPy matrices (else float arrays)."""
-        return sympy_instance(self.M, "MatrixBase")
+        """Whether ``M``, ``H`` and ``v`` are exact: SymPy matrices, or
+        :class:`~impactsym.resolution.RationalMatrix` (the rational builders'; else float arrays)."""
+        from ..resolution import RationalMatrix
+
+        return sympy_instance(self.M, "MatrixBase") or isinstance(self.M, RationalMatrix)
 
     def relative_velocity(self):
         """``w = H v`` (approaching when ``w_i < 0``)."""
+        from ..resolution import RationalMatrix
+
+        if isinstance(self.H, RationalMatrix):
+            return RationalMatrix.column(sum((self.H[i, j] * self.v[j, 0] for j in range(self.n)), Fraction(0))
+                                         for i in range(self.k))
         return self.H * self.v if sympy_instance(self.H, "MatrixBase") else self.H @ self.v
 
 
