@@ -41,3 +41,14 @@ def test_bernoulli_prose_is_true_of_the_committed_curves():
     gap = sp.factor(sp.together((by["g1"].expression - by["h"].expression).subs(alpha, a)))
     below = sp.solve_univariate_inequality(gap < 0, a, relational=False).intersect(sp.Interval(0, sp.oo))
     assert below == sp.S.EmptySet, gap
+
+
+def test_curves_are_simplified_as_simplify_does_with_the_nonnegative_alpha():
+    """validity_domain simplifies g and h in an assumption-free alpha (the assumption only cost
+    time); the form must stay simplify's own with alpha >= 0, which this pins for the chain and
+    pi/3 (a SymPy whose simplify used alpha >= 0 on these curves would fail here)."""
+    from impactsym.domains import _pool_g, _pool_h, _simplify_curve
+
+    for cs in (sp.Integer(1), sp.Rational(1, 2)):
+        for curve in (_pool_g(cs), _pool_h(cs)):
+            assert sp.srepr(_simplify_curve(curve)) == sp.srepr(sp.simplify(curve))
