@@ -370,3 +370,25 @@ def test_no_impact_root_is_papers_sign_device():
     r = impulse_ratio_law(sc.M, sc.H, sc.v, 1, ["1/2"], allow_invalid=True)
     assert list(r.impulses) == [0, 0] and r.velocity == sc.v
     assert [v.condition for v in r.violations] == ["no-approach"]
+
+
+def test_canonical_forms_made_on_first_read_are_the_values():
+    """The exact values (and the penetration messages) are tidied when first read: every way of
+    reading them (attribute, ``dataclasses.fields``, ``==``, ``repr``) sees the value, never the
+    deferred computation, and the value is the tidied one."""
+    import dataclasses
+
+    from impactsym.laws import impulse_ratio as ir
+    from impactsym.laws.delassus import tidy
+
+    args = ("1,0,0;0,1,0;0,0,1", "-1,1,0;0,-1,1", "1,0,0", "1/2", ["1/4"])
+    r, again = (impulse_ratio_law(*args, allow_invalid=True) for _ in range(2))
+    assert r == again  # compares the values (both resolved by reading)
+    for f in dataclasses.fields(r):
+        assert type(getattr(r, f.name)) is not ir._Later, f.name
+    assert "_Later" not in repr(r)
+    A, B, _ = r.coefficients
+    p1 = tidy((-B + sp.sqrt(r.delta)) / (2 * A))
+    assert r.impulses == sp.Matrix([p1, p1 / 4]).applyfunc(tidy)
+    pen = [v for v in r.violations if v.condition == "penetration"]
+    assert pen and all(isinstance(v.message, str) and "v+ = " in v.message for v in pen)

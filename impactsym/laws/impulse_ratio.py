@@ -90,8 +90,31 @@ __all__ = ["Violation", "ImpulseRatioResult", "impulse_ratio_law", "VIOLATION_CO
 VIOLATION_CONDITIONS = ("negative-discriminant", "no-approach", "negative-impulse", "penetration")
 
 
+class _Later:
+    """A value computed on first read: a canonical exact form (:func:`tidy`, a pure function of
+    values already decided) that a caller reading only the verdict never pays for. The dataclasses
+    below replace it by its value when the attribute is first read, so every reader (attribute,
+    ``repr``, ``==``, ``dataclasses.fields``) sees the value."""
+
+    __slots__ = ("make",)
+
+    def __init__(self, make):
+        self.make = make
+
+
+class _Resolved:
+    """Mixin: an attribute holding a :class:`_Later` is computed and stored on first read."""
+
+    def __getattribute__(self, name):
+        value = object.__getattribute__(self, name)
+        if type(value) is _Later:
+            value = value.make()
+            object.__setattr__(self, name, value)
+        return value
+
+
 @dataclass
-class Violation:
+class Violation(_Resolved):
     """One violated condition: ``condition`` (one of :data:`VIOLATION_CONDITIONS` or a law's own
     code), a readable ``message``, and the contact it concerns (1-based) when there is one."""
 
@@ -104,7 +127,7 @@ class Violation:
 
 
 @dataclass
-class ImpulseRatioResult:
+class ImpulseRatioResult(_Resolved):
     """The solution of eq. 38 and its validity.
 
     Attributes
@@ -278,8 +301,9 @@ def energy_balance_along(Mx, Hx, vx, ex, a, *, exact: bool, allow_invalid: bool 
         for j in range(k):
             x, y = b[j, 0] + c[j, 0] * r0, c[j, 0] * s0
             if sign_surd(x, y, D) < 0:
-                violations.append(Violation("penetration", f"penetration: contact {j + 1} has H_{j + 1} v+ = "
-                                            f"{_show_surd(x, y, D)} < 0", j + 1))
+                violations.append(Violation("penetration", _Later(
+                    lambda j=j, x=x, y=y: f"penetration: contact {j + 1} has H_{j + 1} v+ = {_show_surd(x, y, D)} < 0"),
+                    j + 1))
     violations.sort(key=lambda v: VIOLATION_CONDITIONS.index(v.condition))
     if violations and not allow_invalid:
         raise DomainError(f"{law} outside its domain: " + "; ".join(v.message for v in violations))
@@ -296,14 +320,15 @@ def energy_balance_along(Mx, Hx, vx, ex, a, *, exact: bool, allow_invalid: bool 
         As, Bs, Cs, Ds = (to_s(x) for x in (A, B, C, D))
         a_s = to_m(aq)
         w_s, v_s = to_m(w), to_m(vq)
-        dnorm = None if sB == 0 else _tidy(Ds / Bs**2)
+        # the values' canonical forms are made when first read (a verdict alone never reads them)
+        dnorm = None if sB == 0 else _Later(lambda: _tidy(Ds / Bs**2))
         if sD < 0:
             p = vplus = None
         else:
-            p1 = _tidy((-Bs + sp.sqrt(Ds)) / (2 * As))
-            p = (a_s * p1).applyfunc(_tidy)
-            vplus = (v_s + p1 * w_s).applyfunc(_tidy)
-        return ImpulseRatioResult(p, vplus, _tidy(Ds), dnorm, (As, Bs, Cs), list(a_s), True,
+            root = lru_cache(maxsize=1)(lambda: _tidy((-Bs + sp.sqrt(Ds)) / (2 * As)))  # p1, made once
+            p = _Later(lambda: (a_s * root()).applyfunc(_tidy))
+            vplus = _Later(lambda: (v_s + root() * w_s).applyfunc(_tidy))
+        return ImpulseRatioResult(p, vplus, _Later(lambda: _tidy(Ds)), dnorm, (As, Bs, Cs), list(a_s), True,
                                   not violations, violations, notes)
     Mf, Hf, vf, af = (np.asarray(x, dtype=float) for x in (Mx, Hx, vx, a))
     ef = float(ex)
