@@ -5,7 +5,7 @@ derivation emitted* (not from the generated code), in mpmath at ``dps ≥ 50`` d
 
 * inputs enter as the exact binary values of the float inputs (``mpmath.mpf(float)`` is exact;
   no decimal text is ever re-read);
-* the formulas are evaluated as a DAG (:class:`_DagEvaluator`): each shared subexpression once per
+* the formulas are compiled from their DAG (:class:`_DagEvaluator`): each shared subexpression once per
   call, lazily through ``Piecewise``, with the operations lambdify's mpmath printer would emit (a
   two-surface kernel's lambdified text repeats its 363 distinct nodes into 136 kB);
 * a precision ladder checks every reference: it is recomputed at twice the digits and must agree
@@ -89,21 +89,44 @@ def _mpmath_printer() -> _MpmathPrinter:
 
 
 class _DagEvaluator:
-    """The outputs' expression DAG evaluated in mpmath with every shared subexpression computed once
-    per call, lazily: a Piecewise evaluates its conditions in order and only the chosen branch, and
-    ``And``/``Or`` short-circuit, exactly as the lambdified code does (the same mpmath operations on
-    the same subexpressions: division by zero, a real function of a complex value, ``None`` where no
-    condition holds behave alike). The lambdified text of a two-surface kernel repeats its shared
-    subexpressions hundreds of times (136 kB for 363 distinct nodes); here each is one operation.
+    """The outputs' expression DAG compiled to one straight-line Python function of the inputs that
+    evaluates it in mpmath, each shared subexpression once per call, lazily: a Piecewise evaluates
+    its conditions in order and only the chosen branch, and ``And``/``Or`` short-circuit, exactly
+    as the lambdified code does (the same mpmath operations on the same subexpressions, in the same
+    order: division by zero, a real function of a complex value, ``None`` where no condition holds
+    behave alike). The lambdified text of a two-surface kernel repeats its shared subexpressions
+    hundreds of times (136 kB for 363 distinct nodes); here each is one line, without a Python call
+    per node (issue 15: the accuracy tests evaluate some 50,000 references).
 
-    Only the node types below are known; :meth:`compile` returns ``None`` for anything else (the
-    caller keeps lambdify)."""
+    The code is the depth-first walk from the roots (children in order), each node emitted where
+    the walk first needs it. A node first needed inside a branch (of a Piecewise, or past the first
+    operand of ``And``/``Or``) may or may not have been computed when the walk meets it again, so
+    every later use of it is guarded (``if v is _U:``, the variable set to ``_U`` on entry): it is
+    computed once, at the first place the call needs it, as a memo would.
+
+    Only the node types below are known; :meth:`compile` returns ``None`` for anything else, or for
+    a DAG whose code would pass :data:`MAX_LINES` lines (the caller keeps lambdify).
+
+    >>> x, y = sp.symbols("x y")
+    >>> outs = [1 / x + sp.sqrt(y**2 + sp.Rational(1, 3)) * sp.pi, x * y,
+    ...         sp.Piecewise((sp.sqrt(y), (x < 0) & (y > 0)), (sp.sqrt(-y), y < 0), (0, True))]
+    >>> f = _DagEvaluator.compile([x, y], outs)
+    >>> g = sp.lambdify([x, y], outs, modules="mpmath", printer=_mpmath_printer())
+    >>> with mpmath.workdps(30):
+    ...     all(f(*xs) == g(*xs) for xs in [(mpmath.mpf(-1), mpmath.mpf(2)), (mpmath.mpf(1), mpmath.mpf(-2)),
+    ...                                     (mpmath.mpf(1), mpmath.mpf(2))])
+    True
+    >>> _DagEvaluator.compile([x], [sp.Function("f")(x)]) is None   # an unknown function: lambdify
+    True
+    """
 
     _REL = {"GreaterThan": lambda a, b: a >= b, "LessThan": lambda a, b: a <= b,
             "StrictGreaterThan": lambda a, b: a > b, "StrictLessThan": lambda a, b: a < b,
             "Equality": lambda a, b: a == b, "Unequality": lambda a, b: a != b}
     _FUN = {"atan2": mpmath.atan2, "sin": mpmath.sin, "cos": mpmath.cos, "tan": mpmath.tan, "atan": mpmath.atan,
             "exp": mpmath.exp, "log": mpmath.log, "ceiling": mpmath.ceil, "floor": mpmath.floor, "Abs": abs}
+    #: the straight-line text is compiled up to this many lines (beyond: lambdify)
+    MAX_LINES = 100_000
 
     def __init__(self, args, outputs):
         self.index: dict = {}
@@ -116,8 +139,11 @@ class _DagEvaluator:
 
     @classmethod
     def compile(cls, args, outputs):
+        """The function ``f(*xs) -> list`` of the outputs (mpmath values at the inputs ``xs``, in
+        the order of ``args``), or ``None`` where the DAG has a node this evaluator does not know or
+        is too long to compile."""
         try:
-            return cls(args, outputs)
+            return cls(args, outputs)._function()
         except _Unsupported:
             return None
 
@@ -183,43 +209,41 @@ class _DagEvaluator:
         k = self.index[e] = len(self.nodes) - 1
         return k
 
-    #: the straight-line text is used up to this many lines (beyond: the node-by-node evaluator)
-    MAX_LINES = 20_000
-
-    def straight_line(self):
-        """The DAG as one Python function of the inputs: the same operations in the same order as
-        :meth:`evaluate_nodes` (a depth-first walk from the roots, each node once), without a Python
-        call per node (issue 15: the accuracy tests evaluate some 50,000 references). ``None`` for a
-        DAG with a Piecewise, ``And`` or ``Or`` (lazy: computed node by node, where a node first met
-        in a branch is not recomputed) or too long to compile.
-
-        >>> x, y = sp.symbols("x y")
-        >>> dag = _DagEvaluator([x, y], [1 / x + sp.sqrt(y**2 + sp.Rational(1, 3)) * sp.pi, x * y])
-        >>> xs = (mpmath.mpf(-1), mpmath.mpf(2))
-        >>> with mpmath.workdps(30):
-        ...     dag.straight_line()(*xs) == dag.evaluate_nodes(*xs)
-        True
-        >>> _DagEvaluator([x], [sp.Piecewise((x, x > 0), (-x, True))]).straight_line() is None
-        True
-        """
+    def _function(self):
         nodes, argpos = self.nodes, self.argpos
         consts: list = []
         lines: list = []
+        emitted: set = set()  # nodes whose code is somewhere above (in some branch, maybe not taken)
+        guarded: set = set()  # nodes tested against _U: set to _U on entry
 
         def const(obj) -> str:
             consts.append(obj)
             return f"K[{len(consts) - 1}]"
 
         def gen(k, done, ind):
+            """The variable of node ``k``, emitting its code at indentation ``ind`` where it is not
+            in ``done`` (the nodes computed on every path to this line)."""
             if k in done:
                 return done[k]
             if len(lines) > self.MAX_LINES:
                 raise _Unsupported("too long")
+            v = f"v{k}"
+            if k in emitted:  # computed above in a branch the call may have taken: compute it at most once
+                guarded.add(k)
+                lines.append("    " * ind + f"if {v} is _U:")
+                body(k, dict(done), ind + 1)
+            else:
+                body(k, done, ind)
+            done[k] = v
+            return v
+
+        def body(k, done, ind):
+            emitted.add(k)
             kind, p, ch = nodes[k]
             v = f"v{k}"
             pad = "    " * ind
 
-            def emit(text):
+            def emit(text, pad=pad):
                 lines.append(pad + text)
 
             if kind == "sym":
@@ -259,91 +283,38 @@ class _DagEvaluator:
                 emit(f"{v} = {const(p)}({', '.join(args)})")
             elif kind == "not":
                 emit(f"{v} = not {gen(ch[0], done, ind)}")
-            else:  # piecewise, and, or: lazy (see the class docstring), evaluated node by node
-                raise _Unsupported(kind)
-            done[k] = v
-            return v
+            elif kind in ("and", "or"):  # all(...) / any(...): an operand only where the ones before decide nothing
+                emit(f"{v} = {kind == 'or'}")
+                scope, depth = done, ind
+                for c in ch:
+                    c_v = gen(c, scope, depth)
+                    lines.append("    " * depth + (f"if {c_v}:" if kind == "and" else f"if not {c_v}:"))
+                    scope, depth = dict(scope), depth + 1
+                lines.append("    " * depth + f"{v} = {kind == 'and'}")
+            else:  # piecewise: conditions in order, only the chosen branch; None where none holds
+                emit(f"{v} = None")
+                scope, depth = done, ind
+                for i in range(0, len(ch), 2):
+                    c_v = gen(ch[i], scope, depth)
+                    lines.append("    " * depth + f"if {c_v}:")
+                    e_v = gen(ch[i + 1], dict(scope), depth + 1)
+                    lines.append("    " * (depth + 1) + f"{v} = {e_v}")
+                    lines.append("    " * depth + "else:")
+                    scope, depth = dict(scope), depth + 1
+                lines.append("    " * depth + "pass")
 
         try:
-            done: dict = {}
-            outs = [gen(r, done, 1) for r in self.roots]  # (ind: the function body's indentation)
+            outs = [gen(r, {}, 1) for r in self.roots]  # (1: the function body's indentation)
             if len(lines) > self.MAX_LINES:
                 raise _Unsupported("too long")
-            text = "def _straight(*xs):\n" + "\n".join(lines) + f"\n    return [{', '.join(outs)}]\n"
-            ns = {"mpmath": mpmath, "K": consts}
+            init = [f"    {' = '.join(f'v{k}' for k in chunk)} = _U"
+                    for chunk in (sorted(guarded)[i:i + 50] for i in range(0, len(guarded), 50))]
+            text = "def _straight(*xs):\n" + "\n".join(init + lines) + f"\n    return [{', '.join(outs)}]\n"
+            ns = {"mpmath": mpmath, "K": consts, "_U": _UNSET}
             exec(compile(text, "<reference straight line>", "exec"), ns)
-        except (_Unsupported, RecursionError, SyntaxError, MemoryError):
+        except (RecursionError, SyntaxError, MemoryError):
             return None
         return ns["_straight"]
-
-    def __call__(self, *xs):
-        fast = self.__dict__.get("_fast", _UNSET)
-        if fast is _UNSET:
-            fast = self._fast = self.straight_line()
-        if fast is not None:
-            return fast(*xs)
-        return self.evaluate_nodes(*xs)
-
-    def evaluate_nodes(self, *xs):
-        """The outputs at ``xs``, node by node (memo per call)."""
-        memo: list = [_UNSET] * len(self.nodes)
-        nodes, argpos = self.nodes, self.argpos
-
-        def ev(k):
-            v = memo[k]
-            if v is not _UNSET:
-                return v
-            kind, p, ch = nodes[k]
-            if kind == "sym":
-                v = xs[argpos[p]]
-            elif kind == "const":
-                v = mpmath.nan if p == "nan" else p
-            elif kind == "pi":
-                v = +mpmath.pi
-            elif kind == "rat":
-                v = mpmath.mpf(p[0]) / mpmath.mpf(p[1])
-            elif kind == "add":
-                v = ev(ch[0])
-                for c in ch[1:]:
-                    v = v + ev(c)
-            elif kind == "mul":
-                v = ev(ch[0]) if p else 1
-                for c in ch[1:p]:
-                    v = v * ev(c)
-                for c in ch[p:]:
-                    v = v / ev(c)
-            elif kind == "sqrt":
-                v = mpmath.sqrt(ev(ch[0]))
-            elif kind == "rsqrt":
-                v = 1 / mpmath.sqrt(ev(ch[0]))
-            elif kind == "inv":
-                v = 1 / ev(ch[0])
-            elif kind == "ipow":
-                v = ev(ch[0]) ** p
-            elif kind == "pow":
-                v = ev(ch[0]) ** ev(ch[1])
-            elif kind == "mod":
-                v = ev(ch[0]) % ev(ch[1])
-            elif kind == "fun":
-                v = p(*[ev(c) for c in ch])
-            elif kind == "rel":
-                v = p(ev(ch[0]), ev(ch[1]))
-            elif kind == "and":
-                v = all(ev(c) for c in ch)
-            elif kind == "or":
-                v = any(ev(c) for c in ch)
-            elif kind == "not":
-                v = not ev(ch[0])
-            else:  # piecewise: conditions in order, only the chosen branch; None where none holds
-                v = None
-                for i in range(0, len(ch), 2):
-                    if ev(ch[i]):
-                        v = ev(ch[i + 1])
-                        break
-            memo[k] = v
-            return v
-
-        return [ev(r) for r in self.roots]
 
 
 class _Unsupported(Exception):
@@ -396,7 +367,8 @@ class Reference:
 
     @property
     def lambdified(self):
-        """The outputs lambdified to mpmath (what :class:`_DagEvaluator` computes node by node)."""
+        """The outputs lambdified to mpmath (what :class:`_DagEvaluator`'s function computes, each
+        shared subexpression once)."""
         if self._lambdified is None:
             self._lambdified = sp.lambdify(self.args, self.outputs, modules="mpmath", printer=_mpmath_printer())
         return self._lambdified
@@ -417,6 +389,23 @@ class Reference:
             raise err
         return [mpmath.mpf(v.real if isinstance(v, mpmath.mpc) else v) for v in raw]
 
+    #: how many points' values :meth:`_base` keeps (a point's screening by :meth:`values` is
+    #: followed by :meth:`evaluate` at the same point and rungs)
+    _MEMO_POINTS = 4
+
+    def _base(self, xs):
+        """``_values(xs)`` at the current precision, remembered for the last few points: the same
+        operations at the same precision give the same values (a fresh list each time)."""
+        key = (tuple(xs), mpmath.mp._prec_rounding[0], mpmath.mp._prec_rounding[1])
+        memo = self.__dict__.setdefault("_memo", {})
+        hit = memo.get(key)
+        if hit is None:
+            hit = self._values(xs)
+            if len(memo) >= self._MEMO_POINTS * 4:
+                memo.pop(next(iter(memo)))
+            memo[key] = hit
+        return list(hit)
+
     def _try(self, xs):
         """``_values(xs)``, or ``None`` outside the domain (one evaluation, not a test and then another)."""
         try:
@@ -429,7 +418,7 @@ class Reference:
         (``x_j ∂f/∂x_j ≈ (f(x_j(1+δ)) − f(x_j(1−δ)))/(2δ)``, accurate to about ``dps/2`` digits; a
         step function such as ``ceiling`` contributes 0 except within ``δ`` of its jumps)."""
         with mpmath.workdps(dps):
-            vals = self._values(xs)
+            vals = self._base(xs)
             delta = mpmath.mpf(10) ** (-(dps // 2))
             sens = [mpmath.mpf(0)] * len(vals)
             for j, x in enumerate(xs):
@@ -466,11 +455,11 @@ class Reference:
         xs = [mpmath.mpf(float(inputs[n])) for n in self.names]
         lo = dps
         with mpmath.workdps(lo):
-            vals = self._values(xs)
+            vals = self._base(xs)
         while True:
             hi = 2 * lo
             with mpmath.workdps(hi):
-                vals2 = self._values(xs)
+                vals2 = self._base(xs)
             agreed = _digits_agreed(vals, vals2, hi, [mpmath.mpf(0)] * len(vals))
             if agreed >= min(lo, TARGET_DPS) - GUARD_DIGITS:
                 return vals2, hi
@@ -486,7 +475,7 @@ class Reference:
         xs = [mpmath.mpf(float(inputs[n])) for n in self.names]  # exact: mpf(float) is the binary value
         lo = dps
         with mpmath.workdps(lo):  # the lower rung's sensitivity is never read: values only
-            vals = self._values(xs)
+            vals = self._base(xs)
         while True:
             hi = 2 * lo
             vals2, sens2 = self._at(xs, hi)
@@ -531,11 +520,11 @@ def _digits_agreed(a, b, dps, sens) -> float:
     rungs differ by ~10^-dps, agrees as well as its sensitivity allows)."""
     worst = float(dps)
     with mpmath.workdps(dps):
-        for x, y, s in zip(a, b, sens):
-            if x == y or (mpmath.isnan(x) and mpmath.isnan(y)):
-                continue
-            scale = max(abs(x), abs(y), s)
-            worst = min(worst, float(-mpmath.log10(abs(x - y) / scale)))
+        rel = [abs(x - y) / max(abs(x), abs(y), s) for x, y, s in zip(a, b, sens)
+               if not (x == y or (mpmath.isnan(x) and mpmath.isnan(y)))]
+        rel = [r for r in rel if not mpmath.isnan(r)]  # (a NaN against a number: no digits to count)
+        if rel:  # the fewest digits are those of the largest relative difference: one logarithm
+            worst = min(worst, float(-mpmath.log10(max(rel))))
     return worst
 
 
