@@ -44,6 +44,9 @@ from typing import Mapping, Sequence
 
 import mpmath
 import numpy as np
+from mpmath import libmp
+from mpmath.libmp import (ComplexResult, from_int, mpf_add, mpf_div, mpf_mul, mpf_mul_int,  # noqa: F401
+                          mpf_rdiv_int)
 import sympy as sp
 from sympy.printing.pycode import MpmathPrinter
 
@@ -104,6 +107,12 @@ class _DagEvaluator:
     every later use of it is guarded (``if v is _U:``, the variable set to ``_U`` on entry): it is
     computed once, at the first place the call needs it, as a memo would.
 
+    The code runs on mpmath's raw values (``mpf._mpf_`` tuples, through the ``libmp`` functions
+    that the ``mpf`` operators and mpmath's functions call for the same operand types, in the same
+    order: the same values without an ``mpf`` object per operation); where a value leaves the reals
+    (``ComplexResult``: a square root of a negative number) the same code on ``mpf`` objects runs
+    instead, which carries on in ``mpc`` as lambdify's code does.
+
     Only the node types below are known; :meth:`compile` returns ``None`` for anything else, or for
     a DAG whose code would pass :data:`MAX_LINES` lines (the caller keeps lambdify).
 
@@ -143,9 +152,28 @@ class _DagEvaluator:
         the order of ``args``), or ``None`` where the DAG has a node this evaluator does not know or
         is too long to compile."""
         try:
-            return cls(args, outputs)._function()
+            dag = cls(args, outputs)
+            plain = dag._function()
         except _Unsupported:
             return None
+        try:
+            fast = dag._function(raw=True)
+        except _Unsupported:
+            fast = None
+        if plain is None or fast is None:
+            return plain
+
+        def evaluate(*xs):
+            try:
+                raw = [x._mpf_ for x in xs]
+            except AttributeError:  # an input that is not an mpf
+                return plain(*xs)
+            try:
+                return fast(*raw)
+            except (ComplexResult, _Fallback):  # a value left the reals: the mpf code carries on in mpc,
+                return plain(*xs)  # as lambdify's does
+
+        return evaluate
 
     def _add(self, e) -> int:
         k = self.index.get(e)
@@ -191,9 +219,9 @@ class _DagEvaluator:
         elif name == "Mod":
             node = ("mod", None, (self._add(e.args[0]), self._add(e.args[1])))
         elif name in self._FUN:
-            node = ("fun", self._FUN[name], tuple(self._add(a) for a in e.args))
+            node = ("fun", name, tuple(self._add(a) for a in e.args))
         elif name in self._REL:
-            node = ("rel", self._REL[name], (self._add(e.lhs), self._add(e.rhs)))
+            node = ("rel", name, (self._add(e.lhs), self._add(e.rhs)))
         elif name in ("And", "Or", "Not"):
             node = (name.lower(), None, tuple(self._add(a) for a in e.args))
         elif isinstance(e, sp.Piecewise):
@@ -209,12 +237,19 @@ class _DagEvaluator:
         k = self.index[e] = len(self.nodes) - 1
         return k
 
-    def _function(self):
+    def _function(self, raw: bool = False):
+        """The compiled function; ``raw``: the same code on mpmath's raw values (``mpf._mpf_``
+        tuples and the ``libmp`` functions the ``mpf`` operators call, with the same operands in
+        the same order: the same results, without an ``mpf`` object and its type dispatch per
+        operation). A raw function raises ``ComplexResult`` where an operation leaves the reals
+        (the caller then runs the ``mpf`` one); ``_Unsupported`` where a node's operand types
+        are not the ones it knows (Python ints on both sides, a mixed Piecewise as an operand)."""
         nodes, argpos = self.nodes, self.argpos
         consts: list = []
         lines: list = []
         emitted: set = set()  # nodes whose code is somewhere above (in some branch, maybe not taken)
         guarded: set = set()  # nodes tested against _U: set to _U on entry
+        types: dict = {}  # raw: node -> "f" (an mpf tuple), "i" (a Python int), "b" (bool), "m" (mixed/None)
 
         def const(obj) -> str:
             consts.append(obj)
@@ -232,10 +267,48 @@ class _DagEvaluator:
                 guarded.add(k)
                 lines.append("    " * ind + f"if {v} is _U:")
                 body(k, dict(done), ind + 1)
+                # past the guard, k is computed on every path, and so is every node its value needed
+                done.update((d, f"v{d}") for d in eager(k))
             else:
                 body(k, done, ind)
             done[k] = v
             return v
+
+        closure: dict = {}
+
+        def eager(k) -> set:
+            """The nodes computed whenever ``k`` is: its operands, but of a Piecewise, ``And`` and
+            ``Or`` only the first condition or operand, and theirs."""
+            if k not in closure:
+                kind, _, ch = nodes[k]
+                out = set()
+                for c in (ch[:1] if kind in ("piecewise", "and", "or") else ch):
+                    out.add(c)
+                    out |= eager(c)
+                closure[k] = out
+            return closure[k]
+
+        def need(t, *ks):
+            if any(types[c] != t for c in ks):
+                raise _Unsupported("operand types")
+
+        def fold(op, acc, ta, c, tc):
+            """``acc op c`` (raw: what the mpf operator calls for these operand types) and its type."""
+            if not raw:
+                return f"{acc} {op} {c}", None
+            if ta == "f" and tc == "f":
+                return f"{_RAW_BINARY[op]}({acc}, {c}, prec, rnd)", "f"
+            if ta == "f" and tc == "i":  # mpf op int
+                return {"+": f"mpf_add({acc}, from_int({c}), prec, rnd)",
+                        "*": f"mpf_mul_int({acc}, {c}, prec, rnd)",
+                        "/": f"mpf_div({acc}, from_int({c}), prec, rnd)"}[op], "f"
+            if ta == "i" and tc == "f":  # int op mpf: the mpf's reflected operator
+                return {"+": f"mpf_add({c}, from_int({acc}), prec, rnd)",
+                        "*": f"mpf_mul_int({c}, {acc}, prec, rnd)",
+                        "/": f"mpf_rdiv_int({acc}, {c}, prec, rnd)"}[op], "f"
+            if {ta, tc} <= {"f", "i", "fi"} and "fi" in (ta, tc):  # a Piecewise of an mpf or an int: at run time
+                return f"{_DYNAMIC[op]}({acc}, {c}, prec, rnd)", "f" if "f" in (ta, tc) else "fi"
+            raise _Unsupported("operand types")
 
         def body(k, done, ind):
             emitted.add(k)
@@ -246,75 +319,190 @@ class _DagEvaluator:
             def emit(text, pad=pad):
                 lines.append(pad + text)
 
+            t = "f"
             if kind == "sym":
                 emit(f"{v} = xs[{argpos[p]}]")
             elif kind == "const":
-                emit(f"{v} = {const(mpmath.nan if p == 'nan' else p)}")
+                if p == "nan":
+                    emit(f"{v} = {const(libmp.fnan if raw else mpmath.nan)}")
+                else:
+                    emit(f"{v} = {const(p)}")
+                    t = "b" if isinstance(p, bool) else "i"
             elif kind == "pi":
-                emit(f"{v} = +mpmath.pi")
+                emit(f"{v} = mpf_pi(prec, rnd)" if raw else f"{v} = +mpmath.pi")
             elif kind == "rat":
-                emit(f"{v} = mpmath.mpf({const(p[0])}) / mpmath.mpf({const(p[1])})")
-            elif kind == "add":
-                emit(f"{v} = {gen(ch[0], done, ind)}")
-                for c in ch[1:]:
-                    emit(f"{v} = {v} + {gen(c, done, ind)}")
-            elif kind == "mul":
-                emit(f"{v} = {gen(ch[0], done, ind)}" if p else f"{v} = 1")
-                for c in ch[1:p]:
-                    emit(f"{v} = {v} * {gen(c, done, ind)}")
-                for c in ch[p:]:
-                    emit(f"{v} = {v} / {gen(c, done, ind)}")
-            elif kind == "sqrt":
-                emit(f"{v} = mpmath.sqrt({gen(ch[0], done, ind)})")
-            elif kind == "rsqrt":
-                emit(f"{v} = 1 / mpmath.sqrt({gen(ch[0], done, ind)})")
-            elif kind == "inv":
-                emit(f"{v} = 1 / {gen(ch[0], done, ind)}")
-            elif kind == "ipow":
-                emit(f"{v} = {gen(ch[0], done, ind)} ** {const(p)}")
-            elif kind == "pow":
+                emit(f"{v} = mpf_div(mpf_pos(from_int({const(p[0])}), prec, rnd), "
+                     f"mpf_pos(from_int({const(p[1])}), prec, rnd), prec, rnd)" if raw else
+                     f"{v} = mpmath.mpf({const(p[0])}) / mpmath.mpf({const(p[1])})")
+            elif kind in ("add", "mul"):
+                if kind == "mul" and not p:
+                    acc, t = "1", "i"
+                else:
+                    acc, t = gen(ch[0], done, ind), types.get(ch[0])
+                emit(f"{v} = {acc}")
+                steps = [("+", c) for c in ch[1:]] if kind == "add" else \
+                    [("*", c) for c in ch[1:p]] + [("/", c) for c in ch[p if p else 0:]]
+                for op, c in steps:
+                    c_v = gen(c, done, ind)
+                    text, t = fold(op, v, t, c_v, types.get(c))
+                    emit(f"{v} = {text}")
+            elif kind in ("sqrt", "rsqrt", "inv", "ipow"):
                 a = gen(ch[0], done, ind)
-                emit(f"{v} = {a} ** {gen(ch[1], done, ind)}")
-            elif kind == "mod":
+                if raw:
+                    if kind in ("sqrt", "rsqrt") and types[ch[0]] == "i":  # mpmath.sqrt converts an int exactly
+                        a = f"from_int({a})"
+                    else:
+                        need("f", ch[0])
+                    emit(f"{v} = " + {"sqrt": f"mpf_sqrt({a}, prec, rnd)",
+                                      "rsqrt": f"mpf_rdiv_int(1, mpf_sqrt({a}, prec, rnd), prec, rnd)",
+                                      "inv": f"mpf_rdiv_int(1, {a}, prec, rnd)",
+                                      "ipow": f"mpf_pow_int({a}, {const(p)}, prec, rnd)"}[kind])
+                else:
+                    emit(f"{v} = " + {"sqrt": f"mpmath.sqrt({a})", "rsqrt": f"1 / mpmath.sqrt({a})",
+                                      "inv": f"1 / {a}", "ipow": f"{a} ** {const(p)}"}[kind])
+            elif kind in ("pow", "mod"):
                 a = gen(ch[0], done, ind)
-                emit(f"{v} = {a} % {gen(ch[1], done, ind)}")
-            elif kind in ("fun", "rel"):
+                b = gen(ch[1], done, ind)
+                if raw and kind == "mod" and types[ch[1]] == "i":  # mpf % int
+                    need("f", ch[0])
+                    emit(f"{v} = mpf_mod({a}, from_int({b}), prec, rnd)")
+                elif raw:
+                    need("f", *ch)
+                    emit(f"{v} = {'mpf_pow' if kind == 'pow' else 'mpf_mod'}({a}, {b}, prec, rnd)")
+                else:
+                    emit(f"{v} = {a} {'**' if kind == 'pow' else '%'} {b}")
+            elif kind == "fun":
                 args = [gen(c, done, ind) for c in ch]
-                emit(f"{v} = {const(p)}({', '.join(args)})")
+                if raw:  # (an int argument converted exactly, as mpmath's functions do; Python's abs keeps an int)
+                    need("f", *[c for c in ch if p == "Abs" or types[c] != "i"])
+                    args = [f"from_int({a})" if types[c] == "i" else a for a, c in zip(args, ch)]
+                    emit(f"{v} = {_RAW_FUN[p]}({', '.join(args)}, prec, rnd)")
+                else:
+                    emit(f"{v} = {const(self._FUN[p])}({', '.join(args)})")
+            elif kind == "rel":
+                a, b = (gen(c, done, ind) for c in ch)
+                t = "b"
+                if not raw:
+                    emit(f"{v} = {const(self._REL[p])}({a}, {b})")
+                else:  # a op b: the left mpf's comparison, or the right one's reflected where a is an int
+                    ta, tb = types[ch[0]], types[ch[1]]
+                    if ta == "f" and tb in ("f", "i"):
+                        emit(f"{v} = {_raw_compare(p, a, b if tb == 'f' else f'from_int({b})')}")
+                    elif ta == "i" and tb == "f":
+                        emit(f"{v} = {_raw_compare(_REFLECTED[p], b, f'from_int({a})')}")
+                    else:
+                        raise _Unsupported("operand types")
             elif kind == "not":
-                emit(f"{v} = not {gen(ch[0], done, ind)}")
+                a = gen(ch[0], done, ind)
+                if raw:
+                    need("b", ch[0])
+                emit(f"{v} = not {a}")
+                t = "b"
             elif kind in ("and", "or"):  # all(...) / any(...): an operand only where the ones before decide nothing
                 emit(f"{v} = {kind == 'or'}")
                 scope, depth = done, ind
                 for c in ch:
                     c_v = gen(c, scope, depth)
+                    if raw:
+                        need("b", c)
                     lines.append("    " * depth + (f"if {c_v}:" if kind == "and" else f"if not {c_v}:"))
                     scope, depth = dict(scope), depth + 1
                 lines.append("    " * depth + f"{v} = {kind == 'and'}")
+                t = "b"
             else:  # piecewise: conditions in order, only the chosen branch; None where none holds
                 emit(f"{v} = None")
                 scope, depth = done, ind
+                branch_types = set()
                 for i in range(0, len(ch), 2):
                     c_v = gen(ch[i], scope, depth)
+                    if raw:
+                        need("b", ch[i])
                     lines.append("    " * depth + f"if {c_v}:")
                     e_v = gen(ch[i + 1], dict(scope), depth + 1)
+                    branch_types.add(types.get(ch[i + 1]))
                     lines.append("    " * (depth + 1) + f"{v} = {e_v}")
                     lines.append("    " * depth + "else:")
                     scope, depth = dict(scope), depth + 1
                 lines.append("    " * depth + "pass")
+                always = nodes[ch[-2]][0] == "const" and nodes[ch[-2]][1] is True
+                t = "m"  # (None where no condition holds, or a mix of types)
+                if always and branch_types <= {"f", "i", "fi"}:
+                    t = branch_types.pop() if len(branch_types) == 1 else "fi"
+            types[k] = t
 
         try:
-            outs = [gen(r, {}, 1) for r in self.roots]  # (1: the function body's indentation)
+            top: dict = {}
+            outs = [gen(r, top, 1) for r in self.roots]  # (1: the function body's indentation)
             if len(lines) > self.MAX_LINES:
                 raise _Unsupported("too long")
             init = [f"    {' = '.join(f'v{k}' for k in chunk)} = _U"
                     for chunk in (sorted(guarded)[i:i + 50] for i in range(0, len(guarded), 50))]
+            if raw:  # (the outputs back as mpf: an mpf tuple boxed, an int or None as it is)
+                init.insert(0, "    prec, rnd = _ctx._prec_rounding")
+                outs = [f"_make({o})" if types[r] == "f" else f"_box({o})" if types[r] in ("m", "fi") else o
+                        for o, r in zip(outs, self.roots)]
             text = "def _straight(*xs):\n" + "\n".join(init + lines) + f"\n    return [{', '.join(outs)}]\n"
-            ns = {"mpmath": mpmath, "K": consts, "_U": _UNSET}
+            ns = {"mpmath": mpmath, "K": consts, "_U": _UNSET, **_RAW_NAMESPACE}
             exec(compile(text, "<reference straight line>", "exec"), ns)
         except (RecursionError, SyntaxError, MemoryError):
             return None
         return ns["_straight"]
+
+
+def _raw_compare(name, a, b) -> str:
+    """``a name b`` for mpf tuples, as the mpf operator computes it (``!=`` is ``not ==``)."""
+    return {"GreaterThan": f"mpf_ge({a}, {b})", "LessThan": f"mpf_le({a}, {b})",
+            "StrictGreaterThan": f"mpf_gt({a}, {b})", "StrictLessThan": f"mpf_lt({a}, {b})",
+            "Equality": f"mpf_eq({a}, {b})", "Unequality": f"(not mpf_eq({a}, {b}))"}[name]
+
+
+#: ``b op' a`` for ``a op b`` (Python's reflected comparison where ``a`` is an int)
+_REFLECTED = {"GreaterThan": "LessThan", "LessThan": "GreaterThan", "StrictGreaterThan": "StrictLessThan",
+              "StrictLessThan": "StrictGreaterThan", "Equality": "Equality", "Unequality": "Unequality"}
+_RAW_BINARY = {"+": "mpf_add", "*": "mpf_mul", "/": "mpf_div"}
+#: SymPy function -> the libmp function its mpmath counterpart applies to an mpf (``Abs``: ``mpf.__abs__``)
+_RAW_FUN = {"atan2": "mpf_atan2", "sin": "mpf_sin", "cos": "mpf_cos", "tan": "mpf_tan", "atan": "mpf_atan",
+            "exp": "mpf_exp", "log": "mpf_log", "ceiling": "mpf_ceil", "floor": "mpf_floor", "Abs": "mpf_abs"}
+
+
+class _Fallback(Exception):
+    """Raised by raw code where the mpf code computes something else than an mpf (``int / int``)."""
+
+
+def _dynamic_add(a, b, prec, rnd):
+    """``a + b`` of an mpf tuple or a Python int each, as the mpf operators compute it."""
+    if type(a) is tuple:
+        return mpf_add(a, b, prec, rnd) if type(b) is tuple else mpf_add(a, from_int(b), prec, rnd)
+    return mpf_add(b, from_int(a), prec, rnd) if type(b) is tuple else a + b
+
+
+def _dynamic_mul(a, b, prec, rnd):
+    if type(a) is tuple:
+        return mpf_mul(a, b, prec, rnd) if type(b) is tuple else mpf_mul_int(a, b, prec, rnd)
+    return mpf_mul_int(b, a, prec, rnd) if type(b) is tuple else a * b
+
+
+def _dynamic_div(a, b, prec, rnd):
+    if type(a) is tuple:
+        return mpf_div(a, b, prec, rnd) if type(b) is tuple else mpf_div(a, from_int(b), prec, rnd)
+    if type(b) is tuple:
+        return mpf_rdiv_int(a, b, prec, rnd)
+    raise _Fallback("int / int")
+
+
+_DYNAMIC = {"+": "_dynamic_add", "*": "_dynamic_mul", "/": "_dynamic_div"}
+
+
+def _box(v):
+    return mpmath.mp.make_mpf(v) if type(v) is tuple else v
+
+
+_RAW_NAMESPACE = {"_ctx": mpmath.mp, "_make": mpmath.mp.make_mpf, "_box": _box, "_dynamic_add": _dynamic_add,
+                  "_dynamic_mul": _dynamic_mul, "_dynamic_div": _dynamic_div,
+                  **{name: getattr(libmp, name) for name in
+                     ("fnan", "from_int", "mpf_pi", "mpf_pos", "mpf_add", "mpf_mul", "mpf_mul_int", "mpf_div",
+                      "mpf_rdiv_int", "mpf_sqrt", "mpf_pow_int", "mpf_pow", "mpf_mod", "mpf_ge", "mpf_le", "mpf_gt",
+                      "mpf_lt", "mpf_eq", *_RAW_FUN.values())}}
 
 
 class _Unsupported(Exception):
