@@ -173,7 +173,53 @@ class _DagEvaluator:
             except (ComplexResult, _Fallback):  # a value left the reals: the mpf code carries on in mpc,
                 return plain(*xs)  # as lambdify's does
 
+        evaluate.dag, evaluate.plain = dag, plain
         return evaluate
+
+    def dependencies(self) -> list:
+        """Per node, the set of inputs (positions) its value depends on."""
+        if "_deps" not in self.__dict__:
+            deps: list = []
+            for kind, p, ch in self.nodes:
+                d = {self.argpos[p]} if kind == "sym" else set()
+                for c in ch:
+                    d |= deps[c]
+                deps.append(frozenset(d))
+            self._deps = deps
+        return self._deps
+
+    def record(self, raw_xs):
+        """``(outputs, node values)`` of the raw code at ``raw_xs`` (``mpf._mpf_`` tuples), or
+        ``None`` where the raw code cannot run (a value leaves the reals, or another exception:
+        the caller then evaluates as it would without the record)."""
+        if "_record" not in self.__dict__:
+            try:
+                self._record = self._function(raw=True, record=True)
+            except _Unsupported:
+                self._record = None
+        if self._record is None:
+            return None
+        try:
+            return self._record(*raw_xs)
+        except (ComplexResult, _Fallback, ArithmeticError, TypeError, AttributeError, ValueError):
+            return None
+
+    def partial(self, j: int, known_values, raw_xs):
+        """The raw outputs at ``raw_xs`` where only input ``j`` differs from the point whose node
+        values :meth:`record` gave: every node that does not depend on input ``j`` is taken from
+        there (or computed, where that call did not need it), the others computed, in the same
+        order as the full code (the same values, the same first exception). ``ComplexResult``
+        where a value leaves the reals (the caller runs the mpf code)."""
+        fs = self.__dict__.setdefault("_partials", {})
+        if j not in fs:
+            deps = self.dependencies()
+            try:
+                fs[j] = self._function(raw=True, known=frozenset(k for k, d in enumerate(deps) if j not in d))
+            except _Unsupported:
+                fs[j] = None
+        if fs[j] is None:
+            raise _Fallback("no raw code")
+        return fs[j](known_values, *raw_xs)
 
     def _add(self, e) -> int:
         k = self.index.get(e)
@@ -237,17 +283,21 @@ class _DagEvaluator:
         k = self.index[e] = len(self.nodes) - 1
         return k
 
-    def _function(self, raw: bool = False):
+    def _function(self, raw: bool = False, record: bool = False, known=frozenset()):
         """The compiled function; ``raw``: the same code on mpmath's raw values (``mpf._mpf_``
         tuples and the ``libmp`` functions the ``mpf`` operators call, with the same operands in
         the same order: the same results, without an ``mpf`` object and its type dispatch per
         operation). A raw function raises ``ComplexResult`` where an operation leaves the reals
         (the caller then runs the ``mpf`` one); ``_Unsupported`` where a node's operand types
-        are not the ones it knows (Python ints on both sides, a mixed Piecewise as an operand)."""
+        are not the ones it knows (Python ints on both sides, a mixed Piecewise as an operand).
+
+        ``record``: the function also returns every node's value (``_U`` where the call did not
+        need it); ``known``: nodes whose values the function takes from such a list (its first
+        argument), computing them only where that list has none (see :meth:`partial`)."""
         nodes, argpos = self.nodes, self.argpos
         consts: list = []
         lines: list = []
-        emitted: set = set()  # nodes whose code is somewhere above (in some branch, maybe not taken)
+        emitted: set = set(known)  # nodes whose code is somewhere above (in some branch, maybe not taken)
         guarded: set = set()  # nodes tested against _U: set to _U on entry
         types: dict = {}  # raw: node -> "f" (an mpf tuple), "i" (a Python int), "b" (bool), "m" (mixed/None)
 
@@ -435,13 +485,18 @@ class _DagEvaluator:
             outs = [gen(r, top, 1) for r in self.roots]  # (1: the function body's indentation)
             if len(lines) > self.MAX_LINES:
                 raise _Unsupported("too long")
+            unset = sorted(set(range(len(nodes))) - set(known) if record else guarded - set(known))
             init = [f"    {' = '.join(f'v{k}' for k in chunk)} = _U"
-                    for chunk in (sorted(guarded)[i:i + 50] for i in range(0, len(guarded), 50))]
+                    for chunk in (unset[i:i + 50] for i in range(0, len(unset), 50))]
+            init += [f"    v{k} = B[{k}]" for k in sorted(known)]
             if raw:  # (the outputs back as mpf: an mpf tuple boxed, an int or None as it is)
                 init.insert(0, "    prec, rnd = _ctx._prec_rounding")
                 outs = [f"_make({o})" if types[r] == "f" else f"_box({o})" if types[r] in ("m", "fi") else o
                         for o, r in zip(outs, self.roots)]
-            text = "def _straight(*xs):\n" + "\n".join(init + lines) + f"\n    return [{', '.join(outs)}]\n"
+            ret = f"[{', '.join(outs)}]"
+            if record:
+                ret = f"{ret}, [{', '.join(f'v{k}' for k in range(len(nodes)))}]"
+            text = f"def _straight({'B, ' if known else ''}*xs):\n" + "\n".join(init + lines) + f"\n    return {ret}\n"
             ns = {"mpmath": mpmath, "K": consts, "_U": _UNSET, **_RAW_NAMESPACE}
             exec(compile(text, "<reference straight line>", "exec"), ns)
         except (RecursionError, SyntaxError, MemoryError):
@@ -561,9 +616,9 @@ class Reference:
             self._lambdified = sp.lambdify(self.args, self.outputs, modules="mpmath", printer=_mpmath_printer())
         return self._lambdified
 
-    def _values(self, xs):
+    def _values(self, xs, evaluate=None):
         try:
-            raw = self._f(*xs)
+            raw = (evaluate or self._f)(*xs)
         except ZeroDivisionError:
             raise OutsideDomain("the exact value divides by zero at these inputs (degenerate input)") from None
         except (AttributeError, TypeError):  # a real-only mpmath function (atan2, ceil) given a complex value
@@ -594,12 +649,39 @@ class Reference:
             memo[key] = hit
         return list(hit)
 
-    def _try(self, xs):
+    def _try(self, xs, evaluate=None):
         """``_values(xs)``, or ``None`` outside the domain (one evaluation, not a test and then another)."""
         try:
-            return self._values(xs)
+            return self._values(xs, evaluate)
         except OutsideDomain:
             return None
+
+    def _moved(self, xs):
+        """``j -> f(*ys)`` for points ``ys`` that differ from ``xs`` in input ``j`` alone: the
+        nodes that do not depend on input ``j`` are reused from one evaluation at ``xs`` (at the
+        current precision), the rest computed as the full code does (the same values and
+        exceptions); ``None`` where that is not available (then every point is evaluated in full)."""
+        dag = getattr(self._f, "dag", None)
+        if dag is None:
+            return None
+        try:
+            raw_xs = [x._mpf_ for x in xs]
+        except AttributeError:
+            return None
+        rec = dag.record(raw_xs)
+        if rec is None:
+            return None
+        known = rec[1]
+
+        def at(j):
+            def evaluate(*ys):
+                try:
+                    return dag.partial(j, known, [y._mpf_ for y in ys])
+                except (ComplexResult, _Fallback):  # the mpf code, as the full evaluation would
+                    return self._f.plain(*ys)
+            return evaluate
+
+        return at
 
     def _at(self, xs, dps):
         """Values, and ``Σ_j |x_j ∂f/∂x_j|`` by central differences in relative steps ``δ = 10^(−dps/2)``
@@ -609,12 +691,14 @@ class Reference:
             vals = self._base(xs)
             delta = mpmath.mpf(10) ** (-(dps // 2))
             sens = [mpmath.mpf(0)] * len(vals)
+            moved = self._moved(xs) if any(xs) else None
             for j, x in enumerate(xs):
                 if x == 0:
                     continue
                 up, down = list(xs), list(xs)
                 up[j], down[j] = x * (1 + delta), x * (1 - delta)
-                fu, fd = self._try(up), self._try(down)
+                ev = moved(j) if moved is not None else None
+                fu, fd = self._try(up, ev), self._try(down, ev)
                 if fu is not None and fd is not None:
                     width = 2 * delta
                 elif fu is not None:  # on the domain's boundary: one-sided
