@@ -606,7 +606,19 @@ class Reference:
         self.names = [str(a) for a in self.args]
         self.outputs = [sp.sympify(o) for o in outputs]
         self._lambdified = None
-        self._f = _DagEvaluator.compile(self.args, self.outputs) or self.lambdified
+        self._compiled = None
+
+    @property
+    def _f(self):
+        """The function of the inputs that evaluates the outputs (mpmath): the compiled DAG, or
+        lambdify's where the DAG has a node the compiler does not know; compiled on first use."""
+        if self._compiled is None:
+            self._compiled = _DagEvaluator.compile(self.args, self.outputs) or self.lambdified
+        return self._compiled
+
+    @_f.setter
+    def _f(self, f):
+        self._compiled = f
 
     @property
     def lambdified(self):
