@@ -764,16 +764,24 @@ def _check_few_reflections(one, two, three):
                 raise DerivationError((m_val, d))
 
 
+@lru_cache(maxsize=None)
+def _count_angles() -> tuple:
+    """``(ψ_A, β)`` of :func:`reflection_count_derivation` (derived once: both branches of
+    :func:`_branch_expressions` and :func:`_branch_frames` read them)."""
+    der = reflection_count_derivation()
+    return der["psi_A"], der["beta"]
+
+
 def _branch_expressions(first_is_a: bool):
     """Count and exit (c_A', c_B') of one branch in the kernel's arguments (float closed form)."""
     sa, sb, gg, ca, cb = _ARGS
     if not first_is_a:  # swap roles: the branch starting with B is the A-branch of (B, A)
         sa, sb, ca, cb = sb, sa, cb, ca
     D = sa * sb - gg**2
-    der = reflection_count_derivation()
+    psi_a, beta_ = _count_angles()
     sub = {s_A: sa, s_B: sb, g: gg, c_A: ca, c_B: cb, Delta: D}
-    psi_e = der["psi_A"].subs(sub)
-    beta_e = der["beta"].subs(sub)
+    psi_e = psi_a.subs(sub)
+    beta_e = beta_.subs(sub)
     count = emitted_count(sa, sb, gg, ca, cb, psi_e / beta_e)
     mm = sp.Symbol("m_count", real=True)
     ea, eb = _emitted_exit(mm)
@@ -814,9 +822,9 @@ def _branch_frames(first_is_a: bool):
     sa, sb, gg, ca, cb = _ARGS
     if not first_is_a:
         sa, sb, ca, cb = sb, sa, cb, ca
-    der = reflection_count_derivation()
+    psi_a, beta_ = _count_angles()
     sub = {s_A: sa, s_B: sb, g: gg, c_A: ca, c_B: cb, Delta: sa * sb - gg**2}
-    psi_e, beta_e = der["psi_A"].subs(sub), der["beta"].subs(sub)
+    psi_e, beta_e = psi_a.subs(sub), beta_.subs(sub)
     mm = sp.Symbol("m_count", real=True)
     ea, eb = _emitted_exit(mm)
     inner = [e.args[-1].expr.atoms(sp.Piecewise) for e in (ea, eb)]

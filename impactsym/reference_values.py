@@ -5,7 +5,7 @@ derivation emitted* (not from the generated code), in mpmath at ``dps ≥ 50`` d
 
 * inputs enter as the exact binary values of the float inputs (``mpmath.mpf(float)`` is exact;
   no decimal text is ever re-read);
-* the formulas are evaluated as a DAG (:class:`_DagEvaluator`): each shared subexpression once per
+* the formulas are compiled from their DAG (:class:`_DagEvaluator`): each shared subexpression once per
   call, lazily through ``Piecewise``, with the operations lambdify's mpmath printer would emit (a
   two-surface kernel's lambdified text repeats its 363 distinct nodes into 136 kB);
 * a precision ladder checks every reference: it is recomputed at twice the digits and must agree
@@ -44,6 +44,9 @@ from typing import Mapping, Sequence
 
 import mpmath
 import numpy as np
+from mpmath import libmp
+from mpmath.libmp import (ComplexResult, from_int, mpf_add, mpf_div, mpf_mul, mpf_mul_int,  # noqa: F401
+                          mpf_rdiv_int)
 import sympy as sp
 from sympy.printing.pycode import MpmathPrinter
 
@@ -89,21 +92,50 @@ def _mpmath_printer() -> _MpmathPrinter:
 
 
 class _DagEvaluator:
-    """The outputs' expression DAG evaluated in mpmath with every shared subexpression computed once
-    per call, lazily: a Piecewise evaluates its conditions in order and only the chosen branch, and
-    ``And``/``Or`` short-circuit, exactly as the lambdified code does (the same mpmath operations on
-    the same subexpressions: division by zero, a real function of a complex value, ``None`` where no
-    condition holds behave alike). The lambdified text of a two-surface kernel repeats its shared
-    subexpressions hundreds of times (136 kB for 363 distinct nodes); here each is one operation.
+    """The outputs' expression DAG compiled to one straight-line Python function of the inputs that
+    evaluates it in mpmath, each shared subexpression once per call, lazily: a Piecewise evaluates
+    its conditions in order and only the chosen branch, and ``And``/``Or`` short-circuit, exactly
+    as the lambdified code does (the same mpmath operations on the same subexpressions, in the same
+    order: division by zero, a real function of a complex value, ``None`` where no condition holds
+    behave alike). The lambdified text of a two-surface kernel repeats its shared subexpressions
+    hundreds of times (136 kB for 363 distinct nodes); here each is one line, without a Python call
+    per node (issue 15: the accuracy tests evaluate some 50,000 references).
 
-    Only the node types below are known; :meth:`compile` returns ``None`` for anything else (the
-    caller keeps lambdify)."""
+    The code is the depth-first walk from the roots (children in order), each node emitted where
+    the walk first needs it. A node first needed inside a branch (of a Piecewise, or past the first
+    operand of ``And``/``Or``) may or may not have been computed when the walk meets it again, so
+    every later use of it is guarded (``if v is _U:``, the variable set to ``_U`` on entry): it is
+    computed once, at the first place the call needs it, as a memo would.
+
+    The code runs on mpmath's raw values (``mpf._mpf_`` tuples, through the ``libmp`` functions
+    that the ``mpf`` operators and mpmath's functions call for the same operand types, in the same
+    order: the same values without an ``mpf`` object per operation); where a value leaves the reals
+    (``ComplexResult``: a square root of a negative number) the same code on ``mpf`` objects runs
+    instead, which carries on in ``mpc`` as lambdify's code does.
+
+    Only the node types below are known; :meth:`compile` returns ``None`` for anything else, or for
+    a DAG whose code would pass :data:`MAX_LINES` lines (the caller keeps lambdify).
+
+    >>> x, y = sp.symbols("x y")
+    >>> outs = [1 / x + sp.sqrt(y**2 + sp.Rational(1, 3)) * sp.pi, x * y,
+    ...         sp.Piecewise((sp.sqrt(y), (x < 0) & (y > 0)), (sp.sqrt(-y), y < 0), (0, True))]
+    >>> f = _DagEvaluator.compile([x, y], outs)
+    >>> g = sp.lambdify([x, y], outs, modules="mpmath", printer=_mpmath_printer())
+    >>> with mpmath.workdps(30):
+    ...     all(f(*xs) == g(*xs) for xs in [(mpmath.mpf(-1), mpmath.mpf(2)), (mpmath.mpf(1), mpmath.mpf(-2)),
+    ...                                     (mpmath.mpf(1), mpmath.mpf(2))])
+    True
+    >>> _DagEvaluator.compile([x], [sp.Function("f")(x)]) is None   # an unknown function: lambdify
+    True
+    """
 
     _REL = {"GreaterThan": lambda a, b: a >= b, "LessThan": lambda a, b: a <= b,
             "StrictGreaterThan": lambda a, b: a > b, "StrictLessThan": lambda a, b: a < b,
             "Equality": lambda a, b: a == b, "Unequality": lambda a, b: a != b}
     _FUN = {"atan2": mpmath.atan2, "sin": mpmath.sin, "cos": mpmath.cos, "tan": mpmath.tan, "atan": mpmath.atan,
             "exp": mpmath.exp, "log": mpmath.log, "ceiling": mpmath.ceil, "floor": mpmath.floor, "Abs": abs}
+    #: the straight-line text is compiled up to this many lines (beyond: lambdify)
+    MAX_LINES = 100_000
 
     def __init__(self, args, outputs):
         self.index: dict = {}
@@ -116,10 +148,78 @@ class _DagEvaluator:
 
     @classmethod
     def compile(cls, args, outputs):
+        """The function ``f(*xs) -> list`` of the outputs (mpmath values at the inputs ``xs``, in
+        the order of ``args``), or ``None`` where the DAG has a node this evaluator does not know or
+        is too long to compile."""
         try:
-            return cls(args, outputs)
+            dag = cls(args, outputs)
+            plain = dag._function()
         except _Unsupported:
             return None
+        try:
+            fast = dag._function(raw=True)
+        except _Unsupported:
+            fast = None
+        if plain is None or fast is None:
+            return plain
+
+        def evaluate(*xs):
+            try:
+                raw = [x._mpf_ for x in xs]
+            except AttributeError:  # an input that is not an mpf
+                return plain(*xs)
+            try:
+                return fast(*raw)
+            except (ComplexResult, _Fallback):  # a value left the reals: the mpf code carries on in mpc,
+                return plain(*xs)  # as lambdify's does
+
+        evaluate.dag, evaluate.plain = dag, plain
+        return evaluate
+
+    def dependencies(self) -> list:
+        """Per node, the set of inputs (positions) its value depends on."""
+        if "_deps" not in self.__dict__:
+            deps: list = []
+            for kind, p, ch in self.nodes:
+                d = {self.argpos[p]} if kind == "sym" else set()
+                for c in ch:
+                    d |= deps[c]
+                deps.append(frozenset(d))
+            self._deps = deps
+        return self._deps
+
+    def record(self, raw_xs):
+        """``(outputs, node values)`` of the raw code at ``raw_xs`` (``mpf._mpf_`` tuples), or
+        ``None`` where the raw code cannot run (a value leaves the reals, or another exception:
+        the caller then evaluates as it would without the record)."""
+        if "_record" not in self.__dict__:
+            try:
+                self._record = self._function(raw=True, record=True)
+            except _Unsupported:
+                self._record = None
+        if self._record is None:
+            return None
+        try:
+            return self._record(*raw_xs)
+        except (ComplexResult, _Fallback, ArithmeticError, TypeError, AttributeError, ValueError):
+            return None
+
+    def partial(self, j: int, known_values, raw_xs):
+        """The raw outputs at ``raw_xs`` where only input ``j`` differs from the point whose node
+        values :meth:`record` gave: every node that does not depend on input ``j`` is taken from
+        there (or computed, where that call did not need it), the others computed, in the same
+        order as the full code (the same values, the same first exception). ``ComplexResult``
+        where a value leaves the reals (the caller runs the mpf code)."""
+        fs = self.__dict__.setdefault("_partials", {})
+        if j not in fs:
+            deps = self.dependencies()
+            try:
+                fs[j] = self._function(raw=True, known=frozenset(k for k, d in enumerate(deps) if j not in d))
+            except _Unsupported:
+                fs[j] = None
+        if fs[j] is None:
+            raise _Fallback("no raw code")
+        return fs[j](known_values, *raw_xs)
 
     def _add(self, e) -> int:
         k = self.index.get(e)
@@ -165,9 +265,9 @@ class _DagEvaluator:
         elif name == "Mod":
             node = ("mod", None, (self._add(e.args[0]), self._add(e.args[1])))
         elif name in self._FUN:
-            node = ("fun", self._FUN[name], tuple(self._add(a) for a in e.args))
+            node = ("fun", name, tuple(self._add(a) for a in e.args))
         elif name in self._REL:
-            node = ("rel", self._REL[name], (self._add(e.lhs), self._add(e.rhs)))
+            node = ("rel", name, (self._add(e.lhs), self._add(e.rhs)))
         elif name in ("And", "Or", "Not"):
             node = (name.lower(), None, tuple(self._add(a) for a in e.args))
         elif isinstance(e, sp.Piecewise):
@@ -183,167 +283,281 @@ class _DagEvaluator:
         k = self.index[e] = len(self.nodes) - 1
         return k
 
-    #: the straight-line text is used up to this many lines (beyond: the node-by-node evaluator)
-    MAX_LINES = 20_000
+    def _function(self, raw: bool = False, record: bool = False, known=frozenset()):
+        """The compiled function; ``raw``: the same code on mpmath's raw values (``mpf._mpf_``
+        tuples and the ``libmp`` functions the ``mpf`` operators call, with the same operands in
+        the same order: the same results, without an ``mpf`` object and its type dispatch per
+        operation). A raw function raises ``ComplexResult`` where an operation leaves the reals
+        (the caller then runs the ``mpf`` one); ``_Unsupported`` where a node's operand types
+        are not the ones it knows (Python ints on both sides, a mixed Piecewise as an operand).
 
-    def straight_line(self):
-        """The DAG as one Python function of the inputs: the same operations in the same order as
-        :meth:`evaluate_nodes` (a depth-first walk from the roots, each node once), without a Python
-        call per node (issue 15: the accuracy tests evaluate some 50,000 references). ``None`` for a
-        DAG with a Piecewise, ``And`` or ``Or`` (lazy: computed node by node, where a node first met
-        in a branch is not recomputed) or too long to compile.
-
-        >>> x, y = sp.symbols("x y")
-        >>> dag = _DagEvaluator([x, y], [1 / x + sp.sqrt(y**2 + sp.Rational(1, 3)) * sp.pi, x * y])
-        >>> xs = (mpmath.mpf(-1), mpmath.mpf(2))
-        >>> with mpmath.workdps(30):
-        ...     dag.straight_line()(*xs) == dag.evaluate_nodes(*xs)
-        True
-        >>> _DagEvaluator([x], [sp.Piecewise((x, x > 0), (-x, True))]).straight_line() is None
-        True
-        """
+        ``record``: the function also returns every node's value (``_U`` where the call did not
+        need it); ``known``: nodes whose values the function takes from such a list (its first
+        argument), computing them only where that list has none (see :meth:`partial`)."""
         nodes, argpos = self.nodes, self.argpos
         consts: list = []
         lines: list = []
+        emitted: set = set(known)  # nodes whose code is somewhere above (in some branch, maybe not taken)
+        guarded: set = set()  # nodes tested against _U: set to _U on entry
+        types: dict = {}  # raw: node -> "f" (an mpf tuple), "i" (a Python int), "b" (bool), "m" (mixed/None)
 
         def const(obj) -> str:
             consts.append(obj)
             return f"K[{len(consts) - 1}]"
 
         def gen(k, done, ind):
+            """The variable of node ``k``, emitting its code at indentation ``ind`` where it is not
+            in ``done`` (the nodes computed on every path to this line)."""
             if k in done:
                 return done[k]
             if len(lines) > self.MAX_LINES:
                 raise _Unsupported("too long")
+            v = f"v{k}"
+            if k in emitted:  # computed above in a branch the call may have taken: compute it at most once
+                guarded.add(k)
+                lines.append("    " * ind + f"if {v} is _U:")
+                body(k, dict(done), ind + 1)
+                # past the guard, k is computed on every path, and so is every node its value needed
+                done.update((d, f"v{d}") for d in eager(k))
+            else:
+                body(k, done, ind)
+            done[k] = v
+            return v
+
+        closure: dict = {}
+
+        def eager(k) -> set:
+            """The nodes computed whenever ``k`` is: its operands, but of a Piecewise, ``And`` and
+            ``Or`` only the first condition or operand, and theirs."""
+            if k not in closure:
+                kind, _, ch = nodes[k]
+                out = set()
+                for c in (ch[:1] if kind in ("piecewise", "and", "or") else ch):
+                    out.add(c)
+                    out |= eager(c)
+                closure[k] = out
+            return closure[k]
+
+        def need(t, *ks):
+            if any(types[c] != t for c in ks):
+                raise _Unsupported("operand types")
+
+        def fold(op, acc, ta, c, tc):
+            """``acc op c`` (raw: what the mpf operator calls for these operand types) and its type."""
+            if not raw:
+                return f"{acc} {op} {c}", None
+            if ta == "f" and tc == "f":
+                return f"{_RAW_BINARY[op]}({acc}, {c}, prec, rnd)", "f"
+            if ta == "f" and tc == "i":  # mpf op int
+                return {"+": f"mpf_add({acc}, from_int({c}), prec, rnd)",
+                        "*": f"mpf_mul_int({acc}, {c}, prec, rnd)",
+                        "/": f"mpf_div({acc}, from_int({c}), prec, rnd)"}[op], "f"
+            if ta == "i" and tc == "f":  # int op mpf: the mpf's reflected operator
+                return {"+": f"mpf_add({c}, from_int({acc}), prec, rnd)",
+                        "*": f"mpf_mul_int({c}, {acc}, prec, rnd)",
+                        "/": f"mpf_rdiv_int({acc}, {c}, prec, rnd)"}[op], "f"
+            if {ta, tc} <= {"f", "i", "fi"} and "fi" in (ta, tc):  # a Piecewise of an mpf or an int: at run time
+                return f"{_DYNAMIC[op]}({acc}, {c}, prec, rnd)", "f" if "f" in (ta, tc) else "fi"
+            raise _Unsupported("operand types")
+
+        def body(k, done, ind):
+            emitted.add(k)
             kind, p, ch = nodes[k]
             v = f"v{k}"
             pad = "    " * ind
 
-            def emit(text):
+            def emit(text, pad=pad):
                 lines.append(pad + text)
 
+            t = "f"
             if kind == "sym":
                 emit(f"{v} = xs[{argpos[p]}]")
             elif kind == "const":
-                emit(f"{v} = {const(mpmath.nan if p == 'nan' else p)}")
+                if p == "nan":
+                    emit(f"{v} = {const(libmp.fnan if raw else mpmath.nan)}")
+                else:
+                    emit(f"{v} = {const(p)}")
+                    t = "b" if isinstance(p, bool) else "i"
             elif kind == "pi":
-                emit(f"{v} = +mpmath.pi")
+                emit(f"{v} = mpf_pi(prec, rnd)" if raw else f"{v} = +mpmath.pi")
             elif kind == "rat":
-                emit(f"{v} = mpmath.mpf({const(p[0])}) / mpmath.mpf({const(p[1])})")
-            elif kind == "add":
-                emit(f"{v} = {gen(ch[0], done, ind)}")
-                for c in ch[1:]:
-                    emit(f"{v} = {v} + {gen(c, done, ind)}")
-            elif kind == "mul":
-                emit(f"{v} = {gen(ch[0], done, ind)}" if p else f"{v} = 1")
-                for c in ch[1:p]:
-                    emit(f"{v} = {v} * {gen(c, done, ind)}")
-                for c in ch[p:]:
-                    emit(f"{v} = {v} / {gen(c, done, ind)}")
-            elif kind == "sqrt":
-                emit(f"{v} = mpmath.sqrt({gen(ch[0], done, ind)})")
-            elif kind == "rsqrt":
-                emit(f"{v} = 1 / mpmath.sqrt({gen(ch[0], done, ind)})")
-            elif kind == "inv":
-                emit(f"{v} = 1 / {gen(ch[0], done, ind)}")
-            elif kind == "ipow":
-                emit(f"{v} = {gen(ch[0], done, ind)} ** {const(p)}")
-            elif kind == "pow":
+                emit(f"{v} = mpf_div(mpf_pos(from_int({const(p[0])}), prec, rnd), "
+                     f"mpf_pos(from_int({const(p[1])}), prec, rnd), prec, rnd)" if raw else
+                     f"{v} = mpmath.mpf({const(p[0])}) / mpmath.mpf({const(p[1])})")
+            elif kind in ("add", "mul"):
+                if kind == "mul" and not p:
+                    acc, t = "1", "i"
+                else:
+                    acc, t = gen(ch[0], done, ind), types.get(ch[0])
+                emit(f"{v} = {acc}")
+                steps = [("+", c) for c in ch[1:]] if kind == "add" else \
+                    [("*", c) for c in ch[1:p]] + [("/", c) for c in ch[p if p else 0:]]
+                for op, c in steps:
+                    c_v = gen(c, done, ind)
+                    text, t = fold(op, v, t, c_v, types.get(c))
+                    emit(f"{v} = {text}")
+            elif kind in ("sqrt", "rsqrt", "inv", "ipow"):
                 a = gen(ch[0], done, ind)
-                emit(f"{v} = {a} ** {gen(ch[1], done, ind)}")
-            elif kind == "mod":
+                if raw:
+                    if kind in ("sqrt", "rsqrt") and types[ch[0]] == "i":  # mpmath.sqrt converts an int exactly
+                        a = f"from_int({a})"
+                    else:
+                        need("f", ch[0])
+                    emit(f"{v} = " + {"sqrt": f"mpf_sqrt({a}, prec, rnd)",
+                                      "rsqrt": f"mpf_rdiv_int(1, mpf_sqrt({a}, prec, rnd), prec, rnd)",
+                                      "inv": f"mpf_rdiv_int(1, {a}, prec, rnd)",
+                                      "ipow": f"mpf_pow_int({a}, {const(p)}, prec, rnd)"}[kind])
+                else:
+                    emit(f"{v} = " + {"sqrt": f"mpmath.sqrt({a})", "rsqrt": f"1 / mpmath.sqrt({a})",
+                                      "inv": f"1 / {a}", "ipow": f"{a} ** {const(p)}"}[kind])
+            elif kind in ("pow", "mod"):
                 a = gen(ch[0], done, ind)
-                emit(f"{v} = {a} % {gen(ch[1], done, ind)}")
-            elif kind in ("fun", "rel"):
+                b = gen(ch[1], done, ind)
+                if raw and kind == "mod" and types[ch[1]] == "i":  # mpf % int
+                    need("f", ch[0])
+                    emit(f"{v} = mpf_mod({a}, from_int({b}), prec, rnd)")
+                elif raw:
+                    need("f", *ch)
+                    emit(f"{v} = {'mpf_pow' if kind == 'pow' else 'mpf_mod'}({a}, {b}, prec, rnd)")
+                else:
+                    emit(f"{v} = {a} {'**' if kind == 'pow' else '%'} {b}")
+            elif kind == "fun":
                 args = [gen(c, done, ind) for c in ch]
-                emit(f"{v} = {const(p)}({', '.join(args)})")
+                if raw:  # (an int argument converted exactly, as mpmath's functions do; Python's abs keeps an int)
+                    need("f", *[c for c in ch if p == "Abs" or types[c] != "i"])
+                    args = [f"from_int({a})" if types[c] == "i" else a for a, c in zip(args, ch)]
+                    emit(f"{v} = {_RAW_FUN[p]}({', '.join(args)}, prec, rnd)")
+                else:
+                    emit(f"{v} = {const(self._FUN[p])}({', '.join(args)})")
+            elif kind == "rel":
+                a, b = (gen(c, done, ind) for c in ch)
+                t = "b"
+                if not raw:
+                    emit(f"{v} = {const(self._REL[p])}({a}, {b})")
+                else:  # a op b: the left mpf's comparison, or the right one's reflected where a is an int
+                    ta, tb = types[ch[0]], types[ch[1]]
+                    if ta == "f" and tb in ("f", "i"):
+                        emit(f"{v} = {_raw_compare(p, a, b if tb == 'f' else f'from_int({b})')}")
+                    elif ta == "i" and tb == "f":
+                        emit(f"{v} = {_raw_compare(_REFLECTED[p], b, f'from_int({a})')}")
+                    else:
+                        raise _Unsupported("operand types")
             elif kind == "not":
-                emit(f"{v} = not {gen(ch[0], done, ind)}")
-            else:  # piecewise, and, or: lazy (see the class docstring), evaluated node by node
-                raise _Unsupported(kind)
-            done[k] = v
-            return v
+                a = gen(ch[0], done, ind)
+                if raw:
+                    need("b", ch[0])
+                emit(f"{v} = not {a}")
+                t = "b"
+            elif kind in ("and", "or"):  # all(...) / any(...): an operand only where the ones before decide nothing
+                emit(f"{v} = {kind == 'or'}")
+                scope, depth = done, ind
+                for c in ch:
+                    c_v = gen(c, scope, depth)
+                    if raw:
+                        need("b", c)
+                    lines.append("    " * depth + (f"if {c_v}:" if kind == "and" else f"if not {c_v}:"))
+                    scope, depth = dict(scope), depth + 1
+                lines.append("    " * depth + f"{v} = {kind == 'and'}")
+                t = "b"
+            else:  # piecewise: conditions in order, only the chosen branch; None where none holds
+                emit(f"{v} = None")
+                scope, depth = done, ind
+                branch_types = set()
+                for i in range(0, len(ch), 2):
+                    c_v = gen(ch[i], scope, depth)
+                    if raw:
+                        need("b", ch[i])
+                    lines.append("    " * depth + f"if {c_v}:")
+                    e_v = gen(ch[i + 1], dict(scope), depth + 1)
+                    branch_types.add(types.get(ch[i + 1]))
+                    lines.append("    " * (depth + 1) + f"{v} = {e_v}")
+                    lines.append("    " * depth + "else:")
+                    scope, depth = dict(scope), depth + 1
+                lines.append("    " * depth + "pass")
+                always = nodes[ch[-2]][0] == "const" and nodes[ch[-2]][1] is True
+                t = "m"  # (None where no condition holds, or a mix of types)
+                if always and branch_types <= {"f", "i", "fi"}:
+                    t = branch_types.pop() if len(branch_types) == 1 else "fi"
+            types[k] = t
 
         try:
-            done: dict = {}
-            outs = [gen(r, done, 1) for r in self.roots]  # (ind: the function body's indentation)
+            top: dict = {}
+            outs = [gen(r, top, 1) for r in self.roots]  # (1: the function body's indentation)
             if len(lines) > self.MAX_LINES:
                 raise _Unsupported("too long")
-            text = "def _straight(*xs):\n" + "\n".join(lines) + f"\n    return [{', '.join(outs)}]\n"
-            ns = {"mpmath": mpmath, "K": consts}
+            unset = sorted(set(range(len(nodes))) - set(known) if record else guarded - set(known))
+            init = [f"    {' = '.join(f'v{k}' for k in chunk)} = _U"
+                    for chunk in (unset[i:i + 50] for i in range(0, len(unset), 50))]
+            init += [f"    v{k} = B[{k}]" for k in sorted(known)]
+            if raw:  # (the outputs back as mpf: an mpf tuple boxed, an int or None as it is)
+                init.insert(0, "    prec, rnd = _ctx._prec_rounding")
+                outs = [f"_make({o})" if types[r] == "f" else f"_box({o})" if types[r] in ("m", "fi") else o
+                        for o, r in zip(outs, self.roots)]
+            ret = f"[{', '.join(outs)}]"
+            if record:
+                ret = f"{ret}, [{', '.join(f'v{k}' for k in range(len(nodes)))}]"
+            text = f"def _straight({'B, ' if known else ''}*xs):\n" + "\n".join(init + lines) + f"\n    return {ret}\n"
+            ns = {"mpmath": mpmath, "K": consts, "_U": _UNSET, **_RAW_NAMESPACE}
             exec(compile(text, "<reference straight line>", "exec"), ns)
-        except (_Unsupported, RecursionError, SyntaxError, MemoryError):
+        except (RecursionError, SyntaxError, MemoryError):
             return None
         return ns["_straight"]
 
-    def __call__(self, *xs):
-        fast = self.__dict__.get("_fast", _UNSET)
-        if fast is _UNSET:
-            fast = self._fast = self.straight_line()
-        if fast is not None:
-            return fast(*xs)
-        return self.evaluate_nodes(*xs)
 
-    def evaluate_nodes(self, *xs):
-        """The outputs at ``xs``, node by node (memo per call)."""
-        memo: list = [_UNSET] * len(self.nodes)
-        nodes, argpos = self.nodes, self.argpos
+def _raw_compare(name, a, b) -> str:
+    """``a name b`` for mpf tuples, as the mpf operator computes it (``!=`` is ``not ==``)."""
+    return {"GreaterThan": f"mpf_ge({a}, {b})", "LessThan": f"mpf_le({a}, {b})",
+            "StrictGreaterThan": f"mpf_gt({a}, {b})", "StrictLessThan": f"mpf_lt({a}, {b})",
+            "Equality": f"mpf_eq({a}, {b})", "Unequality": f"(not mpf_eq({a}, {b}))"}[name]
 
-        def ev(k):
-            v = memo[k]
-            if v is not _UNSET:
-                return v
-            kind, p, ch = nodes[k]
-            if kind == "sym":
-                v = xs[argpos[p]]
-            elif kind == "const":
-                v = mpmath.nan if p == "nan" else p
-            elif kind == "pi":
-                v = +mpmath.pi
-            elif kind == "rat":
-                v = mpmath.mpf(p[0]) / mpmath.mpf(p[1])
-            elif kind == "add":
-                v = ev(ch[0])
-                for c in ch[1:]:
-                    v = v + ev(c)
-            elif kind == "mul":
-                v = ev(ch[0]) if p else 1
-                for c in ch[1:p]:
-                    v = v * ev(c)
-                for c in ch[p:]:
-                    v = v / ev(c)
-            elif kind == "sqrt":
-                v = mpmath.sqrt(ev(ch[0]))
-            elif kind == "rsqrt":
-                v = 1 / mpmath.sqrt(ev(ch[0]))
-            elif kind == "inv":
-                v = 1 / ev(ch[0])
-            elif kind == "ipow":
-                v = ev(ch[0]) ** p
-            elif kind == "pow":
-                v = ev(ch[0]) ** ev(ch[1])
-            elif kind == "mod":
-                v = ev(ch[0]) % ev(ch[1])
-            elif kind == "fun":
-                v = p(*[ev(c) for c in ch])
-            elif kind == "rel":
-                v = p(ev(ch[0]), ev(ch[1]))
-            elif kind == "and":
-                v = all(ev(c) for c in ch)
-            elif kind == "or":
-                v = any(ev(c) for c in ch)
-            elif kind == "not":
-                v = not ev(ch[0])
-            else:  # piecewise: conditions in order, only the chosen branch; None where none holds
-                v = None
-                for i in range(0, len(ch), 2):
-                    if ev(ch[i]):
-                        v = ev(ch[i + 1])
-                        break
-            memo[k] = v
-            return v
 
-        return [ev(r) for r in self.roots]
+#: ``b op' a`` for ``a op b`` (Python's reflected comparison where ``a`` is an int)
+_REFLECTED = {"GreaterThan": "LessThan", "LessThan": "GreaterThan", "StrictGreaterThan": "StrictLessThan",
+              "StrictLessThan": "StrictGreaterThan", "Equality": "Equality", "Unequality": "Unequality"}
+_RAW_BINARY = {"+": "mpf_add", "*": "mpf_mul", "/": "mpf_div"}
+#: SymPy function -> the libmp function its mpmath counterpart applies to an mpf (``Abs``: ``mpf.__abs__``)
+_RAW_FUN = {"atan2": "mpf_atan2", "sin": "mpf_sin", "cos": "mpf_cos", "tan": "mpf_tan", "atan": "mpf_atan",
+            "exp": "mpf_exp", "log": "mpf_log", "ceiling": "mpf_ceil", "floor": "mpf_floor", "Abs": "mpf_abs"}
+
+
+class _Fallback(Exception):
+    """Raised by raw code where the mpf code computes something else than an mpf (``int / int``)."""
+
+
+def _dynamic_add(a, b, prec, rnd):
+    """``a + b`` of an mpf tuple or a Python int each, as the mpf operators compute it."""
+    if type(a) is tuple:
+        return mpf_add(a, b, prec, rnd) if type(b) is tuple else mpf_add(a, from_int(b), prec, rnd)
+    return mpf_add(b, from_int(a), prec, rnd) if type(b) is tuple else a + b
+
+
+def _dynamic_mul(a, b, prec, rnd):
+    if type(a) is tuple:
+        return mpf_mul(a, b, prec, rnd) if type(b) is tuple else mpf_mul_int(a, b, prec, rnd)
+    return mpf_mul_int(b, a, prec, rnd) if type(b) is tuple else a * b
+
+
+def _dynamic_div(a, b, prec, rnd):
+    if type(a) is tuple:
+        return mpf_div(a, b, prec, rnd) if type(b) is tuple else mpf_div(a, from_int(b), prec, rnd)
+    if type(b) is tuple:
+        return mpf_rdiv_int(a, b, prec, rnd)
+    raise _Fallback("int / int")
+
+
+_DYNAMIC = {"+": "_dynamic_add", "*": "_dynamic_mul", "/": "_dynamic_div"}
+
+
+def _box(v):
+    return mpmath.mp.make_mpf(v) if type(v) is tuple else v
+
+
+_RAW_NAMESPACE = {"_ctx": mpmath.mp, "_make": mpmath.mp.make_mpf, "_box": _box, "_dynamic_add": _dynamic_add,
+                  "_dynamic_mul": _dynamic_mul, "_dynamic_div": _dynamic_div,
+                  **{name: getattr(libmp, name) for name in
+                     ("fnan", "from_int", "mpf_pi", "mpf_pos", "mpf_add", "mpf_mul", "mpf_mul_int", "mpf_div",
+                      "mpf_rdiv_int", "mpf_sqrt", "mpf_pow_int", "mpf_pow", "mpf_mod", "mpf_ge", "mpf_le", "mpf_gt",
+                      "mpf_lt", "mpf_eq", *_RAW_FUN.values())}}
 
 
 class _Unsupported(Exception):
@@ -392,18 +606,31 @@ class Reference:
         self.names = [str(a) for a in self.args]
         self.outputs = [sp.sympify(o) for o in outputs]
         self._lambdified = None
-        self._f = _DagEvaluator.compile(self.args, self.outputs) or self.lambdified
+        self._compiled = None
+
+    @property
+    def _f(self):
+        """The function of the inputs that evaluates the outputs (mpmath): the compiled DAG, or
+        lambdify's where the DAG has a node the compiler does not know; compiled on first use."""
+        if self._compiled is None:
+            self._compiled = _DagEvaluator.compile(self.args, self.outputs) or self.lambdified
+        return self._compiled
+
+    @_f.setter
+    def _f(self, f):
+        self._compiled = f
 
     @property
     def lambdified(self):
-        """The outputs lambdified to mpmath (what :class:`_DagEvaluator` computes node by node)."""
+        """The outputs lambdified to mpmath (what :class:`_DagEvaluator`'s function computes, each
+        shared subexpression once)."""
         if self._lambdified is None:
             self._lambdified = sp.lambdify(self.args, self.outputs, modules="mpmath", printer=_mpmath_printer())
         return self._lambdified
 
-    def _values(self, xs):
+    def _values(self, xs, evaluate=None):
         try:
-            raw = self._f(*xs)
+            raw = (evaluate or self._f)(*xs)
         except ZeroDivisionError:
             raise OutsideDomain("the exact value divides by zero at these inputs (degenerate input)") from None
         except (AttributeError, TypeError):  # a real-only mpmath function (atan2, ceil) given a complex value
@@ -417,27 +644,73 @@ class Reference:
             raise err
         return [mpmath.mpf(v.real if isinstance(v, mpmath.mpc) else v) for v in raw]
 
-    def _try(self, xs):
+    #: how many points' values :meth:`_base` keeps (a point's screening by :meth:`values` is
+    #: followed by :meth:`evaluate` at the same point and rungs)
+    _MEMO_POINTS = 4
+
+    def _base(self, xs):
+        """``_values(xs)`` at the current precision, remembered for the last few points: the same
+        operations at the same precision give the same values (a fresh list each time)."""
+        key = (tuple(xs), mpmath.mp._prec_rounding[0], mpmath.mp._prec_rounding[1])
+        memo = self.__dict__.setdefault("_memo", {})
+        hit = memo.get(key)
+        if hit is None:
+            hit = self._values(xs)
+            if len(memo) >= self._MEMO_POINTS * 4:
+                memo.pop(next(iter(memo)))
+            memo[key] = hit
+        return list(hit)
+
+    def _try(self, xs, evaluate=None):
         """``_values(xs)``, or ``None`` outside the domain (one evaluation, not a test and then another)."""
         try:
-            return self._values(xs)
+            return self._values(xs, evaluate)
         except OutsideDomain:
             return None
+
+    def _moved(self, xs):
+        """``j -> f(*ys)`` for points ``ys`` that differ from ``xs`` in input ``j`` alone: the
+        nodes that do not depend on input ``j`` are reused from one evaluation at ``xs`` (at the
+        current precision), the rest computed as the full code does (the same values and
+        exceptions); ``None`` where that is not available (then every point is evaluated in full)."""
+        dag = getattr(self._f, "dag", None)
+        if dag is None:
+            return None
+        try:
+            raw_xs = [x._mpf_ for x in xs]
+        except AttributeError:
+            return None
+        rec = dag.record(raw_xs)
+        if rec is None:
+            return None
+        known = rec[1]
+
+        def at(j):
+            def evaluate(*ys):
+                try:
+                    return dag.partial(j, known, [y._mpf_ for y in ys])
+                except (ComplexResult, _Fallback):  # the mpf code, as the full evaluation would
+                    return self._f.plain(*ys)
+            return evaluate
+
+        return at
 
     def _at(self, xs, dps):
         """Values, and ``Σ_j |x_j ∂f/∂x_j|`` by central differences in relative steps ``δ = 10^(−dps/2)``
         (``x_j ∂f/∂x_j ≈ (f(x_j(1+δ)) − f(x_j(1−δ)))/(2δ)``, accurate to about ``dps/2`` digits; a
         step function such as ``ceiling`` contributes 0 except within ``δ`` of its jumps)."""
         with mpmath.workdps(dps):
-            vals = self._values(xs)
+            vals = self._base(xs)
             delta = mpmath.mpf(10) ** (-(dps // 2))
             sens = [mpmath.mpf(0)] * len(vals)
+            moved = self._moved(xs) if any(xs) else None
             for j, x in enumerate(xs):
                 if x == 0:
                     continue
                 up, down = list(xs), list(xs)
                 up[j], down[j] = x * (1 + delta), x * (1 - delta)
-                fu, fd = self._try(up), self._try(down)
+                ev = moved(j) if moved is not None else None
+                fu, fd = self._try(up, ev), self._try(down, ev)
                 if fu is not None and fd is not None:
                     width = 2 * delta
                 elif fu is not None:  # on the domain's boundary: one-sided
@@ -466,11 +739,11 @@ class Reference:
         xs = [mpmath.mpf(float(inputs[n])) for n in self.names]
         lo = dps
         with mpmath.workdps(lo):
-            vals = self._values(xs)
+            vals = self._base(xs)
         while True:
             hi = 2 * lo
             with mpmath.workdps(hi):
-                vals2 = self._values(xs)
+                vals2 = self._base(xs)
             agreed = _digits_agreed(vals, vals2, hi, [mpmath.mpf(0)] * len(vals))
             if agreed >= min(lo, TARGET_DPS) - GUARD_DIGITS:
                 return vals2, hi
@@ -486,7 +759,7 @@ class Reference:
         xs = [mpmath.mpf(float(inputs[n])) for n in self.names]  # exact: mpf(float) is the binary value
         lo = dps
         with mpmath.workdps(lo):  # the lower rung's sensitivity is never read: values only
-            vals = self._values(xs)
+            vals = self._base(xs)
         while True:
             hi = 2 * lo
             vals2, sens2 = self._at(xs, hi)
@@ -531,11 +804,11 @@ def _digits_agreed(a, b, dps, sens) -> float:
     rungs differ by ~10^-dps, agrees as well as its sensitivity allows)."""
     worst = float(dps)
     with mpmath.workdps(dps):
-        for x, y, s in zip(a, b, sens):
-            if x == y or (mpmath.isnan(x) and mpmath.isnan(y)):
-                continue
-            scale = max(abs(x), abs(y), s)
-            worst = min(worst, float(-mpmath.log10(abs(x - y) / scale)))
+        rel = [abs(x - y) / max(abs(x), abs(y), s) for x, y, s in zip(a, b, sens)
+               if not (x == y or (mpmath.isnan(x) and mpmath.isnan(y)))]
+        rel = [r for r in rel if not mpmath.isnan(r)]  # (a NaN against a number: no digits to count)
+        if rel:  # the fewest digits are those of the largest relative difference: one logarithm
+            worst = min(worst, float(-mpmath.log10(max(rel))))
     return worst
 
 

@@ -341,9 +341,10 @@ def test_dag_reference_matches_the_lambdified_formula(kernel):
     from impactsym.reference_values import OutsideDomain, ReferenceUnstable, Reference
 
     ref = kernel_reference(kernel)
-    assert ref._f is not ref.lambdified  # every corner kernel is a DAG the evaluator knows
-    plain = Reference(ref.args, ref.outputs)
-    plain._f = plain.lambdified
+    lambdified = ref.lambdified  # (lambdify's mpmath function of the same arguments and outputs, built once)
+    assert ref._f is not lambdified  # every corner kernel is a DAG the evaluator knows
+    plain = Reference(ref.args, ref.outputs)  # (its own values memo: nothing is shared with ref but the formula)
+    plain._f = lambdified
     pts = [c.inputs for c in corner_cases(kernel)][::7]  # lambdifying the (M, H, v) kernel alone takes 2 s
     if kernel.startswith("two_surface_resolution"):
         pts += list(wedge_samples(kernel, 4, seed=3))
