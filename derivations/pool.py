@@ -57,7 +57,7 @@ from impactsym.models.acary_taha import pool
 
 from .chain3 import closed_form, stable_root
 from .codegen import ScalarKernel, render_family
-from .impulse_ratio import general_quadratic
+from .impulse_ratio import general_quadratic, on_energy_line
 
 from impactsym.errors import DerivationError
 
@@ -118,7 +118,8 @@ def pool_law(theta_=theta, tau_=0, restitution=e, ratios=(alpha,), *, third_cont
     (alpha**2 - alpha*cos(theta) + 1, -1)
     """
     sc = pool(theta_, tau_, incidence=incidence, third_contact=third_contact)
-    return sc, general_quadratic(sc.M, sc.H, sc.v, restitution, list(ratios))
+    # the law is checked against the energy line of this restitution before any closed form is built
+    return sc, on_energy_line(general_quadratic(sc.M, sc.H, sc.v, restitution, list(ratios)), sc.M, sc.v, restitution)
 
 
 def _clean(d: dict) -> dict:
@@ -493,7 +494,8 @@ def eq37_analysis() -> dict:
             for label, ratios in (("alpha13=alpha12", (alpha, alpha)), ("alpha13=alpha12/2", (alpha, alpha / 2))):
                 sc = pool(2 * sp.pi / 3, -sp.pi / 6, incidence=incidence, constraint=constraint, third_contact=True)
                 # only the state's identity with the print is decided (form-free): no simplified A, B, C
-                law = general_quadratic(sc.M, sc.H, sc.v, 1, list(ratios), simplified=False)
+                law = on_energy_line(general_quadratic(sc.M, sc.H, sc.v, 1, list(ratios), simplified=False),
+                                     sc.M, sc.v, 1)
                 v = dict(zip(VELOCITY_NAMES, law.vplus))
                 ok_p = _identical_states(v, printed)
                 ok_r = _identical_states(v, repaired)
