@@ -122,6 +122,15 @@ def pool_law(theta_=theta, tau_=0, restitution=e, ratios=(alpha,), *, third_cont
     return sc, on_energy_line(general_quadratic(sc.M, sc.H, sc.v, restitution, list(ratios)), sc.M, sc.v, restitution)
 
 
+def _factored(v, numeric_angles: bool):
+    """The printed form ``sympy.factor(simplify(v))`` of a closed-form entry. With numeric angles θ
+    (and, for Bernoulli, τ) the entry is a rational function of the ratios, ``e``, ``ε``, ``cos τ``,
+    ``sin τ``, √Δ and surds, and ``factor`` alone gives that form (the same expressions, pinned by
+    ``reproduce --json`` and tests/test_closed_forms.py) without ``simplify``'s search; with a
+    symbolic θ, ``simplify`` runs first (trigonometric identities in θ can shorten the entry)."""
+    return sp.factor(v if numeric_angles else simplify(v))
+
+
 def _clean(d: dict) -> dict:
     return {k: simplify(v) if k not in ("A", "Delta") else v for k, v in d.items()}
 
@@ -162,9 +171,11 @@ def pool_at_theta(theta_value, restitution=e) -> dict:
     ----------
     Acary & Taha, eqs. 33, 34.
     """
-    sc, law = pool_law(sp.sympify(theta_value), 0, restitution)
+    theta_value = sp.sympify(theta_value)
+    sc, law = pool_law(theta_value, 0, restitution)
     cf = closed_form(sc, law, VELOCITY_NAMES)
-    return {k: (v if k in ("A", "Delta") else sp.factor(simplify(v))) for k, v in cf.items()}
+    numeric = not theta_value.free_symbols
+    return {k: (v if k in ("A", "Delta") else _factored(v, numeric)) for k, v in cf.items()}
 
 
 @lru_cache(maxsize=None)
@@ -186,15 +197,17 @@ def pool_any_tau(theta_value=theta, restitution=1) -> dict:
     ----------
     Acary & Taha, eqs. 35, 36.
     """
-    sc, law = pool_law(sp.sympify(theta_value), tau, restitution)
+    theta_value = sp.sympify(theta_value)
+    sc, law = pool_law(theta_value, tau, restitution)
     cf = closed_form(sc, law, VELOCITY_NAMES)
+    numeric = not theta_value.free_symbols
     out = {}
     for k, v in cf.items():
         if k in ("A", "B", "C", "Delta"):
             out[k] = v
             continue
         v = v.subs(sp.Abs(sp.cos(tau)), eps * sp.cos(tau)).subs(sp.sqrt(sp.cos(tau) ** 2), eps * sp.cos(tau))
-        out[k] = sp.factor(simplify(v))
+        out[k] = _factored(v, numeric)
     return out
 
 
@@ -268,7 +281,8 @@ def bernoulli_closed_form(tau_value=-sp.pi / 6, restitution=1, *, independent=Fa
     Acary & Taha, sec. 4.2 case 3.a, eq. 37.
     """
     ratios = (alpha, alpha13) if independent else (alpha, alpha)
-    sc, law = pool_law(2 * sp.pi / 3, sp.sympify(tau_value), restitution, ratios, third_contact=True)
+    tau_value = sp.sympify(tau_value)
+    sc, law = pool_law(2 * sp.pi / 3, tau_value, restitution, ratios, third_contact=True)
     cf = closed_form(sc, law, VELOCITY_NAMES, ["p1", "p2", "p3"])
     out = {}
     for k, v in cf.items():
@@ -277,7 +291,7 @@ def bernoulli_closed_form(tau_value=-sp.pi / 6, restitution=1, *, independent=Fa
         elif k in ("Delta", "B", "C"):
             out[k] = v
         else:
-            out[k] = sp.factor(sp.radsimp(simplify(v)))
+            out[k] = sp.factor(sp.radsimp(v if not tau_value.free_symbols else simplify(v)))
     return out
 
 

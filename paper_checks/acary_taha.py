@@ -205,8 +205,11 @@ def eq7():
     if not package.equal:
         raise ValueError(f"impactsym.laws.delassus.delassus disagrees with eq. 6 ({package.method}): no baseline")
     r = identical(H * dq, H * M.inv() * H.T * p)
+    # printed: rational functions with rational coefficients, whose simplest form is the lowest-terms
+    # quotient sympy.cancel gives (flint's cancel: the same form, without simplify's search)
+    from derivations.rational_zero import cancel
     return Finding(r.decide("exact-match", "erratum"), published=r"\Delta v = HM(q_{t_k})^{-1}H^Tp",
-                   derived=simplify(H * dq), corrected=None if r.equal else W * p,
+                   derived=(H * dq).applyfunc(cancel), corrected=None if r.equal else W * p,
                    note=f"From eq. 6 with symbolic M (SPD) and H: {r.method}; impactsym.laws.delassus.delassus gives the "
                         f"same W p ({package.method}).")
 
