@@ -651,12 +651,14 @@ def incidence():
 def _plus_tau_eq35():
     """Eq. 35's setting (θ = 0, e = 1) derived with the other incidence reading, (cos(θ+τ), sin(θ+τ))."""
     from derivations.chain3 import closed_form
-    from derivations.impulse_ratio import general_quadratic
+    from derivations.impulse_ratio import general_quadratic, on_energy_line
     from derivations.pool import VELOCITY_NAMES, eps, tau
     sc = pool(0, tau, incidence="theta-plus-tau")
-    law = general_quadratic(sc.M, sc.H, sc.v, 1, [sp.Symbol("alpha", positive=True)])
+    law = on_energy_line(general_quadratic(sc.M, sc.H, sc.v, 1, [sp.Symbol("alpha", positive=True)]), sc.M, sc.v, 1)
     cf = closed_form(sc, law, VELOCITY_NAMES)
-    return {k: sp.factor(simplify(v.subs(sp.Abs(sp.cos(tau)), eps * sp.cos(tau)))) for k, v in cf.items()}
+    # θ = 0: rational functions of α, ε, cos τ, sin τ and surds, whose printed form factor gives
+    # directly (derivations.pool._factored: simplify first only for a symbolic θ)
+    return {k: sp.factor(v.subs(sp.Abs(sp.cos(tau)), eps * sp.cos(tau))) for k, v in cf.items()}
 
 
 @_cl("at-sec4.1-two-contacts", "sec. 4.1", "θ ∈ [0, 2π/3[: only two closed contacts; three at 2π/3", "exact-match", [POS])
