@@ -52,7 +52,7 @@ from .memo import simplify
 from impactsym.models.acary_taha import chain3
 
 from .codegen import ScalarKernel, render_family
-from .impulse_ratio import QuadraticLaw, general_quadratic
+from .impulse_ratio import QuadraticLaw, general_quadratic, on_energy_line
 
 from impactsym.errors import DerivationError
 
@@ -104,7 +104,7 @@ def chain3_law(masses=(m, m, m), velocities=(1, 0, 0), ratio=alpha, restitution=
     Acary & Taha, eqs. 13, 17, 38.
     """
     sc = chain3(masses, velocities)
-    return general_quadratic(sc.M, sc.H, sc.v, restitution, [ratio])
+    return on_energy_line(general_quadratic(sc.M, sc.H, sc.v, restitution, [ratio]), sc.M, sc.v, restitution)
 
 
 def closed_form(scene, law: QuadraticLaw, velocity_names, impulse_names=None) -> dict:
@@ -169,7 +169,8 @@ def chain3_equal_masses() -> dict:
     Acary & Taha, eqs. 13, 17, 18.
     """
     sc = chain3((m, m, m), (1, 0, 0))
-    law = general_quadratic(sc.M, sc.H, sc.v, e, [alpha])
+    # checked against the energy line T⁺ = eT⁻ before any closed form is built
+    law = on_energy_line(general_quadratic(sc.M, sc.H, sc.v, e, [alpha]), sc.M, sc.v, e)
     return closed_form(sc, law, VELOCITY_NAMES)
 
 
@@ -196,7 +197,7 @@ def chain3_general() -> dict:
     Acary & Taha, eqs. 13, 17 (generalized), 38.
     """
     sc = chain3((m1, m2, m3), (v1, v2, v3))
-    law = general_quadratic(sc.M, sc.H, sc.v, e, [alpha])
+    law = on_energy_line(general_quadratic(sc.M, sc.H, sc.v, e, [alpha]), sc.M, sc.v, e)
     out = closed_form(sc, law, VELOCITY_NAMES)
     out["B"] = sp.expand(out["B"])
     out["Delta"] = sp.factor(sp.cancel(out["Delta"]))

@@ -37,7 +37,7 @@ from .rational_zero import is_zero
 
 from impactsym.errors import DerivationError
 
-__all__ = ["QuadraticLaw", "general_quadratic", "physical_root_proof", "general_coefficients_proof", "moreau_energy_proof", "poisson_energy_proof"]
+__all__ = ["QuadraticLaw", "general_quadratic", "on_energy_line", "physical_root_proof", "general_coefficients_proof", "moreau_energy_proof", "poisson_energy_proof"]
 
 
 @dataclass
@@ -90,6 +90,37 @@ def general_quadratic(M, H, v, e, alphas, *, simplified: bool = True) -> Quadrat
     root = (-B + sp.sqrt(D)) / (2 * A)
     other = (-B - sp.sqrt(D)) / (2 * A)
     return QuadraticLaw(A, B, C, D, a, root, other, root * a, v + root * w)
+
+
+def on_energy_line(law: QuadraticLaw, M, v, e) -> QuadraticLaw:
+    """Check that ``law`` (from :func:`general_quadratic`) solves the energy line ``T⁺ = e T⁻`` of
+    the scene ``M``, ``v⁻`` for the coefficient ``e`` the caller asked for, and return it; raise
+    :class:`~impactsym.errors.DerivationError` otherwise.
+
+    Structural, not a re-derivation: :func:`general_quadratic` proves that its ``A``, ``B`` are the
+    ``p₁²`` and ``p₁`` coefficients of ``T(v⁻ + p₁M⁻¹Hᵀa)``, so its root lies on the line
+    ``T⁺ = e T⁻`` exactly when its constant term is ``C = (1 − e)T⁻`` (with ``T⁻`` computed here
+    from ``M`` and ``v⁻``) and its discriminant is ``D = B² − 4AC``; both are decided by the exact
+    zero test. A caller runs it before simplifying any closed form of the law, so a law derived
+    for another ``e`` is rejected before any printed form is built.
+
+    >>> law = general_quadratic(sp.eye(2), sp.Matrix([[-1, 1]]), sp.Matrix([1, 0]), 1, [])
+    >>> on_energy_line(law, sp.eye(2), sp.Matrix([1, 0]), 1).p1
+    1
+    >>> on_energy_line(law, sp.eye(2), sp.Matrix([1, 0]), sp.Rational(1, 2))
+    Traceback (most recent call last):
+    ...
+    impactsym.errors.DerivationError: the law's constant term C = 0 is not (1 - e)T- = 1/4 for e = 1/2: its root is off the energy line T+ = e T-
+    """
+    M, v = sp.Matrix(M), sp.Matrix(v)
+    T_minus = (v.T * M * v)[0, 0] / 2
+    want = (1 - sp.sympify(e)) * T_minus
+    if not is_zero(law.C - want):
+        raise DerivationError(f"the law's constant term C = {law.C} is not (1 - e)T- = {want} for e = {e}: its root "
+                              "is off the energy line T+ = e T-")
+    if not is_zero(law.D - (law.B**2 - 4 * law.A * law.C)):
+        raise DerivationError(f"the law's discriminant {law.D} is not B^2 - 4AC")
+    return law
 
 
 def physical_root_proof():

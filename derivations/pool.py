@@ -57,7 +57,7 @@ from impactsym.models.acary_taha import pool
 
 from .chain3 import closed_form, stable_root
 from .codegen import ScalarKernel, render_family
-from .impulse_ratio import general_quadratic
+from .impulse_ratio import general_quadratic, on_energy_line
 
 from impactsym.errors import DerivationError
 
@@ -118,7 +118,17 @@ def pool_law(theta_=theta, tau_=0, restitution=e, ratios=(alpha,), *, third_cont
     (alpha**2 - alpha*cos(theta) + 1, -1)
     """
     sc = pool(theta_, tau_, incidence=incidence, third_contact=third_contact)
-    return sc, general_quadratic(sc.M, sc.H, sc.v, restitution, list(ratios))
+    # the law is checked against the energy line of this restitution before any closed form is built
+    return sc, on_energy_line(general_quadratic(sc.M, sc.H, sc.v, restitution, list(ratios)), sc.M, sc.v, restitution)
+
+
+def _factored(v, numeric_angles: bool):
+    """The printed form ``sympy.factor(simplify(v))`` of a closed-form entry. With numeric angles θ
+    (and, for Bernoulli, τ) the entry is a rational function of the ratios, ``e``, ``ε``, ``cos τ``,
+    ``sin τ``, √Δ and surds, and ``factor`` alone gives that form (the same expressions, pinned by
+    ``reproduce --json`` and tests/test_closed_forms.py) without ``simplify``'s search; with a
+    symbolic θ, ``simplify`` runs first (trigonometric identities in θ can shorten the entry)."""
+    return sp.factor(v if numeric_angles else simplify(v))
 
 
 def _clean(d: dict) -> dict:
@@ -161,9 +171,11 @@ def pool_at_theta(theta_value, restitution=e) -> dict:
     ----------
     Acary & Taha, eqs. 33, 34.
     """
-    sc, law = pool_law(sp.sympify(theta_value), 0, restitution)
+    theta_value = sp.sympify(theta_value)
+    sc, law = pool_law(theta_value, 0, restitution)
     cf = closed_form(sc, law, VELOCITY_NAMES)
-    return {k: (v if k in ("A", "Delta") else sp.factor(simplify(v))) for k, v in cf.items()}
+    numeric = not theta_value.free_symbols
+    return {k: (v if k in ("A", "Delta") else _factored(v, numeric)) for k, v in cf.items()}
 
 
 @lru_cache(maxsize=None)
@@ -185,15 +197,17 @@ def pool_any_tau(theta_value=theta, restitution=1) -> dict:
     ----------
     Acary & Taha, eqs. 35, 36.
     """
-    sc, law = pool_law(sp.sympify(theta_value), tau, restitution)
+    theta_value = sp.sympify(theta_value)
+    sc, law = pool_law(theta_value, tau, restitution)
     cf = closed_form(sc, law, VELOCITY_NAMES)
+    numeric = not theta_value.free_symbols
     out = {}
     for k, v in cf.items():
         if k in ("A", "B", "C", "Delta"):
             out[k] = v
             continue
         v = v.subs(sp.Abs(sp.cos(tau)), eps * sp.cos(tau)).subs(sp.sqrt(sp.cos(tau) ** 2), eps * sp.cos(tau))
-        out[k] = sp.factor(simplify(v))
+        out[k] = _factored(v, numeric)
     return out
 
 
@@ -267,7 +281,8 @@ def bernoulli_closed_form(tau_value=-sp.pi / 6, restitution=1, *, independent=Fa
     Acary & Taha, sec. 4.2 case 3.a, eq. 37.
     """
     ratios = (alpha, alpha13) if independent else (alpha, alpha)
-    sc, law = pool_law(2 * sp.pi / 3, sp.sympify(tau_value), restitution, ratios, third_contact=True)
+    tau_value = sp.sympify(tau_value)
+    sc, law = pool_law(2 * sp.pi / 3, tau_value, restitution, ratios, third_contact=True)
     cf = closed_form(sc, law, VELOCITY_NAMES, ["p1", "p2", "p3"])
     out = {}
     for k, v in cf.items():
@@ -276,7 +291,7 @@ def bernoulli_closed_form(tau_value=-sp.pi / 6, restitution=1, *, independent=Fa
         elif k in ("Delta", "B", "C"):
             out[k] = v
         else:
-            out[k] = sp.factor(sp.radsimp(simplify(v)))
+            out[k] = sp.factor(sp.radsimp(v if not tau_value.free_symbols else simplify(v)))
     return out
 
 
@@ -493,7 +508,8 @@ def eq37_analysis() -> dict:
             for label, ratios in (("alpha13=alpha12", (alpha, alpha)), ("alpha13=alpha12/2", (alpha, alpha / 2))):
                 sc = pool(2 * sp.pi / 3, -sp.pi / 6, incidence=incidence, constraint=constraint, third_contact=True)
                 # only the state's identity with the print is decided (form-free): no simplified A, B, C
-                law = general_quadratic(sc.M, sc.H, sc.v, 1, list(ratios), simplified=False)
+                law = on_energy_line(general_quadratic(sc.M, sc.H, sc.v, 1, list(ratios), simplified=False),
+                                     sc.M, sc.v, 1)
                 v = dict(zip(VELOCITY_NAMES, law.vplus))
                 ok_p = _identical_states(v, printed)
                 ok_r = _identical_states(v, repaired)

@@ -41,7 +41,7 @@ import sympy as sp
 from .memo import simplify
 from .algebra import block_determinant_lemma, nc_symbols, rewrite
 from .codegen import ArrayKernel, ScalarKernel, numpy_code, render_family
-from .rational_zero import cancel, factored_numerator, is_zero, is_zero_rational_function
+from .rational_zero import cancel, factor, factored_numerator, is_zero, is_zero_rational_function
 
 from impactsym.errors import DerivationError
 
@@ -223,7 +223,7 @@ def derive_single_impact(n: int) -> Derivation:
     kept = [r for r in roots if not is_zero(r)]
     if not (len(kept) == 1):
         raise DerivationError(f"expected one non-trivial root, got {kept}")
-    lam_star = sp.factor(kept[0])
+    lam_star = factor(kept[0])  # sympy.factor's form, by flint
     qplus = qp_of_lam.subs(lam, lam_star).applyfunc(cancel)  # sympy.cancel's normal form, by flint
     G = _jacobian_of_linear(qplus, qm)
     d = Derivation(n, M, u, qm, lam_star, qplus, G, roots,
@@ -260,7 +260,7 @@ def derive_restitution(n: int) -> Derivation:
     if is_zero_rational_function(a) is not False:
         raise DerivationError("u q+ = -e u q- does not involve lambda (a = 0)")
     roots = [-b / a]
-    lam_star = sp.factor(roots[0])
+    lam_star = factor(roots[0])  # sympy.factor's form, by flint
     qplus = qp_of_lam.subs(lam, lam_star).applyfunc(cancel)  # sympy.cancel's normal form, by flint
     G = _jacobian_of_linear(qplus, qm)
     dT = ((qplus.T * M * qplus)[0, 0] - (qm.T * M * qm)[0, 0]) / 2

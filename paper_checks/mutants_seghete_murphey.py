@@ -36,9 +36,12 @@ def _derive_single_impact(original):
     def wrong(n):
         d = original(n)
         lam = d.lam * (1 + EPS)
-        qplus = (d.qminus - d.lam * (1 + 2 * EPS) * d.M.inv() * d.u.T).applyfunc(sp.cancel)
-        G = qplus.jacobian(d.qminus).applyfunc(sp.cancel)
-        roots = [r if sp.simplify(r) == 0 else lam for r in d.roots]
+        # the same wrong q̇⁺ and G as (q̇⁻ − λ(1 + 2/97)M⁻¹uᵀ).applyfunc(cancel) and its Jacobian, built
+        # the way the derivation builds its own (flint's cancel, the Jacobian of a linear map read off
+        # column by column, checked); the zero root decided by the exact zero test (simplify as fallback)
+        qplus = (d.qminus - d.lam * (1 + 2 * EPS) * d.M.LUsolve(d.u.T)).applyfunc(drefl.cancel)
+        G = drefl._jacobian_of_linear(qplus, d.qminus)
+        roots = [r if drefl.is_zero(r) else lam for r in d.roots]
         out = dataclasses.replace(d, lam=lam, qplus=qplus, G=G, roots=roots)
         out.matches_printed_G = drefl._matrix_is_zero(G - drefl.printed_G(d.M, d.u))
         out.matches_printed_lambda = drefl._is_zero_rational(lam - drefl.printed_lambda(d.M, d.u, d.qminus))
