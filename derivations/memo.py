@@ -1,7 +1,10 @@
 """Memoized SymPy ``simplify``: the paper checks and the derivations simplify the same expressions
 again and again (the same scene's quantities in several claims); ``simplify`` is pure, so its
-result is kept per expression (``functools.lru_cache``, which the mutation tests clear with every
-other cache of ``derivations``). Unhashable arguments (mutable matrices) are simplified directly.
+result is kept per expression (``functools.lru_cache``). It is the one cache of ``derivations``
+the mutation tests keep (``paper_checks.mutations.clear_caches`` skips a cache marked
+``sympy_only``): it calls SymPy alone, which no mutation replaces, so it can never hold a value a
+mutant computed (a mutant's different expression is a different key). Unhashable arguments
+(mutable matrices) are simplified directly.
 
 >>> import sympy as sp
 >>> x = sp.Symbol("x")
@@ -31,3 +34,7 @@ def simplify(expr, **kwargs):
 @lru_cache(maxsize=8192, typed=True)
 def _simplify_cached(expr, **kwargs):
     return sp.simplify(expr, **kwargs)
+
+
+#: SymPy's simplify and nothing of ours: kept across mutations (see the module docstring)
+_simplify_cached.sympy_only = True

@@ -155,7 +155,8 @@ def _in_scope(modname: str) -> bool:
 
 def clear_caches() -> None:
     """Forget every memoized claim and every ``lru_cache`` in impactsym, derivations and
-    paper_checks (so that nothing computed under one mutation leaks into another run)."""
+    paper_checks (so that nothing computed under one mutation leaks into another run), except a
+    cache marked ``sympy_only`` (a memo of a SymPy function alone, which no mutation replaces)."""
     from . import framework
 
     framework._MEMO.clear()
@@ -164,7 +165,9 @@ def clear_caches() -> None:
             continue
         for value in list(vars(mod).values()):
             clear = getattr(value, "cache_clear", None)
-            if callable(clear):
+            # a cache marked sympy_only memoizes a SymPy function alone (derivations.memo): no
+            # mutation can reach inside it, so it cannot hold a mutant's value and is kept
+            if callable(clear) and not getattr(value, "sympy_only", False):
                 clear()
 
 

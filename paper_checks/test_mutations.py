@@ -91,3 +91,28 @@ def test_the_mutation_test_catches_a_fixed_verdict():
 
 
 # `assert` in claim modules (stripped by python -O) is refused by tests/test_no_assert.py.
+
+
+def test_caches_kept_across_mutations_call_sympy_alone():
+    """``clear_caches`` keeps the caches marked ``sympy_only``. Each must be a memo of SymPy alone:
+    its function reads no global but the ``sp`` module (so no mutated function of ours can run
+    inside it); every other cache is cleared."""
+    import sys
+
+    import sympy as sp
+
+    from derivations import memo
+    from impactsym.laws.delassus import _tidy_remembered, tidy
+
+    kept = [v for name, mod in list(sys.modules.items()) if mod is not None and mutations._in_scope(name)
+            for v in vars(mod).values() if callable(getattr(v, "cache_clear", None)) and getattr(v, "sympy_only", False)]
+    assert kept == [memo._simplify_cached]
+    for cache in kept:
+        code = cache.__wrapped__.__code__
+        assert set(code.co_names) <= {"sp", "simplify"} and not code.co_freevars, (cache, code.co_names)
+    saved = _memo_snapshot()
+    memo.simplify(sp.Symbol("kept") * 2 / 3)
+    tidy(sp.sqrt(8) / 3)
+    mutations.clear_caches()
+    assert memo._simplify_cached.cache_info().currsize >= 1 and _tidy_remembered.cache_info().currsize == 0
+    _memo_restore(saved)
