@@ -93,9 +93,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
-from scipy.integrate import solve_ivp
-
-from .compliant import _per_contact, _vec, chain_matrices, float_system
+from .compliant import _dop853, _per_contact, _vec, chain_matrices, float_system
 from .errors import ImpactInputError, NonTermination
 
 __all__ = ["LZBResult", "lzb_impact", "lzb_chain"]
@@ -308,10 +306,9 @@ def lzb_impact(M, H, v, stiffness, exponent=1.5, restitution=1.0, *, rtol: float
         atol_vec = atol * np.concatenate([np.full(n, V), sscale, [T0], np.full(k, Pscale), [1.0]])
         atol_vec[-1] = atol * Tsc
         span = 1e3 * Pscale
-        sol = solve_ivp(rhs, (0.0, span), y0, method="DOP853", rtol=rtol, atol=atol_vec,
-                        events=[end_primary, switch, drop])
+        sol = _dop853(rhs, 0.0, span, y0, rtol, atol_vec, [end_primary, switch, drop], keep_states=False)
         segments += 1
-        steps += len(sol.t) - 1
+        steps += sol.steps
         nfev += sol.nfev
         if sol.status == -1:
             raise NonTermination(f"LZB: integrator failed in segment {segments} ({sol.message}); contact time "
@@ -324,7 +321,7 @@ def lzb_impact(M, H, v, stiffness, exponent=1.5, restitution=1.0, *, rtol: float
             y = sol.y_events[fired[0]][-1]
             ended = fired[0] == 0
         else:
-            y = sol.y[:, -1]
+            y = sol.y_last
             ended = False
         v, s, Ep = y[:n].copy(), y[n:n + k].copy(), float(y[n + k])
         P, t_equiv = y[n + k + 1:n + 2 * k + 1].copy(), float(y[-1])
