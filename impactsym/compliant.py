@@ -185,10 +185,11 @@ def _dop853(fun, t0, t_bound, y0, rtol, atol, events, keep_states=True):
     by ``brentq`` on it, all on arrays of the same shapes), so the steps, the states and the event
     roots are bit for bit those of ``solve_ivp``; ``tests/test_compliant.py`` checks that on runs of
     both laws. What it saves is the Python around the arithmetic: two wrapper calls and an
-    ``asarray`` per right-hand side, the slicing of the stage table at every stage, NumPy scalar
-    arithmetic in the step control and the event bookkeeping. ``fun`` and every event must be
-    autonomous in the sense that matters here: they may read ``t`` but receive it as a Python float
-    (SciPy may pass a NumPy one of the same value). Events must be terminal (``terminal = True``).
+    ``asarray`` per right-hand side, the slicing of the stage table at every stage, temporaries,
+    conversions of Python scalars, NumPy scalar arithmetic in the step control and the event
+    bookkeeping. ``fun`` and the events may read ``t``, given as a Python float (SciPy may pass a
+    NumPy one of the same value); the events carry SciPy's ``terminal`` and ``direction``
+    attributes.
 
     Returns an object with ``t`` (accepted times, only if ``keep_states``), ``y`` (the states, one
     column per time, only if ``keep_states``), ``steps``, ``y_last`` (the final state), ``t_events``,
@@ -207,6 +208,7 @@ def _dop853(fun, t0, t_bound, y0, rtol, atol, events, keep_states=True):
     stages = [(K[:s].T, A[s][:s], float(C[s]), s) for s in range(1, len(C))]
     KbT, KT = K[:-1].T, K.T
     rtol, atol = solver.rtol, solver.atol
+    rtol_arr = np.array(rtol)
     expo = solver.error_exponent
     nscale = float(solver.n)
     t, y, f, h_abs = solver.t, solver.y, solver.f, float(solver.h_abs)
@@ -233,16 +235,23 @@ def _dop853(fun, t0, t_bound, y0, rtol, atol, events, keep_states=True):
                 t_new = t_bound
             h = t_new - t
             h_abs = abs(h)
-            # rk_step
+            h_arr = np.array(h)  # a 0-d array multiplies as the float does, without converting it each time
+            # rk_step: each stage's input y + (K[:s]ᵀ a_s) h, built in one buffer
             K[0] = f
             for KsT, a, c, s in stages:
-                K[s] = fun(t + c * h, y + np.dot(KsT, a) * h)
-            y_new = y + h * np.dot(KbT, B)
+                dy = np.dot(KsT, a)
+                np.multiply(dy, h_arr, out=dy)
+                K[s] = fun(t + c * h, np.add(y, dy, out=dy))
+            dy = np.dot(KbT, B)
+            np.multiply(h_arr, dy, out=dy)
+            y_new = np.add(y, dy, out=dy)
             f_new = fun(t + h, y_new)
             K[-1] = f_new
             calls += len(stages) + 1
             # DOP853._estimate_error_norm
-            scale = atol + np.maximum(np.abs(y), np.abs(y_new)) * rtol
+            scale = np.maximum(np.abs(y), np.abs(y_new))
+            np.multiply(scale, rtol_arr, out=scale)
+            np.add(atol, scale, out=scale)
             err5 = np.dot(KT, E5) / scale
             err3 = np.dot(KT, E3) / scale
             e5 = sqrt(float(err5.dot(err5))) ** 2
@@ -572,27 +581,39 @@ def compliant_impact(M, H, v, stiffness, exponent=1.5, damping=None, *, hunt_cro
     # docstring, without the rate of indentation where the force does not use it (elastic)
     touching = not np.any(g0)  # every gap 0: -(g0 + x) is -x but for the sign of a zero, which the last line drops
 
-    def forces(q, qd):
-        d = -(Hf @ q) if touching else -(g0 + Hf @ q)
-        dp = np.maximum(d, 0.0)
-        dpp = dp if lin else dp ** p
-        if hc:
-            f = K * dpp * (1.0 + D * -(Hf @ qd))
-        elif damped:
-            f = K * dpp + C * (dp ** pm1 if not lin else (d > 0)) * -(Hf @ qd)
-        else:  # K > 0 and dpp >= 0 where d > 0: f >= 0 there already
-            return np.where(d > 0, K * dpp, 0.0)
-        return np.where(d > 0, np.maximum(f, 0.0), 0.0)
+    zero_k = np.zeros(k)
+    N = 2 * n + k
 
     def rhs(_t, y):
+        # (q̇, M⁻¹Hᵀf, f) with f_i = where(δ_i > 0, force_i, 0), written into one array of zeros (the
+        # masked product leaves the +0.0 of np.where); the operations that round are those of the
+        # formula in the docstring on the same arrays (δ⁺ only matters where δ > 0, where it is δ)
+        out = np.zeros(N)
         qd = y[n:2 * n]
-        f = forces(y[:n], qd)
-        return np.concatenate((qd, A @ f, f))
+        out[:n] = qd
+        x = Hf.dot(y[:n])
+        if not touching:
+            np.add(g0, x, out=x)
+        d = np.negative(x, out=x)  # the indentations δ
+        pos = np.greater(d, zero_k)
+        dp = np.maximum(d, zero_k)
+        f = out[2 * n:]
+        if hc or damped:
+            dpp = dp if lin else dp ** p
+            if hc:
+                ff = K * dpp * (1.0 + D * -(Hf.dot(qd)))
+            else:
+                ff = K * dpp + C * (dp ** pm1 if not lin else (d > 0)) * -(Hf.dot(qd))
+            np.copyto(f, np.maximum(ff, 0.0), where=pos)
+        else:  # K > 0 and dpp >= 0 where d > 0: f >= 0 there already
+            np.multiply(K, dp if lin else np.power(dp, p, out=dp), out=f, where=pos)
+        out[n:2 * n] = A.dot(f)
+        return out
 
     def stop(_t, y):
         g = (g0 + Hf @ y[:n]) / Lsc
         w = (Hf @ y[n:2 * n]) / V + SEPARATION_EPS
-        return float(np.min(np.minimum(g, w)))
+        return float(np.minimum(g, w).min())
 
     stop.terminal = True
     stop.direction = 1
