@@ -183,7 +183,7 @@ def _dop853(fun, t0, t_bound, y0, rtol, atol, events, keep_states=True):
     The same floating-point operations in the same order as SciPy's ``DOP853`` (the initial step,
     every stage, the error norm and step-size control, the dense output and the event roots found
     by ``brentq`` on it, all on arrays of the same shapes), so the steps, the states and the event
-    roots are bit for bit those of ``solve_ivp``; ``tests/test_compliant.py`` checks that on runs of
+    roots are bit for bit those of ``solve_ivp``; ``tests/test_dop853_driver.py`` checks that on runs of
     both laws. What it saves is the Python around the arithmetic: two wrapper calls and an
     ``asarray`` per right-hand side, the slicing of the stage table at every stage, temporaries,
     conversions of Python scalars, NumPy scalar arithmetic in the step control and the event

@@ -271,7 +271,7 @@ def lzb_impact(M, H, v, stiffness, exponent=1.5, restitution=1.0, *, rtol: float
             np.power(ratio, eta, out=ratio)
             np.multiply(a, ratio, out=ratio)  # the forces f_j = a_j s_j^η_j
             ratio[pp] = fp
-            np.divide(ratio, fp, out=ratio)
+            np.divide(ratio, np.array(fp), out=ratio)
             out[:n] = A.dot(ratio)
             ds = out[n:i_ep]
             if elastic:  # c = 1 on every contact
@@ -281,7 +281,7 @@ def lzb_impact(M, H, v, stiffness, exponent=1.5, restitution=1.0, *, rtol: float
                 np.multiply(np.where(ww > 0, inv_e2, 1.0), ww, out=ds)
                 cwp = -ds.item(pp)
                 np.multiply(ds, b, out=ds)
-            np.divide(ds, -fp, out=ds)
+            np.divide(ds, np.array(-fp), out=ds)
             inactive = np.less_equal(ss, zero_k)
             inactive &= np.greater_equal(ww, zero_k)
             np.copyto(ds, zero_k, where=inactive)
@@ -307,10 +307,13 @@ def lzb_impact(M, H, v, stiffness, exponent=1.5, restitution=1.0, *, rtol: float
         drop.terminal = True
         drop.direction = -1
 
+        eta_o1 = eta[others] + 1
+
         def switch(_P, y, pp=pp, others=others):
-            ss = y[n:n + k]
-            Eo = np.maximum(ss[others], 0.0) ** (eta[others] + 1)
-            return float(np.max(Eo) if Eo.size else -1.0) - SWITCH_FACTOR * y[n + k]
+            if k == 1:
+                return -1.0 - SWITCH_FACTOR * y.item(n + k)
+            Eo = np.maximum(y[n:n + k][others], 0.0) ** eta_o1
+            return Eo.max().item() - SWITCH_FACTOR * y.item(n + k)
 
         switch.terminal = True
         switch.direction = 1
