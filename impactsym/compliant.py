@@ -177,7 +177,7 @@ class _Run:
     __slots__ = ("t", "y", "t_events", "y_events", "status", "message", "nfev", "steps", "y_last")
 
 
-def _dop853(fun, t0, t_bound, y0, rtol, atol, events, keep_states=True):
+def _dop853(fun, t0, t_bound, y0, rtol, atol, events, keep_states=True, into=False):
     """``solve_ivp(fun, (t0, t_bound), y0, method="DOP853", rtol=rtol, atol=atol, events=events)``, faster.
 
     The same floating-point operations in the same order as SciPy's ``DOP853`` (the initial step,
@@ -189,7 +189,8 @@ def _dop853(fun, t0, t_bound, y0, rtol, atol, events, keep_states=True):
     conversions of Python scalars, NumPy scalar arithmetic in the step control and the event
     bookkeeping. ``fun`` and the events may read ``t``, given as a Python float (SciPy may pass a
     NumPy one of the same value); the events carry SciPy's ``terminal`` and ``direction``
-    attributes.
+    attributes. With ``into``, ``fun(t, y, out)`` writes the stages into the stage table's rows
+    (``out`` is None where a fresh array is wanted) instead of returning arrays to copy there.
 
     Returns an object with ``t`` (accepted times, only if ``keep_states``), ``y`` (the states, one
     column per time, only if ``keep_states``), ``steps``, ``y_last`` (the final state), ``t_events``,
@@ -205,7 +206,7 @@ def _dop853(fun, t0, t_bound, y0, rtol, atol, events, keep_states=True):
     dirs = [float(d) for d in event_dir]
     K = solver.K
     A, B, C, E3, E5 = solver.A, solver.B, solver.C, solver.E3, solver.E5
-    stages = [(K[:s].T, A[s][:s], float(C[s]), s) for s in range(1, len(C))]
+    stages = [(K[:s].T, A[s][:s], float(C[s]), s, K[s]) for s in range(1, len(C))]
     KbT, KT = K[:-1].T, K.T
     rtol, atol = solver.rtol, solver.atol
     rtol_arr = np.array(rtol)
@@ -238,10 +239,13 @@ def _dop853(fun, t0, t_bound, y0, rtol, atol, events, keep_states=True):
             h_arr = np.array(h)  # a 0-d array multiplies as the float does, without converting it each time
             # rk_step: each stage's input y + (K[:s]ᵀ a_s) h, built in one buffer
             K[0] = f
-            for KsT, a, c, s in stages:
+            for KsT, a, c, s, Ks in stages:
                 dy = np.dot(KsT, a)
                 np.multiply(dy, h_arr, out=dy)
-                K[s] = fun(t + c * h, np.add(y, dy, out=dy))
+                if into:
+                    fun(t + c * h, np.add(y, dy, out=dy), Ks)
+                else:
+                    K[s] = fun(t + c * h, np.add(y, dy, out=dy))
             dy = np.dot(KbT, B)
             np.multiply(h_arr, dy, out=dy)
             y_new = np.add(y, dy, out=dy)
@@ -584,17 +588,22 @@ def compliant_impact(M, H, v, stiffness, exponent=1.5, damping=None, *, hunt_cro
     zero_k = np.zeros(k)
     N = 2 * n + k
 
-    def rhs(_t, y):
+    Hneg = -Hf  # (−H) q is −(H q) bit for bit but for the sign of a zero, which only δ ≤ 0 sees (masked)
+    ng0 = -g0
+
+    def rhs(_t, y, out=None):
         # (q̇, M⁻¹Hᵀf, f) with f_i = where(δ_i > 0, force_i, 0), written into one array of zeros (the
         # masked product leaves the +0.0 of np.where); the operations that round are those of the
         # formula in the docstring on the same arrays (δ⁺ only matters where δ > 0, where it is δ)
-        out = np.zeros(N)
+        if out is None:
+            out = np.zeros(N)
+        else:
+            out[2 * n:] = 0.0
         qd = y[n:2 * n]
         out[:n] = qd
-        x = Hf.dot(y[:n])
+        d = Hneg.dot(y[:n])  # the indentations δ
         if not touching:
-            np.add(g0, x, out=x)
-        d = np.negative(x, out=x)  # the indentations δ
+            np.add(ng0, d, out=d)
         pos = np.greater(d, zero_k)
         dp = np.maximum(d, zero_k)
         f = out[2 * n:]
@@ -660,7 +669,7 @@ def compliant_impact(M, H, v, stiffness, exponent=1.5, damping=None, *, hunt_cro
         if t >= t_max:
             raise NonTermination(f"compliant impact: not over at t_max = {t_max:g} (contact time scale {T:g})"
                                  f"{theorem or '; the termination theorem gives finiteness, not a bound on the time'}")
-        sol = _dop853(rhs, t, min(t + window, t_max), y, rtol, atol_vec, events)
+        sol = _dop853(rhs, t, min(t + window, t_max), y, rtol, atol_vec, events, into=True)
         if sol.status == -1:  # pragma: no cover - integrator failure
             raise NonTermination(f"compliant impact: integrator failed ({sol.message})")
         steps += sol.steps

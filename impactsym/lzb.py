@@ -255,7 +255,7 @@ def lzb_impact(M, H, v, stiffness, exponent=1.5, restitution=1.0, *, rtol: float
         i_ep, i_r, N = n + k, n + k + 1, n + 2 * k + 2
         zero_k = np.zeros(k)
 
-        def rhs(_P, y, pp=pp):
+        def rhs(_P, y, out=None, pp=pp):
             # dv/dP_p = M⁻¹Hᵀ f/f_p, ds_j/dP_p = −c_j w_j b_j/f_p (0 for an inactive contact and the
             # primary), dE_p/dP_p = −c_p w_p, dP/dP_p = f/f_p, dt/dP_p = 1/f_p, written in place into
             # the one array returned, with the float operations of the formula: −c w b/f_p is
@@ -265,7 +265,8 @@ def lzb_impact(M, H, v, stiffness, exponent=1.5, restitution=1.0, *, rtol: float
             # below the end-of-segment energy the force is held at its value there (a step may
             # overshoot the event; the true solution never goes below it within the segment)
             fp = a_pp * max(y.item(i_ep), Eeps_f) ** expo_pp
-            out = np.empty(N)
+            if out is None:
+                out = np.empty(N)
             ratio = out[i_r:N - 1]
             np.maximum(ss, zero_k, out=ratio)
             np.power(ratio, eta, out=ratio)
@@ -323,7 +324,8 @@ def lzb_impact(M, H, v, stiffness, exponent=1.5, restitution=1.0, *, rtol: float
         atol_vec = atol * np.concatenate([np.full(n, V), sscale, [T0], np.full(k, Pscale), [1.0]])
         atol_vec[-1] = atol * Tsc
         span = 1e3 * Pscale
-        sol = _dop853(rhs, 0.0, span, y0, rtol, atol_vec, [end_primary, switch, drop], keep_states=False)
+        sol = _dop853(rhs, 0.0, span, y0, rtol, atol_vec, [end_primary, switch, drop], keep_states=False,
+                      into=True)
         segments += 1
         steps += sol.steps
         nfev += sol.nfev
