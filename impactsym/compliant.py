@@ -240,13 +240,13 @@ def _dop853(fun, t0, t_bound, y0, rtol, atol, events, keep_states=True, into=Fal
             # rk_step: each stage's input y + (K[:s]ᵀ a_s) h, built in one buffer
             K[0] = f
             for KsT, a, c, s, Ks in stages:
-                dy = np.dot(KsT, a)
+                dy = KsT.dot(a)  # np.dot's own routine, without its dispatcher
                 np.multiply(dy, h_arr, out=dy)
                 if into:
                     fun(t + c * h, np.add(y, dy, out=dy), Ks)
                 else:
                     K[s] = fun(t + c * h, np.add(y, dy, out=dy))
-            dy = np.dot(KbT, B)
+            dy = KbT.dot(B)
             np.multiply(h_arr, dy, out=dy)
             y_new = np.add(y, dy, out=dy)
             f_new = fun(t + h, y_new)
@@ -256,8 +256,8 @@ def _dop853(fun, t0, t_bound, y0, rtol, atol, events, keep_states=True, into=Fal
             scale = np.maximum(np.abs(y), np.abs(y_new))
             np.multiply(scale, rtol_arr, out=scale)
             np.add(atol, scale, out=scale)
-            err5 = np.dot(KT, E5) / scale
-            err3 = np.dot(KT, E3) / scale
+            err5 = KT.dot(E5) / scale
+            err3 = KT.dot(E3) / scale
             e5 = sqrt(float(err5.dot(err5))) ** 2
             e3 = sqrt(float(err3.dot(err3))) ** 2
             if e5 == 0 and e3 == 0:

@@ -253,7 +253,7 @@ def lzb_impact(M, H, v, stiffness, exponent=1.5, restitution=1.0, *, rtol: float
         # and powers as NumPy's scalars, at a fraction of the cost
         a_pp, expo_pp, Eeps_f = float(a[pp]), float(eta[pp] / (eta[pp] + 1)), float(Eeps)
         i_ep, i_r, N = n + k, n + k + 1, n + 2 * k + 2
-        zero_k = np.zeros(k)
+        zero_k, one_k = np.zeros(k), np.ones(k)
 
         def rhs(_P, y, out=None, pp=pp):
             # dv/dP_p = M⁻¹Hᵀ f/f_p, ds_j/dP_p = −c_j w_j b_j/f_p (0 for an inactive contact and the
@@ -279,7 +279,7 @@ def lzb_impact(M, H, v, stiffness, exponent=1.5, restitution=1.0, *, rtol: float
                 cwp = -ww.item(pp)
                 np.multiply(ww, b, out=ds)
             else:
-                np.multiply(np.where(ww > 0, inv_e2, 1.0), ww, out=ds)
+                np.multiply(np.where(np.greater(ww, zero_k), inv_e2, one_k), ww, out=ds)
                 cwp = -ds.item(pp)
                 np.multiply(ds, b, out=ds)
             np.divide(ds, np.array(-fp), out=ds)
