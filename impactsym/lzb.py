@@ -93,6 +93,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
+
 from .compliant import _dop853, _per_contact, _vec, chain_matrices, float_system
 from .errors import ImpactInputError, NonTermination
 
@@ -258,8 +259,9 @@ def lzb_impact(M, H, v, stiffness, exponent=1.5, restitution=1.0, *, rtol: float
         def rhs(_P, y, out=None, pp=pp):
             # dv/dP_p = M⁻¹Hᵀ f/f_p, ds_j/dP_p = −c_j w_j b_j/f_p (0 for an inactive contact and the
             # primary), dE_p/dP_p = −c_p w_p, dP/dP_p = f/f_p, dt/dP_p = 1/f_p, written in place into
-            # the one array returned, with the float operations of the formula: −c w b/f_p is
-            # computed as (c w b)/(−f_p), equal bit for bit, signed zeros included
+            # one array (``out``, a row of DOP853's stage table, or a new one), with the float
+            # operations of the formula: −c w b/f_p is computed as (c w b)/(−f_p), equal bit for
+            # bit, signed zeros included
             ww = Hf.dot(y[:n])
             ss = y[n:i_ep]
             # below the end-of-segment energy the force is held at its value there (a step may
