@@ -229,7 +229,7 @@ def _dop853(fun, t0, t_bound, y0, rtol, atol, events, keep_states=True, into=Fal
         rejected = False
         while True:
             if h_abs < min_step:
-                status, message = -1, "Required step size is less than spacing between numbers."
+                status, message = -1, solver.TOO_SMALL_STEP
                 break
             t_new = t + h_abs
             if t_new - t_bound > 0:
