@@ -97,3 +97,15 @@ def test_both_laws_return_the_same_bytes_as_through_solve_ivp(name, monkeypatch)
     assert fast.steps > 0 and fast.nfev > 12 * fast.steps
     if name == "rest":
         assert fast.outcome == "rest"  # the rest event ended it
+
+
+def test_dop853_fails_where_solve_ivp_fails():
+    # y' = y², y(0) = 1 blows up at t = 1: the step size underflows before, at the same step
+    def fun(_t, y):
+        return y * y
+
+    atol = np.array([1e-12])
+    ref = solve_ivp(fun, (0.0, 2.0), np.array([1.0]), method="DOP853", rtol=1e-10, atol=atol)
+    run = _dop853(fun, 0.0, 2.0, np.array([1.0]), 1e-10, atol, [])
+    assert ref.status == run.status == -1 and run.message == ref.message and run.nfev == ref.nfev
+    assert _same(run.t, ref.t) and _same(run.y, ref.y) and abs(run.t[-1] - 1) < 1e-6 and run.y[0, -1] > 1e12
