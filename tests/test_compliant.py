@@ -4,6 +4,8 @@ the linear model, and the rigid impulse-ratio law reproducing the compliant outc
 
 from __future__ import annotations
 
+import functools
+
 import mpmath
 import numpy as np
 import pytest
@@ -75,6 +77,13 @@ def test_rigid_law_with_compliant_ratio_reproduces_compliant_outcome():
 # ------------------------------------------------- linear model: 50-digit piecewise-exact reference
 
 def linear_reference(masses, v0, K, dps=50):
+    """:func:`_linear_reference`, computed once per input in this module (three tests use the same two
+    chains; the callers only read the lists)."""
+    return _linear_reference(tuple(masses), tuple(v0), tuple(K), dps)
+
+
+@functools.lru_cache(maxsize=None)
+def _linear_reference(masses, v0, K, dps):
     """Piecewise-exact solution of the linear chain: in each phase (fixed set of compressed contacts)
     the state is expm(A t) s0 at `dps` digits; the phase ends at the first root of some δ_i(t),
     located by a scan and refined by Newton's method at that precision."""

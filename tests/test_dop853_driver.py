@@ -1,0 +1,111 @@
+"""``impactsym.compliant._dop853`` is SciPy's ``solve_ivp(..., method="DOP853")`` step for step.
+
+The compliant and LZB laws integrate with ``_dop853``, which repeats SciPy's DOP853 arithmetic
+without the Python around it. Its promise is bit-identity: the same accepted steps, states, event
+roots and evaluation counts as ``solve_ivp``. These tests hold it to that, on a plain ODE with
+terminal and non-terminal events and on whole runs of both laws, where every returned number is
+compared byte for byte with a run that integrates through ``solve_ivp`` itself.
+"""
+from __future__ import annotations
+
+import dataclasses
+
+import numpy as np
+import pytest
+from scipy.integrate import solve_ivp
+
+import impactsym.compliant as compliant
+import impactsym.lzb as lzb
+from impactsym.compliant import _dop853, chain_impact, compliant_impact
+from impactsym.lzb import lzb_chain
+
+
+def _via_solve_ivp(fun, t0, t_bound, y0, rtol, atol, events, keep_states=True, into=False):
+    # SciPy calls fun(t, y) and copies what it returns: `into` (write into the stage table) does not apply
+    sol = solve_ivp(fun, (t0, t_bound), y0, method="DOP853", rtol=rtol, atol=atol, events=events)
+    run = compliant._Run()
+    run.t, run.y, run.steps, run.y_last = sol.t, sol.y, len(sol.t) - 1, sol.y[:, -1]
+    run.t_events, run.y_events, run.status, run.message, run.nfev = (sol.t_events, sol.y_events, sol.status,
+                                                                     sol.message, sol.nfev)
+    return run
+
+
+def _same(a, b):
+    a, b = np.asarray(a), np.asarray(b)
+    return a.shape == b.shape and a.dtype == b.dtype and a.tobytes() == b.tobytes()
+
+
+def test_dop853_repeats_solve_ivp_bit_for_bit_with_events():
+    # a damped Duffing oscillator: a non-terminal event (each upward zero of x) and a terminal one
+    # (the energy falls below a level); plus a run that ends at the end of its span
+    def fun(_t, y):
+        return np.array([y[1], -y[0] - 0.3 * y[0] ** 3 - 0.05 * y[1]])
+
+    def up(_t, y):
+        return y[0]
+
+    up.direction = 1
+
+    def low(_t, y):
+        return 0.5 * y[1] ** 2 + 0.5 * y[0] ** 2 - 0.05
+
+    low.terminal = True
+    low.direction = -1
+    atol = np.array([1e-12, 1e-12])
+    for t_bound, events, status in ((100.0, [up, low], 1), (7.5, [up], 0)):
+        ref = solve_ivp(fun, (0.0, t_bound), np.array([1.0, 0.0]), method="DOP853", rtol=1e-10, atol=atol,
+                        events=events)
+        run = _dop853(fun, 0.0, t_bound, np.array([1.0, 0.0]), 1e-10, atol, events)
+        assert run.status == ref.status == status and run.nfev == ref.nfev and run.steps == len(ref.t) - 1
+        assert _same(run.t, ref.t) and _same(run.y, ref.y) and _same(run.y_last, ref.y[:, -1])
+        assert len(ref.t_events[0]) >= 1
+        for te, tr, ye, yr in zip(run.t_events, ref.t_events, run.y_events, ref.y_events):
+            assert _same(te, tr) and _same(ye, yr)
+    assert len(ref.t_events[0]) == 1 and len(run.t_events[0]) == 1
+    first = _dop853(fun, 0.0, 100.0, np.array([1.0, 0.0]), 1e-10, atol, [up, low])
+    assert len(first.t_events[0]) == 8 and len(first.t_events[1]) == 1  # 8 upward zeros, then the energy stop
+
+
+M_EXTREME = [0.02973812642706829, 40.84152907608479, 0.01862294907359638, 97.19613777916885,
+             0.0023785239862465124, 89.72777123474523]
+K_EXTREME = [0.04550185120183626, 0.3166561928765105, 0.18490670781039542, 5.825700330709063, 0.051794961274602765]
+
+RUNS = {
+    "hertz-chain": lambda: chain_impact(M_EXTREME[:3], [1, 0, 0], K_EXTREME[:2]),
+    "linear-gaps": lambda: compliant_impact(np.diag([1.0, 2.0, 1.5]), [[-1, 1, 0], [0, -1, 1]], [1.0, 0.2, -0.5],
+                                            [1.0, 3.0], 1, gaps=[0.0, 0.01]),
+    "damped": lambda: chain_impact([1, 2, 3], [1, 0, -1], 1.0, damping=0.3),
+    "hunt-crossley": lambda: chain_impact([1, 2, 3], [1, 0, -1], 1.0, hunt_crossley=0.3),
+    "rest": lambda: chain_impact([1], [1], 1.0, [0.3, 0.3], walls=("left", "right"), model="linear", rest_tol=3e-2),
+    "lzb-elastic": lambda: lzb_chain(M_EXTREME[:3], [1, 0, 0], K_EXTREME[:2]),
+    "lzb-restitution": lambda: lzb_chain([1, 2, 3], [1, 0, -1], 1.0, restitution=[0.7, 0.9], track_time=True),
+}
+
+
+@pytest.mark.parametrize("name", sorted(RUNS))
+def test_both_laws_return_the_same_bytes_as_through_solve_ivp(name, monkeypatch):
+    fast = RUNS[name]()
+    monkeypatch.setattr(compliant, "_dop853", _via_solve_ivp)
+    monkeypatch.setattr(lzb, "_dop853", _via_solve_ivp)
+    ref = RUNS[name]()
+    for f in dataclasses.fields(fast):
+        a, b = getattr(fast, f.name), getattr(ref, f.name)
+        if isinstance(a, (np.ndarray, float)):
+            assert _same(a, b), f.name
+        elif f.name != "certificate":
+            assert a == b, f.name
+    assert fast.steps > 0 and fast.nfev > 12 * fast.steps
+    if name == "rest":
+        assert fast.outcome == "rest"  # the rest event ended it
+
+
+def test_dop853_fails_where_solve_ivp_fails():
+    # y' = y², y(0) = 1 blows up at t = 1: the step size underflows before, at the same step
+    def fun(_t, y):
+        return y * y
+
+    atol = np.array([1e-12])
+    ref = solve_ivp(fun, (0.0, 2.0), np.array([1.0]), method="DOP853", rtol=1e-10, atol=atol)
+    run = _dop853(fun, 0.0, 2.0, np.array([1.0]), 1e-10, atol, [])
+    assert ref.status == run.status == -1 and run.message == ref.message and run.nfev == ref.nfev
+    assert _same(run.t, ref.t) and _same(run.y, ref.y) and abs(run.t[-1] - 1) < 1e-6 and run.y[0, -1] > 1e12
