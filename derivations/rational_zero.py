@@ -482,6 +482,26 @@ def is_zero(expr) -> bool:
     return sp.simplify(expr) == 0
 
 
+def _flint_fraction(expr):
+    """``expr`` as ``(gens, P, Q)``, flint polynomials in SymPy's order of its free symbols with
+    ``gcd(P, Q) = 1``; ``0`` for zero; ``None`` when it is not a rational function with rational
+    coefficients of at least one symbol (the callers then use SymPy's own function)."""
+    expr = sp.sympify(expr)
+    if not isinstance(expr, sp.Expr) or expr.is_Number or not expr.free_symbols or not expr.is_commutative:
+        return None
+    from sympy.polys.polyutils import _sort_gens
+
+    gens = _sort_gens(list(expr.free_symbols))
+    try:
+        n, d = to_fraction(expr, gens)
+    except _NotRational:
+        return None
+    if n == 0:
+        return 0
+    g = n.gcd(d)
+    return gens, n / g, d / g
+
+
 def cancel(expr):
     """SymPy's ``cancel(expr)`` (the same expression, term for term), computed with python-flint
     for rational functions with rational coefficients; anything else goes to ``sympy.cancel``.
@@ -496,31 +516,17 @@ def cancel(expr):
     >>> cancel(e), sp.cancel(e)
     (-x/6 - y/2, -x/6 - y/2)
     """
-    expr = sp.sympify(expr)
-    if not isinstance(expr, sp.Expr) or expr.is_Number or not expr.free_symbols or not expr.is_commutative:
+    parts = _flint_fraction(expr)
+    if parts is None:
         return sp.cancel(expr)
+    if parts == 0:
+        return sp.Integer(0)
     from sympy.polys.domains import ZZ
-    from sympy.polys.polyutils import _sort_gens
     from sympy.polys.rings import PolyRing
 
-    gens = _sort_gens(list(expr.free_symbols))
-    try:
-        n, d = to_fraction(expr, gens)
-    except _NotRational:
-        return sp.cancel(expr)
-    if n == 0:
-        return sp.Integer(0)
-    g = n.gcd(d)
-    p, q = n / g, d / g
+    gens, p, q = parts
     # integer coefficients with coprime joint content, then the sign of Q's leading coefficient
-    coeffs = list(p.coeffs()) + list(q.coeffs())
-    den = 1
-    for c in coeffs:
-        den = den * int(c.q) // _igcd(den, int(c.q))
-    nums = [int(c.p) * (den // int(c.q)) for c in coeffs]
-    content = 0
-    for v in nums:
-        content = _igcd(content, v)
+    den, _, content = _integer_scale(list(p.coeffs()) + list(q.coeffs()))
     scale = flint.fmpq(den, content)
     if q.leading_coefficient() < 0:
         scale = -scale
@@ -531,17 +537,25 @@ def cancel(expr):
     return P / Q
 
 
+def _integer_scale(coeffs):
+    """``(den, nums, content)`` of rational ``coeffs``: the lcm of their denominators, the integer
+    coefficients ``c·den``, and the gcd of those."""
+    den = 1
+    for c in coeffs:
+        den = den * int(c.q) // _igcd(den, int(c.q))
+    nums = [int(c.p) * (den // int(c.q)) for c in coeffs]
+    content = 0
+    for v in nums:
+        content = _igcd(content, v)
+    return den, nums, content
+
+
 def _integer_primitive(f):
     """``(c, P)`` with ``f = c·P``: ``c`` rational, ``P`` a dict of integer coefficients with content 1
     and positive leading coefficient (lex), the normalization of SymPy's ``factor_list`` factors."""
     d = f.to_dict()
-    den = 1
-    for c in d.values():
-        den = den * int(c.q) // _igcd(den, int(c.q))
-    ints = {k: int(c.p) * (den // int(c.q)) for k, c in d.items()}
-    g = 0
-    for v in ints.values():
-        g = _igcd(g, v)
+    den, nums, g = _integer_scale(list(d.values()))
+    ints = dict(zip(d, nums))
     if ints[max(ints)] < 0:
         g = -g
     return sp.Rational(g, den), {k: v // g for k, v in ints.items()}
@@ -564,22 +578,16 @@ def factor(expr):
     >>> factor(-(x*y - y**2) / (4*x**3))
     -y*(x - y)/(4*x**3)
     """
-    expr = sp.sympify(expr)
-    if not isinstance(expr, sp.Expr) or expr.is_Number or not expr.free_symbols or not expr.is_commutative:
+    fraction = _flint_fraction(expr)
+    if fraction is None:
         return sp.factor(expr)
-    from sympy.core.mul import _keep_coeff
-    from sympy.polys.polyutils import _sort_gens
-
-    gens = _sort_gens(list(expr.free_symbols))
-    try:
-        n, d = to_fraction(expr, gens)
-    except _NotRational:
-        return sp.factor(expr)
-    if n == 0:
+    if fraction == 0:
         return sp.Integer(0)
-    g = n.gcd(d)
+    from sympy.core.mul import _keep_coeff
+
+    gens, num, den = fraction
     coeff, parts = sp.Integer(1), []
-    for poly, sign in ((n / g, 1), (d / g, -1)):
+    for poly, sign in ((num, 1), (den, -1)):
         c, factors = poly.factor()
         coeff *= sp.Rational(int(c.p), int(c.q)) ** sign
         for f, m in factors:
