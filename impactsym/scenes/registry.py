@@ -279,7 +279,8 @@ def build_rational_scene(name: str, params: dict | None = None):
     the same entries, contacts, coordinates and ``meta["scene_json"]``, when ``name`` is one of
     :data:`RATIONAL_SCENES` and every parameter given is plain rational text
     (:func:`impactsym.arithmetic.literals.plain_vector`; integers for ``n_balls``, ``strikers``).
-    ``None`` for anything else (the pool, ``sqrt(2)``, ``2*3``, a shipped file) and for any
+    ``None`` for anything else (a pool at any angle but 0 and π/2, ``sqrt(2)``, ``2*3``, a shipped
+    file) and for any
     parameter the scene refuses: the caller then takes :func:`build_scene`, which reads every
     text and words every error as it always has.
 
