@@ -14,7 +14,10 @@ ALLOWED = {
 
 
 def _calls(path: Path) -> int:
-    tree = ast.parse(path.read_text())
+    text = path.read_text()
+    if "nsimplify" not in text:  # every call or binding counted below spells the name
+        return 0
+    tree = ast.parse(text)
     n = 0
     for node in ast.walk(tree):
         if isinstance(node, ast.Call):
