@@ -41,15 +41,16 @@ def _table(section: str) -> set[str]:
     return set(re.findall(r"^\| `(\w+)` \|", part, flags=re.M))
 
 
-def _twins(table: set[str]) -> set[str]:
-    """Keys documented with ``(+ `_float`)`` get their twin."""
+@functools.lru_cache(maxsize=None)
+def _twins(table: frozenset[str]) -> frozenset[str]:
+    """Keys documented with ``(+ `_float`)`` get their twin (read from the document once per table)."""
     text = DOC.read_text()
-    return {k + "_float" for k in table if re.search(rf"^\| `{k}` \|.*\(\+ `_float`\)", text, flags=re.M)}
+    return frozenset(k + "_float" for k in table if re.search(rf"^\| `{k}` \|.*\(\+ `_float`\)", text, flags=re.M))
 
 
-TOP = _table("Top level")
-OUTCOME = _table("Outcome")
-SYSTEM = _table("System")
+TOP = frozenset(_table("Top level"))
+OUTCOME = frozenset(_table("Outcome"))
+SYSTEM = frozenset(_table("System"))
 
 
 @functools.lru_cache(maxsize=None)
