@@ -138,6 +138,12 @@ def vector_json(name: str, value, digits: int | None = None) -> dict:
     if value is None:
         return {name: None, name + "_float": None}
     items = _entries(value)
+    if is_sympy(value, "MatrixBase"):  # exact: rationals without evalf (as matrix_json)
+        Rational = sys.modules["sympy"].Rational
+        cache: dict = {}
+        pairs = [_rational_pair(x, cache) if isinstance(x, Rational) else (_text(x, digits), _float(x))
+                 for x in items]
+        return {name: [t for t, _ in pairs], name + "_float": [f for _, f in pairs]}
     return {name: [_text(x, digits) for x in items], name + "_float": [_float(x) for x in items]}
 
 
