@@ -496,20 +496,34 @@ REFUSALS = (ImpactInputError, DomainError, NonTermination)
 
 def resolve_all(system: System, laws=None, options: dict | None = None) -> dict[str, Any]:
     """Every law on one system: ``{law: Resolution, or the reason (str) it does not apply or
-    refused}``, in the order of :data:`LAWS`. ``options`` maps a law's name to its options."""
+    refused}``, in the order of :data:`LAWS`. ``options`` maps a law's name to its options.
+    Each answer is remembered on the system (:meth:`~impactsym.resolution.System.resolution_memo`):
+    the same law and options on the same system (``impactsym check`` after a resolution) answer
+    at once."""
+    from .resolution import _UNKEYED, _frozen
+
     options = options or {}
     out: dict[str, Any] = {}
+    memo = system.resolution_memo()
     for name in (laws or LAWS):
         law = get_law(name)
         opts = options.get(name, {})
+        key = _frozen((name, opts)) if memo is not None else None
+        if key is _UNKEYED:
+            key = None
+        if key is not None and key in memo:
+            out[name] = memo[key]
+            continue
         why = law.why_not(system, **opts)
         if why is not None:
             out[name] = f"does not apply: {why[1]}"
-            continue
-        try:
-            out[name] = law.resolve(system, **opts)
-        except REFUSALS as exc:
-            out[name] = f"refused: {exc}"
+        else:
+            try:
+                out[name] = law.resolve(system, **opts)
+            except REFUSALS as exc:
+                out[name] = f"refused: {exc}"
+        if key is not None:
+            memo[key] = out[name]
     return out
 
 

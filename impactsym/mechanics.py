@@ -376,6 +376,14 @@ def _rational_forms(M, hi, hj):
     return tuple(to_sympy_rational((a.transpose() * b)[0, 0]) for a, b in ((hiq, wj), (hiq, wi), (hjq, wj)))
 
 
+def _solve(M, b):
+    """``M⁻¹ b`` exactly: ``b_j / M_jj`` for a diagonal ``M`` (the bodies' masses: what ``LUsolve``
+    gives, without its elimination, 10 ms a solve for 14 coordinates), else ``M.LUsolve(b)``."""
+    if M.is_diagonal():
+        return sp.Matrix([b[j, 0] / M[j, j] for j in range(M.rows)])
+    return M.LUsolve(b)
+
+
 def kinetic_angle_cos(M, hi, hj):
     """``cos θ_ij = H_i M⁻¹ H_jᵀ / √(H_i M⁻¹ H_iᵀ · H_j M⁻¹ H_jᵀ)`` (Acary & Taha eq. 40).
 
@@ -388,8 +396,8 @@ def kinetic_angle_cos(M, hi, hj):
         if rational is not None:
             num, aii, ajj = rational
         else:
-            Minv_hj = M.LUsolve(hj.T)
-            Minv_hi = M.LUsolve(hi.T)
+            Minv_hj = _solve(M, hj.T)
+            Minv_hi = _solve(M, hi.T)
             num, aii, ajj = (hi * Minv_hj)[0, 0], (hi * Minv_hi)[0, 0], (hj * Minv_hj)[0, 0]
         return sp.radsimp(sp.simplify(num / sp.sqrt(aii * ajj)))
     Mf = np.asarray(M, dtype=float)

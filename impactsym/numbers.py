@@ -31,6 +31,7 @@ import math
 import re
 import sys
 from numbers import Integral, Rational as _NumRational
+from functools import lru_cache
 from typing import Any, Iterable
 
 import numpy as np
@@ -228,19 +229,25 @@ def parse_number(text: Any, argument: str = "value") -> sp.Expr:
 def _check_magnitude(value: sp.Expr, text: str, argument: str) -> None:
     """Refuse an irrational value outside ``10^±MAX_DIGITS`` (``exp(exp(exp(10)))``): the exact
     arithmetic downstream could not evaluate it."""
+    if _decimal_magnitude(value) > MAX_DIGITS:
+        raise ImpactInputError(argument, f"{text!r} is beyond 10^{MAX_DIGITS} in magnitude (or below "
+                                         f"10^-{MAX_DIGITS}); numbers are limited to {MAX_DIGITS} digits")
+
+
+@lru_cache(maxsize=1024)
+def _decimal_magnitude(value: sp.Expr) -> float:
+    """``|log10 |value||`` (``inf`` when it cannot be evaluated), once per value: evaluating
+    ``exp(exp(exp(10)))`` to find it too large takes tens of milliseconds, and the same text
+    recurs (issue 15)."""
     try:
         approx = sp.N(value, 15)
         if approx == 0:
-            mag = 0.0
-        elif isinstance(approx, sp.Float):
-            mag = abs(float(mpmath.log10(abs(mpmath.mpf(approx._mpf_)))))
-        else:
-            mag = abs(math.log10(abs(complex(approx))))
+            return 0.0
+        if isinstance(approx, sp.Float):
+            return abs(float(mpmath.log10(abs(mpmath.mpf(approx._mpf_)))))
+        return abs(math.log10(abs(complex(approx))))
     except (OverflowError, ValueError, TypeError, ZeroDivisionError, RecursionError):
-        mag = math.inf
-    if mag > MAX_DIGITS:
-        raise ImpactInputError(argument, f"{text!r} is beyond 10^{MAX_DIGITS} in magnitude (or below "
-                                         f"10^-{MAX_DIGITS}); numbers are limited to {MAX_DIGITS} digits")
+        return math.inf
 
 
 def _digits(x: sp.Rational) -> int:

@@ -165,7 +165,12 @@ def kinetic_distance(system: System, a, b) -> dict:
     'sqrt(6)/2'
     """
     M, _, v = _exact_system(system)
-    denom = _quad(M, v)
+    return _kinetic_distance(M, _quad(M, v), a, b)
+
+
+def _kinetic_distance(M, denom, a, b) -> dict:
+    """:func:`kinetic_distance` given the exact ``M`` and ``denom = ‖v⁻‖²_M`` (:func:`check` reads
+    them once for every outcome of every law)."""
     if denom == 0:
         raise ImpactInputError("velocity", "is zero: the relative distance ||v - v_law||_M / ||v-||_M is undefined")
     if isinstance(a, sp.MatrixBase) and isinstance(b, sp.MatrixBase):
@@ -393,14 +398,14 @@ def _tolerance(value) -> sp.Expr:
     return tol
 
 
-def _law_entry(system: System, res, vo, tol) -> dict:
+def _law_entry(M, denom, res, vo, tol) -> dict:
     candidates = [("outcome", i, o) for i, o in enumerate(res.outcomes)] + \
                  [("selected", i, o) for i, o in enumerate(res.selected)]
     rows = []
     for kind, i, o in candidates:
         if o.velocity is None:
             continue
-        d = kinetic_distance(system, vo, o.velocity)
+        d = _kinetic_distance(M, denom, vo, o.velocity)
         rows.append((kind, i, o, d))
     entry: dict = {"uniqueness": res.uniqueness, "exactness": res.exactness, "outcomes": len(res.outcomes),
                    "selected": len(res.selected)}
@@ -464,7 +469,8 @@ def check(system: System, observed, *, tolerance=DEFAULT_TOLERANCE, laws: Iterab
             observed_exactness = "float (read at its exact binary value)"
     M, H, v = _exact_system(system)
     vo = _exact_vector(observed, "observed", M.rows)
-    if _quad(M, v) == 0:
+    denom = _quad(M, v)
+    if denom == 0:
         raise ImpactInputError("velocity", "is zero: there is no impact to check against")
     results = resolve_all(system, laws=names, options=options or {})
     entries, matches = {}, []
@@ -472,11 +478,11 @@ def check(system: System, observed, *, tolerance=DEFAULT_TOLERANCE, laws: Iterab
         if isinstance(res, str):
             entries[name] = {"refused": res, "match": False}
             continue
-        entries[name] = _law_entry(system, res, vo, tol)
+        entries[name] = _law_entry(M, denom, res, vo, tol)
         if entries[name]["match"]:
             matches.append(name)
     mom = momentum_residual(system, vo)
-    energy = _simplify(_quad(M, vo) / _quad(M, v))
+    energy = _simplify(_quad(M, vo) / denom)
     w = (H * vo).applyfunc(_simplify)
     names_c = list(system.contacts)
     violations = [{"contact": names_c[i], "index": i, "condition": "penetration",

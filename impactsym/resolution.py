@@ -138,6 +138,12 @@ def vector_json(name: str, value, digits: int | None = None) -> dict:
     if value is None:
         return {name: None, name + "_float": None}
     items = _entries(value)
+    if is_sympy(value, "MatrixBase"):  # exact: rationals without evalf (as matrix_json)
+        Rational = sys.modules["sympy"].Rational
+        cache: dict = {}
+        pairs = [_rational_pair(x, cache) if isinstance(x, Rational) else (_text(x, digits), _float(x))
+                 for x in items]
+        return {name: [t for t, _ in pairs], name + "_float": [f for _, f in pairs]}
     return {name: [_text(x, digits) for x in items], name + "_float": [_float(x) for x in items]}
 
 
@@ -472,6 +478,51 @@ class System:
             return list(e)
         return [e] * self.k
 
+    # ------------------------------------------------------------------ resolutions, remembered
+    def resolution_memo(self) -> dict | None:
+        """The laws' resolutions of this system, remembered (:func:`impactsym.lawbook.resolve_all`:
+        ``impactsym check`` resolves the system it checks, often one resolved already), keyed by
+        the law and its options; ``None`` (nothing remembered) for a system too large to key or
+        with an entry that cannot be keyed.
+
+        The memo belongs to the system's content: ``M``, ``H``, ``v``, the restitution, the
+        contacts, the coordinates, whether it is exact, the scene's description and its source
+        object. Any of them changed (reassigned, or a matrix changed in place), the memo starts
+        empty. A copy or a pickle of the system starts empty.
+
+        >>> s = System.from_matrices("1,0;0,1", "-1,1", "1,0")
+        >>> memo = s.resolution_memo(); memo["key"] = "value"; s.resolution_memo()
+        {'key': 'value'}
+        >>> s.restitution = "1/2"; s.resolution_memo()
+        {}
+        """
+        content = self._content()
+        if content is None:
+            return None
+        held = self.__dict__.get("_memo")
+        if held is None or held[0] != content:
+            held = self.__dict__["_memo"] = (content, {})
+        return held[1]
+
+    #: the most matrix entries a system may have for its resolutions to be remembered (its content
+    #: is its key, compared at every look-up)
+    MEMO_ENTRIES = 10_000
+
+    def _content(self):
+        if sum(np.size(x) if isinstance(x, np.ndarray) else len(x) for x in (self.M, self.H, self.v)) \
+                > self.MEMO_ENTRIES:
+            return None
+        parts = (_frozen(self.M), _frozen(self.H), _frozen(self.v), _frozen(self.restitution),
+                 _frozen(self.contacts), _frozen(self.coordinates), _frozen(self.exact), _frozen(self.scene))
+        if any(p is _UNKEYED for p in parts):
+            return None
+        return parts + (_Same(self.source),)
+
+    def __getstate__(self):
+        state = dict(self.__dict__)
+        state.pop("_memo", None)
+        return state
+
     def as_json(self) -> dict:
         out = {}
         out.update(matrix_json("mass_matrix", self.M))
@@ -488,6 +539,62 @@ class System:
         out["contacts"] = list(self.contacts)
         out["coordinates"] = list(self.coordinates)
         return out
+
+
+#: what :func:`_frozen` gives for a value it cannot key
+_UNKEYED = object()
+
+
+def _frozen(x):
+    """A hashable key of ``x``'s content (SymPy, rational and NumPy matrices, numbers, text, and
+    lists, tuples and dicts of them), every number with its type (``1``, ``1.0``, ``True`` and
+    ``Float(1)`` are four keys; a float by its bits), or :data:`_UNKEYED`.
+
+    >>> import sympy as sp
+    >>> _frozen(sp.Matrix([[1, sp.sqrt(2)]])) == _frozen(sp.Matrix([[1, sp.sqrt(2)]])), _frozen([1, {"a": "2"}])
+    (True, ('list', (('int', 1), ('dict', (('a', ('str', '2')),)))))
+    >>> len({_frozen(1), _frozen(1.0), _frozen(True), _frozen(sp.Float(1)), _frozen(sp.Integer(1))})
+    5
+    """
+    t = type(x)
+    if x is None:
+        return None
+    if t is float:
+        return ("float", x.hex())
+    if t in (str, int, bool, Fraction):
+        return (t.__name__, x)
+    if isinstance(x, RationalMatrix):
+        return ("rational", x.shape, tuple(map(tuple, x._rows)))
+    if isinstance(x, np.ndarray):
+        return ("array", x.shape, x.dtype.str, x.tobytes())
+    if is_sympy(x, "MatrixBase"):
+        return ("sympy", x.shape, tuple((type(e).__name__, e) for e in x))
+    if is_sympy(x):
+        return (type(x).__name__, x)
+    if t in (list, tuple):
+        items = tuple(_frozen(y) for y in x)
+        return _UNKEYED if any(y is _UNKEYED for y in items) else (t.__name__, items)
+    if t is dict:
+        items = tuple((k, _frozen(y)) for k, y in x.items())
+        if any(y is _UNKEYED for _, y in items) or not all(type(k) is str for k, _ in items):
+            return _UNKEYED
+        return ("dict", items)
+    return _UNKEYED
+
+
+class _Same:
+    """An object compared by identity (a system's source scene: held, never compared by content)."""
+
+    __slots__ = ("obj",)
+
+    def __init__(self, obj):
+        self.obj = obj
+
+    def __eq__(self, other):
+        return isinstance(other, _Same) and other.obj is self.obj
+
+    def __hash__(self):
+        return id(self.obj)
 
 
 def _integer(n: int):
@@ -572,6 +679,8 @@ class Resolution:
             raise VerificationError(self.law, "a resolution without any outcome")
         if self.uniqueness not in UNIQUENESS:
             raise VerificationError(self.law, f"uniqueness {self.uniqueness!r} is not one of {UNIQUENESS}")
+        #: momentum residuals computed by the check, reused by the JSON (:meth:`_residual`)
+        self._residuals: dict = {}
         for o in list(self.outcomes) + list(self.selected):
             self._check_momentum(o)
 
@@ -680,46 +789,119 @@ class Resolution:
         vf = np.asarray([float(x) for x in _entries(v)])
         return Mf @ (np.asarray(vp, dtype=float).reshape(-1) - vf) - Hf.T @ np.asarray(p, dtype=float).reshape(-1)
 
+    def _residual(self, o: Outcome):
+        """:meth:`momentum_residual` of ``o``, computed once: the check's residual is the JSON's
+        (held with the very objects it was computed from, and used only while they are still
+        ``o``'s velocity and impulses and the system's ``M``, ``H``, ``v``)."""
+        s = self.system
+        used = (o.velocity, o.impulses, s.M, s.H, s.v)
+        key = tuple(map(id, used))
+        memo = self.__dict__.setdefault("_residuals", {})
+        got = memo.get(key)
+        if got is not None and all(a is b for a, b in zip(got[0], used)):
+            return got[1]
+        r = self.momentum_residual(o)
+        memo[key] = (used, r)
+        return r
+
     def _check_momentum(self, o: Outcome) -> None:
         if is_sympy(o.velocity, "MatrixBase") and is_sympy(self.system.M, "MatrixBase") and o.impulses is not None:
-            import sympy as sp
-
-            r = self.momentum_residual(o)
-            if any(sp.simplify(x) != 0 for x in r):
+            r = self._residual(o)
+            if not all(_proved_zero(x) for x in r):
                 raise VerificationError(self.law, f"momentum balance M(v+ - v-) = H^T p fails by {list(r)}")
 
     # ---------------------------------------------------------------------------- JSON
     def outcome_json(self, o: Outcome) -> dict:
+        return _fresh(self._outcome_json(o, {}))
+
+    def _outcome_json(self, o: Outcome, memo: dict) -> dict:
+        """:meth:`outcome_json`, once per outcome in one :meth:`as_json` (``memo``: the answer is
+        also among the outcomes or the selected ones); the caller copies what it keeps."""
+        got = memo.get(id(o))
+        if got is not None and got[0] is o:
+            return got[1]
         d = {"exactness": _exactness(o.velocity), "digits": o.digits}
         d.update(vector_json("velocity", o.velocity, o.digits))
         d.update(vector_json("impulses", o.impulses, o.digits))
         d.update(number_json("kinetic_energy_after", self.kinetic_energy(o.velocity), o.digits))
-        res = self.momentum_residual(o)
-        d.update(vector_json("momentum_residual", res))
+        d.update(vector_json("momentum_residual", self._residual(o)))
         d["order"] = o.order
         d["orderings"] = o.orderings
         d["valid"] = o.valid
-        d["violations"] = list(o.violations)
-        d["details"] = dict(o.details)
+        d["violations"] = o.violations
+        d["details"] = o.details
+        memo[id(o)] = (o, d)
         return d
 
     def as_json(self) -> dict:
-        """The one JSON schema of every law (``docs/resolution_schema.md``)."""
+        """The one JSON schema of every law (``docs/resolution_schema.md``).
+
+        Each outcome is written once (the answer is also an outcome or the selected one, and its
+        velocity, impulses and ``T⁺`` are the top level's); every dict and list of the result is
+        its own, as if each were written afresh."""
         answer = self.answer
+        memo: dict = {}
         out = {"schema": SCHEMA, "law": self.law, "scene": self.system.scene,
                "system": self.system.as_json(),
                "exact": self.exact, "exactness": self.exactness, "digits": self.digits,
                "uniqueness": self.uniqueness}
         out.update(number_json("kinetic_energy_before", self.kinetic_energy_before))
-        out["answer"] = None if answer is None else self.outcome_json(answer)
-        digits = None if answer is None else answer.digits
-        out.update(vector_json("velocity", None if answer is None else answer.velocity, digits))
-        out.update(vector_json("impulses", None if answer is None else answer.impulses, digits))
-        out.update(number_json("kinetic_energy_after", self.kinetic_energy_after, digits))
+        if answer is None:
+            out["answer"] = None
+            out.update({"velocity": None, "velocity_float": None, "impulses": None, "impulses_float": None,
+                        "kinetic_energy_after": None, "kinetic_energy_after_float": None})
+        else:
+            a = self._outcome_json(answer, memo)
+            out["answer"] = _fresh(a)
+            for key in ("velocity", "velocity_float", "impulses", "impulses_float", "kinetic_energy_after",
+                        "kinetic_energy_after_float"):
+                out[key] = list(a[key]) if isinstance(a[key], list) else a[key]
         out["valid"] = self.valid
         out["violations"] = self.violations
-        out["outcomes"] = [self.outcome_json(o) for o in self.outcomes]
-        out["selected"] = [self.outcome_json(o) for o in self.selected]
+        out["outcomes"] = [_fresh(self._outcome_json(o, memo)) for o in self.outcomes]
+        out["selected"] = [_fresh(self._outcome_json(o, memo)) for o in self.selected]
         out["notes"] = list(self.notes)
         out["details"] = dict(self.details)
         return out
+
+
+def _fresh(d: dict) -> dict:
+    """A copy of an outcome's JSON as :meth:`Resolution.outcome_json` has always returned it: its
+    own dict, lists of numbers, ``violations`` list and ``details`` dict (the entries shared)."""
+    out = dict(d)
+    for key in ("velocity", "velocity_float", "impulses", "impulses_float", "momentum_residual",
+                "momentum_residual_float", "violations"):
+        if out[key] is not None:
+            out[key] = list(out[key])
+    out["details"] = dict(out["details"])
+    return out
+
+
+def _proved_zero(x) -> bool:
+    """Whether the exact number ``x`` is proved to be 0: it is the literal 0; or, each radicand's
+    rational content taken out of its root (``sqrt(10*sqrt(2) + 150)`` is
+    ``sqrt(10)*sqrt(sqrt(2) + 15)``, SymPy's own evaluation) and expanded, it is 0 (both steps
+    identities: a few milliseconds where ``simplify`` takes a tenth of a second on the nested
+    radicals of the pool). Not 0 when ``evalf`` certifies a non-zero value; else
+    ``simplify(x) == 0`` decides, as it always has.
+
+    >>> import sympy as sp
+    >>> r = sp.sqrt(10*sp.sqrt(2) + 150) - sp.sqrt(2)*sp.sqrt(5*sp.sqrt(2) + 75)
+    >>> _proved_zero(r), _proved_zero(r + sp.sqrt(2) - 1), _proved_zero(sp.Integer(0))
+    (True, False, True)
+    """
+    import sympy as sp
+
+    if x == 0:
+        return True
+    roots = x.replace(lambda z: z.is_Pow and z.base.is_Add and z.exp.is_Rational and not z.exp.is_Integer,
+                      lambda z: sp.Pow(sp.factor_terms(z.base), z.exp))
+    if sp.expand(roots) == 0:
+        return True
+    try:  # certified non-zero (evalf to full accuracy, strict): simplify could not make it 0 either
+        value = x.evalf(15, strict=True)
+        if value.is_Number and value != 0:
+            return False
+    except Exception:  # not evaluated to full accuracy (it may be 0): simplify decides
+        pass
+    return sp.simplify(x) == 0

@@ -407,6 +407,10 @@ def _certificate_key(H):
     frozen dataclass of exact numbers (fmpq or SymPy): the one returned again is the one verified before."""
     if isinstance(H, np.ndarray) and H.dtype == np.float64 and H.ndim == 2:
         return ("float64", H.shape, H.tobytes())
+    from .resolution import RationalMatrix
+
+    if isinstance(H, RationalMatrix):  # the command line's exact rows without SymPy (Fractions)
+        return ("fractions", H.shape, tuple(map(tuple, H.tolist())))
     if sympy_instance(H, "MatrixBase"):
         try:
             return ("sympy", H.shape, tuple(H))

@@ -41,15 +41,16 @@ def _table(section: str) -> set[str]:
     return set(re.findall(r"^\| `(\w+)` \|", part, flags=re.M))
 
 
-def _twins(table: set[str]) -> set[str]:
-    """Keys documented with ``(+ `_float`)`` get their twin."""
+@functools.lru_cache(maxsize=None)
+def _twins(table: frozenset[str]) -> frozenset[str]:
+    """Keys documented with ``(+ `_float`)`` get their twin (read from the document once per table)."""
     text = DOC.read_text()
-    return {k + "_float" for k in table if re.search(rf"^\| `{k}` \|.*\(\+ `_float`\)", text, flags=re.M)}
+    return frozenset(k + "_float" for k in table if re.search(rf"^\| `{k}` \|.*\(\+ `_float`\)", text, flags=re.M))
 
 
-TOP = _table("Top level")
-OUTCOME = _table("Outcome")
-SYSTEM = _table("System")
+TOP = frozenset(_table("Top level"))
+OUTCOME = frozenset(_table("Outcome"))
+SYSTEM = frozenset(_table("System"))
 
 
 @functools.lru_cache(maxsize=None)
@@ -122,6 +123,13 @@ def test_every_law_on_every_builtin_scene_has_the_one_schema(law, scene):
         assert sp.simplify((v.T * M * v)[0, 0] / 2 - _number(d["kinetic_energy_after"])) == 0
 
 
+@functools.lru_cache(maxsize=None)
+def _law_all_cradle_json():
+    """``resolve --law all`` on the 5-ball cradle with 2 strikers, ``--json``: run once, read by
+    the two tests below."""
+    return _run(["resolve", "--law", "all", "--scene", "cradle", "--n-balls", "5", "--strikers", "2", "--json"])
+
+
 def test_law_all_cradle_prints_every_law_in_one_table():
     code, out, err = _run(["resolve", "--law", "all", "--scene", "cradle", "--n-balls", "5", "--strikers", "2"])
     assert code == 0, err
@@ -131,7 +139,7 @@ def test_law_all_cradle_prints_every_law_in_one_table():
     assert named == set(LAWS)
     assert "sequential     unique            [0, 0, 0, 1, 1]" in out
     assert "two-surface    does not apply: it resolves exactly two contacts; this system has 4" in out
-    code, out, _ = _run(["resolve", "--law", "all", "--scene", "cradle", "--n-balls", "5", "--strikers", "2", "--json"])
+    code, out, _ = _law_all_cradle_json()
     d = json.loads(out)
     assert list(d["laws"]) == list(LAWS) and d["laws"]["newton"]["velocity"] == ["-1/5", "-1/5", "4/5", "4/5", "4/5"]
     assert d["laws"]["two-surface"] == {"refused": "does not apply: it resolves exactly two contacts; this system has 4"}
@@ -190,8 +198,7 @@ def test_law_options_are_refused_where_they_do_not_apply():
 
 
 def test_law_all_from_a_scene_file_is_the_builtin_scenes_table(tmp_path):
-    _, builtin, _ = _run(["resolve", "--law", "all", "--scene", "cradle", "--n-balls", "5", "--strikers", "2",
-                          "--json"])
+    _, builtin, _ = _law_all_cradle_json()
     code, out, _ = _run(["scene", "show", "cradle", "--n-balls", "5", "--strikers", "2", "--json"])
     path = tmp_path / "cradle.json"
     path.write_text(out)
