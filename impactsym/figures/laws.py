@@ -11,7 +11,7 @@ import numpy as np
 import sympy as sp
 
 from ..errors import ImpactInputError
-from ._common import _f, _plt, _s, _tight, _vs, _plane_basis
+from ._common import _f, _fill_wedges, _plt, _s, _tight, _vs, _plane_basis
 from .acary_taha import at_domain_over_theta, at_fig3_domain
 
 __all__ = [
@@ -91,10 +91,7 @@ def two_surface_figure(M, H, v, *, title=None):
     x0 = coords(vx)
     rad = float(np.linalg.norm(x0)) or 1.0
     for ax, o in zip(axes[0], res.outcomes):
-        for k in range(len(t) - 1):
-            if ok[k] and ok[k + 1]:
-                ax.fill([0, 1.6 * np.cos(t[k]), 1.6 * np.cos(t[k + 1])], [0, 1.6 * np.sin(t[k]), 1.6 * np.sin(t[k + 1])],
-                        color="C2", alpha=0.25, lw=0)
+        _fill_wedges(ax, t, ok, 1.6, facecolor="C2", edgecolor="C2", alpha=0.25, linewidth=0)
         ax.fill([], [], color="C2", alpha=0.25, label=f"valid wedge, opening beta = {beta:.6g} rad")
         pts = [x0]
         if o.first in (0, 1):
