@@ -39,3 +39,12 @@ from hypothesis import settings
 settings.register_profile("impactsym-ci", derandomize=True, print_blob=True)
 settings.register_profile("impactsym-explore", derandomize=False, print_blob=True)
 settings.load_profile("impactsym-explore" if os.environ.get("IMPACTSYM_HYPOTHESIS_RANDOM") else "impactsym-ci")
+
+
+def pytest_collection_finish(session):
+    """Freeze what collection built (modules, fixtures' definitions, parametrizations): it lives to
+    the end of the run, and the collector's full passes no longer walk it."""
+    import gc
+
+    gc.collect()
+    gc.freeze()

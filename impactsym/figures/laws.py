@@ -11,7 +11,7 @@ import numpy as np
 import sympy as sp
 
 from ..errors import ImpactInputError
-from ._common import _f, _plt, _s, _tight, _vs, _plane_basis
+from ._common import _f, _fill_wedges, _plt, _s, _tight, _vs, _plane_basis
 from .acary_taha import at_domain_over_theta, at_fig3_domain
 
 __all__ = [
@@ -50,7 +50,8 @@ def two_surface_figure(M, H, v, *, title=None):
     that starts with surface ``i`` ends after ``⌈ψᵢ/β⌉`` reflections, never more than
     ``N = ⌈π/β⌉``. The counts, ``β``, ``N`` and the exits are read from
     :func:`impactsym.laws.two_surface.resolve_two_surfaces`; the drawn iterates are single
-    reflections (:func:`impactsym.laws.reflection.reflect`), at most :data:`MAX_DRAWN_REFLECTIONS`
+    reflections (``G_u w`` with :func:`impactsym.laws.reflection.reflection_map` on rational data,
+    :func:`impactsym.laws.reflection.reflect` otherwise), at most :data:`MAX_DRAWN_REFLECTIONS`
     per branch. One panel per branch.
 
     Returns
@@ -66,7 +67,9 @@ def two_surface_figure(M, H, v, *, title=None):
     >>> src["counts"], src["exits"], src["bound"]
     ({'1': 2}, {'1': ['0', '1', '1']}, 3)
     """
-    from ..laws.reflection import reflect
+    from matplotlib.collections import LineCollection
+
+    from ..laws.reflection import reflect, reflection_map
     from ..laws.two_surface import resolve_two_surfaces
 
     plt = _plt()
@@ -81,6 +84,15 @@ def two_surface_figure(M, H, v, *, title=None):
         wf = _f(w)
         return np.array([wf @ Mf @ e1, wf @ Mf @ e2])
 
+    # rational data: each single reflection is G_u w with G_u = reflection_map(M, u) formed once (the
+    # same exact rationals as reflect(M, u, w), which checks its inputs and verifies every call: most
+    # of the cost of a figure with MAX_DRAWN_REFLECTIONS iterates); otherwise reflect itself
+    rational = all(x.is_Rational for A in (Mx, Hx, vx) for x in A)
+    Gs = [reflection_map(Mx, Hx[j, :]) for j in (0, 1)] if rational else None
+
+    def valid(w):  # H w >= 0, exactly
+        return all((c >= 0) if rational else (sp.sign(c) >= 0) for c in Hx * w)
+
     panels = len(res.outcomes)
     fig, axes = plt.subplots(1, panels, figsize=(5.2 * panels, 5.2), squeeze=False)
     counts, iterated = {}, {}
@@ -91,24 +103,26 @@ def two_surface_figure(M, H, v, *, title=None):
     x0 = coords(vx)
     rad = float(np.linalg.norm(x0)) or 1.0
     for ax, o in zip(axes[0], res.outcomes):
-        for k in range(len(t) - 1):
-            if ok[k] and ok[k + 1]:
-                ax.fill([0, 1.6 * np.cos(t[k]), 1.6 * np.cos(t[k + 1])], [0, 1.6 * np.sin(t[k]), 1.6 * np.sin(t[k + 1])],
-                        color="C2", alpha=0.25, lw=0)
+        _fill_wedges(ax, t, ok, 1.6, facecolor="C2", edgecolor="C2", alpha=0.25, linewidth=0)
         ax.fill([], [], color="C2", alpha=0.25, label=f"valid wedge, opening beta = {beta:.6g} rad")
         pts = [x0]
         if o.first in (0, 1):
             w, i, m = vx, o.first, 0
-            while not all(sp.sign(c) >= 0 for c in Hx * w) and m < MAX_DRAWN_REFLECTIONS:
-                w = reflect(Mx, Hx[i, :], w)
+            while not valid(w) and m < MAX_DRAWN_REFLECTIONS:
+                w = Gs[i] * w if rational else reflect(Mx, Hx[i, :], w)
                 i, m = 1 - i, m + 1
                 pts.append(coords(w))
-            done = all(sp.sign(c) >= 0 for c in Hx * w)
+            done = valid(w)
             iterated[str(o.first)] = m if done else None
         if not iterated.get(str(o.first)):
             pts.append(np.array([o.velocity_float @ Mf @ e1, o.velocity_float @ Mf @ e2]))
+        # the rays to the iterates, as one collection of the same segments in the same order and style
+        # as one ax.plot each (up to MAX_DRAWN_REFLECTIONS + 2 lines; the PNG is byte-identical)
+        ax.add_collection(LineCollection([[(0, 0), (p[0] / rad, p[1] / rad)] for p in pts], linewidths=1.2,
+                                         colors=[plt.cm.viridis(k / max(1, len(pts) - 1)) for k in range(len(pts))],
+                                         capstyle=plt.rcParams["lines.solid_capstyle"],
+                                         joinstyle=plt.rcParams["lines.solid_joinstyle"]), autolim=False)
         for k, p in enumerate(pts):
-            ax.plot([0, p[0] / rad], [0, p[1] / rad], color=plt.cm.viridis(k / max(1, len(pts) - 1)), lw=1.2)
             if len(pts) <= 40:
                 ax.text(1.08 * p[0] / rad, 1.08 * p[1] / rad, str(k), fontsize=7, ha="center", va="center")
         ax.plot(np.cos(t), np.sin(t), color="0.7", lw=0.5)

@@ -10,7 +10,7 @@ import numpy as np
 import sympy as sp
 
 from ..errors import ImpactInputError
-from ._common import _f, _plt, _s, _tight, _vs, _kinetic_frame, _kin, _ray, _shade_cone, _normal_cone_arc, _plane_basis
+from ._common import _f, _plt, _s, _tight, _vs, _kinetic_frame, _kin, _ray, _shade_cone, _normal_cone_arc, _plane_basis, _fill_wedges
 from .laws import two_surface_figure
 
 __all__ = [
@@ -383,11 +383,7 @@ def sm_fig5_cradle_kinetic_plane(masses=(1, 1, 1), v0=(1, 0, 0)):
     fig, ax = plt.subplots(figsize=(5.8, 5.4))
     t = np.linspace(0, 2 * np.pi, 721)
     dirs = np.outer(np.cos(t), e1) + np.outer(np.sin(t), e2)
-    w = dirs @ Hf.T
-    for k in range(len(t) - 1):
-        if (w[k] >= 0).all() and (w[k + 1] >= 0).all():
-            ax.fill([0, 2 * np.cos(t[k]), 2 * np.cos(t[k + 1])], [0, 2 * np.sin(t[k]), 2 * np.sin(t[k + 1])],
-                    color="C2", alpha=0.2, lw=0)
+    _fill_wedges(ax, t, ((dirs @ Hf.T) >= 0).all(axis=1), 2, facecolor="C2", edgecolor="C2", alpha=0.2, linewidth=0)
     for i, name in enumerate(sc.contacts):
         # the trace of H_i x = 0 in the plane: the direction of the plane M-orthogonal to n_i
         a = np.array([Hf[i] @ e1, Hf[i] @ e2])
