@@ -44,7 +44,5 @@ settings.load_profile("impactsym-explore" if os.environ.get("IMPACTSYM_HYPOTHESI
 def pytest_collection_finish(session):
     """Freeze what collection built (modules, fixtures' definitions, parametrizations): it lives to
     the end of the run, and the collector's full passes no longer walk it."""
-    import gc
-
     gc.collect()
     gc.freeze()
