@@ -69,17 +69,17 @@ def event_loop(masses, gaps, v0, e, wall=False, max_events=5000, partial=False):
     v = [_fq(x) for x in v0]
     cs = _contacts(len(m), wall)
     e = [_fq(x) for x in e]
-    off = 1 if wall else 0
-    x = [_fq(gaps[0]) if wall else fmpq(0)]
-    for i in range(len(m) - 1):
-        x.append(x[-1] + _fq(gaps[i + off]))
+    # the gap of each contact (x_j - x_i, the wall at x = 0): the positions enter only through them
+    g = [_fq(gaps[c]) for c in range(len(cs))]
     order = []
     for _ in range(max_events):
         best = None
+        rels = []
         for c, (i, j) in enumerate(cs):
             rel = v[j] - (v[i] if i >= 0 else 0)
+            rels.append(rel)
             if rel < 0:
-                dt = (x[j] - (x[i] if i >= 0 else 0)) / -rel
+                dt = g[c] / -rel
                 assert dt >= 0
                 if best is not None and dt == best[0]:
                     raise AssertionError("simultaneous events: choose other gaps")
@@ -88,7 +88,7 @@ def event_loop(masses, gaps, v0, e, wall=False, max_events=5000, partial=False):
         if best is None:
             return tuple(order), [_Q(vi) for vi in v]
         dt, c = best
-        x = [xi + vi * dt for xi, vi in zip(x, v)]
+        g = [gc + rel * dt for gc, rel in zip(g, rels)]  # the bodies move on for dt
         i, j = cs[c]
         rel = v[j] - (v[i] if i >= 0 else 0)
         s = 1 / m[j] + (1 / m[i] if i >= 0 else 0)
