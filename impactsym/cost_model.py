@@ -464,7 +464,7 @@ def _clear_caches() -> None:
     clear_cache()
 
 
-def _measure(call, repeats: int, max_call: float = MAX_CALL, min_seconds: float = MIN_SECONDS,
+def _measure(call, repeats: int, max_call: float = MAX_CALL, min_seconds: float | None = None,
              warm_up: bool = True) -> dict:
     """Time and peak memory of ``call``.
 
@@ -473,8 +473,12 @@ def _measure(call, repeats: int, max_call: float = MAX_CALL, min_seconds: float 
     timed; otherwise, when it takes more than :data:`SLOW_CALL`, it is the one timing. Else timed
     calls follow: at least ``repeats`` and for at least ``min_seconds`` (at most 100), and the
     median is reported. Then one call under :mod:`tracemalloc` gives the peak. A first call slower
-    than ``max_call`` is the only call: its time is reported and memory is not measured."""
+    than ``max_call`` is the only call: its time is reported and memory is not measured.
+    ``min_seconds`` defaults to :data:`MIN_SECONDS` as it is when called."""
     import warnings
+
+    if min_seconds is None:
+        min_seconds = MIN_SECONDS
 
     with warnings.catch_warnings(record=True) as caught, _hard_limit(max(1.0, HARD_LIMIT_FACTOR * max_call)):
         warnings.simplefilter("always")

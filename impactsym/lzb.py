@@ -254,6 +254,7 @@ def lzb_impact(M, H, v, stiffness, exponent=1.5, restitution=1.0, *, rtol: float
         # and powers as NumPy's scalars, at a fraction of the cost
         a_pp, expo_pp, Eeps_f = float(a[pp]), float(eta[pp] / (eta[pp] + 1)), float(Eeps)
         i_ep, i_r, N = n + k, n + k + 1, n + 2 * k + 2
+        few = k <= 24
         zero_k, one_k = np.zeros(k), np.ones(k)
 
         def rhs(_P, y, out=None, pp=pp):
@@ -285,9 +286,17 @@ def lzb_impact(M, H, v, stiffness, exponent=1.5, restitution=1.0, *, rtol: float
                 cwp = -ds.item(pp)
                 np.multiply(ds, b, out=ds)
             np.divide(ds, np.array(-fp), out=ds)
-            inactive = np.less_equal(ss, zero_k)
-            inactive &= np.greater_equal(ww, zero_k)
-            np.copyto(ds, zero_k, where=inactive)
+            # an inactive contact (s_j <= 0 and w_j >= 0) gets +0.0: a few contacts are read as
+            # Python floats (the same comparisons, NaN included), many through NumPy's masks
+            if few:
+                sl = ss.tolist()
+                for j in range(k):
+                    if sl[j] <= 0.0 and ww.item(j) >= 0.0:
+                        ds[j] = 0.0
+            else:
+                inactive = np.less_equal(ss, zero_k)
+                inactive &= np.greater_equal(ww, zero_k)
+                np.copyto(ds, zero_k, where=inactive)
             ds[pp] = 0.0
             out[i_ep] = cwp
             out[N - 1] = 1.0 / fp if track_time else 0.0

@@ -82,11 +82,26 @@ def linear_reference(masses, v0, K, dps=50):
     return _linear_reference(tuple(masses), tuple(v0), tuple(K), dps)
 
 
+def _expmv(A, t, s):
+    """exp(A t) s by the Taylor series of the exponential applied to the vector (matrix-vector
+    products only), summed at the working precision until the terms, past k > ‖A t‖ where they
+    decrease geometrically, fall below eps times the sum."""
+    grow = mpmath.mnorm(A, 1) * abs(t)
+    term, total, k = s, s, 0
+    while True:
+        k += 1
+        term = (A * term) * (t / k)
+        total = total + term
+        if k > grow and mpmath.mnorm(term, 1) <= mpmath.eps * mpmath.mnorm(total, 1):
+            return total
+
+
 @functools.lru_cache(maxsize=None)
 def _linear_reference(masses, v0, K, dps):
     """Piecewise-exact solution of the linear chain: in each phase (fixed set of compressed contacts)
     the state is expm(A t) s0 at `dps` digits; the phase ends at the first root of some δ_i(t),
-    located by a scan and refined by Newton's method at that precision."""
+    located by a scan (steps of mpmath's expm(A h)) and refined by Newton's method at that precision
+    (exp(A t) s0 by its Taylor series, :func:`_expmv`)."""
     with mpmath.workdps(dps):
         n = len(masses)
         m = [mpmath.mpf(x) for x in masses]
@@ -131,14 +146,14 @@ def _linear_reference(masses, v0, K, dps):
                         # Newton on δ_i(t), δ_i' from the state's velocities, started mid-bracket
                         t = h / 2
                         for _ in range(60):
-                            st = mpmath.expm(A * t) * st0
+                            st = _expmv(A, t, st0)
                             step = delta(st, i) / ddelta(st, i)
                             t -= step
                             if abs(step) < mpmath.eps * 16:
                                 break
                         assert 0 <= t <= h
                         if found is None or t0 + t < found[0]:
-                            found = (t0 + t, i, mpmath.expm(A * t) * st0)
+                            found = (t0 + t, i, _expmv(A, t, st0))
                 t0, st0 = t0 + h, st1
             t_ev, i_ev, s = found
             s[i_ev + 1] = s[i_ev]  # δ = 0 exactly at the event

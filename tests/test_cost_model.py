@@ -18,6 +18,14 @@ from impactsym.cost_model import (COST_LAWS, POOR_RMS, approaching_cradle, dense
                                   fit_growth, law_cost)
 
 
+@pytest.fixture(autouse=True)
+def _no_minimum_timing(monkeypatch):
+    """The bench repeats a short call for at least MIN_SECONDS (0.1 s) of wall time to take a stable
+    median; these tests check the shape of its results (at least ``repeats`` calls), not the
+    timings, so they take the ``repeats`` calls only."""
+    monkeypatch.setattr(cost_model, "MIN_SECONDS", 0.0)
+
+
 def _run(capsys, *argv):
     code = main(["bench", *argv, "--json"])
     return code, json.loads(capsys.readouterr().out)

@@ -150,4 +150,4 @@ def test_nonzero_at_a_point_never_claims_an_identity_and_respects_assumptions():
     for _ in range(30):
         f = random_rational(rng, list(syms))
         if nonzero_at_a_point(f):
-            assert sp.simplify(f) != 0
+            assert sp.cancel(f) != 0  # f is a rational function of a, b, c: its normal form decides zero exactly

@@ -20,19 +20,42 @@ def _G(N, u, e=1):
 def test_commutator_is_proportional_to_the_kinetic_coupling():
     """For any symmetric N = M⁻¹ (3×3, symbolic), rows u, w and restitutions e_u, e_w:
     G_u G_w − G_w G_u = (1+e_u)(1+e_w) (u N wᵀ)/(s_u s_w) (N uᵀ w − N wᵀ u), so the impacts commute
-    when u M⁻¹ wᵀ = 0; and w G_u v = w v − (1+e_u)(u v)(w N uᵀ)/s_u, unchanged then."""
+    when u M⁻¹ wᵀ = 0; and w G_u v = w v − (1+e_u)(u v)(w N uᵀ)/s_u, unchanged then.
+
+    Proved with the denominators cleared: G_u = Ĝ_u/s_u with Ĝ_u = s_u I − (1+e_u) N uᵀu, a
+    polynomial matrix, so the first identity times s_u s_w (≠ 0) reads Ĝ_u Ĝ_w − Ĝ_w Ĝ_u =
+    (1+e_u)(1+e_w) (u N wᵀ)(N uᵀ w − N wᵀ u), and the second times s_u reads
+    w Ĝ_u v = s_u (w v) − (1+e_u)(u v)(u N wᵀ); both are checked in the polynomial ring
+    Q[N, u, w, v, e_u, e_w] (exact arithmetic: SymPy's DomainMatrix)."""
+    from sympy.polys.matrices import DomainMatrix
+
     a = sp.symbols("a0:6")
-    N = sp.Matrix([[a[0], a[1], a[2]], [a[1], a[3], a[4]], [a[2], a[4], a[5]]])
-    u = sp.Matrix([sp.symbols("u0:3")])
-    w = sp.Matrix([sp.symbols("w0:3")])
-    v = sp.Matrix(sp.symbols("v0:3"))
+    us, ws, vs = sp.symbols("u0:3"), sp.symbols("w0:3"), sp.symbols("v0:3")
     eu, ew = sp.symbols("e_u e_w")
-    su, sw, c = (u * N * u.T)[0, 0], (w * N * w.T)[0, 0], (u * N * w.T)[0, 0]
-    lhs = _G(N, u, eu) * _G(N, w, ew) - _G(N, w, ew) * _G(N, u, eu)
-    rhs = (1 + eu) * (1 + ew) * c / (su * sw) * (N * u.T * w - N * w.T * u)
-    assert all(sp.cancel(x) == 0 for x in (lhs - rhs))
-    after = (w * _G(N, u, eu) * v)[0, 0]
-    assert sp.cancel(after - ((w * v)[0, 0] - (1 + eu) * (u * v)[0, 0] * c / su)) == 0
+    Q = sp.QQ[(*a, *us, *ws, *vs, eu, ew)]
+
+    def poly_matrix(rows):
+        return DomainMatrix([[Q.from_sympy(sp.sympify(x)) for x in r] for r in rows], (len(rows), len(rows[0])), Q)
+
+    N = poly_matrix([[a[0], a[1], a[2]], [a[1], a[3], a[4]], [a[2], a[4], a[5]]])
+    u, w, v = poly_matrix([us]), poly_matrix([ws]), poly_matrix([[x] for x in vs])
+    one_eu, one_ew = Q.from_sympy(1 + eu), Q.from_sympy(1 + ew)
+
+    def scalar(m):
+        return m[0, 0].element
+
+    su, sw, c = scalar(u * N * u.transpose()), scalar(w * N * w.transpose()), scalar(u * N * w.transpose())
+    eye = DomainMatrix.eye(3, Q)
+
+    def G_hat(x, s, one_e):  # s_x G_x(e)
+        return eye * s - N * x.transpose() * x * one_e
+
+    lhs = G_hat(u, su, one_eu) * G_hat(w, sw, one_ew) - G_hat(w, sw, one_ew) * G_hat(u, su, one_eu)
+    rhs = (N * u.transpose() * w - N * w.transpose() * u) * (one_eu * one_ew * c)
+    assert (lhs - rhs).is_zero_matrix
+    assert not rhs.is_zero_matrix  # the commutator vanishes only through the coupling c = u N wᵀ
+    after = scalar(w * G_hat(u, su, one_eu) * v)
+    assert after - (su * scalar(w * v) - one_eu * scalar(u * v) * c) == Q.zero
 
 
 def test_disjoint_supports_are_not_enough_for_a_coupled_mass_matrix():

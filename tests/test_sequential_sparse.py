@@ -33,9 +33,11 @@ def _random_symmetric(rng, n):
 
 
 def _sylvester(A):
-    """The reference: the first non-positive leading principal minor, by SymPy determinants."""
+    """The reference: the first non-positive leading principal minor, by SymPy determinants (of its
+    DomainMatrix over ZZ/QQ: SymPy's exact determinant without the Matrix layer)."""
+    D = A.to_DM()
     for k in range(1, A.shape[0] + 1):
-        d = A[:k, :k].det()
+        d = D.domain.to_sympy(D.extract(list(range(k)), list(range(k))).det())
         if d <= 0:
             return f"not positive definite (leading principal minor {k} is {d})"
     return None

@@ -176,24 +176,30 @@ def maximize(c, A_ub=(), b_ub=(), A_eq=(), b_eq=()) -> LPResult:
     cost = [fmpq(v.numerator, v.denominator) for v in cq] + [zero] * (N - n)
     if not run(cost, set(range(n + m1))):
         return LPResult("unbounded")
-    x = [Fraction(0)] * N
+    xq = [zero] * N
     for i, b in enumerate(basis):
-        x[b] = Fraction(int(rhs[i].p), int(rhs[i].q))
-    xs = x[:n]
+        xq[b] = rhs[i]
+    xq = xq[:n]
     # duals: y = c_B B^-1, B^-1 read from the initial identity columns; a negated row's multiplier
     # changes sign back
     cb = [cost[b] for b in basis]
-    y = [sign[k] * sum((cb[i] * rows[i].get(init[k], zero) for i in range(m)), zero) for k in range(m)]
-    y = [Fraction(int(v.p), int(v.q)) for v in y]
-    y_ub, y_eq = y[:m1], y[m1:]
-    value = sum(a * b for a, b in zip(cq, xs))
-    # the certificate, checked on the input data alone
-    ok = all(v >= 0 for v in xs) and all(v >= 0 for v in y_ub)
-    ok = ok and all(sum(a * v for a, v in zip(r, xs)) <= b for r, b in zip(Aub, bub))
-    ok = ok and all(sum(a * v for a, v in zip(r, xs)) == b for r, b in zip(Aeq, beq))
-    ok = ok and all(sum(Aub[i][j] * y_ub[i] for i in range(m1)) + sum(Aeq[i][j] * y_eq[i] for i in range(m2)) >= cq[j]
-                    for j in range(n))
-    ok = ok and sum(a * b for a, b in zip(bub, y_ub)) + sum(a * b for a, b in zip(beq, y_eq)) == value
+    yq = [sign[k] * sum((cb[i] * rows[i].get(init[k], zero) for i in range(m)), zero) for k in range(m)]
+    # the certificate, checked on the input data alone (in fmpq, over the rows' nonzero entries)
+    Aq = [[(j, fmpq(v.numerator, v.denominator)) for j, v in enumerate(r) if v != 0] for r in Aub + Aeq]
+    bq = [fmpq(v.numerator, v.denominator) for v in bub + beq]
+    lhs = [sum((a * xq[j] for j, a in row), zero) for row in Aq]
+    dual = [zero] * n  # A_ubᵀ y_ub + A_eqᵀ y_eq
+    for row, yi in zip(Aq, yq):
+        if yi != 0:
+            for j, a in row:
+                dual[j] += a * yi
+    value_q = sum((cost[j] * xq[j] for j in range(n)), zero)
+    ok = all(v >= 0 for v in xq) and all(v >= 0 for v in yq[:m1])
+    ok = ok and all(lhs[i] <= bq[i] for i in range(m1)) and all(lhs[i] == bq[i] for i in range(m1, m))
+    ok = ok and all(dual[j] >= cost[j] for j in range(n))
+    ok = ok and sum((b * y for b, y in zip(bq, yq)), zero) == value_q
     if not ok:
         raise VerificationError("maximize", "the simplex's primal and dual points do not certify its optimum")
-    return LPResult("optimal", value, xs, y_ub, y_eq)
+    xs = [Fraction(int(v.p), int(v.q)) for v in xq]
+    y = [Fraction(int(v.p), int(v.q)) for v in yq]
+    return LPResult("optimal", Fraction(int(value_q.p), int(value_q.q)), xs, y[:m1], y[m1:])
