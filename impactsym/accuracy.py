@@ -473,27 +473,45 @@ def _counts_from_law(kernel: str, x: dict):
     The ``(s, g, c)`` kernels are the law at ``M = Γ⁻¹``, ``H = I``, ``v = c`` (then
     ``H M⁻¹ Hᵀ = Γ`` and ``H v = c``).
     """
-    import sympy as sp
+    names = _LAW_INPUTS[0] if "s_a" in x else _LAW_INPUTS[1]
+    key = tuple(x[n] for n in names)
+    if key not in _LAW_COUNTS:
+        if len(_LAW_COUNTS) >= 8192:
+            _LAW_COUNTS.pop(next(iter(_LAW_COUNTS)))
+        _LAW_COUNTS[key] = _law_counts(dict(zip(names, key)))
+    return _LAW_COUNTS[key]
+
+
+#: the inputs a two-surface count depends on: the (s, g, c) kernels' and the (M, H, v) kernels' (the
+#: n = 3 kernel's decoupled third coordinate moves no count)
+_LAW_INPUTS = (("s_a", "s_b", "g", "c_a", "c_b"), ("m_00", "m_01", "m_11", "h_00", "h_01", "h_10", "h_11", "v_0", "v_1"))
+#: exact point -> certified counts (the witnesses of one box are met again by each language, each
+#: wrong count and each kernel that shares the closed form's grid)
+_LAW_COUNTS: dict = {}
+
+
+def _law_counts(x: dict):
+    from flint import fmpq
 
     from .errors import ImpactInputError, UndecidableSign
     from .laws.two_surface import branch_counts
 
-    q = {k: sp.Rational(v.numerator, v.denominator) for k, v in x.items()}
+    q = {k: fmpq(v.numerator, v.denominator) for k, v in x.items()}  # (exact: the law reads fmpq as it is)
     if "s_a" in q:
         D = q["s_a"] * q["s_b"] - q["g"] ** 2
         if not (q["s_a"] > 0 and D > 0):
             return None
-        M = sp.Matrix([[q["s_b"], -q["g"]], [-q["g"], q["s_a"]]]) / D
-        H, v = sp.eye(2), sp.Matrix([q["c_a"], q["c_b"]])
+        M = [[q["s_b"] / D, -q["g"] / D], [-q["g"] / D, q["s_a"] / D]]
+        H, v = [[fmpq(1), fmpq(0)], [fmpq(0), fmpq(1)]], [q["c_a"], q["c_b"]]
     else:
-        M = sp.Matrix([[q["m_00"], q["m_01"]], [q["m_01"], q["m_11"]]])
-        H = sp.Matrix([[q["h_00"], q["h_01"]], [q["h_10"], q["h_11"]]])
-        v = sp.Matrix([q["v_0"], q["v_1"]])
+        M = [[q["m_00"], q["m_01"]], [q["m_01"], q["m_11"]]]
+        H = [[q["h_00"], q["h_01"]], [q["h_10"], q["h_11"]]]
+        v = [q["v_0"], q["v_1"]]
     try:
         found = branch_counts(M, H, v)
     except (ImpactInputError, UndecidableSign):  # refused, or a count the law cannot certify: no witness
         return None
-    c = H * v
+    c = [H[i][0] * v[0] + H[i][1] * v[1] for i in (0, 1)]
     if c[0] >= 0 and c[1] >= 0:
         return (0, 0)
     return tuple(found.get(i, -1) for i in (0, 1))
