@@ -104,13 +104,18 @@ def iterate_mpmath(M, H, v, first, dps=80):
         vm = mpmath.matrix([mpmath.mpf(Fraction(x).numerator) / Fraction(x).denominator for x in v])
         ws = [mpmath.lu_solve(Mm, h) for h in Hm]
         ss = [sum(h[j] * w[j] for j in range(len(v))) for h, w in zip(Hm, ws)]
+        # the iteration on lists of mpf: the same operations as on mpmath matrices (each component
+        # v_j - (2 uv / s) w_j), without a matrix object per step
+        n = len(v)
+        Hl, wl, vl = [[h[j] for j in range(n)] for h in Hm], [[w[j] for j in range(n)] for w in ws], list(vm)
         i, count = first, 0
         while True:
-            uv = sum(Hm[i][j] * vm[j] for j in range(len(v)))
-            vm = vm - (2 * uv / ss[i]) * ws[i]
+            uv = sum(Hl[i][j] * vl[j] for j in range(n))
+            coef = 2 * uv / ss[i]
+            vl = [vl[j] - coef * wl[i][j] for j in range(n)]
             count += 1
-            if all(sum(h[j] * vm[j] for j in range(len(v))) >= 0 for h in Hm):
-                return count, vm
+            if all(sum(h[j] * vl[j] for j in range(n)) >= 0 for h in Hl):
+                return count, mpmath.matrix(vl)
             i = 1 - i
 
 
