@@ -58,6 +58,7 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
+from flint import fmpq
 
 from .hard_cases import HardCase, _spd
 
@@ -547,10 +548,9 @@ def _continuous_on_segment(x: dict, y: dict, i: int) -> bool:
     """Certified (exact rationals): every quantity of :func:`_branch_polynomials` keeps its sign on
     the whole segment ``[x, y]``. Each is a quadratic ``q(λ)`` along it, recovered exactly from three
     values; its extreme on ``[0, 1]`` is at an end or at the vertex ``−b/(2a)``."""
-    from fractions import Fraction
-
-    half = Fraction(1, 2)
-    at = [_branch_polynomials(_point(x, y, lam), i) for lam in (Fraction(0), half, Fraction(1))]
+    x, y = _as_fmpq(x), _as_fmpq(y)  # (the same exact arithmetic as Fraction's, in C)
+    half = fmpq(1, 2)
+    at = [_branch_polynomials(_point(x, y, lam), i) for lam in (fmpq(0), half, fmpq(1))]
     for k, (_, sg) in enumerate(at[0]):
         q0, qh, q1 = (sg * at[j][k][0] for j in range(3))
         # q(λ) = a λ² + b λ + c from q(0), q(1/2), q(1)
@@ -571,14 +571,20 @@ def _last_on_branch(x: dict, y: dict, i: int, steps: int = 64):
     ``Δ`` itself where the box crosses ``Δ = 0``)."""
     from fractions import Fraction
 
-    lo, hi = Fraction(0), Fraction(1)
+    xq, yq = _as_fmpq(x), _as_fmpq(y)  # (bisection in fmpq: the same exact points as in Fraction)
+    lo, hi = fmpq(0), fmpq(1)
     for _ in range(steps):
         mid = (lo + hi) / 2
-        if _on_branch(_point(x, y, mid), i):
+        if _on_branch(_point(xq, yq, mid), i):
             lo = mid
         else:
             hi = mid
-    return _point(x, y, lo)
+    return {k: Fraction(int(v.p), int(v.q)) for k, v in _point(xq, yq, lo).items()}
+
+
+def _as_fmpq(x: dict) -> dict:
+    """A point of exact rationals (``Fraction`` or ``fmpq``) as ``fmpq``."""
+    return {k: v if isinstance(v, fmpq) else fmpq(v.numerator, v.denominator) for k, v in x.items()}
 
 
 def _in_domain(x: dict) -> bool:
@@ -618,6 +624,23 @@ def _witness_vertices(ref, inputs: dict, i: int, r) -> list:
     discontinuous output ``i`` jumps with (the argument of each ``ceiling``, ``lhs − rhs`` of each
     condition) down and up the most (signs of ``x_j ∂a/∂x_j`` at 60 digits, inside their own
     precision block), plus the two diagonal vertices."""
+    key = (tuple(float(inputs[n]) for n in ref.names), i, r)
+    memo = _WITNESS_VERTICES.setdefault(id(ref), (ref, {}))
+    if memo[0] is not ref:  # (a reference since collected: its id reused)
+        memo = _WITNESS_VERTICES[id(ref)] = (ref, {})
+    if key not in memo[1]:
+        if len(memo[1]) >= 1024:
+            memo[1].pop(next(iter(memo[1])))
+        memo[1][key] = _witness_vertices_of(ref, inputs, i, r)
+    return [dict(v) for v in memo[1][key]]
+
+
+#: id(reference) -> (reference, {(inputs, output, radius): vertices}): a box's vertices are asked for
+#: again by each wrong count and each exit judged at the same input
+_WITNESS_VERTICES: dict = {}
+
+
+def _witness_vertices_of(ref, inputs: dict, i: int, r) -> list:
     from fractions import Fraction
 
     import mpmath
