@@ -17,7 +17,7 @@ import random
 from fractions import Fraction
 
 import mpmath
-from flint import fmpq
+from flint import fmpq, fmpq_mat
 import numpy as np
 import pytest
 import sympy as sp
@@ -38,22 +38,15 @@ def _q(x) -> fmpq:
     """``x`` (int, Fraction, float's binary value, fmpq) as an exact ``fmpq``."""
     if isinstance(x, fmpq):
         return x
-    f = Fraction(x)
+    f = x if isinstance(x, Fraction) else Fraction(x)
     return fmpq(f.numerator, f.denominator)
 
 
 def _solve(M, b):
-    """Exact Gaussian elimination in rationals (``fmpq``)."""
+    """The exact solution of ``M x = b`` in rationals (``fmpq_mat.solve``: fraction-free elimination)."""
     n = len(M)
-    A = [list(map(_q, M[i])) + [_q(b[i])] for i in range(n)]
-    for i in range(n):
-        p = next(r for r in range(i, n) if A[r][i] != 0)
-        A[i], A[p] = A[p], A[i]
-        for r in range(n):
-            if r != i and A[r][i] != 0:
-                f = A[r][i] / A[i][i]
-                A[r] = [a - f * c for a, c in zip(A[r], A[i])]
-    return [A[i][n] / A[i][i] for i in range(n)]
+    x = fmpq_mat(n, n, [_q(a) for row in M for a in row]).solve(fmpq_mat(n, 1, [_q(a) for a in b]))
+    return [x[i, 0] for i in range(n)]
 
 
 def iterate_fraction(M, H, v, first, cap=10**6):
@@ -104,13 +97,18 @@ def iterate_mpmath(M, H, v, first, dps=80):
         vm = mpmath.matrix([mpmath.mpf(Fraction(x).numerator) / Fraction(x).denominator for x in v])
         ws = [mpmath.lu_solve(Mm, h) for h in Hm]
         ss = [sum(h[j] * w[j] for j in range(len(v))) for h, w in zip(Hm, ws)]
+        # the iteration on lists of mpf: the same operations as on mpmath matrices (each component
+        # v_j - (2 uv / s) w_j), without a matrix object per step
+        n = len(v)
+        Hl, wl, vl = [[h[j] for j in range(n)] for h in Hm], [[w[j] for j in range(n)] for w in ws], list(vm)
         i, count = first, 0
         while True:
-            uv = sum(Hm[i][j] * vm[j] for j in range(len(v)))
-            vm = vm - (2 * uv / ss[i]) * ws[i]
+            uv = sum(Hl[i][j] * vl[j] for j in range(n))
+            coef = 2 * uv / ss[i]
+            vl = [vl[j] - coef * wl[i][j] for j in range(n)]
             count += 1
-            if all(sum(h[j] * vm[j] for j in range(len(v))) >= 0 for h in Hm):
-                return count, vm
+            if all(sum(h[j] * vl[j] for j in range(n)) >= 0 for h in Hl):
+                return count, mpmath.matrix(vl)
             i = 1 - i
 
 

@@ -559,7 +559,7 @@ def _resolve(exact, M, H, v, n, digits=DEFAULT_DIGITS, max_exact_digits=DEFAULT_
     rational_path = prepared is not None or not exact or (all_rational(M) and all_rational(H) and all_rational(v))
     if prepared is not None:
         W, gram, c, vq, Mq, Hq = prepared
-        v = sp.Matrix([to_sympy_rational(vq[i, 0]) for i in range(n)])
+        v = None  # (read only where no surface is approached: v+ = v)
         d = _Data(gram[0, 0], gram[1, 1], gram[0, 1], c[0, 0], c[1, 0])
         tie_check = _tie_check_rational
     elif rational_path:
@@ -589,6 +589,8 @@ def _resolve(exact, M, H, v, n, digits=DEFAULT_DIGITS, max_exact_digits=DEFAULT_
     by_first: dict = {0: None, 1: None}
     outcomes = []
     if signs[0] >= 0 and signs[1] >= 0:
+        if v is None:
+            v = _rational_column([vq[i, 0] for i in range(n)])
         vel = _as_output(exact, v, vq if rational_path else None)
         zero = sp.zeros(2, 1) if exact else np.zeros(2)
         # no surface is approached: no impact, no first surface (``first`` is None), v+ = v
@@ -622,8 +624,8 @@ def _resolve(exact, M, H, v, n, digits=DEFAULT_DIGITS, max_exact_digits=DEFAULT_
 
             verify_matrices("two-surface", Mq, Hq, vq, vplus, jump)
             _verify_count_rational(df, m)
-            vel = sp.Matrix([to_sympy_rational(vplus[i, 0]) for i in range(n)])
-            imp = sp.Matrix([to_sympy_rational(jump[i, 0]) for i in range(2)])
+            vel = _rational_column([vplus[i, 0] for i in range(n)])
+            imp = _rational_column([jump[i, 0] for i in range(2)])
             outcomes.append(TwoSurfaceOutcome(first, order, m, vel, _floats(vel), imp, True))
         elif rational_path:
             want = digits if exact else 20
@@ -747,6 +749,20 @@ def _branch_counts_prepared(prepared) -> dict:
     W, gram, c, vq, Mq, Hq = prepared
     d = _Data(gram[0, 0], gram[1, 1], gram[0, 1], c[0, 0], c[1, 0])
     return _counts_of(d, lambda first: _tie_check_rational)
+
+
+def _rational_column(qs) -> sp.Matrix:
+    """``sp.Matrix([to_sympy_rational(q) for q in qs])`` (a column of the exact ``fmpq`` entries ``qs``),
+    built as that constructor builds it: a sparse domain matrix over ``ZZ`` when every entry is an
+    integer, else ``QQ`` (the same matrix, without a SymPy ``Rational`` per entry and its sympify)."""
+    from sympy.polys.domains import QQ, ZZ
+    from sympy.polys.matrices import DomainMatrix
+
+    if all(q.q == 1 for q in qs):
+        dod = {i: {0: ZZ(int(q.p))} for i, q in enumerate(qs) if q != 0}
+        return sp.Matrix._fromrep(DomainMatrix(dod, (len(qs), 1), ZZ))
+    dod = {i: {0: QQ(int(q.p), int(q.q))} for i, q in enumerate(qs) if q != 0}
+    return sp.Matrix._fromrep(DomainMatrix(dod, (len(qs), 1), QQ))
 
 
 def _as_output(exact, v, vq):
