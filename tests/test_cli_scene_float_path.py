@@ -15,7 +15,8 @@ import pytest
 
 import impactsym.cli.scene_args as scene_args
 from impactsym.scenes.registry import RATIONAL_SCENES, build_rational_scene, build_scene
-from test_cli_float_path import _loaded, _Probes, _run
+from probe_server import RequestProbes
+from test_cli_float_path import _run
 
 SEQ = ["resolve", "--law", "sequential", "--float"]
 #: built-in scenes of rational data, with and without parameters
@@ -44,21 +45,38 @@ _CASES = [
     (["resolve", "--law", "power", "--exponent", "5/2", *SCENES[5], "--json"], 0, {"scipy"}),
     (["resolve", "--law", "hunt-crossley", "--restitution", "0.8", *SCENES[7]], 0, {"scipy"}),
 ]
-_PROBES = _Probes(_CASES)
+SCENE_PROBE_CAN_FAIL = [
+    [*SEQ, "--scene", "pool", "--theta", "pi/3", "--json"],
+    ["resolve", "--law", "hertz", "--scene", "chain3", "--masses", "sqrt(2),1,1"],
+]
+_BATCH_LINES = [{"argv": [*SEQ, "--scene", "cradle", "--n-balls", "4"]},
+                {"command": "resolve", "args": {"law": "hertz", "scene": "two-balls-wall", "masses": "11/10,1"}}]
+
+
+@pytest.fixture(scope="module")
+def probes(tmp_path_factory):
+    """The probes of this module in forks of one fresh interpreter (:class:`probe_server.RequestProbes`):
+    the trunk, :data:`_CASES` then a batch of scene requests (SciPy, no SymPy); after it, each
+    request that must load SymPy in a branch of its own."""
+    d = tmp_path_factory.mktemp("batch")
+    (d / "requests.jsonl").write_text("\n".join(json.dumps(x) for x in _BATCH_LINES) + "\n")
+    batch = ["batch", "--input", str(d / "requests.jsonl"), "--output", str(d / "answers.jsonl")]
+    everything = {"scipy", "sympy", "mpmath"}
+    p = RequestProbes(_CASES + [(batch, 0, {"scipy"})], [[(argv, 0, everything)] for argv in SCENE_PROBE_CAN_FAIL])
+    p.batch, p.answers = batch, d / "answers.jsonl"
+    return p
 
 
 @pytest.mark.parametrize("argv,status,loaded", _CASES)
-def test_a_float_path_request_on_a_builtin_scene_imports_no_sympy(argv, status, loaded):
-    assert _PROBES.loaded(argv, status) == loaded
+def test_a_float_path_request_on_a_builtin_scene_imports_no_sympy(argv, status, loaded, probes):
+    assert probes.loaded(argv, status) == loaded
 
 
-@pytest.mark.parametrize("argv", [
-    [*SEQ, "--scene", "pool", "--theta", "pi/3", "--json"],
-    ["resolve", "--law", "hertz", "--scene", "chain3", "--masses", "sqrt(2),1,1"],
-])
-def test_the_scene_probe_can_fail(argv):
-    """The pool's data are irrational (cos, sin of its angles); sqrt(2) is not plain text."""
-    assert "sympy" in _loaded(argv)
+@pytest.mark.parametrize("argv", SCENE_PROBE_CAN_FAIL)
+def test_the_scene_probe_can_fail(argv, probes):
+    """The pool's data are irrational (cos, sin of its angles); sqrt(2) is not plain text. Each
+    runs in a branch of its own after the trunk (whose float requests load no SymPy)."""
+    assert "sympy" not in probes.before(argv) and "sympy" in probes.loaded(argv)
 
 
 LAWS = {
@@ -139,13 +157,8 @@ def test_the_rational_build_declines_what_it_cannot_read():
         assert build_rational_scene(name, params) is None, (name, params)
 
 
-def test_a_batch_of_scene_requests_imports_no_sympy(tmp_path):
-    lines = [{"argv": [*SEQ, "--scene", "cradle", "--n-balls", "4"]},
-             {"command": "resolve", "args": {"law": "hertz", "scene": "two-balls-wall", "masses": "11/10,1"}}]
-    path = tmp_path / "requests.jsonl"
-    path.write_text("\n".join(json.dumps(x) for x in lines) + "\n")
-    out = tmp_path / "answers.jsonl"
-    assert _loaded(["batch", "--input", str(path), "--output", str(out)]) == {"scipy"}
-    answers = [json.loads(x) for x in out.read_text().splitlines()]
+def test_a_batch_of_scene_requests_imports_no_sympy(probes):
+    assert probes.loaded(probes.batch) == {"scipy"}
+    answers = [json.loads(x) for x in probes.answers.read_text().splitlines()]
     assert [a["exit_status"] for a in answers] == [0, 0]
     assert answers[1]["result"]["scene"] == {"scene": "two-balls-wall", "masses": ["11/10", "1"]}
