@@ -19,7 +19,7 @@ COLD_ENV = {"PYTHONPATH": str(ROOT), "PATH": "/usr/bin:/bin"}
 PREFIX = [REQUEST_PREAMBLE, request_snippet(["scene", "list"], 0)]
 ENDS = [request_snippet(["resolve", "--law", "sequential", "--float", "--mass-matrix", "1,0;0,1", "--gradients",
                          "1,0;-1,1", "--velocity", "-1,-2", "--json"], 0),
-        "import impactsym.lawbook"]
+        "import colorsys"]
 
 
 def _fresh_modules(snippets) -> list:
@@ -36,10 +36,11 @@ def test_the_root_is_a_fresh_interpreter():
 
 def test_each_path_sees_what_a_fresh_interpreter_sees():
     paths = [PREFIX + [end] for end in ENDS]
-    for path, steps in zip(paths, probe_paths(paths)):
-        fresh = _fresh_modules(path)[1:]
-        assert [set(step.modules) for step in steps] == fresh
-    assert "numpy" not in fresh[1] and "numpy" in fresh[2]  # the comparison sees a library come in
+    fresh = [_fresh_modules(path)[1:] for path in paths]
+    assert [[set(step.modules) for step in steps] for steps in probe_paths(paths)] == fresh
+    # the comparison sees modules come in: NumPy with the request, colorsys with its import
+    assert [("numpy" in f[1], "numpy" in f[2]) for f in fresh] == [(False, True), (False, False)]
+    assert [("colorsys" in f[1], "colorsys" in f[2]) for f in fresh] == [(False, False), (False, True)]
 
 
 def test_a_probe_reports_the_snippets_output_and_raises_its_error():
@@ -50,11 +51,11 @@ def test_a_probe_reports_the_snippets_output_and_raises_its_error():
 
 
 def test_a_warm_child_answers_as_a_fresh_process():
-    argv = ["-m", "impactsym", "reflect", "--mass-matrix", "1,2;2,1", "--gradient", "-1,1", "--json"]
+    argv = ["-m", "impactsym", "resolve", "--law", "--json"]
     fresh = subprocess.run([sys.executable, *argv], capture_output=True, text=True, cwd=ROOT, env=COLD_ENV)
     warm = run_python(argv)
     assert (warm.returncode, warm.stdout, warm.stderr) == (fresh.returncode, fresh.stdout, fresh.stderr)
-    assert warm.returncode == 2 and warm.stdout.startswith('{"error"')
+    assert warm.returncode == 2 and warm.stdout.startswith('{"error": {"argument": "law"') and "usage:" in warm.stderr
 
 
 def test_a_warm_child_shows_a_crash_its_status_and_its_input():
