@@ -289,6 +289,9 @@ def request_snippet(argv: Sequence[str], status: int) -> str:
             f"    assert main({argv!r}) == {status!r}, {argv!r}")
 
 
+_GROUPS: dict = {}
+
+
 class RequestProbes:
     """Command-line requests probed for the libraries they load (:func:`probe_paths`): a *trunk* of
     ``(argv, exit status, expected libraries)`` run in order in one process, and *branches*, each
@@ -297,30 +300,50 @@ class RequestProbes:
     first request that loads a library is the first whose set shows it. Each path's expected sets
     must therefore grow (else a library an earlier request loads would hide in a later one's set),
     which the constructor checks.
+
+    Probes made with the same ``group`` (of different test modules) that have not run yet run
+    together, on one trunk: the members' trunks merged in order of growing expected sets (a
+    member's own requests keep their order), then every member's branches after it. A library is
+    then imported once for the group, not once per module.
     """
 
-    def __init__(self, trunk, branches=(), libraries=("sympy", "mpmath", "scipy")):
+    def __init__(self, trunk, branches=(), libraries=("sympy", "mpmath", "scipy"), group: str | None = None):
         def cases(seq):
             return [(list(argv), status, frozenset(loaded)) for argv, status, loaded in seq]
 
         self.trunk = cases(trunk)
         self.branches = [cases(b) for b in branches]
         self.libraries = tuple(libraries)
-        for path in self.paths():
-            for (_, _, a), (_, _, b) in zip(path, path[1:]):
-                assert a <= b, "order the probes by growing expected sets"
+        _check_growth([self.trunk + b for b in self.branches or [[]]])
+        self._run_trunk = None  # the trunk that ran: this one's, or its group's
         self._sets = None
+        if group is not None:
+            _GROUPS.setdefault(group, []).append(self)
+        self.group = group
 
     def paths(self) -> list:
-        """The trunk, then the trunk followed by each branch."""
-        return [self.trunk] + [self.trunk + b for b in self.branches]
+        """The trunk that ran (this probe's, or its group's), then that trunk followed by each branch."""
+        self._compute()
+        return [self._run_trunk] + [self._run_trunk + b for b in self.branches]
+
+    def _compute(self):
+        if self._sets is not None:
+            return
+        members = [m for m in _GROUPS.get(self.group, []) if m._sets is None] if self.group else [self]
+        # stable: each member's trunk keeps its order, merged by the size of the expected sets
+        trunk = sorted([c for m in members for c in m.trunk], key=lambda c: len(c[2]))
+        _check_growth([trunk + b for m in members for b in m.branches or [[]]])
+        paths = [trunk + b for m in members for b in [[]] + m.branches]
+        steps = iter(probe_paths([[REQUEST_PREAMBLE] + [request_snippet(a, s) for a, s, _ in p] for p in paths]))
+        for m in members:
+            m._run_trunk = trunk
+            m._sets = [[{lib for lib in m.libraries if lib in step.modules} for step in next(steps)]
+                       for _ in [[]] + m.branches]
 
     def sets(self, path: int = 0) -> list:
-        """The libraries loaded before the first request of path ``path`` (0: the trunk; ``i``: the
-        trunk and branch ``i - 1``), then after each of its requests."""
-        if self._sets is None:
-            steps = probe_paths([[REQUEST_PREAMBLE] + [request_snippet(a, s) for a, s, _ in p] for p in self.paths()])
-            self._sets = [[{m for m in self.libraries if m in step.modules} for step in p] for p in steps]
+        """The libraries loaded before the first request of path ``path`` (0: the trunk that ran;
+        ``i``: that trunk and branch ``i - 1``), then after each of its requests."""
+        self._compute()
         return self._sets[path]
 
     def _find(self, argv, status):
@@ -339,6 +362,23 @@ class RequestProbes:
         """The libraries loaded just before the first probe of ``(argv, status)``."""
         path, i = self._find(argv, status)
         return self.sets(path)[i - 1]
+
+
+def _check_growth(paths):
+    for path in paths:
+        for (_, _, a), (_, _, b) in zip(path, path[1:]):
+            assert a <= b, "order the probes by growing expected sets"
+
+
+_SESSION_DIR: list = []
+
+
+def session_dir() -> Path:
+    """A directory for the session's probe inputs and outputs, removed when the session ends."""
+    if not _SESSION_DIR:
+        _SESSION_DIR.append(Path(tempfile.mkdtemp(prefix="impactsym-probes-")))
+        atexit.register(shutil.rmtree, _SESSION_DIR[0], True)
+    return _SESSION_DIR[0]
 
 
 def run_python(args: Sequence[str], *, input: str | None = None, timeout: float | None = None

@@ -18,7 +18,7 @@ import impactsym.cli.scene_args as scene_args
 from impactsym.cli import main
 from impactsym.errors import ImpactInputError
 from impactsym.resolution import RationalMatrix, System
-from probe_server import RequestProbes, probe_paths
+from probe_server import RequestProbes, probe_paths, session_dir
 
 CHAIN = ["--mass-matrix", "1,0,0;0,1,0;0,0,1", "--gradients", "-1,1,0;0,-1,1", "--velocity", "1,0,0"]
 SKEW = ["--mass-matrix", "2,1/3;1/3,1", "--gradients", "1,0.1;-1,1/7", "--velocity", "-1,-2"]
@@ -40,8 +40,8 @@ FLOAT_LAW_PROBED = FLOAT_REQUESTS[::2] + [FLOAT_REQUESTS[-1]]
 
 
 @pytest.mark.parametrize("argv", FLOAT_LAW_PROBED)
-def test_a_float_law_on_plain_rationals_imports_no_sympy(argv, probes):
-    assert probes.loaded(argv) == {"scipy"}  # the integrator's SciPy; no SymPy, no mpmath
+def test_a_float_law_on_plain_rationals_imports_no_sympy(argv):
+    assert _PROBES.loaded(argv) == {"scipy"}  # the integrator's SciPy; no SymPy, no mpmath
 
 
 IRRATIONAL = ["resolve", "--law", "hertz", "--mass-matrix", "1,0;0,sqrt(2)", "--gradients", "1,0;0,1", "--velocity",
@@ -50,12 +50,12 @@ POOL = ["resolve", "--law", "hertz", "--scene", "pool", "--theta", "pi/4"]
 
 
 @pytest.mark.parametrize("argv", [IRRATIONAL, POOL])
-def test_the_probe_can_fail(argv, probes):
+def test_the_probe_can_fail(argv):
     """Irrational entries and scenes (the pool: cos and sin of its angles) take the general (SymPy)
     reader: each is the first request of its branch of the shared probe, after a trunk of float
     requests that loads none, and loads SymPy. The built-in scenes of rational data do not
     (tests/test_cli_scene_float_path.py)."""
-    assert "sympy" not in probes.before(argv) and "sympy" in probes.loaded(argv)
+    assert "sympy" not in _PROBES.before(argv) and "sympy" in _PROBES.loaded(argv)
 
 
 def _run(argv):
@@ -124,25 +124,26 @@ _BATCH_LINES = [{"argv": ["resolve", "--law", "hertz", *SKEW], "id": 1},
 
 def _batch_files(d: Path) -> SimpleNamespace:
     """The two batches of :func:`test_a_batch_of_float_requests_imports_no_sympy`, written to ``d``."""
-    floats, exact = d / "requests.jsonl", d / "with-newton.jsonl"
+    floats, exact = d / "float-path-requests.jsonl", d / "float-path-with-newton.jsonl"
     floats.write_text("\n".join(json.dumps(x) for x in _BATCH_LINES) + "\n")
     exact.write_text(floats.read_text() + json.dumps({"argv": ["resolve", "--law", "newton", *CHAIN]}) + "\n")
-    return SimpleNamespace(floats=["batch", "--input", str(floats), "--output", str(d / "answers.jsonl")],
-                           exact=["batch", "--input", str(exact), "--output", str(d / "answers2.jsonl")],
-                           answers=d / "answers.jsonl", answers2=d / "answers2.jsonl")
+    answers, answers2 = d / "float-path-answers.jsonl", d / "float-path-answers2.jsonl"
+    return SimpleNamespace(floats=["batch", "--input", str(floats), "--output", str(answers)],
+                           exact=["batch", "--input", str(exact), "--output", str(answers2)], answers=answers,
+                           answers2=answers2)
 
 
-def test_a_batch_of_float_requests_imports_no_sympy(probes):
+def test_a_batch_of_float_requests_imports_no_sympy():
     """``impactsym batch`` answers float-path requests without SymPy (the check machinery of
     :mod:`impactsym.oracle` imports it on first use), and one exact request still takes it: the
     float batch ends the shared probe's trunk (no SymPy in its set), the exact one runs after it in
     a branch of its own (the one that loads SymPy)."""
-    batch = probes.batch
-    assert probes.loaded(batch.floats) == {"scipy"}
+    batch = _BATCH
+    assert _PROBES.loaded(batch.floats) == {"scipy"}
     answers = [json.loads(x) for x in batch.answers.read_text().splitlines()]
     assert [a["exit_status"] for a in answers] == [0, 0, 0]
     assert answers[0]["result"]["system"]["mass_matrix"] == [["2", "1/3"], ["1/3", "1"]]
-    assert "sympy" not in probes.before(batch.exact) and "sympy" in probes.loaded(batch.exact)
+    assert "sympy" not in _PROBES.before(batch.exact) and "sympy" in _PROBES.loaded(batch.exact)
     assert [json.loads(x)["exit_status"] for x in batch.answers2.read_text().splitlines()] == [0] * 4
 
 
@@ -177,8 +178,8 @@ SEQUENTIAL_PROBED = SEQUENTIAL_FLOAT[::3] + [SEQUENTIAL_FLOAT[4], SEQUENTIAL_FLO
 
 
 @pytest.mark.parametrize("argv,status", SEQUENTIAL_PROBED)
-def test_sequential_float_imports_no_sympy_or_mpmath(argv, status, probes):
-    assert probes.loaded(argv, status) == set()
+def test_sequential_float_imports_no_sympy_or_mpmath(argv, status):
+    assert _PROBES.loaded(argv, status) == set()
 
 
 @pytest.mark.parametrize("argv,status", SEQUENTIAL_FLOAT)
@@ -265,39 +266,35 @@ _SCENE_FILE_CASES = [
 ]
 
 
-@pytest.fixture(scope="module")
-def probes(tmp_path_factory):
-    """Every probe of this module that needs no process of its own, in forks of one fresh
-    interpreter (:class:`probe_server.RequestProbes`). The trunk, by growing sets: the sequential
-    law's float path and the float scene file's (nothing heavy), the scene file's Hertz request
-    (the first to load SciPy), the float laws and a batch of float requests (SciPy). Then three
-    branches, each after the whole trunk, each loading SymPy: irrational entries (the general
-    reader) followed by a float request again; the pool scene; a batch with one exact request
-    (test_the_probe_can_fail, test_one_interpreter_probes_each_request,
-    test_a_batch_of_float_requests_imports_no_sympy)."""
-    batch = _batch_files(tmp_path_factory.mktemp("batch"))
-    everything = {"scipy", "sympy", "mpmath"}
-    p = RequestProbes([(a, s, ()) for a, s in SEQUENTIAL_PROBED] + [(a, 0, loaded) for a, loaded in _SCENE_FILE_CASES]
-                      + [(a, 0, {"scipy"}) for a in FLOAT_LAW_PROBED] + [(batch.floats, 0, {"scipy"})],
-                      [[(IRRATIONAL, 0, everything), (FLOAT_REQUESTS[2], 0, everything)], [(POOL, 0, everything)],
-                       [(batch.exact, 0, everything)]])
-    p.batch = batch
-    return p
+#: every probe of this module that needs no process of its own, in forks of one fresh interpreter
+#: (:class:`probe_server.RequestProbes`; its trunk shared with tests/test_cli_scene_float_path.py's).
+#: The trunk, by growing sets: the sequential law's float path and the float scene file's (nothing
+#: heavy), the scene file's Hertz request (the first to load SciPy), the float laws and a batch of
+#: float requests (SciPy). Then three branches, each after the whole trunk, each loading SymPy:
+#: irrational entries (the general reader) followed by a float request again; the pool scene; a
+#: batch with one exact request (test_the_probe_can_fail, test_one_interpreter_probes_each_request,
+#: test_a_batch_of_float_requests_imports_no_sympy)
+_BATCH = _batch_files(session_dir())
+_EVERYTHING = {"scipy", "sympy", "mpmath"}
+_PROBES = RequestProbes([(a, s, ()) for a, s in SEQUENTIAL_PROBED] + [(a, 0, loaded) for a, loaded in _SCENE_FILE_CASES]
+                        + [(a, 0, {"scipy"}) for a in FLOAT_LAW_PROBED] + [(_BATCH.floats, 0, {"scipy"})],
+                        [[(IRRATIONAL, 0, _EVERYTHING), (FLOAT_REQUESTS[2], 0, _EVERYTHING)], [(POOL, 0, _EVERYTHING)],
+                         [(_BATCH.exact, 0, _EVERYTHING)]], group="float-path")
 
 
 @pytest.mark.parametrize("argv,loaded", _SCENE_FILE_CASES)
-def test_a_float_scene_file_imports_no_sympy(argv, loaded, probes):
+def test_a_float_scene_file_imports_no_sympy(argv, loaded):
     """A scene file of float literals is read, checked (contacts closed within its gap tolerance,
     approach signs on the floats' exact binary values in fmpq) and resolved without SymPy."""
-    assert probes.loaded(argv) == loaded
+    assert _PROBES.loaded(argv) == loaded
 
 
-def test_one_interpreter_probes_each_request(probes):
+def test_one_interpreter_probes_each_request():
     """The shared probe sees what each request loads: a request that loads SymPy shows it in its
     own set and every later one, not in the earlier ones (the first branch's two requests)."""
-    branch = probes.branches[0]
+    branch = _PROBES.branches[0]
     assert [c[:2] for c in branch] == [(IRRATIONAL, 0), (FLOAT_REQUESTS[2], 0)]
-    sets = [probes.loaded(FLOAT_REQUESTS[0])] + probes.sets(1)[-2:]
+    sets = [_PROBES.loaded(FLOAT_REQUESTS[0])] + _PROBES.sets(1)[-2:]
     assert sets[0] == {"scipy"} and {"sympy", "scipy"} <= sets[1] and sets[2] == sets[1]
 
 

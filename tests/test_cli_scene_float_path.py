@@ -15,7 +15,7 @@ import pytest
 
 import impactsym.cli.scene_args as scene_args
 from impactsym.scenes.registry import RATIONAL_SCENES, build_rational_scene, build_scene
-from probe_server import RequestProbes
+from probe_server import RequestProbes, session_dir
 from test_cli_float_path import _run
 
 SEQ = ["resolve", "--law", "sequential", "--float"]
@@ -53,30 +53,28 @@ _BATCH_LINES = [{"argv": [*SEQ, "--scene", "cradle", "--n-balls", "4"]},
                 {"command": "resolve", "args": {"law": "hertz", "scene": "two-balls-wall", "masses": "11/10,1"}}]
 
 
-@pytest.fixture(scope="module")
-def probes(tmp_path_factory):
-    """The probes of this module in forks of one fresh interpreter (:class:`probe_server.RequestProbes`):
-    the trunk, :data:`_CASES` then a batch of scene requests (SciPy, no SymPy); after it, each
-    request that must load SymPy in a branch of its own."""
-    d = tmp_path_factory.mktemp("batch")
-    (d / "requests.jsonl").write_text("\n".join(json.dumps(x) for x in _BATCH_LINES) + "\n")
-    batch = ["batch", "--input", str(d / "requests.jsonl"), "--output", str(d / "answers.jsonl")]
-    everything = {"scipy", "sympy", "mpmath"}
-    p = RequestProbes(_CASES + [(batch, 0, {"scipy"})], [[(argv, 0, everything)] for argv in SCENE_PROBE_CAN_FAIL])
-    p.batch, p.answers = batch, d / "answers.jsonl"
-    return p
+_BATCH_DIR = session_dir()
+(_BATCH_DIR / "scene-requests.jsonl").write_text("\n".join(json.dumps(x) for x in _BATCH_LINES) + "\n")
+_BATCH = ["batch", "--input", str(_BATCH_DIR / "scene-requests.jsonl"), "--output",
+          str(_BATCH_DIR / "scene-answers.jsonl")]
+#: the probes of this module in forks of one fresh interpreter (:class:`probe_server.RequestProbes`;
+#: the trunk shared with tests/test_cli_float_path.py's): :data:`_CASES` then a batch of scene
+#: requests (SciPy, no SymPy); after the trunk, each request that must load SymPy in a branch of its own
+_PROBES = RequestProbes(_CASES + [(_BATCH, 0, {"scipy"})],
+                        [[(argv, 0, {"scipy", "sympy", "mpmath"})] for argv in SCENE_PROBE_CAN_FAIL],
+                        group="float-path")
 
 
 @pytest.mark.parametrize("argv,status,loaded", _CASES)
-def test_a_float_path_request_on_a_builtin_scene_imports_no_sympy(argv, status, loaded, probes):
-    assert probes.loaded(argv, status) == loaded
+def test_a_float_path_request_on_a_builtin_scene_imports_no_sympy(argv, status, loaded):
+    assert _PROBES.loaded(argv, status) == loaded
 
 
 @pytest.mark.parametrize("argv", SCENE_PROBE_CAN_FAIL)
-def test_the_scene_probe_can_fail(argv, probes):
+def test_the_scene_probe_can_fail(argv):
     """The pool's data are irrational (cos, sin of its angles); sqrt(2) is not plain text. Each
     runs in a branch of its own after the trunk (whose float requests load no SymPy)."""
-    assert "sympy" not in probes.before(argv) and "sympy" in probes.loaded(argv)
+    assert "sympy" not in _PROBES.before(argv) and "sympy" in _PROBES.loaded(argv)
 
 
 LAWS = {
@@ -157,8 +155,8 @@ def test_the_rational_build_declines_what_it_cannot_read():
         assert build_rational_scene(name, params) is None, (name, params)
 
 
-def test_a_batch_of_scene_requests_imports_no_sympy(probes):
-    assert probes.loaded(probes.batch) == {"scipy"}
-    answers = [json.loads(x) for x in probes.answers.read_text().splitlines()]
+def test_a_batch_of_scene_requests_imports_no_sympy():
+    assert _PROBES.loaded(_BATCH) == {"scipy"}
+    answers = [json.loads(x) for x in (_BATCH_DIR / "scene-answers.jsonl").read_text().splitlines()]
     assert [a["exit_status"] for a in answers] == [0, 0]
     assert answers[1]["result"]["scene"] == {"scene": "two-balls-wall", "masses": ["11/10", "1"]}
