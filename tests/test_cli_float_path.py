@@ -267,7 +267,8 @@ _SCENE_FILE_CASES = [
 
 
 #: every probe of this module that needs no process of its own, in forks of one fresh interpreter
-#: (:class:`probe_server.RequestProbes`; its trunk shared with tests/test_cli_scene_float_path.py's).
+#: (:class:`probe_server.RequestProbes`; its trunk shared with tests/test_cli_scene_float_path.py's when
+#: both modules are collected).
 #: The trunk, by growing sets: the sequential law's float path and the float scene file's (nothing
 #: heavy), the scene file's Hertz request (the first to load SciPy), the float laws and a batch of
 #: float requests (SciPy). Then three branches, each after the whole trunk, each loading SymPy:

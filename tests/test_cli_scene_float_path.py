@@ -8,6 +8,8 @@ non-plain parameters (``sqrt(2)``, ``2*3``) still take the general reader."""
 
 from __future__ import annotations
 
+import contextlib
+import io
 import json
 from fractions import Fraction
 
@@ -15,8 +17,8 @@ import pytest
 
 import impactsym.cli.scene_args as scene_args
 from impactsym.scenes.registry import RATIONAL_SCENES, build_rational_scene, build_scene
+from impactsym.cli import main
 from probe_server import RequestProbes, session_dir
-from test_cli_float_path import _run
 
 SEQ = ["resolve", "--law", "sequential", "--float"]
 #: built-in scenes of rational data, with and without parameters
@@ -58,8 +60,9 @@ _BATCH_DIR = session_dir()
 _BATCH = ["batch", "--input", str(_BATCH_DIR / "scene-requests.jsonl"), "--output",
           str(_BATCH_DIR / "scene-answers.jsonl")]
 #: the probes of this module in forks of one fresh interpreter (:class:`probe_server.RequestProbes`;
-#: the trunk shared with tests/test_cli_float_path.py's): :data:`_CASES` then a batch of scene
-#: requests (SciPy, no SymPy); after the trunk, each request that must load SymPy in a branch of its own
+#: the trunk shared with tests/test_cli_float_path.py's when both modules are collected):
+#: :data:`_CASES` then a batch of scene requests (SciPy, no SymPy); after the trunk, each request
+#: that must load SymPy in a branch of its own
 _PROBES = RequestProbes(_CASES + [(_BATCH, 0, {"scipy"})],
                         [[(argv, 0, {"scipy", "sympy", "mpmath"})] for argv in SCENE_PROBE_CAN_FAIL],
                         group="float-path")
@@ -75,6 +78,16 @@ def test_the_scene_probe_can_fail(argv):
     """The pool's data are irrational (cos, sin of its angles); sqrt(2) is not plain text. Each
     runs in a branch of its own after the trunk (whose float requests load no SymPy)."""
     assert "sympy" not in _PROBES.before(argv) and "sympy" in _PROBES.loaded(argv)
+
+
+def _run(argv):
+    """``main(argv)`` in this process: (exit status, stdout, stderr). Not imported from
+    tests/test_cli_float_path.py, whose import would add its probes to this module's group (run
+    alone, this module would then pay for them)."""
+    out, err = io.StringIO(), io.StringIO()
+    with contextlib.redirect_stdout(out), contextlib.redirect_stderr(err):
+        status = main(argv)
+    return status, out.getvalue(), err.getvalue()
 
 
 LAWS = {
