@@ -20,8 +20,9 @@ the session:
   cold server's question. Nothing of this checkout is imported before a request (only third-party
   libraries), so the request imports ``impactsym`` itself, in its own order.
 
-The servers speak over two pipes of their own (length-prefixed ``repr`` of Python literals), never
-over the standard streams, which belong to the snippets and requests.
+The servers speak over two pipes of their own (length-prefixed ``repr`` of Python literals; module
+names joined by spaces, cheap to read back), never over the standard streams, which belong to the
+snippets and requests.
 """
 
 from __future__ import annotations
@@ -77,7 +78,7 @@ def _serve():
         t = os.times()
         try:
             exec(compile(code, "<probe>", "exec"), ns)
-            return ("ok", sys.stdout.getvalue(), sorted(sys.modules), os.times()[0] - t[0] + os.times()[1] - t[1])
+            return ("ok", sys.stdout.getvalue(), " ".join(sys.modules), os.times()[0] - t[0] + os.times()[1] - t[1])
         except BaseException:
             sys.stdout = saved
             import traceback
@@ -86,7 +87,7 @@ def _serve():
         finally:
             sys.stdout = saved
 
-    reply(("ok", "", sorted(sys.modules)))
+    reply(("ok", "", " ".join(sys.modules)))
     while True:
         cmd = read()
         if cmd[0] == "exec":  # run a snippet in this process
@@ -149,7 +150,7 @@ class _Server:
                                      stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, start_new_session=True)
         os.close(cmd_r)
         os.close(reply_w)
-        self.root_modules = frozenset(self._reply(60)[2])
+        self.root_modules = frozenset(self._reply(60)[2].split())
         if preload is not None:
             self.call(("exec", preload))
 
@@ -265,7 +266,7 @@ def probe_paths(paths: Sequence[Sequence[str]]) -> list[list[Step]]:
             answer = server.call(("exec" if in_place else "fork", snippet))
             if answer[0] != "ok":
                 raise ProbeError(f"the probe process of {snippet!r} died: {answer!r}")
-            results[prefix + (snippet,)] = Step(frozenset(answer[2]), answer[1], answer[3])
+            results[prefix + (snippet,)] = Step(frozenset(answer[2].split()), answer[1], answer[3])
             visit(child, prefix + (snippet,), False)
             if not in_place:
                 server.call(("pop",))
