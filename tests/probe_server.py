@@ -206,8 +206,9 @@ class _Server:
 
 _SERVERS: dict = {}
 #: the environment of the warm server: the session's, as it was when the tests were collected (a
-#: test that changes ``os.environ`` later does not change it for the requests of other tests)
-_SESSION_ENV = dict(os.environ, PYTHONPATH=str(ROOT))
+#: test that changes ``os.environ`` later does not change it for the requests of other tests), with
+#: this checkout first on ``PYTHONPATH``
+_SESSION_ENV = dict(os.environ, PYTHONPATH=os.pathsep.join(filter(None, [str(ROOT), os.environ.get("PYTHONPATH")])))
 
 
 def _server(kind: str) -> _Server:
