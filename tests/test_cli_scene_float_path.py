@@ -16,8 +16,8 @@ from fractions import Fraction
 import pytest
 
 import impactsym.cli.scene_args as scene_args
-from impactsym.scenes.registry import RATIONAL_SCENES, build_rational_scene, build_scene
 from impactsym.cli import main
+from impactsym.scenes.registry import RATIONAL_SCENES, build_rational_scene, build_scene
 from probe_server import RequestProbes, session_dir
 
 SEQ = ["resolve", "--law", "sequential", "--float"]
