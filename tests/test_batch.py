@@ -4,11 +4,10 @@ subcommand's own ``--json`` object, a bad line answered with an error and never 
 from __future__ import annotations
 
 import json
-import subprocess
-import sys
 
 from impactsym.cli import main
 from impactsym.oracle import iter_answers, request_argv, run_many
+from probe_server import run_python
 
 
 def cli_json(capsys, *argv):
@@ -77,7 +76,7 @@ def test_cli_files(tmp_path, capsys):
 def test_stdout_is_pure_json_lines():
     reqs = "".join(json.dumps({"id": i, "argv": ["resolve", "--law", "newton", "--scene", "chain3"]}) + "\n"
                    for i in range(3)) + "garbage\n"
-    p = subprocess.run([sys.executable, "-m", "impactsym", "batch"], input=reqs, capture_output=True, text=True)
+    p = run_python(["-m", "impactsym", "batch"], input=reqs)
     assert p.returncode == 0, p.stderr
     lines = p.stdout.splitlines()
     assert len(lines) == 4 and [json.loads(x)["exit_status"] for x in lines] == [0, 0, 0, 2]

@@ -9,13 +9,11 @@ check the whole process (no traceback on stderr, the time limit, the JSON error 
 from __future__ import annotations
 
 import json
-import os
-import subprocess
-import sys
 
 import pytest
 
 from impactsym.cli import main
+from probe_server import run_python
 
 EYE = ["--mass-matrix", "1,0;0,1", "--gradients", "1,0;-1,1", "--velocity", "-1,0"]
 LAWS = ["impulse-ratio", "newton", "poisson", "energetic", "han-gilmore", "two-surface", "sequential"]
@@ -292,9 +290,9 @@ def test_help_documents_the_json_error_object(capsys):
 
 # --------------------------------------------------------------------------- whole processes
 def _proc(*argv, timeout=120):
-    env = dict(os.environ)
-    return subprocess.run([sys.executable, "-m", "impactsym", *argv], capture_output=True, text=True, timeout=timeout,
-                          env=env, check=False)
+    """``python -m impactsym ARGV`` as a real process (a child of the probe server's warm
+    interpreter: its own exit status, stdout and stderr)."""
+    return run_python(["-m", "impactsym", *argv], timeout=timeout)
 
 
 @pytest.mark.parametrize("argv, argument", [

@@ -7,10 +7,10 @@ from __future__ import annotations
 
 import contextlib
 import io
-import subprocess
-import sys
+import json
 from fractions import Fraction
 from pathlib import Path
+from types import SimpleNamespace
 
 import pytest
 
@@ -18,8 +18,8 @@ import impactsym.cli.scene_args as scene_args
 from impactsym.cli import main
 from impactsym.errors import ImpactInputError
 from impactsym.resolution import RationalMatrix, System
+from probe_server import RequestProbes, probe_paths, session_dir
 
-ROOT = Path(__file__).resolve().parents[1]
 CHAIN = ["--mass-matrix", "1,0,0;0,1,0;0,0,1", "--gradients", "-1,1,0;0,-1,1", "--velocity", "1,0,0"]
 SKEW = ["--mass-matrix", "2,1/3;1/3,1", "--gradients", "1,0.1;-1,1/7", "--velocity", "-1,-2"]
 
@@ -36,52 +36,6 @@ FLOAT_REQUESTS = [
 ]
 
 
-def _loaded_many(requests) -> list:
-    """Run ``(argv, status)`` requests in order in one fresh interpreter; after each, the heavy
-    libraries loaded so far (SymPy, mpmath, SciPy). A library a request loads stays loaded, so the
-    sets only grow: the first request that loads a library is the one whose set shows it first."""
-    code = ("import contextlib, io, sys\nfrom impactsym.cli import main\n"
-            f"for argv, status in {[(list(a), s) for a, s in requests]!r}:\n"
-            "    with contextlib.redirect_stdout(io.StringIO()), contextlib.redirect_stderr(io.StringIO()):\n"
-            "        assert main(argv) == status, argv\n"
-            "    print(' '.join(m for m in ('sympy', 'mpmath', 'scipy') if m in sys.modules) + ';')")
-    return [set(x.split()) for x in _python(code).split(";")[:-1]]
-
-
-def _python(code: str) -> str:
-    """The standard output of ``code`` run by a fresh interpreter on this checkout (which must exit 0)."""
-    res = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, cwd=ROOT,
-                         env={"PYTHONPATH": str(ROOT), "PATH": "/usr/bin:/bin"})
-    assert res.returncode == 0, res.stderr
-    return res.stdout
-
-
-def _loaded(argv, status=0) -> set:
-    return _loaded_many([(argv, status)])[0]
-
-
-class _Probes:
-    """Requests probed in one interpreter (``_loaded_many``), in the order given: each request's
-    expected set must contain the previous ones' (else a library an earlier request loads would
-    hide in a later one's set), which the constructor checks."""
-
-    def __init__(self, cases):
-        self.cases = [(list(argv), status, frozenset(loaded)) for argv, status, loaded in cases]
-        for (_, _, a), (_, _, b) in zip(self.cases, self.cases[1:]):
-            assert a <= b, "order the probes by growing expected sets"
-        self._sets = None
-
-    def sets(self) -> list:
-        """The loaded set after each request, in order."""
-        if self._sets is None:
-            self._sets = _loaded_many([(a, s) for a, s, _ in self.cases])
-        return self._sets
-
-    def loaded(self, argv, status=0) -> set:
-        """The set after the first probe of ``(argv, status)``."""
-        return self.sets()[[(a, s) for a, s, _ in self.cases].index((list(argv), status))]
-
-
 FLOAT_LAW_PROBED = FLOAT_REQUESTS[::2] + [FLOAT_REQUESTS[-1]]
 
 
@@ -92,20 +46,16 @@ def test_a_float_law_on_plain_rationals_imports_no_sympy(argv):
 
 IRRATIONAL = ["resolve", "--law", "hertz", "--mass-matrix", "1,0;0,sqrt(2)", "--gradients", "1,0;0,1", "--velocity",
               "-1,-1"]
+POOL = ["resolve", "--law", "hertz", "--scene", "pool", "--theta", "pi/4"]
 
 
-@pytest.mark.parametrize("argv", [IRRATIONAL, ["resolve", "--law", "hertz", "--scene", "pool", "--theta", "pi/4"]])
+@pytest.mark.parametrize("argv", [IRRATIONAL, POOL])
 def test_the_probe_can_fail(argv):
     """Irrational entries and scenes (the pool: cos and sin of its angles) take the general (SymPy)
-    reader: the irrational request is the shared probe's first to load SymPy (none in the set
-    before it), the scene runs alone. The built-in scenes of rational data do not
+    reader: each is the first request of its branch of the shared probe, after a trunk of float
+    requests that loads none, and loads SymPy. The built-in scenes of rational data do not
     (tests/test_cli_scene_float_path.py)."""
-    if argv == IRRATIONAL:
-        sets = _PROBES.sets()
-        i = [a for a, _, _ in _PROBES.cases].index(argv)
-        assert "sympy" not in sets[i - 1] and "sympy" in sets[i]
-    else:
-        assert "sympy" in _loaded(argv)
+    assert "sympy" not in _PROBES.before(argv) and "sympy" in _PROBES.loaded(argv)
 
 
 def _run(argv):
@@ -165,28 +115,36 @@ def test_from_rationals_checks_exactly_and_prints_as_sympy():
         System.from_rationals([[Q(1), Q(1, 3)], [Q(1, 3), Q(0)]], H, v)
 
 
-def test_a_batch_of_float_requests_imports_no_sympy(tmp_path):
-    """``impactsym batch`` answers float-path requests without SymPy (the check machinery of
-    :mod:`impactsym.oracle` imports it on first use), and one exact request still takes it: both
-    batches probed in one interpreter, in that order (the first set has no SymPy, so the second
-    batch is the one that loads it)."""
-    import json
+_BATCH_LINES = [{"argv": ["resolve", "--law", "hertz", *SKEW], "id": 1},
+                {"command": "resolve", "args": {"law": "lzb", "mass_matrix": "1,0,0;0,1,0;0,0,1",
+                                                "gradients": "-1,1,0;0,-1,1", "velocity": "1,0,0",
+                                                "restitution": "0.9"}},
+                {"argv": ["scene", "list"]}]
 
-    lines = [{"argv": ["resolve", "--law", "hertz", *SKEW], "id": 1},
-             {"command": "resolve", "args": {"law": "lzb", "mass_matrix": "1,0,0;0,1,0;0,0,1",
-                                             "gradients": "-1,1,0;0,-1,1", "velocity": "1,0,0", "restitution": "0.9"}},
-             {"argv": ["scene", "list"]}]
-    floats, exact = tmp_path / "requests.jsonl", tmp_path / "with-newton.jsonl"
-    floats.write_text("\n".join(json.dumps(x) for x in lines) + "\n")
+
+def _batch_files(d: Path) -> SimpleNamespace:
+    """The two batches of :func:`test_a_batch_of_float_requests_imports_no_sympy`, written to ``d``."""
+    floats, exact = d / "float-path-requests.jsonl", d / "float-path-with-newton.jsonl"
+    floats.write_text("\n".join(json.dumps(x) for x in _BATCH_LINES) + "\n")
     exact.write_text(floats.read_text() + json.dumps({"argv": ["resolve", "--law", "newton", *CHAIN]}) + "\n")
-    first, second = _loaded_many([(["batch", "--input", str(floats), "--output", str(tmp_path / "answers.jsonl")], 0),
-                                  (["batch", "--input", str(exact), "--output", str(tmp_path / "answers2.jsonl")], 0)])
-    assert first == {"scipy"}
-    answers = [json.loads(x) for x in (tmp_path / "answers.jsonl").read_text().splitlines()]
+    answers, answers2 = d / "float-path-answers.jsonl", d / "float-path-answers2.jsonl"
+    return SimpleNamespace(floats=["batch", "--input", str(floats), "--output", str(answers)],
+                           exact=["batch", "--input", str(exact), "--output", str(answers2)], answers=answers,
+                           answers2=answers2)
+
+
+def test_a_batch_of_float_requests_imports_no_sympy():
+    """``impactsym batch`` answers float-path requests without SymPy (the check machinery of
+    :mod:`impactsym.oracle` imports it on first use), and one exact request still takes it: the
+    float batch ends the shared probe's trunk (no SymPy in its set), the exact one runs after it in
+    a branch of its own (the one that loads SymPy)."""
+    batch = _BATCH
+    assert _PROBES.loaded(batch.floats) == {"scipy"}
+    answers = [json.loads(x) for x in batch.answers.read_text().splitlines()]
     assert [a["exit_status"] for a in answers] == [0, 0, 0]
     assert answers[0]["result"]["system"]["mass_matrix"] == [["2", "1/3"], ["1/3", "1"]]
-    assert "sympy" in second
-    assert [json.loads(x)["exit_status"] for x in (tmp_path / "answers2.jsonl").read_text().splitlines()] == [0] * 4
+    assert "sympy" not in _PROBES.before(batch.exact) and "sympy" in _PROBES.loaded(batch.exact)
+    assert [json.loads(x)["exit_status"] for x in batch.answers2.read_text().splitlines()] == [0] * 4
 
 
 # ------------------------------------------------------------------ the sequential law's --float path
@@ -306,14 +264,23 @@ _SCENE_FILE_CASES = [
     (["resolve", "--law", "sequential", "--scene-file", "chain3-float"], set()),  # float literals: the float path
     (["resolve", "--law", "hertz", "--scene-file", "chain3-float", "--json"], {"scipy"}),
 ]
-#: every probe of this module that needs no interpreter of its own, in one interpreter, by growing
-#: sets: the sequential law's float path and the float scene file's (nothing heavy), the scene
-#: file's Hertz request (the first to load SciPy), the float laws (SciPy), then irrational entries
-#: (the general reader: SymPy from there on) and a float request again
-#: (test_the_probe_can_fail, test_one_interpreter_probes_each_request)
-_PROBES = _Probes([(a, s, ()) for a, s in SEQUENTIAL_PROBED] + [(a, 0, loaded) for a, loaded in _SCENE_FILE_CASES]
-                  + [(a, 0, {"scipy"}) for a in FLOAT_LAW_PROBED]
-                  + [(IRRATIONAL, 0, {"scipy", "sympy", "mpmath"}), (FLOAT_REQUESTS[2], 0, {"scipy", "sympy", "mpmath"})])
+
+
+#: every probe of this module that needs no process of its own, in forks of one fresh interpreter
+#: (:class:`probe_server.RequestProbes`; its trunk shared with tests/test_cli_scene_float_path.py's when
+#: both modules are collected).
+#: The trunk, by growing sets: the sequential law's float path and the float scene file's (nothing
+#: heavy), the scene file's Hertz request (the first to load SciPy), the float laws and a batch of
+#: float requests (SciPy). Then three branches, each after the whole trunk, each loading SymPy:
+#: irrational entries (the general reader) followed by a float request again; the pool scene; a
+#: batch with one exact request (test_the_probe_can_fail, test_one_interpreter_probes_each_request,
+#: test_a_batch_of_float_requests_imports_no_sympy)
+_BATCH = _batch_files(session_dir())
+_EVERYTHING = {"scipy", "sympy", "mpmath"}
+_PROBES = RequestProbes([(a, s, ()) for a, s in SEQUENTIAL_PROBED] + [(a, 0, loaded) for a, loaded in _SCENE_FILE_CASES]
+                        + [(a, 0, {"scipy"}) for a in FLOAT_LAW_PROBED] + [(_BATCH.floats, 0, {"scipy"})],
+                        [[(IRRATIONAL, 0, _EVERYTHING), (FLOAT_REQUESTS[2], 0, _EVERYTHING)], [(POOL, 0, _EVERYTHING)],
+                         [(_BATCH.exact, 0, _EVERYTHING)]], group="float-path")
 
 
 @pytest.mark.parametrize("argv,loaded", _SCENE_FILE_CASES)
@@ -325,9 +292,10 @@ def test_a_float_scene_file_imports_no_sympy(argv, loaded):
 
 def test_one_interpreter_probes_each_request():
     """The shared probe sees what each request loads: a request that loads SymPy shows it in its
-    own set and every later one, not in the earlier ones (the shared probe's last two requests)."""
-    assert _PROBES.cases[-2][:2] == (IRRATIONAL, 0) and _PROBES.cases[-1][:2] == (FLOAT_REQUESTS[2], 0)
-    sets = [_PROBES.loaded(FLOAT_REQUESTS[0])] + _PROBES.sets()[-2:]
+    own set and every later one, not in the earlier ones (the first branch's two requests)."""
+    branch = _PROBES.branches[0]
+    assert [c[:2] for c in branch] == [(IRRATIONAL, 0), (FLOAT_REQUESTS[2], 0)]
+    sets = [_PROBES.loaded(FLOAT_REQUESTS[0])] + _PROBES.sets(1)[-2:]
     assert sets[0] == {"scipy"} and {"sympy", "scipy"} <= sets[1] and sets[2] == sets[1]
 
 
@@ -340,7 +308,7 @@ def test_the_number_module_loads_sympy_on_first_use():
             "assert 'sympy' not in sys.modules and 'mpmath' not in sys.modules\n"
             "x = numbers.parse_number('sqrt(2)/2')\n"
             "print(type(x).__module__.split('.')[0], numbers.exact_str(x), numbers.parse_number('Integer(4)/2'))")
-    assert _python(code).split() == ["sympy", "sqrt(2)/2", "2"]
+    assert probe_paths([[code]])[0][0].out.split() == ["sympy", "sqrt(2)/2", "2"]
 
 
 def test_float_twins_of_exact_and_float_matrices():

@@ -2,12 +2,11 @@
 traceback for bad input (CONVENTIONS.md)."""
 
 import json
-import subprocess
-import sys
 
 import pytest
 
 from impactsym.cli import main
+from probe_server import run_python
 
 
 def run(capsys, *argv):
@@ -83,8 +82,7 @@ def test_unknown_law_exit_2(capsys):
 
 def test_console_script_and_argparse_errors_exit_2():
     """Through a real process: the installed console entry point, and argparse's own exit 2."""
-    proc = subprocess.run([sys.executable, "-m", "impactsym", "reflect", "--mass-matrix", "1,2;2,1",
-                           "--gradient", "-1,1"], capture_output=True, text=True)
+    proc = run_python(["-m", "impactsym", "reflect", "--mass-matrix", "1,2;2,1", "--gradient", "-1,1"])
     assert proc.returncode == 2 and "not positive definite" in proc.stderr and "Traceback" not in proc.stderr
-    proc = subprocess.run([sys.executable, "-m", "impactsym", "reflect"], capture_output=True, text=True)
+    proc = run_python(["-m", "impactsym", "reflect"])
     assert proc.returncode == 2 and "required" in proc.stderr

@@ -5,12 +5,11 @@ result outside the law's domain unless --allow-invalid."""
 from __future__ import annotations
 
 import json
-import subprocess
-import sys
 
 import pytest
 
 from impactsym.cli import main
+from probe_server import run_python
 
 CHAIN = ["--mass-matrix", "1,0,0;0,1,0;0,0,1", "--gradients", "-1,1,0;0,-1,1", "--velocity", "1,0,0"]
 
@@ -127,10 +126,9 @@ def test_bad_input_exit_2(capsys, args, needle):
 
 
 def test_subprocess_contract():
-    proc = subprocess.run([sys.executable, "-m", "impactsym", "resolve", "--law", "newton", "--scene", "chain3",
-                           "--json"], capture_output=True, text=True, check=False)
+    proc = run_python(["-m", "impactsym", "resolve", "--law", "newton", "--scene", "chain3", "--json"])
     assert proc.returncode == 0 and json.loads(proc.stdout)["impulses"] == ["4/3", "2/3"]
-    proc = subprocess.run([sys.executable, "-m", "impactsym", "resolve", "--law", "impulse-ratio", "--scene",
-                           "chain3", "--ratios", "1/4", "--json"], capture_output=True, text=True, check=False)
+    proc = run_python(["-m", "impactsym", "resolve", "--law", "impulse-ratio", "--scene", "chain3", "--ratios", "1/4",
+                       "--json"])
     assert proc.returncode == 2 and "Traceback" not in proc.stderr
     assert json.loads(proc.stdout)["error"]["message"] in proc.stderr  # one JSON object on stdout

@@ -8,14 +8,17 @@ non-plain parameters (``sqrt(2)``, ``2*3``) still take the general reader."""
 
 from __future__ import annotations
 
+import contextlib
+import io
 import json
 from fractions import Fraction
 
 import pytest
 
 import impactsym.cli.scene_args as scene_args
+from impactsym.cli import main
 from impactsym.scenes.registry import RATIONAL_SCENES, build_rational_scene, build_scene
-from test_cli_float_path import _loaded, _Probes, _run
+from probe_server import RequestProbes, session_dir
 
 SEQ = ["resolve", "--law", "sequential", "--float"]
 #: built-in scenes of rational data, with and without parameters
@@ -44,7 +47,25 @@ _CASES = [
     (["resolve", "--law", "power", "--exponent", "5/2", *SCENES[5], "--json"], 0, {"scipy"}),
     (["resolve", "--law", "hunt-crossley", "--restitution", "0.8", *SCENES[7]], 0, {"scipy"}),
 ]
-_PROBES = _Probes(_CASES)
+SCENE_PROBE_CAN_FAIL = [
+    [*SEQ, "--scene", "pool", "--theta", "pi/3", "--json"],
+    ["resolve", "--law", "hertz", "--scene", "chain3", "--masses", "sqrt(2),1,1"],
+]
+_BATCH_LINES = [{"argv": [*SEQ, "--scene", "cradle", "--n-balls", "4"]},
+                {"command": "resolve", "args": {"law": "hertz", "scene": "two-balls-wall", "masses": "11/10,1"}}]
+
+
+_BATCH_DIR = session_dir()
+(_BATCH_DIR / "scene-requests.jsonl").write_text("\n".join(json.dumps(x) for x in _BATCH_LINES) + "\n")
+_BATCH = ["batch", "--input", str(_BATCH_DIR / "scene-requests.jsonl"), "--output",
+          str(_BATCH_DIR / "scene-answers.jsonl")]
+#: the probes of this module in forks of one fresh interpreter (:class:`probe_server.RequestProbes`;
+#: the trunk shared with tests/test_cli_float_path.py's when both modules are collected):
+#: :data:`_CASES` then a batch of scene requests (SciPy, no SymPy); after the trunk, each request
+#: that must load SymPy in a branch of its own
+_PROBES = RequestProbes(_CASES + [(_BATCH, 0, {"scipy"})],
+                        [[(argv, 0, {"scipy", "sympy", "mpmath"})] for argv in SCENE_PROBE_CAN_FAIL],
+                        group="float-path")
 
 
 @pytest.mark.parametrize("argv,status,loaded", _CASES)
@@ -52,13 +73,21 @@ def test_a_float_path_request_on_a_builtin_scene_imports_no_sympy(argv, status, 
     assert _PROBES.loaded(argv, status) == loaded
 
 
-@pytest.mark.parametrize("argv", [
-    [*SEQ, "--scene", "pool", "--theta", "pi/3", "--json"],
-    ["resolve", "--law", "hertz", "--scene", "chain3", "--masses", "sqrt(2),1,1"],
-])
+@pytest.mark.parametrize("argv", SCENE_PROBE_CAN_FAIL)
 def test_the_scene_probe_can_fail(argv):
-    """The pool's data are irrational (cos, sin of its angles); sqrt(2) is not plain text."""
-    assert "sympy" in _loaded(argv)
+    """The pool's data are irrational (cos, sin of its angles); sqrt(2) is not plain text. Each
+    runs in a branch of its own after the trunk (whose float requests load no SymPy)."""
+    assert "sympy" not in _PROBES.before(argv) and "sympy" in _PROBES.loaded(argv)
+
+
+def _run(argv):
+    """``main(argv)`` in this process: (exit status, stdout, stderr). Not imported from
+    tests/test_cli_float_path.py, whose import would add its probes to this module's group (run
+    alone, this module would then pay for them)."""
+    out, err = io.StringIO(), io.StringIO()
+    with contextlib.redirect_stdout(out), contextlib.redirect_stderr(err):
+        status = main(argv)
+    return status, out.getvalue(), err.getvalue()
 
 
 LAWS = {
@@ -139,13 +168,8 @@ def test_the_rational_build_declines_what_it_cannot_read():
         assert build_rational_scene(name, params) is None, (name, params)
 
 
-def test_a_batch_of_scene_requests_imports_no_sympy(tmp_path):
-    lines = [{"argv": [*SEQ, "--scene", "cradle", "--n-balls", "4"]},
-             {"command": "resolve", "args": {"law": "hertz", "scene": "two-balls-wall", "masses": "11/10,1"}}]
-    path = tmp_path / "requests.jsonl"
-    path.write_text("\n".join(json.dumps(x) for x in lines) + "\n")
-    out = tmp_path / "answers.jsonl"
-    assert _loaded(["batch", "--input", str(path), "--output", str(out)]) == {"scipy"}
-    answers = [json.loads(x) for x in out.read_text().splitlines()]
+def test_a_batch_of_scene_requests_imports_no_sympy():
+    assert _PROBES.loaded(_BATCH) == {"scipy"}
+    answers = [json.loads(x) for x in (_BATCH_DIR / "scene-answers.jsonl").read_text().splitlines()]
     assert [a["exit_status"] for a in answers] == [0, 0]
     assert answers[1]["result"]["scene"] == {"scene": "two-balls-wall", "masses": ["11/10", "1"]}

@@ -2,39 +2,20 @@
 ``impactsym scene list`` import no SymPy, NumPy, SciPy, mpmath or flint, ``impactsym reflect`` on
 rational input only flint, and the law interface (:mod:`impactsym.lawbook`,
 :mod:`impactsym.resolution`) no SymPy or mpmath, so that refusing an option costs none (probed in
-fresh interpreters, snippets whose expected sets grow sharing one, checked through ``sys.modules``,
-not by timing); the lazy names of
+forks of one fresh interpreter, snippets whose expected sets grow sharing one process, checked
+through ``sys.modules``, not by timing); the lazy names of
 ``impactsym`` and ``impactsym.scenes`` resolve to the objects of their modules; the domain parser's
 scene names are the domains' own."""
 
 from __future__ import annotations
 
 import importlib
-import subprocess
-import sys
-from pathlib import Path
 
 import pytest
 
-ROOT = Path(__file__).resolve().parents[1]
+from probe_server import probe_paths
+
 HEAVY = ("sympy", "numpy", "scipy", "mpmath", "flint", "matplotlib")
-
-
-def _loaded_after(code: str) -> set:
-    return _loaded_after_each([code])[0]
-
-
-def _loaded_after_each(codes) -> list:
-    """Run the snippets ``codes`` in order in one fresh interpreter; after each, the heavy
-    libraries loaded so far. A library stays loaded, so the sets only grow: probe in one
-    interpreter only snippets whose expected sets grow (the first one that loads a library is
-    the first whose set shows it)."""
-    probe = "import sys\n" + "".join(f"{code}\nprint(' '.join(m for m in {HEAVY!r} if m in sys.modules) + ';')\n"
-                                     for code in codes)
-    res = subprocess.run([sys.executable, "-c", probe], capture_output=True, text=True, cwd=ROOT,
-                         env={"PYTHONPATH": str(ROOT), "PATH": "/usr/bin:/bin"})
-    assert res.returncode == 0, res.stderr
-    return [set(x.split()) for x in res.stdout.split(";")[:-1]]
 
 
 _START_UP = [
@@ -60,39 +41,47 @@ _RATIONAL_REFLECT = [
     ["reflect", "--mass-matrix", "1.5,1/4;0.25,2", "--gradient", "1e-3,2", "--restitution", "0.9", "--timeout", "30"],
     ["reflect", "--mass-matrix", "3,1,0;1,3,1;0,1,3", "--gradient", "1,0,0"],
 ]
-_SETS: list = []
+_LAWBOOK = "import impactsym.lawbook, impactsym.lawbook_compliant, impactsym.resolution"
+_IRRATIONAL_REFLECT = ["reflect", "--mass-matrix", "sqrt(2),0;0,1", "--gradient=-1,1", "--json"]
+_SETS: dict = {}
 
 
-def _start_up_sets() -> list:
-    """The start-up snippets, then the rational ``reflect`` requests, in one fresh interpreter (the
-    sets grow: nothing heavy, then flint)."""
+def _sets(path: str) -> list:
+    """The heavy libraries loaded after each snippet of one of three paths (probe_server.probe_paths:
+    forks of one fresh interpreter) that begin with the start-up snippets, whose sets must be
+    empty: then the rational ``reflect`` requests (flint) and an irrational one (SymPy); the law
+    interface; every law's ``--float`` refusal and an exact law that runs (SymPy). Along a path a
+    library stays loaded and the sets only grow: each path orders its snippets so."""
     if not _SETS:
-        _SETS.extend(_loaded_after_each(_START_UP + [_REFLECT.format(argv=argv) for argv in _RATIONAL_REFLECT]))
-    return _SETS
+        reflect = [_REFLECT.format(argv=argv) for argv in _RATIONAL_REFLECT + [_IRRATIONAL_REFLECT]]
+        paths = {"reflect": _START_UP + reflect,
+                 "lawbook": _START_UP + [_LAWBOOK],
+                 "refusals": _START_UP + [_refusal(law) for law in _FLOAT_REFUSERS] + [_NEWTON]}
+        for name, steps in zip(paths, probe_paths(list(paths.values()))):
+            _SETS[name] = [{m for m in HEAVY if m in step.modules} for step in steps]
+    return _SETS[path]
 
 
 @pytest.mark.parametrize("code", _START_UP)
 def test_start_up_imports_no_heavy_library(code):
-    assert _start_up_sets()[_START_UP.index(code)] == set()
+    assert _sets("reflect")[_START_UP.index(code)] == set()
 
 
 @pytest.mark.parametrize("argv", _RATIONAL_REFLECT)
 def test_reflect_on_rational_input_imports_only_flint(argv):
     """``reflect`` on plain rational entries runs in python-flint alone (issue 15): no SymPy, NumPy
     or mpmath at start-up."""
-    assert _start_up_sets()[len(_START_UP) + _RATIONAL_REFLECT.index(argv)] == {"flint"}
+    assert _sets("reflect")[len(_START_UP) + _RATIONAL_REFLECT.index(argv)] == {"flint"}
 
 
 def test_reflect_on_irrational_input_still_takes_sympy():
     """The probe above can fail: irrational entries load SymPy (the general path)."""
-    argv = ["reflect", "--mass-matrix", "sqrt(2),0;0,1", "--gradient=-1,1", "--json"]
-    assert "sympy" in _loaded_after(_REFLECT.format(argv=argv))
+    assert "sympy" not in _sets("reflect")[-2] and "sympy" in _sets("reflect")[-1]
 
 
 def test_the_law_interface_imports_no_sympy_or_mpmath():
     """The laws' table, options and outcome types (issue 15): NumPy only."""
-    code = "import impactsym.lawbook, impactsym.lawbook_compliant, impactsym.resolution"
-    assert _loaded_after(code) == {"numpy"}
+    assert _sets("lawbook")[-1] == {"numpy"}
 
 
 _RESOLVE = ("import contextlib, io\nfrom impactsym.cli import main\n"
@@ -102,36 +91,23 @@ _CHAIN = ["--mass-matrix", "1,0,0;0,1,0;0,0,1", "--gradients", "-1,1,0;0,-1,1", 
 
 
 _FLOAT_REFUSERS = ["newton", "poisson", "energetic", "impulse-ratio", "two-surface", "han-gilmore", "hertz", "lzb"]
-_REFUSALS: list = []
+_NEWTON = _RESOLVE.format(argv=["resolve", "--law", "newton", *_CHAIN, "--json"], status=0)
 
 
-def _refusal_sets() -> list:
-    """Every law's ``--float`` refusal in one interpreter, in ``_FLOAT_REFUSERS`` order; after each,
-    the heavy libraries loaded so far (they only grow: the first refusal that loaded SymPy is the
-    first whose set shows it)."""
-    if not _REFUSALS:
-        code = "".join(_RESOLVE.format(argv=["resolve", "--law", law, "--float", *_CHAIN, "--json"], status=2)
-                       + f"\nprint(' '.join(m for m in {HEAVY!r} if m in sys.modules) + ';')\n"
-                       for law in _FLOAT_REFUSERS)
-        probe = f"import sys\n{code}"
-        res = subprocess.run([sys.executable, "-c", probe], capture_output=True, text=True, cwd=ROOT,
-                             env={"PYTHONPATH": str(ROOT), "PATH": "/usr/bin:/bin"})
-        assert res.returncode == 0, res.stderr
-        _REFUSALS.extend(set(x.split()) for x in res.stdout.split(";")[:-1])
-    return _REFUSALS
+def _refusal(law: str) -> str:
+    return _RESOLVE.format(argv=["resolve", "--law", law, "--float", *_CHAIN, "--json"], status=2)
 
 
 @pytest.mark.parametrize("law", _FLOAT_REFUSERS)
 def test_refusing_float_for_a_law_without_it_imports_no_sympy(law):
     """``--float`` belongs to ``--law sequential``: every other law refuses it (exit 2) before any
-    number is read, without SymPy (all refusals probed in one interpreter, in order)."""
-    assert "sympy" not in _refusal_sets()[_FLOAT_REFUSERS.index(law)]
+    number is read, without SymPy (all refusals probed in one process, in order)."""
+    assert "sympy" not in _sets("refusals")[len(_START_UP) + _FLOAT_REFUSERS.index(law)]
 
 
 def test_the_refusal_probe_can_fail():
     """The probe above can fail: an exact law that runs loads SymPy."""
-    argv = ["resolve", "--law", "newton", *_CHAIN, "--json"]
-    assert "sympy" in _loaded_after(_RESOLVE.format(argv=argv, status=0))
+    assert "sympy" not in _sets("refusals")[-2] and "sympy" in _sets("refusals")[-1]
 
 
 def test_lazy_scene_names_are_the_modules_objects():

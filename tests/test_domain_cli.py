@@ -1,23 +1,15 @@
 """``impactsym domain``: the CLI contract (one JSON object, exit codes) and its content."""
 
 import json
-import subprocess
-import sys
-from pathlib import Path
 
 import pytest
 
 from impactsym.cli import main
-
-ROOT = Path(__file__).resolve().parent.parent
+from probe_server import run_python
 
 
 def _run(*args):
-    import os
-
-    env = dict(os.environ, PYTHONPATH=str(ROOT))
-    return subprocess.run([sys.executable, "-m", "impactsym", "domain", *args], capture_output=True, text=True,
-                          cwd=ROOT, env=env)
+    return run_python(["-m", "impactsym", "domain", *args])  # a real process, on this checkout
 
 
 def test_json_pool_pi_over_4(capsys):

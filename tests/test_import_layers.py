@@ -20,6 +20,8 @@ from pathlib import Path
 
 import pytest
 
+from probe_server import probe_paths, run_python
+
 ROOT = Path(__file__).resolve().parents[1]
 
 #: what each layer must not import (top-level package names)
@@ -150,24 +152,17 @@ print(validity_domain("chain3").region["e"], validity_domain("pool").region["alp
 
 def test_domains_and_benchmark_run_with_derivations_unimportable():
     """At run time, the code that used to run derivations (every domain kind, the chain's naive
-    form) works in a process where importing ``derivations`` or ``paper_checks`` raises."""
-    import os
-    import subprocess
-    import sys
-
-    env = {**os.environ, "PYTHONPATH": str(ROOT) + os.pathsep + os.environ.get("PYTHONPATH", "")}
-    r = subprocess.run([sys.executable, "-c", RUN_WITHOUT_UPPER_LAYERS], capture_output=True, text=True, env=env,
-                       cwd=ROOT)
+    form) works in a process where importing ``derivations`` or ``paper_checks`` raises (a real
+    process that imports this checkout's ``impactsym`` itself, after the finder is in place)."""
+    r = run_python(["-c", RUN_WITHOUT_UPPER_LAYERS])
     assert r.returncode == 0, r.stderr
     assert r.stdout.split() == ["(1/3,", "1)", "Max(0,", "cos(theta)/2)", "(5/9,", "1)", "(3/5,", "1)", "5"], r.stdout
 
 
 def test_import_impactsym_does_not_load_matplotlib_or_scipy_integrate():
-    """Figures and integrators load their heavy libraries when called, not on import."""
-    import subprocess
-    import sys
-
+    """Figures and integrators load their heavy libraries when called, not on import (probed in a
+    process that began as a fresh interpreter)."""
     code = ("import sys, impactsym, impactsym.figures, impactsym.cli; "
             "print(sorted(m for m in ('matplotlib', 'scipy.integrate') if m in sys.modules))")
-    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout
+    out = probe_paths([[code]])[0][0].out
     assert out.strip() == "[]", out

@@ -3,12 +3,11 @@
 from __future__ import annotations
 
 import json
-import subprocess
-import sys
 
 import pytest
 
 from impactsym.cli import main
+from probe_server import run_python
 
 
 def _run(capsys, *argv):
@@ -84,6 +83,5 @@ def test_bad_input_exits_2_with_a_message(capsys, argv, message):
 
 
 def test_subprocess_exit_status():
-    proc = subprocess.run([sys.executable, "-m", "impactsym", "resolve", "--law", "sequential", "--scene", "cradle",
-                           "--n-balls", "1"], capture_output=True, text=True)
+    proc = run_python(["-m", "impactsym", "resolve", "--law", "sequential", "--scene", "cradle", "--n-balls", "1"])
     assert proc.returncode == 2 and "n_balls" in proc.stderr and "Traceback" not in proc.stderr
