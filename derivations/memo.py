@@ -33,7 +33,48 @@ def simplify(expr, **kwargs):
 
 @lru_cache(maxsize=8192, typed=True)
 def _simplify_cached(expr, **kwargs):
+    if not kwargs:
+        reduced = _trigonometry_free(expr)
+        if reduced is not None:
+            return sp.simplify(reduced)
     return sp.simplify(expr, **kwargs)
+
+
+def _trigonometry_free(expr):
+    """``expr`` without its sines and cosines, when the addition formulas (``expand_trig``) and
+    ``sin²u = 1 − cos²u`` eliminate every one of them; None otherwise.
+
+    Both rewritings are identities, so the result equals ``expr``; it is what ``simplify`` has to
+    find through ``trigsimp`` (0.03-0.12 s each for the energies and coefficients of the pool,
+    ``sin²(τ − θ) + cos²(τ − θ)``), found by polynomial division instead, and ``simplify`` of it
+    returns the same expression as ``simplify(expr)``: checked on each of the 25 such calls of the
+    code generator, the closed-form and domain tests and the paper audit (the generated files and
+    ``reproduce --json`` are byte-identical).
+
+    >>> t, e = sp.symbols("t e", real=True)
+    >>> _trigonometry_free((1 - e) * (sp.sin(t - 1)**2 + sp.cos(t - 1)**2) / 2)
+    1/2 - e/2
+    >>> _trigonometry_free(sp.sin(t)**2 + sp.cos(t)) is None
+    True
+    """
+    if not isinstance(expr, sp.Expr) or not expr.has(sp.sin, sp.cos):
+        return None
+    expanded = sp.expand(sp.expand_trig(expr))
+    angles = sorted({f.args[0] for f in expanded.atoms(sp.sin, sp.cos)}, key=sp.default_sort_key)
+    gens = [f(u) for u in angles for f in (sp.sin, sp.cos)]
+    if not gens:
+        reduced = expanded
+    else:
+        # the relations have the coprime leading monomials sin(u)² (lex, each sine before its
+        # cosine): a Gröbner basis, so the remainder is the normal form, with no sin(u)²
+        relations = [sp.sin(u) ** 2 + sp.cos(u) ** 2 - 1 for u in angles]
+        try:
+            reduced = sp.reduced(expanded, relations, *gens, order="lex")[1]
+        except sp.polys.polyerrors.BasePolynomialError:  # a sine or cosine in a denominator or a root
+            return None
+    if reduced.has(sp.sin, sp.cos, sp.tan, sp.cot, sp.sec, sp.csc):
+        return None
+    return reduced
 
 
 #: SymPy's simplify and nothing of ours: kept across mutations (see the module docstring)
