@@ -65,7 +65,28 @@ class ArrayKernel:
         return self.name.replace("_", "-")
 
 
-class _Printer(NumPyPrinter):
+#: (Add, order) -> its terms in printing order, shared by every printer of this module
+_ORDERED_TERMS: dict = {}
+
+
+class _SharedTermOrder:
+    """Printer mixin: the terms of a sum are sorted once for all printers. SymPy's
+    ``Printer._as_ordered_terms`` sorts them on every print (``Expr.as_ordered_terms``, a quarter
+    of printing a kernel), and each kernel's sums are printed in seven languages and its catalog
+    entry; the order is a function of the expression and ``order`` alone."""
+
+    def _as_ordered_terms(self, expr, order=None):
+        order = order or self.order
+        if order in ("old", "none"):
+            return super()._as_ordered_terms(expr, order=order)
+        key = (expr, order)
+        hit = _ORDERED_TERMS.get(key)
+        if hit is None:
+            hit = _ORDERED_TERMS[key] = tuple(expr.as_ordered_terms(order=order))
+        return list(hit)
+
+
+class _Printer(_SharedTermOrder, NumPyPrinter):
     """NumPy printer with a fixed module alias, so output is deterministic and short."""
 
     def __init__(self):
@@ -453,7 +474,7 @@ LANGUAGES = ("c", "python", "numpy", "julia", "octave", "fortran", "rust")
 LANGUAGE_DIRS = {"c": "c", "julia": "julia", "octave": "octave", "fortran": "fortran", "rust": "rust"}
 
 
-class _CPrinter(C99CodePrinter):
+class _CPrinter(_SharedTermOrder, C99CodePrinter):
     """C99 without the non-standard ``M_SQRT2``-style macros (absent under ``-std=c99``)."""
 
     def __init__(self):
@@ -463,7 +484,7 @@ class _CPrinter(C99CodePrinter):
         return "3.14159265358979323846"
 
 
-class _RustPrinter(RustCodePrinter):
+class _RustPrinter(_SharedTermOrder, RustCodePrinter):
     """Rust printer whose numbers are ``f64`` literals (the stock one prints ``2*x``, which does
     not compile for ``x: f64``, and evaluates ``sqrt(2)`` to 13 digits).
 
@@ -531,7 +552,7 @@ class _RustPrinter(RustCodePrinter):
         return f"{b}.powf({self._print(exp)})"
 
 
-class _PythonPrinter(PythonCodePrinter):
+class _PythonPrinter(_SharedTermOrder, PythonCodePrinter):
     """Python (``math``) printer that parenthesizes ``%``: SymPy 1.14 prints ``2*Mod(ceiling(x), 2)*y``
     inside a longer product as ``2*math.ceil(x) % 2*y``, which Python reads as ``((2*ceil(x)) % 2)*y``."""
 
@@ -542,7 +563,7 @@ class _PythonPrinter(PythonCodePrinter):
         return "(" + super()._print_Mod(expr) + ")"
 
 
-class _FortranPrinter(FCodePrinter):
+class _FortranPrinter(_SharedTermOrder, FCodePrinter):
     """Free-form Fortran 2008; π as a double-precision literal (the stock printer emits a
     ``parameter`` declaration inside the expression)."""
 
@@ -574,7 +595,7 @@ class _FortranPrinter(FCodePrinter):
         return code
 
 
-class _OctavePrinter(OctaveCodePrinter):
+class _OctavePrinter(_SharedTermOrder, OctaveCodePrinter):
     """Octave printer whose Piecewise with a NaN branch selects with ``merge(c, a, b)``: the stock
     inline form ``(c).*(a) + (~(c)).*(b)`` multiplies the branch not taken by 0, and 0·NaN is NaN,
     so every output with a NaN branch (a two-surface branch that does not exist) came out NaN.
@@ -592,10 +613,14 @@ class _OctavePrinter(OctaveCodePrinter):
         return code
 
 
+class _JuliaPrinter(_SharedTermOrder, JuliaCodePrinter):
+    """SymPy's Julia printer, sorting each sum's terms once (:class:`_SharedTermOrder`)."""
+
+
 def _printers():
     return {
         "c": _CPrinter(),
-        "julia": JuliaCodePrinter({"inline": True}),
+        "julia": _JuliaPrinter({"inline": True}),
         "octave": _OctavePrinter(),
         "fortran": _FortranPrinter(),
         "rust": _RustPrinter(),
@@ -900,7 +925,7 @@ def render_octave(derivation, family, kernel) -> str:
     return _hash_header(derivation, family, "%") + "\n" + code + "\n"
 
 
-class _SharedReprPrinter(ReprPrinter):
+class _SharedReprPrinter(_SharedTermOrder, ReprPrinter):
     """``sympy.srepr`` printing each distinct subexpression once (a kernel's outputs repeat theirs:
     ``two_surface_resolution_2`` has 363 distinct nodes in 51 532). Only for expressions without
     ``Float`` (two Floats of different precision compare equal and print differently)."""
