@@ -23,6 +23,13 @@ __all__ = ["simplify"]
 
 def simplify(expr, **kwargs):
     """``sympy.simplify(expr, **kwargs)``, memoized per (expression, options)."""
+    if not kwargs and isinstance(expr, sp.Expr) and expr.has(sp.sin, sp.cos):
+        try:
+            reduced = _trigonometry_free(expr)
+        except TypeError:  # unhashable
+            reduced = None
+        if reduced is not None:
+            expr = reduced
     try:
         return _simplify_cached(expr, **kwargs)
     except TypeError as exc:
@@ -33,13 +40,10 @@ def simplify(expr, **kwargs):
 
 @lru_cache(maxsize=8192, typed=True)
 def _simplify_cached(expr, **kwargs):
-    if not kwargs:
-        reduced = _trigonometry_free(expr)
-        if reduced is not None:
-            return sp.simplify(reduced)
     return sp.simplify(expr, **kwargs)
 
 
+@lru_cache(maxsize=8192)
 def _trigonometry_free(expr):
     """``expr`` without its sines and cosines, when the addition formulas (``expand_trig``) and
     ``sin²u = 1 − cos²u`` eliminate every one of them; None otherwise.
