@@ -233,12 +233,14 @@ def _distinct_nodes(expr) -> list:
     return list(seen)
 
 
-def _xreplace_shared(expr, rule: dict):
+def _xreplace_shared(expr, rule: dict, memo: dict | None = None):
     """``expr.xreplace(rule)``, each distinct subexpression visited once (SymPy 1.14's
-    ``Basic._xreplace``, with a memo: a node is rebuilt when a rule matched inside it)."""
+    ``Basic._xreplace``, with a memo: a node is rebuilt when a rule matched inside it). A ``memo``
+    passed in is shared with other calls: only valid when ``rule`` maps every node the same way in
+    all of them (see :func:`_sub_pre_shared`)."""
     if not rule:
         return expr
-    memo: dict = {}
+    memo = {} if memo is None else memo
 
     def xr(node):
         hit = memo.get(node)
@@ -262,12 +264,28 @@ def _xreplace_shared(expr, rule: dict):
     return xr(expr)[0]
 
 
-def _sub_pre_shared(e):
+def _sub_pre_shared(e, shared: dict | None = None):
     """SymPy 1.14's ``cse_opts.sub_pre`` (``y - x`` as ``-(x - y)`` where ``-1`` can be extracted),
-    with its ``atoms`` and ``xreplace`` visiting each distinct subexpression once."""
+    with its ``atoms`` and ``xreplace`` visiting each distinct subexpression once.
+
+    ``shared`` (one dict for the outputs of one kernel, which repeat each other's subexpressions)
+    keeps what depends on a subexpression alone: whether a sum can extract ``-1``, and the first
+    replacement, whose rule sends every such sum ``a`` (with ``-a`` not a product) to ``-1·(-a)``
+    whichever output it occurs in, so the replacement of a subexpression is the same in all of
+    them. The second replacement depends on the output's own sums and is not shared."""
     from sympy.core.sorting import default_sort_key
 
-    adds = [a for a in _distinct_nodes(e) if isinstance(a, sp.Add) and a.could_extract_minus_sign()]
+    shared = {} if shared is None else shared
+    minus = shared.setdefault("minus", {})
+    first = shared.setdefault("first", {})
+
+    def extracts(a):
+        hit = minus.get(a)
+        if hit is None:
+            hit = minus[a] = a.could_extract_minus_sign()
+        return hit
+
+    adds = [a for a in _distinct_nodes(e) if isinstance(a, sp.Add) and extracts(a)]
     reps = {}
     ignore = set()
     for a in adds:
@@ -277,7 +295,7 @@ def _sub_pre_shared(e):
             continue
         reps[a] = sp.Mul._from_args([sp.S.NegativeOne, na])
 
-    e = _xreplace_shared(e, reps)
+    e = _xreplace_shared(e, reps, first)
 
     # repeat again for persisting Adds but mark these with a leading 1, -1
     # e.g. y - x -> 1*-1*(x - y)
@@ -288,7 +306,7 @@ def _sub_pre_shared(e):
                 continue
             if a in reps:
                 negs[a] = reps[a]
-            elif a.could_extract_minus_sign():
+            elif extracts(a):
                 negs[a] = sp.Mul._from_args([sp.S.One, sp.S.NegativeOne, -a])
         e = _xreplace_shared(e, negs)
     return e
@@ -317,7 +335,8 @@ def _cse_optimizations():
     if [(sub_pre, sub_post), (sp.factor_terms, None)] != list(basic_optimizations):
         raise RuntimeError("SymPy's basic cse optimizations changed: _cse_optimizations must follow them")
     memo: dict = {}  # factor_terms of a subexpression, shared by the outputs of one kernel
-    return [(_sub_pre_shared, sub_post), (lambda e: _factor_terms_shared(e, memo), None)]
+    shared: dict = {}  # the same for sub_pre (what depends on a subexpression alone)
+    return [(lambda e: _sub_pre_shared(e, shared), sub_post), (lambda e: _factor_terms_shared(e, memo), None)]
 
 
 def _cse(k: ScalarKernel):
