@@ -478,11 +478,30 @@ def is_zero(expr) -> bool:
     (True, False, False)
     """
     expr = sp.sympify(expr)
-    if is_zero_algebraic(expr) or (_compound_angles(expr) and is_zero_algebraic(sp.expand_trig(expr))):
+    if is_zero_algebraic(expr) or (_compound_angles(expr) and _is_zero_expanded_trig(expr)):
         return True
     if is_zero_rational_function(expr) is False or nonzero_at_a_point(expr):
         return False
     return simplify(expr) == 0
+
+
+def _is_zero_expanded_trig(expr) -> bool:
+    """:func:`is_zero_algebraic` of ``expand_trig(expr)`` (the addition formulas, an identity), with
+    each sine and cosine of a number (``sin(2/5)``, left by the expansion of ``sin(2/5 + π/6)``)
+    read as the sine and cosine of a fresh real symbol ``u``: zero for every ``u`` is zero at the
+    number. Only where those symbols occur in no denominator and no root, so that the
+    denominator :func:`is_zero_algebraic` proves non-zero does not depend on them."""
+    expanded = sp.expand_trig(expr)
+    numbers = sorted({f.args[0] for f in expanded.atoms(sp.sin, sp.cos) if not f.args[0].free_symbols},
+                     key=sp.default_sort_key)
+    if numbers:
+        fresh = {x: sp.Dummy("u", real=True) for x in numbers}
+        expanded = expanded.xreplace({f: f.func(fresh[f.args[0]]) for f in expanded.atoms(sp.sin, sp.cos)
+                                      if f.args[0] in fresh})
+        dummies = list(fresh.values())
+        if any(not (p.exp.is_Integer and p.exp > 0) and p.base.has(*dummies) for p in expanded.atoms(sp.Pow)):
+            return False
+    return bool(is_zero_algebraic(expanded))
 
 
 def _compound_angles(expr) -> bool:
