@@ -351,15 +351,30 @@ def _cse(k: ScalarKernel):
     return result
 
 
+_PRINTED: dict = {}
+
+
+def _printed(k: ScalarKernel, lang: str):
+    """``(replacements, outputs)`` of the kernel's CSE printed in ``lang`` (``"numpy"`` or
+    ``"python"``): ``[(symbol, code)]`` and ``[code]``, printed once per kernel object (the
+    committed module and the catalog both print the NumPy and the Python forms)."""
+    hit = _PRINTED.get((id(k), lang))
+    if hit is not None and hit[0] is k:
+        return hit[1]
+    replacements, reduced = _cse(k)
+    doprint = numpy_code if lang == "numpy" else _printers()[lang].doprint
+    out = ([(sym, doprint(expr)) for sym, expr in replacements], [doprint(e) for e in reduced])
+    _PRINTED[(id(k), lang)] = (k, out)
+    return out
+
+
 def _python_helper(k: ScalarKernel) -> list[str]:
     """``_<name>_python``: the plain-Python (``math``) form the NumPy kernel dispatches scalars to."""
-    P = _printers()["python"]
-    replacements, reduced = _cse(k)
+    replacements, outs = _printed(k, "python")
     args = ", ".join(str(a) for a in k.args)
     lines = [f"def _{k.name}_python({args}):"]
-    for sym, expr in replacements:
-        lines.append(f"    {sym} = {P.doprint(expr)}")
-    outs = [P.doprint(e) for e in reduced]
+    for sym, code in replacements:
+        lines.append(f"    {sym} = {code}")
     if len(outs) == 1:
         lines.append(f"    return float({outs[0]})")
     else:
@@ -371,7 +386,7 @@ def _render_scalar(k: ScalarKernel, dispatch: bool = False) -> str:
     """The NumPy form of a closed form; with ``dispatch`` (the committed modules), preceded by its
     plain-Python form and sending all-scalar calls there (measured 38-360x faster on one point,
     benchmarks/results/scalar_dispatch.md); ``impactsym codegen --lang numpy`` prints the NumPy form alone."""
-    replacements, reduced = _cse(k)
+    replacements, outs = _printed(k, "numpy")
     arglist = ", ".join(
         f"{a}={k.defaults[str(a)]!r}" if str(a) in k.defaults else str(a) for a in k.args
     )
@@ -388,9 +403,8 @@ def _render_scalar(k: ScalarKernel, dispatch: bool = False) -> str:
               f"        return _chunked({k.name}, ({names},), {len(k.output_names)})"]
     for a in k.args:
         lines.append(f"    {a} = numpy.asarray({a}, dtype=float)")
-    for sym, expr in replacements:
-        lines.append(f"    {sym} = {numpy_code(expr)}")
-    outs = [numpy_code(e) for e in reduced]
+    for sym, code in replacements:
+        lines.append(f"    {sym} = {code}")
     for name, code in zip(k.output_names, outs):
         lines.append(f"    {name} = {code}")
     if len(outs) == 1:
@@ -817,14 +831,13 @@ def rust_scalar(k: ScalarKernel) -> str:
 
 def python_scalar(k: ScalarKernel) -> str:
     """Pure Python (``math`` module) form of a closed form: fastest for one scalar evaluation."""
-    P = _printers()["python"]
-    replacements, reduced = _cse(k)
+    replacements, codes = _printed(k, "python")
     args = ", ".join(f"{a}={k.defaults[str(a)]!r}" if str(a) in k.defaults else str(a) for a in k.args)
     lines = ["import math", "", "", f"def {k.name}({args}):", '    """' + "\n    ".join(_doc_lines(k)) + '\n    """']
-    for sym, expr in replacements:
-        lines.append(f"    {sym} = {P.doprint(expr)}")
-    for name, expr in zip(k.output_names, reduced):
-        lines.append(f"    {name} = {P.doprint(expr)}")
+    for sym, code in replacements:
+        lines.append(f"    {sym} = {code}")
+    for name, code in zip(k.output_names, codes):
+        lines.append(f"    {name} = {code}")
     outs = ", ".join(k.output_names)
     lines.append(f"    return {outs}" if len(k.output_names) == 1 else f"    return ({outs})")
     return "\n".join(lines)
