@@ -49,6 +49,7 @@ from pathlib import Path
 import sympy as sp
 
 from .memo import simplify
+from .rational_zero import is_zero_rational_function
 from impactsym.models.acary_taha import chain3
 
 from .codegen import ScalarKernel, render_family
@@ -295,12 +296,20 @@ def stable_root(A, B, C, D=None):
     if D is None:
         D = B**2 - 4 * A * C
     else:  # an emitted form of the discriminant: must be B^2 - 4AC
-        if not (sp.cancel(D - (B**2 - 4 * A * C)) == 0):
+        if not (_zero_rational(D - (B**2 - 4 * A * C))):
             raise DerivationError(D)
     return sp.Piecewise(
         ((sp.Abs(B) + sp.sqrt(D)) / (2 * A), B <= 0),
         (-2 * C / (sp.Abs(B) + sp.sqrt(D)), True),
     )
+
+
+def _zero_rational(x) -> bool:
+    """``cancel(x) == 0``: decided by the flint zero test of a rational function
+    (:func:`derivations.rational_zero.is_zero_rational_function`, exact) when ``x`` is one with
+    rational coefficients, else by ``sympy.cancel``."""
+    verdict = is_zero_rational_function(x)
+    return sp.cancel(x) == 0 if verdict is None else verdict
 
 
 def emitted_coefficients():
@@ -327,7 +336,7 @@ def emitted_coefficients():
     B = (v2 - v1) + alpha * (v3 - v2)
     C = (1 - e) * (m1 * v1**2 + m2 * v2**2 + m3 * v3**2) / 2
     for emitted, derived in ((A, g["A"]), (B, g["B"]), (C, g["C"])):
-        if not (sp.cancel(emitted - derived) == 0):
+        if not (_zero_rational(emitted - derived)):
             raise DerivationError((emitted, derived))
     return A, B, C
 
@@ -356,7 +365,7 @@ def emitted_discriminant():
     wedge = sum((c[i] * ms[j] * vs[j] - c[j] * ms[i] * vs[i]) ** 2 / (ms[i] * ms[j])
                 for i in range(3) for j in range(i + 1, 3))
     D = e * B**2 - (1 - e) * wedge
-    if not (sp.cancel(D - (B**2 - 4 * A * C)) == 0):
+    if not (_zero_rational(D - (B**2 - 4 * A * C))):
         raise DerivationError('derivation check failed: sp.cancel(D - (B**2 - 4 * A * C)) == 0')
     return D
 
@@ -372,10 +381,10 @@ def _emitted_w3(A, B, D, p1):
     """
     N = m3 * v3 * ((1 - alpha) ** 2 / m2 + 1 / m1) + alpha * (v1 - (1 - alpha) * v2)
     r = sp.Symbol("r", positive=True)
-    if not (sp.cancel(N - (2 * A * m3 * v3 - alpha * B)) == 0):  # |B| = -B on this branch
+    if not (_zero_rational(N - (2 * A * m3 * v3 - alpha * B))):  # |B| = -B on this branch
         raise DerivationError('derivation check failed: sp.cancel(N - (2 * A * m3 * v3 - alpha * B)) == 0')
     approach = (N + alpha * sp.sqrt(D)) / (2 * A * m3)
-    if not (sp.cancel((N + alpha * r) / (2 * A * m3) - (v3 + alpha * (-B + r) / (2 * A * m3))) == 0):
+    if not (_zero_rational((N + alpha * r) / (2 * A * m3) - (v3 + alpha * (-B + r) / (2 * A * m3)))):
         raise DerivationError('derivation check failed: sp.cancel((N + alpha * r) / (2 * A * m3) - (v3 + alpha * (-B + r) / (2 * A * m3))) == 0')
     (_, cond1), (leave, _) = p1.args
     return sp.Piecewise((approach, cond1), (v3 + alpha * leave / m3, True))

@@ -65,7 +65,28 @@ class ArrayKernel:
         return self.name.replace("_", "-")
 
 
-class _Printer(NumPyPrinter):
+#: (Add, order) -> its terms in printing order, shared by every printer of this module
+_ORDERED_TERMS: dict = {}
+
+
+class _SharedTermOrder:
+    """Printer mixin: the terms of a sum are sorted once for all printers. SymPy's
+    ``Printer._as_ordered_terms`` sorts them on every print (``Expr.as_ordered_terms``, a quarter
+    of printing a kernel), and each kernel's sums are printed in seven languages and its catalog
+    entry; the order is a function of the expression and ``order`` alone."""
+
+    def _as_ordered_terms(self, expr, order=None):
+        order = order or self.order
+        if order in ("old", "none"):
+            return super()._as_ordered_terms(expr, order=order)
+        key = (expr, order)
+        hit = _ORDERED_TERMS.get(key)
+        if hit is None:
+            hit = _ORDERED_TERMS[key] = tuple(expr.as_ordered_terms(order=order))
+        return list(hit)
+
+
+class _Printer(_SharedTermOrder, NumPyPrinter):
     """NumPy printer with a fixed module alias, so output is deterministic and short."""
 
     def __init__(self):
@@ -212,12 +233,14 @@ def _distinct_nodes(expr) -> list:
     return list(seen)
 
 
-def _xreplace_shared(expr, rule: dict):
+def _xreplace_shared(expr, rule: dict, memo: dict | None = None):
     """``expr.xreplace(rule)``, each distinct subexpression visited once (SymPy 1.14's
-    ``Basic._xreplace``, with a memo: a node is rebuilt when a rule matched inside it)."""
+    ``Basic._xreplace``, with a memo: a node is rebuilt when a rule matched inside it). A ``memo``
+    passed in is shared with other calls: only valid when ``rule`` maps every node the same way in
+    all of them (see :func:`_sub_pre_shared`)."""
     if not rule:
         return expr
-    memo: dict = {}
+    memo = {} if memo is None else memo
 
     def xr(node):
         hit = memo.get(node)
@@ -241,12 +264,28 @@ def _xreplace_shared(expr, rule: dict):
     return xr(expr)[0]
 
 
-def _sub_pre_shared(e):
+def _sub_pre_shared(e, shared: dict | None = None):
     """SymPy 1.14's ``cse_opts.sub_pre`` (``y - x`` as ``-(x - y)`` where ``-1`` can be extracted),
-    with its ``atoms`` and ``xreplace`` visiting each distinct subexpression once."""
+    with its ``atoms`` and ``xreplace`` visiting each distinct subexpression once.
+
+    ``shared`` (one dict for the outputs of one kernel, which repeat each other's subexpressions)
+    keeps what depends on a subexpression alone: whether a sum can extract ``-1``, and the first
+    replacement, whose rule sends every such sum ``a`` (with ``-a`` not a product) to ``-1·(-a)``
+    whichever output it occurs in, so the replacement of a subexpression is the same in all of
+    them. The second replacement depends on the output's own sums and is not shared."""
     from sympy.core.sorting import default_sort_key
 
-    adds = [a for a in _distinct_nodes(e) if isinstance(a, sp.Add) and a.could_extract_minus_sign()]
+    shared = {} if shared is None else shared
+    minus = shared.setdefault("minus", {})
+    first = shared.setdefault("first", {})
+
+    def extracts(a):
+        hit = minus.get(a)
+        if hit is None:
+            hit = minus[a] = a.could_extract_minus_sign()
+        return hit
+
+    adds = [a for a in _distinct_nodes(e) if isinstance(a, sp.Add) and extracts(a)]
     reps = {}
     ignore = set()
     for a in adds:
@@ -256,7 +295,7 @@ def _sub_pre_shared(e):
             continue
         reps[a] = sp.Mul._from_args([sp.S.NegativeOne, na])
 
-    e = _xreplace_shared(e, reps)
+    e = _xreplace_shared(e, reps, first)
 
     # repeat again for persisting Adds but mark these with a leading 1, -1
     # e.g. y - x -> 1*-1*(x - y)
@@ -267,7 +306,7 @@ def _sub_pre_shared(e):
                 continue
             if a in reps:
                 negs[a] = reps[a]
-            elif a.could_extract_minus_sign():
+            elif extracts(a):
                 negs[a] = sp.Mul._from_args([sp.S.One, sp.S.NegativeOne, -a])
         e = _xreplace_shared(e, negs)
     return e
@@ -296,7 +335,8 @@ def _cse_optimizations():
     if [(sub_pre, sub_post), (sp.factor_terms, None)] != list(basic_optimizations):
         raise RuntimeError("SymPy's basic cse optimizations changed: _cse_optimizations must follow them")
     memo: dict = {}  # factor_terms of a subexpression, shared by the outputs of one kernel
-    return [(_sub_pre_shared, sub_post), (lambda e: _factor_terms_shared(e, memo), None)]
+    shared: dict = {}  # the same for sub_pre (what depends on a subexpression alone)
+    return [(lambda e: _sub_pre_shared(e, shared), sub_post), (lambda e: _factor_terms_shared(e, memo), None)]
 
 
 def _cse(k: ScalarKernel):
@@ -311,15 +351,30 @@ def _cse(k: ScalarKernel):
     return result
 
 
+_PRINTED: dict = {}
+
+
+def _printed(k: ScalarKernel, lang: str):
+    """``(replacements, outputs)`` of the kernel's CSE printed in ``lang`` (``"numpy"`` or
+    ``"python"``): ``[(symbol, code)]`` and ``[code]``, printed once per kernel object (the
+    committed module and the catalog both print the NumPy and the Python forms)."""
+    hit = _PRINTED.get((id(k), lang))
+    if hit is not None and hit[0] is k:
+        return hit[1]
+    replacements, reduced = _cse(k)
+    doprint = numpy_code if lang == "numpy" else _printers()[lang].doprint
+    out = ([(sym, doprint(expr)) for sym, expr in replacements], [doprint(e) for e in reduced])
+    _PRINTED[(id(k), lang)] = (k, out)
+    return out
+
+
 def _python_helper(k: ScalarKernel) -> list[str]:
     """``_<name>_python``: the plain-Python (``math``) form the NumPy kernel dispatches scalars to."""
-    P = _printers()["python"]
-    replacements, reduced = _cse(k)
+    replacements, outs = _printed(k, "python")
     args = ", ".join(str(a) for a in k.args)
     lines = [f"def _{k.name}_python({args}):"]
-    for sym, expr in replacements:
-        lines.append(f"    {sym} = {P.doprint(expr)}")
-    outs = [P.doprint(e) for e in reduced]
+    for sym, code in replacements:
+        lines.append(f"    {sym} = {code}")
     if len(outs) == 1:
         lines.append(f"    return float({outs[0]})")
     else:
@@ -331,7 +386,7 @@ def _render_scalar(k: ScalarKernel, dispatch: bool = False) -> str:
     """The NumPy form of a closed form; with ``dispatch`` (the committed modules), preceded by its
     plain-Python form and sending all-scalar calls there (measured 38-360x faster on one point,
     benchmarks/results/scalar_dispatch.md); ``impactsym codegen --lang numpy`` prints the NumPy form alone."""
-    replacements, reduced = _cse(k)
+    replacements, outs = _printed(k, "numpy")
     arglist = ", ".join(
         f"{a}={k.defaults[str(a)]!r}" if str(a) in k.defaults else str(a) for a in k.args
     )
@@ -348,9 +403,8 @@ def _render_scalar(k: ScalarKernel, dispatch: bool = False) -> str:
               f"        return _chunked({k.name}, ({names},), {len(k.output_names)})"]
     for a in k.args:
         lines.append(f"    {a} = numpy.asarray({a}, dtype=float)")
-    for sym, expr in replacements:
-        lines.append(f"    {sym} = {numpy_code(expr)}")
-    outs = [numpy_code(e) for e in reduced]
+    for sym, code in replacements:
+        lines.append(f"    {sym} = {code}")
     for name, code in zip(k.output_names, outs):
         lines.append(f"    {name} = {code}")
     if len(outs) == 1:
@@ -453,7 +507,7 @@ LANGUAGES = ("c", "python", "numpy", "julia", "octave", "fortran", "rust")
 LANGUAGE_DIRS = {"c": "c", "julia": "julia", "octave": "octave", "fortran": "fortran", "rust": "rust"}
 
 
-class _CPrinter(C99CodePrinter):
+class _CPrinter(_SharedTermOrder, C99CodePrinter):
     """C99 without the non-standard ``M_SQRT2``-style macros (absent under ``-std=c99``)."""
 
     def __init__(self):
@@ -463,7 +517,7 @@ class _CPrinter(C99CodePrinter):
         return "3.14159265358979323846"
 
 
-class _RustPrinter(RustCodePrinter):
+class _RustPrinter(_SharedTermOrder, RustCodePrinter):
     """Rust printer whose numbers are ``f64`` literals (the stock one prints ``2*x``, which does
     not compile for ``x: f64``, and evaluates ``sqrt(2)`` to 13 digits).
 
@@ -531,7 +585,7 @@ class _RustPrinter(RustCodePrinter):
         return f"{b}.powf({self._print(exp)})"
 
 
-class _PythonPrinter(PythonCodePrinter):
+class _PythonPrinter(_SharedTermOrder, PythonCodePrinter):
     """Python (``math``) printer that parenthesizes ``%``: SymPy 1.14 prints ``2*Mod(ceiling(x), 2)*y``
     inside a longer product as ``2*math.ceil(x) % 2*y``, which Python reads as ``((2*ceil(x)) % 2)*y``."""
 
@@ -542,7 +596,7 @@ class _PythonPrinter(PythonCodePrinter):
         return "(" + super()._print_Mod(expr) + ")"
 
 
-class _FortranPrinter(FCodePrinter):
+class _FortranPrinter(_SharedTermOrder, FCodePrinter):
     """Free-form Fortran 2008; π as a double-precision literal (the stock printer emits a
     ``parameter`` declaration inside the expression)."""
 
@@ -574,7 +628,7 @@ class _FortranPrinter(FCodePrinter):
         return code
 
 
-class _OctavePrinter(OctaveCodePrinter):
+class _OctavePrinter(_SharedTermOrder, OctaveCodePrinter):
     """Octave printer whose Piecewise with a NaN branch selects with ``merge(c, a, b)``: the stock
     inline form ``(c).*(a) + (~(c)).*(b)`` multiplies the branch not taken by 0, and 0·NaN is NaN,
     so every output with a NaN branch (a two-surface branch that does not exist) came out NaN.
@@ -592,10 +646,14 @@ class _OctavePrinter(OctaveCodePrinter):
         return code
 
 
+class _JuliaPrinter(_SharedTermOrder, JuliaCodePrinter):
+    """SymPy's Julia printer, sorting each sum's terms once (:class:`_SharedTermOrder`)."""
+
+
 def _printers():
     return {
         "c": _CPrinter(),
-        "julia": JuliaCodePrinter({"inline": True}),
+        "julia": _JuliaPrinter({"inline": True}),
         "octave": _OctavePrinter(),
         "fortran": _FortranPrinter(),
         "rust": _RustPrinter(),
@@ -773,14 +831,13 @@ def rust_scalar(k: ScalarKernel) -> str:
 
 def python_scalar(k: ScalarKernel) -> str:
     """Pure Python (``math`` module) form of a closed form: fastest for one scalar evaluation."""
-    P = _printers()["python"]
-    replacements, reduced = _cse(k)
+    replacements, codes = _printed(k, "python")
     args = ", ".join(f"{a}={k.defaults[str(a)]!r}" if str(a) in k.defaults else str(a) for a in k.args)
     lines = ["import math", "", "", f"def {k.name}({args}):", '    """' + "\n    ".join(_doc_lines(k)) + '\n    """']
-    for sym, expr in replacements:
-        lines.append(f"    {sym} = {P.doprint(expr)}")
-    for name, expr in zip(k.output_names, reduced):
-        lines.append(f"    {name} = {P.doprint(expr)}")
+    for sym, code in replacements:
+        lines.append(f"    {sym} = {code}")
+    for name, code in zip(k.output_names, codes):
+        lines.append(f"    {name} = {code}")
     outs = ", ".join(k.output_names)
     lines.append(f"    return {outs}" if len(k.output_names) == 1 else f"    return ({outs})")
     return "\n".join(lines)
@@ -900,7 +957,7 @@ def render_octave(derivation, family, kernel) -> str:
     return _hash_header(derivation, family, "%") + "\n" + code + "\n"
 
 
-class _SharedReprPrinter(ReprPrinter):
+class _SharedReprPrinter(_SharedTermOrder, ReprPrinter):
     """``sympy.srepr`` printing each distinct subexpression once (a kernel's outputs repeat theirs:
     ``two_surface_resolution_2`` has 363 distinct nodes in 51 532). Only for expressions without
     ``Float`` (two Floats of different precision compare equal and print differently)."""

@@ -132,14 +132,16 @@ def _tidy(x):
     cost 0.01-0.2 s each here, and ``cancel`` is a normal form of a rational function, so its
     ``factor`` does not depend on the form the condition came in. (Checked when this path was
     added: on every condition of the audit, 24 calls, the result is structurally identical, by
-    ``srepr``, to the former ``factor(simplify(trigsimp(x)))``; the generated kernels are unchanged.)"""
+    ``srepr``, to the former ``factor(simplify(trigsimp(x)))``; the generated kernels are unchanged.)
+    The conditions that keep a sine or cosine (the pool at a symbolic incidence τ, four of them)
+    go to ``factor(simplify(x))`` without a ``trigsimp`` first (``simplify`` runs its own): the
+    same expressions, srepr for srepr, in about 0.4 s instead of 0.7 s."""
     x = sp.sympify(x)
     if x.has(sp.sin, sp.cos):
         x = sp.expand(x).subs(sp.sin(theta) ** 2, 1 - sp.cos(theta) ** 2)
         fast = _factored_rational(x)
         if fast is not None:
             return fast
-        x = sp.trigsimp(x)
     else:
         fast = _factored_rational(x)
         if fast is not None:

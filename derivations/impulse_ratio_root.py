@@ -31,6 +31,7 @@ Examples
 
 from __future__ import annotations
 
+from functools import lru_cache
 from pathlib import Path
 
 import sympy as sp
@@ -50,8 +51,10 @@ def coefficients():
     return sp.symbols("A B C", real=True)
 
 
+@lru_cache(maxsize=None)
 def naive_roots():
-    """``(physical, partner)`` roots as SymPy's ``solve`` gives them, identified by the sign of √D."""
+    """``(physical, partner)`` roots as SymPy's ``solve`` gives them, identified by the sign of √D
+    (derived once per process: the proofs and the naive kernel both use them)."""
     A, B, C = coefficients()
     p = sp.Symbol("p_1")
     roots = sp.solve(A * p**2 + B * p + C, p)

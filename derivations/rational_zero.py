@@ -31,6 +31,8 @@ from __future__ import annotations
 import flint
 import sympy as sp
 
+from .memo import simplify
+
 __all__ = ["is_zero_rational_function", "is_zero_algebraic", "is_zero", "nonzero_at_a_point", "cancel", "factor", "factored_numerator", "to_fraction"]
 
 
@@ -465,21 +467,48 @@ def nonzero_at_a_point(expr) -> bool:
 
 def is_zero(expr) -> bool:
     """``simplify(expr) == 0``, decided first by the exact tests of this module: True when
-    :func:`is_zero_algebraic` proves ``expr`` zero, False when :func:`is_zero_rational_function`
+    :func:`is_zero_algebraic` proves ``expr`` zero (or its ``expand_trig``, when a sine or cosine
+    has a compound angle such as ``τ − θ``), False when :func:`is_zero_rational_function`
     proves it a non-zero rational function (which no simplification makes 0) or
     :func:`nonzero_at_a_point` proves it non-zero at one point of its domain, and otherwise
-    SymPy's ``simplify(expr) == 0``.
+    SymPy's ``simplify(expr) == 0`` (memoized, :mod:`derivations.memo`).
 
     >>> x = sp.Symbol("x")
     >>> is_zero((x + sp.sqrt(2))**2 - x**2 - 2*sp.sqrt(2)*x - 2), is_zero(x**2 - x), is_zero(sp.sqrt(x**2) - x)
     (True, False, False)
     """
     expr = sp.sympify(expr)
-    if is_zero_algebraic(expr):
+    if is_zero_algebraic(expr) or (_compound_angles(expr) and _is_zero_expanded_trig(expr)):
         return True
     if is_zero_rational_function(expr) is False or nonzero_at_a_point(expr):
         return False
-    return sp.simplify(expr) == 0
+    return simplify(expr) == 0
+
+
+def _is_zero_expanded_trig(expr) -> bool:
+    """:func:`is_zero_algebraic` of ``expand_trig(expr)`` (the addition formulas, an identity), with
+    each sine and cosine of a number (``sin(2/5)``, left by the expansion of ``sin(2/5 + π/6)``)
+    read as the sine and cosine of a fresh real symbol ``u``: zero for every ``u`` is zero at the
+    number. Only where those symbols occur in no denominator and no root, so that the
+    denominator :func:`is_zero_algebraic` proves non-zero does not depend on them."""
+    expanded = sp.expand_trig(expr)
+    numbers = sorted({f.args[0] for f in expanded.atoms(sp.sin, sp.cos) if not f.args[0].free_symbols},
+                     key=sp.default_sort_key)
+    if numbers:
+        fresh = {x: sp.Dummy("u", real=True) for x in numbers}
+        expanded = expanded.xreplace({f: f.func(fresh[f.args[0]]) for f in expanded.atoms(sp.sin, sp.cos)
+                                      if f.args[0] in fresh})
+        dummies = list(fresh.values())
+        if any(not (p.exp.is_Integer and p.exp > 0) and p.base.has(*dummies) for p in expanded.atoms(sp.Pow)):
+            return False
+    return bool(is_zero_algebraic(expanded))
+
+
+def _compound_angles(expr) -> bool:
+    """Whether ``expr`` has a sine or cosine of something other than a symbol (``sin(τ − θ)``,
+    ``cos(τ + π/3)``): :func:`is_zero` then also tries :func:`is_zero_algebraic` on its
+    ``expand_trig`` (the addition formulas, an identity), whose angles are symbols."""
+    return any(not f.args[0].is_Symbol for f in expr.atoms(sp.sin, sp.cos))
 
 
 def _flint_fraction(expr):
