@@ -182,25 +182,29 @@ class _Server:
             raise ProbeError(answer[1])
         return answer
 
+    def _close_pipe(self, name: str):
+        """Close one of our pipe ends once: a number closed twice may by then belong to another
+        descriptor of this process (a Jupyter client's zmq socket, which aborts the process when
+        its descriptor vanishes)."""
+        fd = getattr(self, name)
+        if fd is not None:
+            setattr(self, name, None)
+            os.close(fd)
+
     def kill(self):
         if self.proc.poll() is None:
             os.killpg(self.proc.pid, signal.SIGKILL)
             self.proc.wait()
-        for fd in (self.cmd_w, self.reply_r):
-            try:
-                os.close(fd)
-            except OSError:
-                pass
+        self._close_pipe("cmd_w")
+        self._close_pipe("reply_r")
 
     def close(self):
-        try:
-            os.close(self.cmd_w)  # end of input: the serving process exits, then its parents
-        except OSError:
-            return
-        try:
-            self.proc.wait(10)
-        except subprocess.TimeoutExpired:
-            pass
+        if self.cmd_w is not None:
+            self._close_pipe("cmd_w")  # end of input: the serving process exits, then its parents
+            try:
+                self.proc.wait(10)
+            except subprocess.TimeoutExpired:
+                pass
         self.kill()
 
 

@@ -44,6 +44,18 @@ def test_notebook_committed_without_outputs(path):
     assert not dirty, f"{path.name}: cells {dirty} carry outputs; strip them before committing"
 
 
+def _execute(nb, kernel, **options):
+    """Run ``nb`` in the shared kernel, then stop the client's channels: nbclient leaves them
+    running when it does not own the kernel, and each left behind keeps a heartbeat thread
+    polling its zmq sockets for the rest of the session."""
+    client = NotebookClient(nb, km=kernel, **options)
+    try:
+        client.execute()
+    finally:
+        if client.kc is not None:
+            client.kc.stop_channels()
+
+
 @pytest.fixture(scope="module")
 def kernel():
     """One python3 kernel, started in the repository root (where every notebook runs), for the module."""
@@ -58,10 +70,10 @@ def kernel():
 def test_reset_leaves_no_name_behind(kernel):
     """The reset really empties the namespace: a name defined by one notebook is gone for the next."""
     nb = nbformat.v4.new_notebook(cells=[nbformat.v4.new_code_cell("leftover = 1")])
-    NotebookClient(nb, km=kernel, timeout=60).execute()
+    _execute(nb, kernel, timeout=60)
     nb = nbformat.v4.new_notebook(cells=[nbformat.v4.new_code_cell(RESET),
                                          nbformat.v4.new_code_cell("leftover")])
-    NotebookClient(nb, km=kernel, timeout=60, allow_errors=True).execute()
+    _execute(nb, kernel, timeout=60, allow_errors=True)
     errors = [o for o in nb.cells[1].outputs if o.output_type == "error"]
     assert errors and errors[0].ename == "NameError"
 
@@ -70,6 +82,6 @@ def test_reset_leaves_no_name_behind(kernel):
 def test_notebook_executes(path, kernel):
     nb = nbformat.read(path, as_version=4)
     nb.cells.insert(0, nbformat.v4.new_code_cell(RESET))
-    NotebookClient(nb, km=kernel, timeout=600).execute()
+    _execute(nb, kernel, timeout=600)
     errors = [o for c in nb.cells if c.cell_type == "code" for o in c.outputs if o.output_type == "error"]
     assert not errors
