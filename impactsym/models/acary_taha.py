@@ -253,10 +253,22 @@ def _pool_gradients(theta, third_contact: bool, constraint: str, a) -> sp.Immuta
             elif -x in done:
                 row.append(-done[-x])
             else:
-                done[x] = sp.simplify(x)
+                done[x] = _simplified_entry(x)
                 row.append(done[x])
         rows.append(row)
     return sp.ImmutableMatrix(rows)
+
+
+@lru_cache(maxsize=1024)
+def _simplified_entry(x):
+    """``sp.simplify`` of one gradient entry, remembered per expression (the entries of one geometry
+    recur whenever :func:`_pool_gradients` is recomputed after a cache clear)."""
+    return sp.simplify(x)
+
+
+#: a memo of SymPy's simplify alone: ``paper_checks.mutations.clear_caches`` keeps it (no mutation
+#: can reach inside it; a mutated geometry's entries are other keys)
+_simplified_entry.sympy_only = True
 
 
 def bernoulli(tau=None, **kw):
