@@ -31,6 +31,8 @@ from __future__ import annotations
 import flint
 import sympy as sp
 
+from .memo import simplify
+
 __all__ = ["is_zero_rational_function", "is_zero_algebraic", "is_zero", "nonzero_at_a_point", "cancel", "factor", "factored_numerator", "to_fraction"]
 
 
@@ -479,7 +481,7 @@ def is_zero(expr) -> bool:
         return True
     if is_zero_rational_function(expr) is False or nonzero_at_a_point(expr):
         return False
-    return sp.simplify(expr) == 0
+    return simplify(expr) == 0  # SymPy's simplify, remembered (derivations.memo)
 
 
 def _flint_fraction(expr):

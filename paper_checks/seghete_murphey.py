@@ -490,9 +490,11 @@ def variation():
     L = lambda x, xd: xd**2 / 2 - x**2 / 2
     A = lambda k: sp.integrate(L(q + k * dq, sp.diff(q + k * dq, t)), (t, 0, 1))
     # integrated once, used by both forms: the integrand is a polynomial in ε, integrated
-    # coefficient by coefficient (the same A(ε), without integrate's search over the whole sum)
+    # coefficient by coefficient and each coefficient term by term (linearity: the same A(ε),
+    # without integrate's search over a whole sum)
     integrand = sp.Poly(sp.expand(L(q + eps * dq, sp.diff(q + eps * dq, t))), eps)
-    A_eps = sp.Add(*(sp.integrate(c, (t, 0, 1)) * eps**k for (k,), c in integrand.terms()))
+    A_eps = sp.Add(*(sp.Add(*(sp.integrate(term, (t, 0, 1)) for term in sp.Add.make_args(c))) * eps**k
+                     for (k,), c in integrand.terms()))
     d1 = sp.diff(A_eps, eps).subs(eps, 0)
     d2 = sp.limit((A_eps - A(0)) / eps, eps, 0)
     r = identical(d1, d2)
