@@ -25,7 +25,7 @@ from functools import lru_cache
 import sympy as sp
 
 from derivations.memo import simplify
-from derivations.rational_zero import cancel, is_zero
+from derivations.rational_zero import cancel, is_zero, is_zero_rational_function
 
 from derivations import reflection as drefl
 from impactsym.laws.reflection import reflection_map
@@ -973,6 +973,14 @@ def _random_spd(n: int, rng):
     return A.T * A + sp.eye(n)
 
 
+def _is_minus_one(x) -> bool:
+    """``x = −1`` as a rational function of the symbols, decided exactly: the numerator of ``x + 1``
+    over a common denominator is the zero polynomial (flint, no ``together`` of the whole sum);
+    SymPy's ``cancel(together(x + 1)) == 0`` when ``x`` is not a rational function."""
+    zero = is_zero_rational_function(x + 1)
+    return zero if zero is not None else cancel(sp.together(x + 1)) == 0
+
+
 @lru_cache(maxsize=None)
 def _det_chain():
     """Each line of the chain compared with −1 symbolically for n = 2 (fully symbolic symmetric M,
@@ -989,8 +997,7 @@ def _det_chain():
 
     with dotprodsimp(False):
         pr, co = _det_lines(M, u)
-    out["n=2 symbolic"] = ([cancel(sp.together(x + 1)) == 0 for x in pr],
-                           [cancel(sp.together(x + 1)) == 0 for x in co])
+    out["n=2 symbolic"] = ([_is_minus_one(x) for x in pr], [_is_minus_one(x) for x in co])
     for n in (2, 3, 4):
         for k in range(3):
             Mn = _random_spd(n, rng)
