@@ -244,7 +244,9 @@ def quadratic():
     pub = lam * (lam * (u * M.inv() * u.T)[0, 0] - ((u * qm)[0, 0] + (qm.T * u.T)[0, 0]))
     r = identical(derived, pub)
     d = _single(2)
-    roots = [simplify(r) for r in d.roots]  # derive_single_impact keeps them as solve found them
+    # derive_single_impact keeps them as solve found them (sums of rational functions of the
+    # symbols): over one denominator (together) is the form simplify gave them, without its search
+    roots = [sp.together(r) for r in d.roots]
     # the derived multiplier must be the non-trivial root of the published bracket
     root = identical(pub.subs(lam, d.lam) / d.lam, 0)
     if not root.equal:
