@@ -25,7 +25,7 @@ from functools import lru_cache
 import sympy as sp
 
 from derivations.memo import simplify
-from derivations.rational_zero import cancel, is_zero, is_zero_rational_function
+from derivations.rational_zero import cancel, is_zero, is_zero_algebraic, is_zero_rational_function
 
 from derivations import reflection as drefl
 from impactsym.laws.reflection import reflection_map
@@ -486,6 +486,16 @@ def action():
     return Finding("definition", published=r"A(q(t)) = \int L(q(t),\dot q(t))\,dt")
 
 
+def _integral_0_1(f, t):
+    """``∫₀¹ f dt`` by the fundamental theorem of calculus: ``F(1) − F(0)`` for SymPy's antiderivative
+    ``F``, once ``F′ = f`` is proved by the exact zero test (``F`` elementary, so continuous on
+    [0, 1]); SymPy's definite integral otherwise."""
+    F = sp.integrate(f, t)
+    if is_zero_algebraic(sp.diff(F, t) - f):
+        return F.subs(t, 1) - F.subs(t, 0)
+    return sp.integrate(f, (t, 0, 1))
+
+
 @_cl("sm-III-A-variation", "sec. III-A", "δA", "definition")
 def variation():
     # the derivative form equals the difference-quotient limit for a smooth Lagrangian
@@ -497,7 +507,7 @@ def variation():
     # coefficient by coefficient and each coefficient term by term (linearity: the same A(ε),
     # without integrate's search over a whole sum)
     integrand = sp.Poly(sp.expand(L(q + eps * dq, sp.diff(q + eps * dq, t))), eps)
-    A_eps = sp.Add(*(sp.Add(*(sp.integrate(term, (t, 0, 1)) for term in sp.Add.make_args(c))) * eps**k
+    A_eps = sp.Add(*(sp.Add(*(_integral_0_1(term, t) for term in sp.Add.make_args(c))) * eps**k
                      for (k,), c in integrand.terms()))
     d1 = sp.diff(A_eps, eps).subs(eps, 0)
     d2 = sp.limit((A_eps - A(0)) / eps, eps, 0)
@@ -607,7 +617,12 @@ def branches_are_perturbations():
     sc = balls_on_line([1, 3, 4], [1, 1, 1], [1, 3, 5], [-1, -3, 0], walls=[0])
     r = _outcomes(sc.M, sc.H, sc.v, two_surface="iterate", select=False)
     # realize_ordering's LP, its optimal margin decided by an exact simplex with a dual certificate
-    realized = sorted({idx for order, idx in r.iter_orderings() if ordering_realizable(sc.M, sc.H, sc.v, order)})
+    # (an outcome already realized by one ordering needs no LP for the others that end there)
+    realized = set()
+    for order, idx in r.iter_orderings():
+        if idx not in realized and ordering_realizable(sc.M, sc.H, sc.v, order):
+            realized.add(idx)
+    realized = sorted(realized)
     simulated = []
     for gaps in ([1, 2, 3], [3, 2, 1], [1, 1000, 7], [500, 1, 3]):
         pos = perturbed_scene_positions(sc, [sp.Rational(g, 10**9) for g in gaps])
