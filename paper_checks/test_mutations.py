@@ -106,9 +106,9 @@ def test_caches_kept_across_mutations_call_sympy_alone():
 
     kept = [v for name, mod in list(sys.modules.items()) if mod is not None and mutations._in_scope(name)
             for v in vars(mod).values() if callable(getattr(v, "cache_clear", None)) and getattr(v, "sympy_only", False)]
-    from impactsym.models import acary_taha as pool_models
+    from impactsym.arithmetic import remembered
 
-    assert len(kept) == 2 and set(kept) == {memo._simplify_cached, pool_models._simplified_entry}
+    assert len(kept) == 2 and set(kept) == {memo._simplify_cached, remembered._simplify_cached}
     for cache in kept:
         code = cache.__wrapped__.__code__
         assert set(code.co_names) <= {"sp", "simplify"} and not code.co_freevars, (cache, code.co_names)
