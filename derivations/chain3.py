@@ -54,6 +54,7 @@ from impactsym.models.acary_taha import chain3
 
 from .codegen import ScalarKernel, render_family
 from .impulse_ratio import QuadraticLaw, general_quadratic, on_energy_line
+from .rational_zero import is_zero_rational_function
 
 from impactsym.errors import DerivationError
 
@@ -249,7 +250,10 @@ def compare_eq18() -> dict:
 def _identical(a, b, Delta) -> bool:
     from .pool import _sqrt_delta_to_symbol
 
-    return sp.cancel(sp.together(_sqrt_delta_to_symbol(sp.sympify(a) - sp.sympify(b), Delta))) == 0
+    d = _sqrt_delta_to_symbol(sp.sympify(a) - sp.sympify(b), Delta)
+    # a rational function (√Δ a symbol): its numerator decided by flint; SymPy's cancel otherwise
+    zero = is_zero_rational_function(d)
+    return zero if zero is not None else sp.cancel(sp.together(d)) == 0
 
 
 def momentum_energy_residuals(velocities: dict, masses=(m, m, m), vminus=(1, 0, 0)) -> dict:

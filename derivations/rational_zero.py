@@ -482,7 +482,7 @@ def is_zero(expr) -> bool:
         return True
     if is_zero_rational_function(expr) is False or nonzero_at_a_point(expr):
         return False
-    return simplify(expr) == 0
+    return simplify(expr) == 0  # SymPy's simplify, remembered (derivations.memo)
 
 
 def _is_zero_expanded_trig(expr) -> bool:

@@ -191,6 +191,19 @@ def _jacobian_of_linear(qplus, qm) -> sp.Matrix:
     return G
 
 
+def _momentum_solution(M, u, qm, lam, qp_syms) -> dict:
+    """The one solution ``q̇⁺ = q̇⁻ − λ adj(M)uᵀ/det M`` of eq. 1a, ``M q̇⁺ − M q̇⁻ + λuᵀ = 0``
+    (linear in ``q̇⁺``; unique because ``det M`` is not the zero polynomial, decided exactly), as a
+    substitution for ``qp_syms``. Cramer's rule instead of ``sympy.solve``'s elimination over the
+    symbolic field; the callers check that it satisfies eq. 1a exactly and read only normal forms
+    of it (the factored energy numerator, flint's cancel), so the derivation is the same."""
+    det = M.det(method="berkowitz")
+    if is_zero_rational_function(det) is not False:
+        raise DerivationError("the momentum equation is linear in qdot+ with an invertible M: det M = 0")
+    w = M.adjugate(method="berkowitz") * u.T
+    return {qp: q - lam * wi / det for qp, q, wi in zip(qp_syms, qm, w)}
+
+
 @lru_cache(maxsize=None)
 def derive_single_impact(n: int) -> Derivation:
     """Solve eqs. 1a–1b for ``λ`` and ``q̇⁺`` with a fully symbolic symmetric ``M`` (n = 2, 3, ...).
@@ -204,12 +217,10 @@ def derive_single_impact(n: int) -> Derivation:
     lam = sp.Symbol("lambda", real=True)
     momentum = M * qp_syms - M * qm + lam * u.T  # eq. 1a, as the jump of dL/dqdot
     # (check=False: the same solutions in the same form; they are checked below, exactly, by flint)
-    sol = sp.solve(list(momentum), list(qp_syms), dict=True, check=False)
-    if not (len(sol) == 1):
-        raise DerivationError("the momentum equation is linear in qdot+ with an invertible M")
-    if not all(is_zero_rational_function(x.xreplace(sol[0])) for x in momentum):
+    sol = _momentum_solution(M, u, qm, lam, qp_syms)
+    if not all(is_zero_rational_function(x.xreplace(sol)) for x in momentum):
         raise DerivationError("the solution of the momentum equation does not satisfy it")
-    qp_of_lam = qp_syms.subs(sol[0])
+    qp_of_lam = qp_syms.subs(sol)
     energy = (qp_of_lam.T * M * qp_of_lam)[0, 0] - (qm.T * M * qm)[0, 0]  # eq. 1b
     # its numerator over the denominators' product (det M powers, free of lambda), factored by flint
     energy_num = factored_numerator(energy, free_of=[lam])
@@ -246,10 +257,10 @@ def derive_restitution(n: int) -> Derivation:
     qp_syms = symbolic_vector(n, "qp")
     lam, e = sp.Symbol("lambda", real=True), sp.Symbol("e", nonnegative=True)
     momentum = M * qp_syms - M * qm + lam * u.T
-    sol = sp.solve(list(momentum), list(qp_syms), dict=True, check=False)  # checked exactly below
-    if len(sol) != 1 or not all(is_zero_rational_function(x.xreplace(sol[0])) for x in momentum):
+    sol = _momentum_solution(M, u, qm, lam, qp_syms)  # checked exactly below
+    if not all(is_zero_rational_function(x.xreplace(sol)) for x in momentum):
         raise DerivationError("the momentum equation's one solution does not satisfy it")
-    qp_of_lam = qp_syms.subs(sol[0])
+    qp_of_lam = qp_syms.subs(sol)
     restitution = (u * qp_of_lam)[0, 0] + e * (u * qm)[0, 0]
     # the condition is linear in lambda: a lambda + b = 0 with a != 0 (its numerator over the
     # denominators' product, which is free of lambda), so the one root is -b/a

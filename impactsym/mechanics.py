@@ -354,7 +354,9 @@ def m_normal(M, h):
     if isinstance(M, sp.MatrixBase):
         h = _row(h, exact=True)
         w = M.LUsolve(h.T)
-        return sp.simplify(w / sp.sqrt((h * w)[0, 0]))
+        from .arithmetic.remembered import simplify_remembered
+
+        return simplify_remembered(w / sp.sqrt((h * w)[0, 0]))
     h = _row(h)
     w = np.linalg.solve(np.asarray(M, dtype=float), h)
     return w / np.sqrt(h @ w)
@@ -399,7 +401,9 @@ def kinetic_angle_cos(M, hi, hj):
             Minv_hj = _solve(M, hj.T)
             Minv_hi = _solve(M, hi.T)
             num, aii, ajj = (hi * Minv_hj)[0, 0], (hi * Minv_hi)[0, 0], (hj * Minv_hj)[0, 0]
-        return sp.radsimp(sp.simplify(num / sp.sqrt(aii * ajj)))
+        from .arithmetic.remembered import simplify_remembered
+
+        return sp.radsimp(simplify_remembered(num / sp.sqrt(aii * ajj)))
     Mf = np.asarray(M, dtype=float)
     hi, hj = _row(hi), _row(hj)
     wi, wj = np.linalg.solve(Mf, hi), np.linalg.solve(Mf, hj)

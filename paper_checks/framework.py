@@ -760,6 +760,17 @@ def _rational_unique_solution(A: sp.Matrix, b: sp.Matrix):
 
 
 # --------------------------------------------------------------------------- extrema
+def _normal_form(expr):
+    """A rational function with rational coefficients in lowest terms (``sympy.cancel``: its normal
+    form, no search), anything else simplified."""
+    from derivations.rational_zero import is_zero_rational_function
+
+    expr = sp.sympify(expr)
+    if expr.free_symbols and is_zero_rational_function(expr) is not None:
+        return sp.cancel(expr)
+    return simplify(expr)
+
+
 def extremum(f, x, x0, *, kind: str = "min") -> dict:
     """First- and second-order test of a claimed extremum of ``f(x)`` at ``x0``.
 
@@ -777,8 +788,8 @@ def extremum(f, x, x0, *, kind: str = "min") -> dict:
     >>> extremum((x - 1)**2, x, 1)["holds"]
     True
     """
-    d1 = simplify(sp.diff(f, x).subs(x, x0))
-    d2 = simplify(sp.diff(f, x, 2).subs(x, x0))
+    d1 = _normal_form(sp.diff(f, x).subs(x, x0))
+    d2 = _normal_form(sp.diff(f, x, 2).subs(x, x0))
     stationary = identical(d1, 0).equal
     sign = None
     if not d2.free_symbols:

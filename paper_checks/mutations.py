@@ -150,7 +150,12 @@ _SCOPES = ("impactsym", "derivations", "paper_checks")
 
 
 def _in_scope(modname: str) -> bool:
-    return any(modname == s or modname.startswith(s + ".") for s in _SCOPES)
+    return modname.partition(".")[0] in _SCOPES
+
+
+def _scoped_modules() -> list:
+    """The imported modules of impactsym, derivations and paper_checks (one pass over sys.modules)."""
+    return [mod for name, mod in list(sys.modules.items()) if mod is not None and name.partition(".")[0] in _SCOPES]
 
 
 def clear_caches() -> None:
@@ -160,9 +165,7 @@ def clear_caches() -> None:
     from . import framework
 
     framework._MEMO.clear()
-    for modname, mod in list(sys.modules.items()):
-        if mod is None or not _in_scope(modname):
-            continue
+    for mod in _scoped_modules():
         for value in list(vars(mod).values()):
             clear = getattr(value, "cache_clear", None)
             # a cache marked sympy_only memoizes a SymPy function alone (derivations.memo): no
@@ -183,9 +186,7 @@ def applied(name: str):
     original = getattr(module, attr)
     replacement = m.make(original)
     patched = []
-    for mname, mod in list(sys.modules.items()):
-        if mod is None or not _in_scope(mname):
-            continue
+    for mod in _scoped_modules():
         for key, value in list(vars(mod).items()):
             if value is original:
                 setattr(mod, key, replacement)
@@ -204,11 +205,10 @@ def applied(name: str):
         for mod, key in patched:
             setattr(mod, key, original)
         # a module first imported under the mutation bound the replacement (``from x import f``): undo that too
-        for mname, mod in list(sys.modules.items()):
-            if mod is not None and _in_scope(mname):
-                for key, value in list(vars(mod).items()):
-                    if value is replacement:
-                        setattr(mod, key, original)
+        for mod in _scoped_modules():
+            for key, value in list(vars(mod).items()):
+                if value is replacement:
+                    setattr(mod, key, original)
         clear_caches()
         framework._MEMO.update(before)
 

@@ -25,7 +25,7 @@ from functools import lru_cache
 import sympy as sp
 
 from derivations.memo import simplify
-from derivations.rational_zero import cancel, is_zero
+from derivations.rational_zero import cancel, is_zero, is_zero_algebraic, is_zero_rational_function
 
 from derivations import reflection as drefl
 from impactsym.laws.reflection import reflection_map
@@ -108,8 +108,10 @@ def _outcomes(M, H, v0, **kwargs):
 
     r = resolve_sequential(M, H, v0, **kwargs)
     for o in r.outcomes:
-        c = conservation(M, H, v0, o.velocity)
-        if not c["holds"]:
+        # the decisions alone (exact row reduction, certified signs); the simplified values only
+        # for the message of a failure
+        if not conservation(M, H, v0, o.velocity, values=False)["holds"]:
+            c = conservation(M, H, v0, o.velocity)
             raise ArithmeticError(f"sequential outcome {list(o.velocity)} of v0 = {list(v0)} violates the "
                                   f"impact laws: momentum {c['momentum']}, p >= 0 {c['impulses_nonnegative']}, "
                                   f"energy residual {c['energy_residual']}, H v+ = {c['Hv_plus']}")
@@ -244,7 +246,9 @@ def quadratic():
     pub = lam * (lam * (u * M.inv() * u.T)[0, 0] - ((u * qm)[0, 0] + (qm.T * u.T)[0, 0]))
     r = identical(derived, pub)
     d = _single(2)
-    roots = [simplify(r) for r in d.roots]  # derive_single_impact keeps them as solve found them
+    # derive_single_impact keeps them as solve found them (sums of rational functions of the
+    # symbols): over one denominator (together) is the form simplify gave them, without its search
+    roots = [sp.together(r) for r in d.roots]
     # the derived multiplier must be the non-trivial root of the published bracket
     root = identical(pub.subs(lam, d.lam) / d.lam, 0)
     if not root.equal:
@@ -482,6 +486,16 @@ def action():
     return Finding("definition", published=r"A(q(t)) = \int L(q(t),\dot q(t))\,dt")
 
 
+def _integral_0_1(f, t):
+    """``∫₀¹ f dt`` by the fundamental theorem of calculus: ``F(1) − F(0)`` for SymPy's antiderivative
+    ``F``, once ``F′ = f`` is proved by the exact zero test (``F`` elementary, so continuous on
+    [0, 1]); SymPy's definite integral otherwise."""
+    F = sp.integrate(f, t)
+    if is_zero_algebraic(sp.diff(F, t) - f):
+        return F.subs(t, 1) - F.subs(t, 0)
+    return sp.integrate(f, (t, 0, 1))
+
+
 @_cl("sm-III-A-variation", "sec. III-A", "δA", "definition")
 def variation():
     # the derivative form equals the difference-quotient limit for a smooth Lagrangian
@@ -490,9 +504,11 @@ def variation():
     L = lambda x, xd: xd**2 / 2 - x**2 / 2
     A = lambda k: sp.integrate(L(q + k * dq, sp.diff(q + k * dq, t)), (t, 0, 1))
     # integrated once, used by both forms: the integrand is a polynomial in ε, integrated
-    # coefficient by coefficient (the same A(ε), without integrate's search over the whole sum)
+    # coefficient by coefficient and each coefficient term by term (linearity: the same A(ε),
+    # without integrate's search over a whole sum)
     integrand = sp.Poly(sp.expand(L(q + eps * dq, sp.diff(q + eps * dq, t))), eps)
-    A_eps = sp.Add(*(sp.integrate(c, (t, 0, 1)) * eps**k for (k,), c in integrand.terms()))
+    A_eps = sp.Add(*(sp.Add(*(_integral_0_1(term, t) for term in sp.Add.make_args(c))) * eps**k
+                     for (k,), c in integrand.terms()))
     d1 = sp.diff(A_eps, eps).subs(eps, 0)
     d2 = sp.limit((A_eps - A(0)) / eps, eps, 0)
     r = identical(d1, d2)
@@ -601,7 +617,12 @@ def branches_are_perturbations():
     sc = balls_on_line([1, 3, 4], [1, 1, 1], [1, 3, 5], [-1, -3, 0], walls=[0])
     r = _outcomes(sc.M, sc.H, sc.v, two_surface="iterate", select=False)
     # realize_ordering's LP, its optimal margin decided by an exact simplex with a dual certificate
-    realized = sorted({idx for order, idx in r.iter_orderings() if ordering_realizable(sc.M, sc.H, sc.v, order)})
+    # (an outcome already realized by one ordering needs no LP for the others that end there)
+    realized = set()
+    for order, idx in r.iter_orderings():
+        if idx not in realized and ordering_realizable(sc.M, sc.H, sc.v, order):
+            realized.add(idx)
+    realized = sorted(realized)
     simulated = []
     for gaps in ([1, 2, 3], [3, 2, 1], [1, 1000, 7], [500, 1, 3]):
         pos = perturbed_scene_positions(sc, [sp.Rational(g, 10**9) for g in gaps])
@@ -971,6 +992,14 @@ def _random_spd(n: int, rng):
     return A.T * A + sp.eye(n)
 
 
+def _is_minus_one(x) -> bool:
+    """``x = −1`` as a rational function of the symbols, decided exactly: the numerator of ``x + 1``
+    over a common denominator is the zero polynomial (flint, no ``together`` of the whole sum);
+    SymPy's ``cancel(together(x + 1)) == 0`` when ``x`` is not a rational function."""
+    zero = is_zero_rational_function(x + 1)
+    return zero if zero is not None else cancel(sp.together(x + 1)) == 0
+
+
 @lru_cache(maxsize=None)
 def _det_chain():
     """Each line of the chain compared with −1 symbolically for n = 2 (fully symbolic symmetric M,
@@ -987,8 +1016,7 @@ def _det_chain():
 
     with dotprodsimp(False):
         pr, co = _det_lines(M, u)
-    out["n=2 symbolic"] = ([cancel(sp.together(x + 1)) == 0 for x in pr],
-                           [cancel(sp.together(x + 1)) == 0 for x in co])
+    out["n=2 symbolic"] = ([_is_minus_one(x) for x in pr], [_is_minus_one(x) for x in co])
     for n in (2, 3, 4):
         for k in range(3):
             Mn = _random_spd(n, rng)

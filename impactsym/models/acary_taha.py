@@ -231,6 +231,8 @@ def pool_rational(theta_turns, tau_turns=0):
 def _pool_gradients(theta, third_contact: bool, constraint: str, a) -> sp.ImmutableMatrix:
     """The gradient rows of the pool's contacts at the balls' positions (simplified entries):
     the slow part of :func:`pool` (one ``simplify`` per entry), computed once per geometry."""
+    from ..arithmetic.remembered import simplify_remembered
+
     q, _ = _coords(3, planar=True)
     G = [sp.Matrix(q[0:2]), sp.Matrix(q[2:4]), sp.Matrix(q[4:6])]
     pairs = [(0, 1), (1, 2)] + ([(0, 2)] if third_contact else [])
@@ -253,7 +255,9 @@ def _pool_gradients(theta, third_contact: bool, constraint: str, a) -> sp.Immuta
             elif -x in done:
                 row.append(-done[-x])
             else:
-                done[x] = sp.simplify(x)
+                # simplify, remembered per entry (the entries of one geometry recur whenever this
+                # cache is cleared and rebuilt; impactsym.arithmetic.remembered)
+                done[x] = simplify_remembered(x)
                 row.append(done[x])
         rows.append(row)
     return sp.ImmutableMatrix(rows)

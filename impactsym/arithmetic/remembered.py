@@ -1,0 +1,43 @@
+"""SymPy's ``simplify``, remembered per expression, for the library's exact forms that recur: the
+pool's gradient entries (:mod:`impactsym.models.acary_taha`) and the kinetic angles and M-normals of
+:mod:`impactsym.mechanics` are simplified again whenever their own caches are cleared (the paper
+checks' mutation tests clear every cache of impactsym between mutations), and ``simplify`` of the
+same expression is the same expression.
+
+The memo calls SymPy alone (``paper_checks.mutations.clear_caches`` keeps it, marked
+``sympy_only``): no function of impactsym runs inside it, so it never holds a value that a mutated
+function computed (a mutant's expression is another key). Unhashable arguments (mutable matrices)
+are simplified directly.
+
+>>> import sympy as sp
+>>> t = sp.Symbol("t")
+>>> simplify_remembered(sp.sin(t)**2 + sp.cos(t)**2), simplify_remembered(sp.Matrix([[t / t]]))
+(1, Matrix([[1]]))
+"""
+
+from __future__ import annotations
+
+from functools import lru_cache
+
+import sympy as sp
+
+__all__ = ["simplify_remembered"]
+
+
+def simplify_remembered(expr):
+    """``sympy.simplify(expr)``, remembered per (immutable) expression."""
+    try:
+        return _simplify_cached(expr)
+    except TypeError as exc:
+        if "unhashable" not in str(exc):
+            raise
+        return sp.simplify(expr)
+
+
+@lru_cache(maxsize=4096, typed=True)
+def _simplify_cached(expr):
+    return sp.simplify(expr)
+
+
+#: SymPy's simplify and nothing of impactsym: kept across the mutation tests' cache clears
+_simplify_cached.sympy_only = True
