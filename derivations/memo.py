@@ -1,10 +1,11 @@
 """Memoized SymPy ``simplify``: the paper checks and the derivations simplify the same expressions
 again and again (the same scene's quantities in several claims); ``simplify`` is pure, so its
-result is kept per expression (``functools.lru_cache``). It is the one cache of ``derivations``
-the mutation tests keep (``paper_checks.mutations.clear_caches`` skips a cache marked
-``sympy_only``): it calls SymPy alone, which no mutation replaces, so it can never hold a value a
-mutant computed (a mutant's different expression is a different key). Unhashable arguments
-(mutable matrices) are simplified directly.
+result is kept per expression, in the one memo of SymPy's ``simplify``
+(:func:`impactsym.arithmetic.remembered.simplify_remembered`, which the library's own recurring
+forms share). The mutation tests keep it (``paper_checks.mutations.clear_caches`` skips a cache
+marked ``sympy_only``): it calls SymPy alone, which no mutation replaces, so it can never hold a
+value a mutant computed (a mutant's different expression is a different key). Unhashable
+arguments (mutable matrices) are simplified directly.
 
 >>> import sympy as sp
 >>> x = sp.Symbol("x")
@@ -18,6 +19,8 @@ from functools import lru_cache
 
 import sympy as sp
 
+from impactsym.arithmetic.remembered import simplify_remembered
+
 __all__ = ["simplify"]
 
 
@@ -30,17 +33,7 @@ def simplify(expr, **kwargs):
             reduced = None
         if reduced is not None:
             expr = reduced
-    try:
-        return _simplify_cached(expr, **kwargs)
-    except TypeError as exc:
-        if "unhashable" not in str(exc):
-            raise
-        return sp.simplify(expr, **kwargs)
-
-
-@lru_cache(maxsize=8192, typed=True)
-def _simplify_cached(expr, **kwargs):
-    return sp.simplify(expr, **kwargs)
+    return simplify_remembered(expr, **kwargs)
 
 
 @lru_cache(maxsize=8192)
@@ -89,5 +82,3 @@ def _trigonometry_reduced(expr):
     return None
 
 
-#: SymPy's simplify and nothing of ours: kept across mutations (see the module docstring)
-_simplify_cached.sympy_only = True

@@ -107,7 +107,7 @@ def test_caches_kept_across_mutations_call_sympy_alone():
 
     kept = [v for name, mod in list(sys.modules.items()) if mod is not None and mutations._in_scope(name)
             for v in vars(mod).values() if callable(getattr(v, "cache_clear", None)) and getattr(v, "sympy_only", False)]
-    assert len(kept) == 2 and set(kept) == {memo._simplify_cached, remembered._simplify_cached}
+    assert set(kept) == {remembered._simplify_cached}  # derivations.memo simplifies through it
     for cache in kept:
         code = cache.__wrapped__.__code__
         assert set(code.co_names) <= {"sp", "simplify"} and not code.co_freevars, (cache, code.co_names)
@@ -115,5 +115,5 @@ def test_caches_kept_across_mutations_call_sympy_alone():
     memo.simplify(sp.Symbol("kept") * 2 / 3)
     tidy(sp.sqrt(8) / 3)
     mutations.clear_caches()
-    assert memo._simplify_cached.cache_info().currsize >= 1 and _tidy_remembered.cache_info().currsize == 0
+    assert remembered._simplify_cached.cache_info().currsize >= 1 and _tidy_remembered.cache_info().currsize == 0
     _memo_restore(saved)

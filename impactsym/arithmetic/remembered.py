@@ -1,5 +1,5 @@
-"""SymPy's ``simplify``, remembered per expression, for the library's exact forms that recur: the
-pool's gradient entries (:mod:`impactsym.models.acary_taha`) and the kinetic angles and M-normals of
+"""SymPy's ``simplify``, remembered per expression, for the exact forms that recur: the derivations'
+and paper checks' simplifications (:mod:`derivations.memo` calls it), the pool's gradient entries (:mod:`impactsym.models.acary_taha`) and the kinetic angles and M-normals of
 :mod:`impactsym.mechanics` are simplified again whenever their own caches are cleared (the paper
 checks' mutation tests clear every cache of impactsym between mutations), and ``simplify`` of the
 same expression is the same expression.
@@ -24,19 +24,19 @@ import sympy as sp
 __all__ = ["simplify_remembered"]
 
 
-def simplify_remembered(expr):
-    """``sympy.simplify(expr)``, remembered per (immutable) expression."""
+def simplify_remembered(expr, **kwargs):
+    """``sympy.simplify(expr, **kwargs)``, remembered per (immutable) expression and options."""
     try:
-        return _simplify_cached(expr)
+        return _simplify_cached(expr, **kwargs)
     except TypeError as exc:
         if "unhashable" not in str(exc):
             raise
-        return sp.simplify(expr)
+        return sp.simplify(expr, **kwargs)
 
 
-@lru_cache(maxsize=4096, typed=True)
-def _simplify_cached(expr):
-    return sp.simplify(expr)
+@lru_cache(maxsize=8192, typed=True)
+def _simplify_cached(expr, **kwargs):
+    return sp.simplify(expr, **kwargs)
 
 
 #: SymPy's simplify and nothing of impactsym: kept across the mutation tests' cache clears
