@@ -126,7 +126,6 @@ class _Contact:
     wall: fmpq | None = None
     side: int = 0  # wall: +1 ball right of it, -1 left of it
     e: fmpq = fmpq(1)
-    last_impulse: fmpq | None = None  # set by _collide
 
     @property
     def balls(self):
@@ -278,31 +277,50 @@ def simulate_line(masses, radii, positions, velocities, walls=(), *, restitution
     cap = max_events if max_events is not None else (DEFAULT_MAX_EVENTS_INELASTIC if inelastic else DEFAULT_MAX_EVENTS)
     mf, rf, xf, vf = [_fr(t) for t in m], [_fr(t) for t in r], [_fr(t) for t in x], [_fr(t) for t in v]
     v0 = list(vf)
+    # The positions enter only through the gaps, so the loop tracks each contact's gap (exactly
+    # ``gap(x(t))``: the gaps are linear in time between collisions, like the positions) and one
+    # anchor ball's position; the colliding contact's gap is exactly 0 at its collision
+    # (``g - rate · g/rate``). The final positions follow exactly from the anchor and the gaps of
+    # the pairs, which chain every ball. Rates are recomputed only for the contacts of balls that
+    # collided, and the energy losses and impulses are summed once at the end (pairwise). The
+    # numbers are the same exact rationals as a per-ball position update would give.
+    index = {id(c): i for i, c in enumerate(every)}
+    gaps = [c.gap(xf, rf) for c in every]
+    rates = [c.closing_rate(vf) for c in every]
+    touching: dict = {}
+    for i, c in enumerate(every):
+        for b in c.balls:
+            touching.setdefault(b, []).append(i)
+    act = [index[id(c)] for c in active]
+    wat = [index[id(c)] for c in watched]
+    anchor = order[0]
+    x_anchor, t_anchor = xf[anchor], fmpq(0)
     t = fmpq(0)
     events: list = []
-    impulses: dict = {}
-    loss = fmpq(0)
+    impulse_terms: dict = {}
+    loss_terms: list = []
 
     def soonest(group):
         best, tied = None, []
-        for c in group:
-            rate = c.closing_rate(vf)
+        for i in group:
+            rate = rates[i]
             if rate > 0:
-                dt = c.gap(xf, rf) / rate
+                dt = gaps[i] / rate
                 if best is None or dt < best:
-                    best, tied = dt, [c]
+                    best, tied = dt, [i]
                 elif dt == best:
-                    tied.append(c)
+                    tied.append(i)
         return best, tied
 
     while True:
-        dt, group = soonest(active)
+        dt, tied = soonest(act)
         if dt is None:
             break
-        wdt, wgroup = soonest(watched)
+        group = [every[i] for i in tied]
+        wdt, wtied = soonest(wat)
         if wdt is not None and wdt <= dt:
             raise DomainError(
-                f"contacts: contact {wgroup[0].name}, which is not simulated, closes at t = {_sp(t + wdt)}, "
+                f"contacts: contact {every[wtied[0]].name}, which is not simulated, closes at t = {_sp(t + wdt)}, "
                 f"{'at the same instant as' if wdt == dt else 'before'} the next collision of the simulated "
                 f"contacts ({group[0].name} at t = {_sp(t + dt)}): it does not stay open while the impact lasts")
         if len(group) > 1:
@@ -314,16 +332,49 @@ def simulate_line(masses, radii, positions, velocities, walls=(), *, restitution
                                   f"{at_start} and share ball {shared + 1} (a simultaneous impact; choose other gaps)")
         if len(events) + len(group) > cap:
             raise DomainError(_cap_message(cap, [ev[0] for ev in events], inelastic))
-        t = t + dt
-        xf = [xi + vi * dt for xi, vi in zip(xf, vf)]
+        t_next = t + dt
+        closing = set(tied)
+        for i in range(len(every)):
+            if i in closing:
+                gaps[i] = fmpq(0)
+            elif rates[i] != 0:
+                gaps[i] = gaps[i] - rates[i] * dt
+        moved = {b for c in group for b in c.balls}
+        if anchor in moved:
+            x_anchor = x_anchor + vf[anchor] * (t_next - t_anchor)
+            t_anchor = t_next
+        t = t_next
         for c in group:  # independent: no ball in common, so the order does not matter
-            loss += _collide(c, mf, vf)
-            impulses[c.name] = impulses.get(c.name, fmpq(0)) + c.last_impulse
+            p, lost = _collide(c, mf, vf, -rates[index[id(c)]])
+            if lost is not None:
+                loss_terms.append(lost)
+            impulse_terms.setdefault(c.name, []).append(p)
             events.append((t, c.name))
+        for i in {i for b in moved for i in touching[b]}:
+            rates[i] = every[i].closing_rate(vf)
+    x_anchor = x_anchor + vf[anchor] * (t - t_anchor)
+    xf = list(xf)
+    xf[anchor] = x_anchor
+    for c, g in zip(every, gaps):  # the pairs, left to right: x_b = x_a + r_a + r_b + gap
+        if c.kind == "pair":
+            xf[c.b] = xf[c.a] + rf[c.a] + rf[c.b] + g
+    loss = _pairwise_sum(k * (w * w) for k, w in loss_terms)
+    impulses = {n: _pairwise_sum(ps) for n, ps in impulse_terms.items()}
     _verify_final(m, [_sp(q) for q in v0], [_sp(q) for q in vf], bool(w), _sp(loss),
                   [(c, _sp(impulses[c.name])) for c in every if c.name in impulses])
     return SimulationResult([_sp(q) for q in vf], [_sp(q) for q in xf], [(_sp(tt), n) for tt, n in events], _sp(t),
                             {n: _sp(p) for n, p in impulses.items()}, _sp(loss))
+
+
+def _pairwise_sum(terms) -> fmpq:
+    """The exact sum of ``terms``, added pairwise (a balanced tree): the long partial sums of a
+    cascade meet only near the root, instead of once per term."""
+    terms = list(terms)
+    if not terms:
+        return fmpq(0)
+    while len(terms) > 1:
+        terms = [terms[i] + terms[i + 1] if i + 1 < len(terms) else terms[i] for i in range(0, len(terms), 2)]
+    return terms[0]
 
 
 def _shared_ball(group):
@@ -336,25 +387,24 @@ def _shared_ball(group):
     return None
 
 
-def _collide(c: _Contact, m, v) -> fmpq:
-    """Newton's law on contact ``c``, in place on ``v``; sets ``c.last_impulse``; returns the
-    kinetic energy lost, ``(1 − e²)/2 · μ w²``."""
+def _collide(c: _Contact, m, v, w):
+    """Newton's law on contact ``c``, in place on ``v``; returns the
+    impulse and the kinetic energy lost, ``(1 − e²)/2 · μ w²``, as the pair ``((1 − e²)/2 · μ, w)`` (None
+    when ``e = 1``: nothing is lost). ``w = −closing rate`` (``v_b − v_a`` for a pair, ``side · v_b`` at
+    a wall) is passed in: the loop has it for the current velocities."""
     e = c.e
     if c.kind == "pair":
-        a, b = c.a, c.b
-        w = v[b] - v[a]  # < 0: approaching
+        a, b = c.a, c.b  # w = v[b] - v[a] < 0: approaching
         mu = m[a] * m[b] / (m[a] + m[b])
-        p = -(1 + e) * w * mu  # impulse on b (rightward), on a leftward
+        p = -(1 + e) * mu * w  # impulse on b (rightward), on a leftward
         v[a] = v[a] - p / m[a]
         v[b] = v[b] + p / m[b]
     else:
-        b = c.b
-        w = c.side * v[b]  # < 0: approaching the wall
+        b = c.b  # w = side * v[b] < 0: approaching the wall
         mu = m[b]
-        p = -(1 + e) * w * mu  # along the wall's normal (side)
+        p = -(1 + e) * mu * w  # along the wall's normal (side)
         v[b] = v[b] + c.side * p / m[b]
-    c.last_impulse = p
-    return (1 - e * e) / 2 * mu * w * w
+    return p, (None if e == 1 else ((1 - e * e) / 2 * mu, w))
 
 
 def _cap_message(cap, times, inelastic) -> str:
