@@ -584,8 +584,6 @@ def realize_ordering(M, H, v0, order, *, scale=sp.Rational(1, 10**6)):
 def _realize_ordering(M, H, v0, order, scale):
     M, H, v0 = sp.Matrix(M), sp.Matrix(H), sp.Matrix(v0)
     k, c, A_ub, b_ub, A_eq, b_eq = _ordering_lp(M, H, v0, order)
-    if _margin_positive(c, A_ub, b_ub, A_eq, b_eq) is False:
-        return None  # decided exactly (the gaps of a realizable order come from SymPy's simplex below)
     rational = all(getattr(x, "is_Rational", False) for row in [c, b_ub, b_eq] + A_ub + A_eq for x in row)
     solved = _linprog_fmpq(c, A_ub, b_ub, A_eq, b_eq) if rational else _linprog_sympy(c, A_ub, b_ub, A_eq, b_eq)
     if solved is None:
@@ -615,8 +613,8 @@ def _linprog_fmpq(c, A_ub, b_ub, A_eq, b_eq):
     in FLINT's ``fmpq``: the same tableau, the same pivots in the same order, hence the same
     vertex, many times faster on the ordering LPs. Rational data only. Returns
     ``(value, point)`` as SymPy rationals like ``linprog`` (minimum of ``c · z``), or None when
-    infeasible. The point is checked before return: it satisfies every constraint exactly and
-    its value is ``c · z`` (a failure raises)."""
+    infeasible. The optimum is certified before return: the point satisfies every constraint
+    exactly, the tableau's dual point is dual feasible, and both have the value (a failure raises)."""
     from .errors import VerificationError
 
     q = lambda x: fmpq(int(x.p), int(x.q))  # noqa: E731
@@ -682,11 +680,23 @@ def _linprog_fmpq(c, A_ub, b_ub, A_eq, b_eq):
     value = -T[-1][-1]
     if last and not (all(x >= 0 for x in point) and all(T[-1][i] >= 0 for i, (isy, _) in enumerate(X) if isy)):
         return None  # SymPy: "Oscillating system led to invalid solution" (its argmax and dual point)
+    # the certificate: the point is feasible, the tableau's dual point y >= 0 is dual feasible
+    # (A^T y >= -c), and c . z = -b . y, so the value is the exact optimum (weak duality)
+    dual = [fmpq(0)] * m
+    for i, (isy, j) in enumerate(X):
+        if isy:
+            dual[j] = T[-1][i]
     feasible = all(x >= 0 for x in point) and all(
         sum((a * z for a, z in zip(row[:-1], point)), fmpq(0)) <= row[-1] for row in rows)
-    if not feasible or sum((q(x) * z for x, z in zip(c, point)), fmpq(0)) != value:
-        raise VerificationError("realize_ordering", "the simplex point violates the ordering LP or its value")
-    return _sp(value), [_sp(z) for z in point]
+    cq = [q(x) for x in c]
+    optimal = all(y >= 0 for y in dual) and all(
+        sum((rows[i][j] * dual[i] for i in range(m) if dual[i] != 0), fmpq(0)) >= -cq[j] for j in range(n)) and (
+        -sum((rows[i][-1] * dual[i] for i in range(m) if dual[i] != 0), fmpq(0)) == value)
+    if not feasible or not optimal or sum((a * z for a, z in zip(cq, point)), fmpq(0)) != value:
+        raise VerificationError("realize_ordering", "the simplex point or its dual point violates the ordering "
+                                                    "LP, or their values differ")
+    basic = {j for isy, j in Y if not isy}
+    return _sp(value), [_sp(z) if j in basic else 0 for j, z in enumerate(point)]  # SymPy: int 0 off the basis
 
 
 def perturbed_scene_positions(scene, gaps):

@@ -257,7 +257,8 @@ def test_fmpq_simplex_is_sympys_linprog_pivot_for_pivot():
     sc = balls_against_wall(3, masses=[3, 2, 1], velocities=[0, -1, -2])
     for order in [(0, 1, 0, 2, 0, 1, 2), (0, 1, 2, 0, 1, 2), (2, 1, 0)]:
         _, c, A_ub, b_ub, A_eq, b_eq = _ordering_lp(sp.Matrix(sc.M), sp.Matrix(sc.H), sp.Matrix(sc.v), order)
-        assert _linprog_fmpq(c, A_ub, b_ub, A_eq, b_eq) == _linprog_sympy(c, A_ub, b_ub, A_eq, b_eq)
+        got, want = _linprog_fmpq(c, A_ub, b_ub, A_eq, b_eq), _linprog_sympy(c, A_ub, b_ub, A_eq, b_eq)
+        assert got == (want[0], list(want[1])) and [type(x) for x in got[1]] == [type(x) for x in want[1]]
     rng = random.Random(7)
     seen = set()
     for _ in range(40):
@@ -277,6 +278,7 @@ def test_fmpq_simplex_is_sympys_linprog_pivot_for_pivot():
             raise
         got = _linprog_fmpq(c, A_ub, b_ub, A_eq, b_eq)
         assert got == (None if want is None else (want[0], list(want[1])))
+        assert want is None or [type(x) for x in got[1]] == [type(x) for x in want[1]]  # int 0 off the basis
         seen.add(want is None)
         seen.add(("phase 1", any(b < 0 for b in b_ub + b_eq)))
     assert seen >= {True, False, ("phase 1", True)}  # both verdicts and the phase-1 path were exercised
