@@ -514,7 +514,44 @@ def _velocity_after(M, H, v0, prefix):
 
     if not prefix:
         return v0
-    return sp.ImmutableMatrix(reflect(M, H[prefix[-1], :], _velocity_after(M, H, v0, prefix[:-1])))
+    v = _velocity_after(M, H, v0, prefix[:-1])
+    if all(x.is_Rational for x in v) and _rational_contact(M, H, prefix[-1]) is not None:
+        return _reflect_rational(M, H, prefix[-1], v)
+    return sp.ImmutableMatrix(reflect(M, H[prefix[-1], :], v))
+
+
+@lru_cache(maxsize=256)
+def _rational_contact(M, H, i):
+    """``(M, h, w = M⁻¹hᵀ, s = h w)`` in ``fmpq`` for contact ``i`` of a rational scene (None otherwise)."""
+    from flint import fmpq_mat
+
+    if not all(x.is_Rational for x in list(M) + list(H[i, :])):
+        return None
+    n = M.shape[0]
+    Mq = fmpq_mat(n, n, [_fr(x) for x in M])
+    h = [_fr(x) for x in H[i, :]]
+    w = Mq.solve(fmpq_mat(n, 1, h))
+    w = [w[j, 0] for j in range(n)]
+    return Mq, h, w, sum((a * b for a, b in zip(h, w)), fmpq(0))
+
+
+def _reflect_rational(M, H, i, v):
+    """The elastic reflection of ``v`` on contact ``i``, ``v⁺ = v − 2 (h v)/(h M⁻¹hᵀ) M⁻¹hᵀ``, in
+    ``fmpq`` (the same exact values as :func:`impactsym.laws.reflection.reflect`), verified before
+    return like ``reflect``: ``M(v⁺ − v) = hᵀp`` and Newton's ``h v⁺ = −h v``."""
+    from .errors import VerificationError
+
+    Mq, h, w, s = _rational_contact(M, H, i)
+    n = len(h)
+    vq = [_fr(x) for x in v]
+    hv = sum((a * b for a, b in zip(h, vq)), fmpq(0))
+    p = -2 * hv / s
+    out = [x + p * y for x, y in zip(vq, w)]
+    dv = [a - b for a, b in zip(out, vq)]
+    if any(sum((Mq[r, j] * dv[j] for j in range(n)), fmpq(0)) != h[r] * p for r in range(n)) or \
+            sum((a * b for a, b in zip(h, out)), fmpq(0)) != -hv:
+        raise VerificationError("reflection", "M(v+ - v) != h^T p or h v+ != -h v")
+    return sp.ImmutableMatrix([_sp(x) for x in out])
 
 
 @lru_cache(maxsize=4096)
