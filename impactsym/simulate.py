@@ -279,7 +279,8 @@ def simulate_line(masses, radii, positions, velocities, walls=(), *, restitution
     v0 = list(vf)
     # The positions enter only through the gaps, so the loop tracks each contact's gap (exactly
     # ``gap(x(t))``: the gaps are linear in time between collisions, like the positions) and one
-    # anchor ball's position; the colliding contact's gap is exactly 0 at its collision
+    # anchor ball's position (summed at the end from its velocities and their durations); the
+    # colliding contact's gap is exactly 0 at its collision
     # (``g - rate · g/rate``). The final positions follow exactly from the anchor and the gaps of
     # the pairs, which chain every ball. Rates are recomputed only for the contacts of balls that
     # collided, and the energy losses and impulses are summed once at the end (pairwise). The
@@ -294,7 +295,7 @@ def simulate_line(masses, radii, positions, velocities, walls=(), *, restitution
     act = [index[id(c)] for c in active]
     wat = [index[id(c)] for c in watched]
     anchor = order[0]
-    x_anchor, t_anchor = xf[anchor], fmpq(0)
+    anchor_epochs = [(fmpq(0), vf[anchor])]  # (time, the anchor's velocity from then on)
     t = fmpq(0)
     events: list = []
     impulse_terms: dict = {}
@@ -340,9 +341,6 @@ def simulate_line(masses, radii, positions, velocities, walls=(), *, restitution
             elif rates[i] != 0:
                 gaps[i] = gaps[i] - rates[i] * dt
         moved = {b for c in group for b in c.balls}
-        if anchor in moved:
-            x_anchor = x_anchor + vf[anchor] * (t_next - t_anchor)
-            t_anchor = t_next
         t = t_next
         for c in group:  # independent: no ball in common, so the order does not matter
             p, lost = _collide(c, mf, vf, -rates[index[id(c)]])
@@ -352,9 +350,11 @@ def simulate_line(masses, radii, positions, velocities, walls=(), *, restitution
             events.append((t, c.name))
         for i in {i for b in moved for i in touching[b]}:
             rates[i] = every[i].closing_rate(vf)
-    x_anchor = x_anchor + vf[anchor] * (t - t_anchor)
-    xf = list(xf)
-    xf[anchor] = x_anchor
+        if anchor in moved:
+            anchor_epochs.append((t, vf[anchor]))
+    xf = list(xf)  # the anchor moved by the sum of its velocities times their durations
+    ends = [tt for tt, _ in anchor_epochs[1:]] + [t]
+    xf[anchor] = xf[anchor] + _pairwise_sum(vv * (end - start) for (start, vv), end in zip(anchor_epochs, ends))
     for c, g in zip(every, gaps):  # the pairs, left to right: x_b = x_a + r_a + r_b + gap
         if c.kind == "pair":
             xf[c.b] = xf[c.a] + rf[c.a] + rf[c.b] + g
