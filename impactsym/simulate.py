@@ -25,8 +25,8 @@ the run stops at its cap and is refused, saying whether the collision times were
 ``0 < T_1 < … < T_m`` and the velocities ``v_0, v_1, …`` of the ordering, every gap is piecewise
 linear in time, so "contact ``c_s`` closes at ``T_s`` and every other gap stays positive" is a
 linear program in the gaps and the intervals ``T_s − T_{s−1}``; it is solved exactly (SymPy's
-rational simplex, run step for step in FLINT's ``fmpq``) maximizing the smallest margin, and the gaps are then scaled down to
-``scale`` (the schedule is invariant under scaling gaps and times together).
+rational simplex, run step for step in FLINT's ``fmpq``) maximizing the smallest margin, and the
+gaps are then scaled down to ``scale`` (the schedule is invariant under scaling gaps and times together).
 
 Examples
 --------

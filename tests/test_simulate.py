@@ -271,7 +271,9 @@ def test_fmpq_simplex_is_sympys_linprog_pivot_for_pivot():
         b_ub = [R(rng.randint(-3, 4), rng.randint(1, 2)) for _ in range(m)] + [5]
         A_ub = [[sp.sympify(x) for x in row] for row in A_ub]
         b_ub = [sp.sympify(x) for x in b_ub]
-        A_eq, b_eq = ([[R(rng.randint(-2, 2)) for _ in range(n)]], [R(rng.randint(-1, 1))]) if rng.random() < 0.5 else ([], [])
+        A_eq, b_eq = ([], [])
+        if rng.random() < 0.5:
+            A_eq, b_eq = [[R(rng.randint(-2, 2)) for _ in range(n)]], [R(rng.randint(-1, 1))]
         try:
             want = linprog(sp.Matrix([c]), sp.Matrix(A_ub), sp.Matrix(b_ub),
                            sp.Matrix(A_eq) if A_eq else None, sp.Matrix(b_eq) if b_eq else None)
