@@ -25,8 +25,8 @@ the run stops at its cap and is refused, saying whether the collision times were
 ``0 < T_1 < … < T_m`` and the velocities ``v_0, v_1, …`` of the ordering, every gap is piecewise
 linear in time, so "contact ``c_s`` closes at ``T_s`` and every other gap stays positive" is a
 linear program in the gaps and the intervals ``T_s − T_{s−1}``; it is solved exactly (SymPy's
-rational simplex) maximizing the smallest margin, and the gaps are then scaled down to
-``scale`` (the schedule is invariant under scaling gaps and times together).
+rational simplex, run step for step in FLINT's ``fmpq``) maximizing the smallest margin, and the
+gaps are then scaled down to ``scale`` (the schedule is invariant under scaling gaps and times together).
 
 Examples
 --------
@@ -126,7 +126,6 @@ class _Contact:
     wall: fmpq | None = None
     side: int = 0  # wall: +1 ball right of it, -1 left of it
     e: fmpq = fmpq(1)
-    last_impulse: fmpq | None = None  # set by _collide
 
     @property
     def balls(self):
@@ -278,31 +277,51 @@ def simulate_line(masses, radii, positions, velocities, walls=(), *, restitution
     cap = max_events if max_events is not None else (DEFAULT_MAX_EVENTS_INELASTIC if inelastic else DEFAULT_MAX_EVENTS)
     mf, rf, xf, vf = [_fr(t) for t in m], [_fr(t) for t in r], [_fr(t) for t in x], [_fr(t) for t in v]
     v0 = list(vf)
+    # The positions enter only through the gaps, so the loop tracks each contact's gap (exactly
+    # ``gap(x(t))``: the gaps are linear in time between collisions, like the positions) and one
+    # anchor ball's position (summed at the end from its velocities and their durations); the
+    # colliding contact's gap is exactly 0 at its collision
+    # (``g - rate · g/rate``). The final positions follow exactly from the anchor and the gaps of
+    # the pairs, which chain every ball. Rates are recomputed only for the contacts of balls that
+    # collided, and the energy losses and impulses are summed once at the end (pairwise). The
+    # numbers are the same exact rationals as a per-ball position update would give.
+    index = {id(c): i for i, c in enumerate(every)}
+    gaps = [c.gap(xf, rf) for c in every]
+    rates = [c.closing_rate(vf) for c in every]
+    touching: dict = {}
+    for i, c in enumerate(every):
+        for b in c.balls:
+            touching.setdefault(b, []).append(i)
+    act = [index[id(c)] for c in active]
+    wat = [index[id(c)] for c in watched]
+    anchor = order[0]
+    anchor_epochs = [(fmpq(0), vf[anchor])]  # (time, the anchor's velocity from then on)
     t = fmpq(0)
     events: list = []
-    impulses: dict = {}
-    loss = fmpq(0)
+    impulse_terms: dict = {}
+    loss_terms: list = []
 
     def soonest(group):
         best, tied = None, []
-        for c in group:
-            rate = c.closing_rate(vf)
+        for i in group:
+            rate = rates[i]
             if rate > 0:
-                dt = c.gap(xf, rf) / rate
+                dt = gaps[i] / rate
                 if best is None or dt < best:
-                    best, tied = dt, [c]
+                    best, tied = dt, [i]
                 elif dt == best:
-                    tied.append(c)
+                    tied.append(i)
         return best, tied
 
     while True:
-        dt, group = soonest(active)
+        dt, tied = soonest(act)
         if dt is None:
             break
-        wdt, wgroup = soonest(watched)
+        group = [every[i] for i in tied]
+        wdt, wtied = soonest(wat)
         if wdt is not None and wdt <= dt:
             raise DomainError(
-                f"contacts: contact {wgroup[0].name}, which is not simulated, closes at t = {_sp(t + wdt)}, "
+                f"contacts: contact {every[wtied[0]].name}, which is not simulated, closes at t = {_sp(t + wdt)}, "
                 f"{'at the same instant as' if wdt == dt else 'before'} the next collision of the simulated "
                 f"contacts ({group[0].name} at t = {_sp(t + dt)}): it does not stay open while the impact lasts")
         if len(group) > 1:
@@ -314,16 +333,48 @@ def simulate_line(masses, radii, positions, velocities, walls=(), *, restitution
                                   f"{at_start} and share ball {shared + 1} (a simultaneous impact; choose other gaps)")
         if len(events) + len(group) > cap:
             raise DomainError(_cap_message(cap, [ev[0] for ev in events], inelastic))
-        t = t + dt
-        xf = [xi + vi * dt for xi, vi in zip(xf, vf)]
+        t_next = t + dt
+        closing = set(tied)
+        for i in range(len(every)):
+            if i in closing:
+                gaps[i] = fmpq(0)
+            elif rates[i] != 0:
+                gaps[i] = gaps[i] - rates[i] * dt
+        moved = {b for c in group for b in c.balls}
+        t = t_next
         for c in group:  # independent: no ball in common, so the order does not matter
-            loss += _collide(c, mf, vf)
-            impulses[c.name] = impulses.get(c.name, fmpq(0)) + c.last_impulse
+            p, lost = _collide(c, mf, vf, -rates[index[id(c)]])
+            if lost is not None:
+                loss_terms.append(lost)
+            impulse_terms.setdefault(c.name, []).append(p)
             events.append((t, c.name))
+        for i in {i for b in moved for i in touching[b]}:
+            rates[i] = every[i].closing_rate(vf)
+        if anchor in moved:
+            anchor_epochs.append((t, vf[anchor]))
+    xf = list(xf)  # the anchor moved by the sum of its velocities times their durations
+    ends = [tt for tt, _ in anchor_epochs[1:]] + [t]
+    xf[anchor] = xf[anchor] + _pairwise_sum(vv * (end - start) for (start, vv), end in zip(anchor_epochs, ends))
+    for c, g in zip(every, gaps):  # the pairs, left to right: x_b = x_a + r_a + r_b + gap
+        if c.kind == "pair":
+            xf[c.b] = xf[c.a] + rf[c.a] + rf[c.b] + g
+    loss = _pairwise_sum(k * (w * w) for k, w in loss_terms)
+    impulses = {n: _pairwise_sum(ps) for n, ps in impulse_terms.items()}
     _verify_final(m, [_sp(q) for q in v0], [_sp(q) for q in vf], bool(w), _sp(loss),
                   [(c, _sp(impulses[c.name])) for c in every if c.name in impulses])
     return SimulationResult([_sp(q) for q in vf], [_sp(q) for q in xf], [(_sp(tt), n) for tt, n in events], _sp(t),
                             {n: _sp(p) for n, p in impulses.items()}, _sp(loss))
+
+
+def _pairwise_sum(terms) -> fmpq:
+    """The exact sum of ``terms``, added pairwise (a balanced tree): the long partial sums of a
+    cascade meet only near the root, instead of once per term."""
+    terms = list(terms)
+    if not terms:
+        return fmpq(0)
+    while len(terms) > 1:
+        terms = [terms[i] + terms[i + 1] if i + 1 < len(terms) else terms[i] for i in range(0, len(terms), 2)]
+    return terms[0]
 
 
 def _shared_ball(group):
@@ -336,25 +387,24 @@ def _shared_ball(group):
     return None
 
 
-def _collide(c: _Contact, m, v) -> fmpq:
-    """Newton's law on contact ``c``, in place on ``v``; sets ``c.last_impulse``; returns the
-    kinetic energy lost, ``(1 − e²)/2 · μ w²``."""
+def _collide(c: _Contact, m, v, w):
+    """Newton's law on contact ``c``, in place on ``v``; returns the
+    impulse and the kinetic energy lost, ``(1 − e²)/2 · μ w²``, as the pair ``((1 − e²)/2 · μ, w)`` (None
+    when ``e = 1``: nothing is lost). ``w = −closing rate`` (``v_b − v_a`` for a pair, ``side · v_b`` at
+    a wall) is passed in: the loop has it for the current velocities."""
     e = c.e
     if c.kind == "pair":
-        a, b = c.a, c.b
-        w = v[b] - v[a]  # < 0: approaching
+        a, b = c.a, c.b  # w = v[b] - v[a] < 0: approaching
         mu = m[a] * m[b] / (m[a] + m[b])
-        p = -(1 + e) * w * mu  # impulse on b (rightward), on a leftward
+        p = -(1 + e) * mu * w  # impulse on b (rightward), on a leftward
         v[a] = v[a] - p / m[a]
         v[b] = v[b] + p / m[b]
     else:
-        b = c.b
-        w = c.side * v[b]  # < 0: approaching the wall
+        b = c.b  # w = side * v[b] < 0: approaching the wall
         mu = m[b]
-        p = -(1 + e) * w * mu  # along the wall's normal (side)
+        p = -(1 + e) * mu * w  # along the wall's normal (side)
         v[b] = v[b] + c.side * p / m[b]
-    c.last_impulse = p
-    return (1 - e * e) / 2 * mu * w * w
+    return p, (None if e == 1 else ((1 - e * e) / 2 * mu, w))
 
 
 def _cap_message(cap, times, inelastic) -> str:
@@ -464,7 +514,44 @@ def _velocity_after(M, H, v0, prefix):
 
     if not prefix:
         return v0
-    return sp.ImmutableMatrix(reflect(M, H[prefix[-1], :], _velocity_after(M, H, v0, prefix[:-1])))
+    v = _velocity_after(M, H, v0, prefix[:-1])
+    if all(x.is_Rational for x in v) and _rational_contact(M, H, prefix[-1]) is not None:
+        return _reflect_rational(M, H, prefix[-1], v)
+    return sp.ImmutableMatrix(reflect(M, H[prefix[-1], :], v))
+
+
+@lru_cache(maxsize=256)
+def _rational_contact(M, H, i):
+    """``(M, h, w = M⁻¹hᵀ, s = h w)`` in ``fmpq`` for contact ``i`` of a rational scene (None otherwise)."""
+    from flint import fmpq_mat
+
+    if not all(x.is_Rational for x in list(M) + list(H[i, :])):
+        return None
+    n = M.shape[0]
+    Mq = fmpq_mat(n, n, [_fr(x) for x in M])
+    h = [_fr(x) for x in H[i, :]]
+    w = Mq.solve(fmpq_mat(n, 1, h))
+    w = [w[j, 0] for j in range(n)]
+    return Mq, h, w, sum((a * b for a, b in zip(h, w)), fmpq(0))
+
+
+def _reflect_rational(M, H, i, v):
+    """The elastic reflection of ``v`` on contact ``i``, ``v⁺ = v − 2 (h v)/(h M⁻¹hᵀ) M⁻¹hᵀ``, in
+    ``fmpq`` (the same exact values as :func:`impactsym.laws.reflection.reflect`), verified before
+    return like ``reflect``: ``M(v⁺ − v) = hᵀp`` and Newton's ``h v⁺ = −h v``."""
+    from .errors import VerificationError
+
+    Mq, h, w, s = _rational_contact(M, H, i)
+    n = len(h)
+    vq = [_fr(x) for x in v]
+    hv = sum((a * b for a, b in zip(h, vq)), fmpq(0))
+    p = -2 * hv / s
+    out = [x + p * y for x, y in zip(vq, w)]
+    dv = [a - b for a, b in zip(out, vq)]
+    if any(sum((Mq[r, j] * dv[j] for j in range(n)), fmpq(0)) != h[r] * p for r in range(n)) or \
+            sum((a * b for a, b in zip(h, out)), fmpq(0)) != -hv:
+        raise VerificationError("reflection", "M(v+ - v) != h^T p or h v+ != -h v")
+    return sp.ImmutableMatrix([_sp(x) for x in out])
 
 
 @lru_cache(maxsize=4096)
@@ -520,9 +607,10 @@ def realize_ordering(M, H, v0, order, *, scale=sp.Rational(1, 10**6)):
     >>> realize_ordering(sp.eye(2), sp.Matrix([[1, 0], [-1, 1]]), sp.Matrix([-1, -2]), [1, 0, 1, 0])
     [1/1000000, 1/7000000]
 
-    The answer is a function of the exact data alone; the last 512 are remembered (SymPy's exact
-    simplex takes about 0.2 s per ordering, and a scene's orderings are asked for again by the
-    figures and the findings that draw on them).
+    The answer is a function of the exact data alone; the last 512 are remembered (a scene's
+    orderings are asked for again by the figures and the findings that draw on them). The vertex
+    is SymPy's ``linprog``'s: its simplex is run pivot for pivot in ``fmpq`` (SymPy's own
+    ``linprog`` when the data are not all rational).
     """
     gaps = _realize_ordering(sp.ImmutableMatrix(M), sp.ImmutableMatrix(H), sp.ImmutableMatrix(v0),
                              tuple(int(c) for c in order), sp.sympify(scale))
@@ -531,22 +619,121 @@ def realize_ordering(M, H, v0, order, *, scale=sp.Rational(1, 10**6)):
 
 @lru_cache(maxsize=512)
 def _realize_ordering(M, H, v0, order, scale):
-    from sympy.solvers.simplex import InfeasibleLPError, linprog
-
     M, H, v0 = sp.Matrix(M), sp.Matrix(H), sp.Matrix(v0)
     k, c, A_ub, b_ub, A_eq, b_eq = _ordering_lp(M, H, v0, order)
-    if _margin_positive(c, A_ub, b_ub, A_eq, b_eq) is False:
-        return None  # decided exactly without SymPy's LP (the gaps of a realizable order still come from it)
-    try:
-        val, z = linprog(sp.Matrix([c]), sp.Matrix(A_ub), sp.Matrix(b_ub),
-                         sp.Matrix(A_eq) if A_eq else None, sp.Matrix(b_eq) if b_eq else None)
-    except InfeasibleLPError:
+    rational = all(getattr(x, "is_Rational", False) for row in [c, b_ub, b_eq] + A_ub + A_eq for x in row)
+    solved = _linprog_fmpq(c, A_ub, b_ub, A_eq, b_eq) if rational else _linprog_sympy(c, A_ub, b_ub, A_eq, b_eq)
+    if solved is None:
         return None
+    val, z = solved
     if -val <= 0:
         return None
     gaps = [z[i] for i in range(k)]
     top = max(gaps)
     return tuple(sp.Rational(g) / top * scale for g in gaps)
+
+
+def _linprog_sympy(c, A_ub, b_ub, A_eq, b_eq):
+    """SymPy's ``linprog`` on the ordering LP: ``(value, point)``, or None when infeasible."""
+    from sympy.solvers.simplex import InfeasibleLPError, linprog
+
+    try:
+        return linprog(sp.Matrix([c]), sp.Matrix(A_ub), sp.Matrix(b_ub),
+                       sp.Matrix(A_eq) if A_eq else None, sp.Matrix(b_eq) if b_eq else None)
+    except InfeasibleLPError:
+        return None
+
+
+def _linprog_fmpq(c, A_ub, b_ub, A_eq, b_eq):
+    """SymPy's ``linprog`` (SymPy 1.14's ``sympy.solvers.simplex``: the two-phase tableau
+    simplex with Bland's rule, equalities as two inequalities, variables ``>= 0``) step for step
+    in FLINT's ``fmpq``: the same tableau, the same pivots in the same order, hence the same
+    vertex, many times faster on the ordering LPs. Rational data only. Returns
+    ``(value, point)`` as SymPy rationals like ``linprog`` (minimum of ``c · z``), or None when
+    infeasible. The optimum is certified before return: the point satisfies every constraint
+    exactly, the tableau's dual point is dual feasible, and both have the value (a failure raises)."""
+    from .errors import VerificationError
+
+    q = lambda x: fmpq(int(x.p), int(x.q))  # noqa: E731
+    rows = [[q(x) for x in row] + [q(b)] for row, b in zip(A_ub, b_ub)]
+    rows += [[q(x) for x in row] + [q(b)] for row, b in zip(A_eq, b_eq)]
+    rows += [[-q(x) for x in row] + [-q(b)] for row, b in zip(A_eq, b_eq)]
+    T = [list(row) for row in rows] + [[q(x) for x in c] + [fmpq(0)]]  # [[A, B], [C, D = 0]]
+    n, m = len(c), len(rows)
+    X = [(False, j) for j in range(n)]  # x variables before y variables in Bland's rule
+    Y = [(True, i) for i in range(m)]
+
+    def pivot(r, j):  # sympy.solvers.simplex._pivot, in place; rows with a zero in column j stay
+        Mi, Mij = T[r], T[r][j]
+        scaled = [x / Mij for x in Mi]
+        nz = [jj for jj, x in enumerate(scaled) if x != 0 and jj != j]
+        for i, row in enumerate(T):
+            if i == r:
+                continue
+            f = row[j]
+            if f != 0:
+                for jj in nz:
+                    row[jj] = row[jj] - f * scaled[jj]
+                row[j] = -f / Mij
+        scaled[j] = 1 / Mij
+        T[r] = scaled
+
+    def choose_row(cands, col):  # smallest ratio, ties by Bland's rule
+        return min(cands, key=lambda i: (T[i][-1] / T[i][col], Y[i]))
+
+    last = None
+    while True:  # phase 1: a feasible tableau
+        k = next((i for i in range(m) if T[i][-1] < 0), None)
+        if k is None:
+            break
+        cols = [j for j in range(n) if T[k][j] < 0]
+        if not cols:
+            return None  # the constraint set is empty
+        _, col = min((X[j], j) for j in cols)
+        cands = [i for i in range(m) if T[i][col] > 0 and T[i][-1] > 0]
+        cands.append(k)
+        r = choose_row(cands, col)
+        if (r, col) == last:  # SymPy's guard against oscillation (the point is checked below)
+            last = True
+            break
+        last = r, col
+        pivot(r, col)
+        X[col], Y[r] = Y[r], X[col]
+    while True:  # phase 2: to the optimum
+        cols = [j for j in range(n) if T[-1][j] < 0]
+        if not cols:
+            break
+        _, col = min((X[j], j) for j in cols)
+        cands = [i for i in range(m) if T[i][col] > 0]
+        if not cands:
+            raise VerificationError("realize_ordering", "the ordering LP is unbounded (its margin is at most 1)")
+        r = choose_row(cands, col)
+        pivot(r, col)
+        X[col], Y[r] = Y[r], X[col]
+    point = [fmpq(0)] * n
+    for i, (isy, j) in enumerate(Y):
+        if not isy:
+            point[j] = T[i][-1]
+    value = -T[-1][-1]
+    if last and not (all(x >= 0 for x in point) and all(T[-1][i] >= 0 for i, (isy, _) in enumerate(X) if isy)):
+        return None  # SymPy: "Oscillating system led to invalid solution" (its argmax and dual point)
+    # the certificate: the point is feasible, the tableau's dual point y >= 0 is dual feasible
+    # (A^T y >= -c), and c . z = -b . y, so the value is the exact optimum (weak duality)
+    dual = [fmpq(0)] * m
+    for i, (isy, j) in enumerate(X):
+        if isy:
+            dual[j] = T[-1][i]
+    feasible = all(x >= 0 for x in point) and all(
+        sum((a * z for a, z in zip(row[:-1], point)), fmpq(0)) <= row[-1] for row in rows)
+    cq = [q(x) for x in c]
+    optimal = all(y >= 0 for y in dual) and all(
+        sum((rows[i][j] * dual[i] for i in range(m) if dual[i] != 0), fmpq(0)) >= -cq[j] for j in range(n)) and (
+        -sum((rows[i][-1] * dual[i] for i in range(m) if dual[i] != 0), fmpq(0)) == value)
+    if not feasible or not optimal or sum((a * z for a, z in zip(cq, point)), fmpq(0)) != value:
+        raise VerificationError("realize_ordering", "the simplex point or its dual point violates the ordering "
+                                                    "LP, or their values differ")
+    basic = {j for isy, j in Y if not isy}
+    return _sp(value), [_sp(z) if j in basic else 0 for j, z in enumerate(point)]  # SymPy: int 0 off the basis
 
 
 def perturbed_scene_positions(scene, gaps):

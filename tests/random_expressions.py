@@ -19,6 +19,15 @@ def random_rational(rng, syms, depth=3):
         return rng.choice(syms) if rng.random() < 0.7 else sp.Rational(rng.randint(-5, 5), rng.randint(1, 4))
     a, b = random_rational(rng, syms, depth - 1), random_rational(rng, syms, depth - 1)
     op = rng.choice(("+", "-", "*", "/"))
-    if op == "/" and sp.simplify(b) == 0:
+    if op == "/" and _is_zero(b, syms):
         op = "*"
     return {"+": a + b, "-": a - b, "*": a * b, "/": a / b if op == "/" else a}[op]
+
+
+def _is_zero(b, syms) -> bool:
+    """Whether ``b`` is identically zero. Built from ``syms`` and rationals by ``+ − × ÷``, ``b`` is a
+    rational function of ``syms``, whose normal form (``cancel``) is 0 exactly when it is zero; the
+    check keeps ``simplify`` for anything else."""
+    if b.is_rational_function(*syms):
+        return sp.cancel(b) == 0
+    return sp.simplify(b) == 0

@@ -344,6 +344,12 @@ def test_iterates_converge_to_the_returned_limit():
     assert prev < Q(1, 10**40)
 
 
+def _lcm(a, b):
+    import math
+
+    return math.lcm(int(a), int(b))
+
+
 def test_pair_decision_agrees_with_brute_force():
     rng = random.Random(7)
     F = _Rational
@@ -356,17 +362,24 @@ def test_pair_decision_agrees_with_brute_force():
         eA, eB = F.num(sp.Rational(rng.randint(0, 100), 100)), F.num(sp.Rational(rng.randint(0, 100), 100))
         a, b = F.num(sp.Rational(-rng.randint(1, 9), 1)), F.num(sp.Rational(rng.randint(-3, 9), rng.randint(1, 5)))
         decided = _never_ends(F, sA, sB, g, eA, eB, a, b, (1, 2))
-        # brute force: alternate A, B exactly in (a, b)
-        x, y, turn, steps = a, b, 0, 0
+        # brute force: alternate A, B exactly in (a, b): A maps (x, y) to (-eA x, y - kA x), B to
+        # (x - kB y, -eB y). Only the signs of x and y decide, so the pair is carried as integers
+        # (X, Y) = D (x, y) for a positive D, each step multiplying D by its common denominator
+        # (no gcd of ever longer fractions)
+        kA, kB = (1 + eA) * g / sA, (1 + eB) * g / sB
+        dA, dB = _lcm(eA.q, kA.q), _lcm(eB.q, kB.q)
+        eAi, kAi, eBi, kBi = (int(t * d) for t, d in ((eA, dA), (kA, dA), (eB, dB), (kB, dB)))
+        den = _lcm(a.q, b.q)
+        x, y, turn, steps = int(a * den), int(b * den), 0, 0
         while steps < 300:
             if turn == 0:
                 if x >= 0:
                     break
-                x, y = -eA * x, y - (1 + eA) * g / sA * x
+                x, y = -eAi * x, int(dA) * y - kAi * x
             else:
                 if y >= 0:
                     break
-                x, y = x - (1 + eB) * g / sB * y, -eB * y
+                x, y = int(dB) * x - kBi * y, -eBi * y
             turn, steps = 1 - turn, steps + 1
         finished = steps < 300
         if finished:

@@ -242,3 +242,46 @@ def test_only_the_named_contacts_collide_and_the_others_must_stay_open():
         simulate_line([1, 1, 1], [1, 1, 1], [0, "21/10", "42/10"], [1, 0, -2], contacts=["1-2"])
     with pytest.raises(ImpactInputError, match=r"contacts: names no contact of this line: '1-3'"):
         simulate_line([1, 1, 1], [1, 1, 1], [0, 3, 6], [1, 0, 0], contacts=["1-3"])
+
+
+def test_fmpq_simplex_is_sympys_linprog_pivot_for_pivot():
+    """realize_ordering's simplex in fmpq returns SymPy's linprog vertex and value exactly: on the
+    ordering LPs of a scene (phase 2 only) and on random LPs whose right-hand sides have negative
+    entries (phase 1, infeasible ones included)."""
+    import random
+
+    from sympy.solvers.simplex import InfeasibleLPError, linprog  # the sum row bounds every LP here
+
+    from impactsym.simulate import _linprog_fmpq, _linprog_sympy, _ordering_lp
+
+    sc = balls_against_wall(3, masses=[3, 2, 1], velocities=[0, -1, -2])
+    margins = []
+    for order in [(0, 1, 2, 0, 1, 2), (0, 1, 2, 0, 2, 1)]:  # margin 0 and 2/25
+        _, c, A_ub, b_ub, A_eq, b_eq = _ordering_lp(sp.Matrix(sc.M), sp.Matrix(sc.H), sp.Matrix(sc.v), order)
+        got, want = _linprog_fmpq(c, A_ub, b_ub, A_eq, b_eq), _linprog_sympy(c, A_ub, b_ub, A_eq, b_eq)
+        assert got == (want[0], list(want[1])) and [type(x) for x in got[1]] == [type(x) for x in want[1]]
+        margins.append(-got[0])
+    assert margins == [0, R(2, 25)]
+    rng = random.Random(7)
+    seen = set()
+    for _ in range(40):
+        n, m = rng.randint(2, 4), rng.randint(2, 5)
+        c = [R(rng.randint(-4, 4), rng.randint(1, 3)) for _ in range(n)]
+        A_ub = [[R(rng.randint(-4, 4), rng.randint(1, 3)) for _ in range(n)] for _ in range(m)] + [[1] * n]
+        b_ub = [R(rng.randint(-3, 4), rng.randint(1, 2)) for _ in range(m)] + [5]
+        A_ub = [[sp.sympify(x) for x in row] for row in A_ub]
+        b_ub = [sp.sympify(x) for x in b_ub]
+        A_eq, b_eq = ([], [])
+        if rng.random() < 0.5:
+            A_eq, b_eq = [[R(rng.randint(-2, 2)) for _ in range(n)]], [R(rng.randint(-1, 1))]
+        try:
+            want = linprog(sp.Matrix([c]), sp.Matrix(A_ub), sp.Matrix(b_ub),
+                           sp.Matrix(A_eq) if A_eq else None, sp.Matrix(b_eq) if b_eq else None)
+        except InfeasibleLPError:
+            want = None
+        got = _linprog_fmpq(c, A_ub, b_ub, A_eq, b_eq)
+        assert got == (None if want is None else (want[0], list(want[1])))
+        assert want is None or [type(x) for x in got[1]] == [type(x) for x in want[1]]  # int 0 off the basis
+        seen.add(want is None)
+        seen.add(("phase 1", any(b < 0 for b in b_ub + b_eq)))
+    assert seen >= {True, False, ("phase 1", True)}  # both verdicts and the phase-1 path were exercised
