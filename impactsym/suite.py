@@ -271,9 +271,7 @@ def solve_case(spec: dict, laws: Iterable[str] | None = None) -> dict:
         if isinstance(r, str):
             answers[name] = {"refused": r}
         else:
-            j = r.as_json()
-            j.pop("system", None)
-            j.pop("scene", None)
+            j = r._as_json(False)  # as_json() without "system" and "scene" (given once per case)
             j["options"] = _jsonable(opts)
             answers[name] = j
     return {"schema": SCHEMA, "id": spec["id"], "family": spec["family"], "spec": spec, "bodies": bodies,
