@@ -747,14 +747,6 @@ class Resolution:
             import sympy as sp
 
             Mx = M if isinstance(M, sp.MatrixBase) else sp.Matrix(M)
-            q = _rational_entries(velocity, Mx)
-            n = velocity.shape[0]
-            if q is not None and velocity.shape == (n, 1) and Mx.shape == (n, n):
-                # rationals: the same exact value, in Python integers
-                (vs, _), (Mr, _) = q
-                t = sum((vs[i] * Mr[i * n + j] * vs[j] for i in range(n) for j in range(n)
-                         if Mr[i * n + j] and vs[i] and vs[j]), Fraction(0)) / 2
-                return sp.Rational(t.numerator, t.denominator)
             return sp.expand((velocity.T * Mx * velocity)[0, 0] / 2)
         if is_mpmath(velocity, "matrix"):
             import mpmath
@@ -789,17 +781,6 @@ class Resolution:
         if is_sympy(vp, "MatrixBase") and is_sympy(M, "MatrixBase"):
             import sympy as sp
 
-            q = _rational_entries(M, H, vp, v, sp.Matrix(p)) if is_sympy(H, "MatrixBase") and \
-                is_sympy(v, "MatrixBase") else None
-            if q is not None and q[2][1] == q[3][1] == q[4][1] == (M.shape[1], 1) and \
-                    M.shape[0] == H.shape[1] and H.shape[0] == q[4][1][0]:
-                # rationals: the same exact entries, in Python integers
-                (Mr, (n, m)), (Hr, (k, _)), (vpr, _), (vr, _), (pr, _) = q
-                dv = [a - b for a, b in zip(vpr, vr)]
-                out = [sum((Mr[i * m + j] * dv[j] for j in range(m) if Mr[i * m + j] and dv[j]), Fraction(0))
-                       - sum((Hr[c * n + i] * pr[c] for c in range(k) if Hr[c * n + i] and pr[c]), Fraction(0))
-                       for i in range(n)]
-                return sp.Matrix([sp.Rational(x.numerator, x.denominator) for x in out])
             return sp.expand(M * (vp - v) - H.T * sp.Matrix(p))
         if is_mpmath(vp, "matrix"):
             return None  # the certified laws verify their balls themselves (impactsym.verify)
@@ -890,25 +871,6 @@ class Resolution:
         out["notes"] = list(self.notes)
         out["details"] = dict(self.details)
         return out
-
-
-def _rational_entries(*mats):
-    """``[(entries as Fraction, row by row), shape]`` of each SymPy matrix, or None unless every
-    entry is a SymPy rational (the fast exact path of :meth:`Resolution.kinetic_energy` and
-    :meth:`Resolution.momentum_residual`: Python integers give the same rationals SymPy does).
-
-    >>> import sympy as sp
-    >>> _rational_entries(sp.Matrix([[1, sp.Rational(1, 2)]])), _rational_entries(sp.Matrix([sp.sqrt(2)]))
-    ([([Fraction(1, 1), Fraction(1, 2)], (1, 2))], None)
-    """
-    Rational = sys.modules["sympy"].Rational
-    out = []
-    for A in mats:
-        items = list(A)
-        if not all(isinstance(x, Rational) for x in items):
-            return None
-        out.append(([Fraction(int(x.p), int(x.q)) for x in items], A.shape))
-    return out
 
 
 def _fresh(d: dict) -> dict:
