@@ -839,12 +839,20 @@ class Resolution:
         Each outcome is written once (the answer is also an outcome or the selected one, and its
         velocity, impulses and ``T⁺`` are the top level's); every dict and list of the result is
         its own, as if each were written afresh."""
+        return self._as_json(True)
+
+    def _as_json(self, with_system: bool) -> dict:
+        """:meth:`as_json`, without its ``scene`` and ``system`` keys when ``with_system`` is false
+        (the other keys in the same order): for a writer that gives the system once for several
+        laws (:func:`impactsym.suite.solve_case`) and would discard them."""
         answer = self.answer
         memo: dict = {}
-        out = {"schema": SCHEMA, "law": self.law, "scene": self.system.scene,
-               "system": self.system.as_json(),
-               "exact": self.exact, "exactness": self.exactness, "digits": self.digits,
-               "uniqueness": self.uniqueness}
+        out = {"schema": SCHEMA, "law": self.law}
+        if with_system:
+            out["scene"] = self.system.scene
+            out["system"] = self.system.as_json()
+        out.update({"exact": self.exact, "exactness": self.exactness, "digits": self.digits,
+                    "uniqueness": self.uniqueness})
         out.update(number_json("kinetic_energy_before", self.kinetic_energy_before))
         if answer is None:
             out["answer"] = None

@@ -261,19 +261,26 @@ def solve_case(spec: dict, laws: Iterable[str] | None = None) -> dict:
 
     system, bodies = build_system(spec)
     names = list(laws) if laws is not None else list(LAWS)
-    answers = {}
+    skips, options = {}, {}
     for name in names:
         opts, skipped = _law_options(name, system)
         if skipped:
-            answers[name] = {"skipped": skipped}
+            skips[name] = skipped
+        else:
+            options[name] = opts
+    # one call for every law resolved (in the order of ``names``): the system's content is keyed
+    # for its memo once, not once per law
+    resolved = resolve_all(system, laws=list(options), options=options) if options else {}
+    answers = {}
+    for name in names:
+        if name in skips:
+            answers[name] = {"skipped": skips[name]}
             continue
-        r = resolve_all(system, laws=[name], options={name: opts})[name]
+        r, opts = resolved[name], options[name]
         if isinstance(r, str):
             answers[name] = {"refused": r}
         else:
-            j = r.as_json()
-            j.pop("system", None)
-            j.pop("scene", None)
+            j = r._as_json(False)  # as_json() without "system" and "scene" (given once per case)
             j["options"] = _jsonable(opts)
             answers[name] = j
     return {"schema": SCHEMA, "id": spec["id"], "family": spec["family"], "spec": spec, "bodies": bodies,
