@@ -396,11 +396,14 @@ def kinetic_angle_cos(M, hi, hj):
         hi, hj = _row(hi, exact=True), _row(hj, exact=True)
         rational = _rational_forms(M, hi, hj)
         if rational is not None:
+            # a rational over the square root of a rational: SymPy's automatic form (a rational
+            # times the square root of a square-free integer) is already what radsimp(simplify(.))
+            # returns (tests/test_mechanics.py checks it), without simplify's search
             num, aii, ajj = rational
-        else:
-            Minv_hj = _solve(M, hj.T)
-            Minv_hi = _solve(M, hi.T)
-            num, aii, ajj = (hi * Minv_hj)[0, 0], (hi * Minv_hi)[0, 0], (hj * Minv_hj)[0, 0]
+            return num / sp.sqrt(aii * ajj)
+        Minv_hj = _solve(M, hj.T)
+        Minv_hi = _solve(M, hi.T)
+        num, aii, ajj = (hi * Minv_hj)[0, 0], (hi * Minv_hi)[0, 0], (hj * Minv_hj)[0, 0]
         from .arithmetic.remembered import simplify_remembered
 
         return sp.radsimp(simplify_remembered(num / sp.sqrt(aii * ajj)))

@@ -79,6 +79,32 @@ def test_m_normal_unit_and_kinetic_angle_exact():
     assert kinetic_angle(sp.eye(2), sp.Matrix([[1, 0]]), sp.Matrix([[-1, 1]])) == 3 * sp.pi / 4
 
 
+def test_rational_kinetic_angle_is_in_simplify_form():
+    """On rational data ``kinetic_angle_cos`` returns SymPy's automatic form of ``num/√(aᵢᵢaⱼⱼ)``
+    without simplifying it: that form must be the one ``radsimp(simplify(.))`` gives (the general
+    path's), srepr for srepr, over dense, diagonal, scaled and perfect-square cases."""
+    import random
+
+    rng = random.Random(15)
+
+    def q(k):
+        return sp.Rational(rng.randint(-5 * k, 5 * k), rng.randint(1, 5 * k))
+
+    for trial in range(60):
+        k = rng.choice([1, 3, 10**6, 10**20])
+        a, b, c = abs(q(k)) + 1, q(k), abs(q(k)) + 1
+        M = sp.Matrix([[a, 0], [0, c]]) if trial % 3 == 0 else sp.Matrix([[a + b * b / c + 1, b], [b, c]])
+        hi, hj = sp.Matrix([[q(k), q(k)]]), sp.Matrix([[q(k), 1]])
+        if trial % 5 == 0:
+            hj = 2 * hi  # a perfect square under the root: cos = ±1
+        if not any(hi):
+            continue
+        got = kinetic_angle_cos(M, hi, hj)
+        Minv = M.inv()
+        num, aii, ajj = (hi * Minv * hj.T)[0, 0], (hi * Minv * hi.T)[0, 0], (hj * Minv * hj.T)[0, 0]
+        assert sp.srepr(got) == sp.srepr(sp.radsimp(sp.simplify(num / sp.sqrt(aii * ajj)))), (M, hi, hj)
+
+
 def test_kinetic_angle_float_matches_exact():
     M = [[1.1, 0.0], [0.0, 1.0]]
     c = kinetic_angle_cos(np.array(M), [1.0, 0.0], [-1.0, 1.0])
