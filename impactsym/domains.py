@@ -524,7 +524,7 @@ def _pool_symbolic() -> ValidityDomain:
     return ValidityDomain("pool", None, bnds, ["alpha >= max(0, cos(theta)/2)", "g(alpha) <= e <= 1"], region, None, sweep)
 
 
-def plot_domain(theta, path, *, alpha_max=None, points: int = 400, ax=None) -> dict:
+def plot_domain(theta, path, *, alpha_max=None, points: int = 400, ax=None, legend: bool = True) -> dict:
     """Draw the valid domain of ``(α₁₂, e)`` for the pool at θ (Fig. 3 is θ = π/4) into ``path`` (PNG).
 
     The curves are the generated kernels ``pool_g`` and ``pool_h`` (derived in
@@ -538,6 +538,8 @@ def plot_domain(theta, path, *, alpha_max=None, points: int = 400, ax=None) -> d
     points : samples per curve
     ax : a matplotlib Axes to draw on (the figure is then neither saved unless ``path`` is given,
         nor closed); default: a new figure, saved to ``path`` and closed
+    legend : draw the legend (default); ``False`` for a panel that shows none (the same figure as
+        drawing it and then removing it, without the cost of building it)
 
     Returns
     -------
@@ -585,7 +587,8 @@ def plot_domain(theta, path, *, alpha_max=None, points: int = 400, ax=None) -> d
     ax.set_xlabel("alpha_12")
     ax.set_ylabel("e")
     ax.set_title(f"Valid domain of e and alpha_12, theta = {exact_str(t)}")
-    ax.legend(loc="lower right", fontsize=8)
+    if legend:
+        ax.legend(loc="lower right", fontsize=8)
     if own:
         fig.tight_layout()
     if path is not None:
