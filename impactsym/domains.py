@@ -53,6 +53,49 @@ alpha = sp.Symbol("alpha", nonnegative=True)
 e = sp.Symbol("e", positive=True)
 
 
+class _Later:
+    """A value computed on first use, once (every copy of a memoized domain shares it): what a
+    domain holds but few callers read (the simplified boundary curves and the inequalities that
+    print them), so that a caller that reads only the region does not pay for their ``simplify``.
+    Read through :class:`_LazyField`, it is the value it computes, identical when read."""
+
+    __slots__ = ("_make", "_value")
+
+    def __init__(self, make):
+        self._make, self._value = make, None
+
+    def __call__(self):
+        if self._make is not None:
+            self._value, self._make = self._make(), None
+        return self._value
+
+
+class _LazyField:
+    """A dataclass field that may hold a :class:`_Later`: read, it gives the computed value (a list
+    is copied for each domain, as :func:`_fresh` copies it). The field has no default."""
+
+    def __set_name__(self, owner, name):
+        self._slot = "_lazy_" + name
+
+    def __get__(self, obj, owner=None):
+        if obj is None:
+            raise AttributeError(self._slot)  # no class-level default: the field stays required
+        v = obj.__dict__[self._slot]
+        if isinstance(v, _Later):
+            v = v()
+            v = list(v) if isinstance(v, list) else v
+            obj.__dict__[self._slot] = v
+        return v
+
+    def __set__(self, obj, value):
+        obj.__dict__[self._slot] = value
+
+
+def _raw(obj, name: str):
+    """The field ``name`` of ``obj`` as stored: a :class:`_Later` stays unevaluated."""
+    return obj.__dict__["_lazy_" + name]
+
+
 @dataclass
 class Boundary:
     """One boundary curve of a validity domain.
@@ -67,7 +110,7 @@ class Boundary:
 
     name: str
     lhs: str
-    expression: Any
+    expression: Any = _LazyField()
     condition: str
 
     def as_json(self) -> dict:
@@ -91,7 +134,7 @@ class ValidityDomain:
     scene: str
     theta: Any
     boundaries: list
-    inequalities: list
+    inequalities: list = _LazyField()
     region: dict
     _member: Any = field(repr=False, default=None)
     sweep: list = field(default_factory=list)
@@ -245,7 +288,9 @@ def _chain_or_pool(cs, scene: str, theta) -> ValidityDomain:
     root = _linear_root(c2s)  # c2 = 0
     lo = sp.Max(0, root.subs(_c, cs))
     emin = sp.simplify(g.subs(alpha, lo))
-    g_s, lo_s = _simplify_curve(g), sp.simplify(lo)  # each simplified once (simplify is the cost here)
+    lo_s = sp.simplify(lo)
+    # the simplified curves are read only by the boundaries and the inequalities: computed when read
+    g_s, h_s = _Later(lambda: _simplify_curve(g)), _Later(lambda: _simplify_curve(h))
     pool_ = scene == "pool"
     text_c = None if pool_ else sp.Integer(1)  # the text reads c as cos(theta) for the pool
     bnds = [
@@ -254,15 +299,19 @@ def _chain_or_pool(cs, scene: str, theta) -> ValidityDomain:
         Boundary("g", "e", g_s,
                  f"e >= g(alpha): v1+ >= 0 at contact 1-2 ({'eq. 29' if pool_ else 'eq. 19'}); g <= 1 iff alpha <= 1, "
                  "so alpha <= 1"),
-        Boundary("h", "e", _simplify_curve(h),
+        Boundary("h", "e", h_s,
                  f"e >= h(alpha): Delta >= 0 ({'eq. 31, corrected' if pool_ else 'eq. 18'}); implied by e >= g since g - h = "
                  f"alpha^2 ({_words(c2s, text_c)})^2 / (2 A ({_words(ws, text_c, 'none')})^2) >= 0; touches g at alpha = 0 and "
                  f"alpha = {_words(root, text_c)}"),
         Boundary("e_max", "e", sp.Integer(1), "e <= 1: dissipative energetic coefficient (eq. 12)"),
     ]
-    ineq = [f"alpha >= {exact_str(lo)}", f"{exact_str(g_s)} <= e <= 1"]
-    if scene == "chain3":
-        ineq.append(f"equivalently (eq. 19): 1/3 <= e <= 1 and 1/2 <= alpha <= {exact_str(_boundary('chain3_alpha_max'))}")
+
+    def inequalities():
+        ineq = [f"alpha >= {exact_str(lo)}", f"{exact_str(g_s())} <= e <= 1"]
+        if scene == "chain3":
+            ineq.append("equivalently (eq. 19): 1/3 <= e <= 1 and 1/2 <= alpha <= "
+                        f"{exact_str(_boundary('chain3_alpha_max'))}")
+        return ineq
     region = {"alpha": (lo_s, sp.Integer(1)), "e": (emin, sp.Integer(1)), "e_min_at": lo_s,
               "empty": False,
               "description": (f"the set above the curve e = g(alpha) for {exact_str(lo_s)} <= alpha <= 1, "
@@ -276,7 +325,7 @@ def _chain_or_pool(cs, scene: str, theta) -> ValidityDomain:
             return False
         return _ge(ee, g.subs(alpha, a))
 
-    return ValidityDomain(scene, theta, bnds, ineq, region, member)
+    return ValidityDomain(scene, theta, bnds, _Later(inequalities), region, member)
 
 
 def _bernoulli_tau0(theta) -> ValidityDomain:
@@ -371,7 +420,9 @@ def validity_domain(scene: str, theta=None, tau=None) -> ValidityDomain:
 def _fresh(d: ValidityDomain) -> ValidityDomain:
     """The caller's own copy of a memoized domain: new lists, dicts and boundaries (the SymPy values
     in them are immutable), so a caller that edits its domain cannot change the memo."""
-    return replace(d, boundaries=[replace(b) for b in d.boundaries], inequalities=list(d.inequalities),
+    ineq = _raw(d, "inequalities")
+    return replace(d, boundaries=[replace(b, expression=_raw(b, "expression")) for b in d.boundaries],
+                   inequalities=ineq if isinstance(ineq, _Later) else list(ineq),
                    region=dict(d.region), sweep=copy.deepcopy(d.sweep))
 
 
@@ -409,13 +460,13 @@ def _pool_tau(theta, tau) -> ValidityDomain:
                   and b2 == 0 and _is_zero(c2__ - (2 * alpha - cs)))
     if not derived_ok:  # pragma: no cover - a failed identity is a bug in the derivation
         raise RuntimeError(f"pool domain at tau = {tau}: the derived conditions differ from the mapped tau = 0 curves")
-    g_tau_s = _simplify_curve(g_tau)
+    g_tau_s = _Later(lambda: _simplify_curve(g_tau))  # computed when read, as in _chain_or_pool
     bnds = [
         base.boundaries[0],
         Boundary("g_tau", "e", g_tau_s,
                  "e >= sin^2(tau) + cos^2(tau) g(alpha): v1+ >= 0 at contact 1-2 (derived for this (theta, tau); "
                  "equal to eq. 29's curve mapped by e -> sin^2(tau) + cos^2(tau) e)"),
-        Boundary("h_tau", "e", _simplify_curve(h_tau),
+        Boundary("h_tau", "e", _Later(lambda: _simplify_curve(h_tau)),
                  "e >= sin^2(tau) + cos^2(tau) h(alpha): Delta >= 0 (eq. 31 corrected, mapped); implied by e >= g_tau"),
         Boundary("e_max", "e", sp.Integer(1), "e <= 1: dissipative energetic coefficient (eq. 12)"),
     ]
@@ -429,7 +480,7 @@ def _pool_tau(theta, tau) -> ValidityDomain:
     def member(a, ee):
         return _ge(ee, 0) and _ge(1, ee) and base._member(a, (ee - s2) / c2)
 
-    ineq = [f"alpha >= {exact_str(lo)}", f"{exact_str(g_tau_s)} <= e <= 1"]
+    ineq = _Later(lambda: [f"alpha >= {exact_str(lo)}", f"{exact_str(g_tau_s())} <= e <= 1"])
     return ValidityDomain("pool", theta, bnds, ineq, region, member, tau=tau)
 
 
@@ -473,7 +524,7 @@ def _pool_symbolic() -> ValidityDomain:
     return ValidityDomain("pool", None, bnds, ["alpha >= max(0, cos(theta)/2)", "g(alpha) <= e <= 1"], region, None, sweep)
 
 
-def plot_domain(theta, path, *, alpha_max=None, points: int = 400, ax=None) -> dict:
+def plot_domain(theta, path, *, alpha_max=None, points: int = 400, ax=None, legend: bool = True) -> dict:
     """Draw the valid domain of ``(α₁₂, e)`` for the pool at θ (Fig. 3 is θ = π/4) into ``path`` (PNG).
 
     The curves are the generated kernels ``pool_g`` and ``pool_h`` (derived in
@@ -487,6 +538,8 @@ def plot_domain(theta, path, *, alpha_max=None, points: int = 400, ax=None) -> d
     points : samples per curve
     ax : a matplotlib Axes to draw on (the figure is then neither saved unless ``path`` is given,
         nor closed); default: a new figure, saved to ``path`` and closed
+    legend : draw the legend (default); ``False`` for a panel that shows none (the same figure as
+        drawing it and then removing it, without the cost of building it)
 
     Returns
     -------
@@ -534,7 +587,8 @@ def plot_domain(theta, path, *, alpha_max=None, points: int = 400, ax=None) -> d
     ax.set_xlabel("alpha_12")
     ax.set_ylabel("e")
     ax.set_title(f"Valid domain of e and alpha_12, theta = {exact_str(t)}")
-    ax.legend(loc="lower right", fontsize=8)
+    if legend:
+        ax.legend(loc="lower right", fontsize=8)
     if own:
         fig.tight_layout()
     if path is not None:

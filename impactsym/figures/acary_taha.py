@@ -130,8 +130,7 @@ def at_domain_over_theta(thetas=None):
     for ax, t in zip(axes.flat, thetas):
         dom = validity_domain("pool", t)
         if len(dom.boundaries) == 4:
-            plot_domain(t, None, ax=ax, alpha_max=1.5)
-            ax.get_legend().remove()
+            plot_domain(t, None, ax=ax, alpha_max=1.5, legend=False)
         else:  # theta = 2 pi/3: three contacts
             xs = np.linspace(0, 1.5, 300)
             b = {x.name: x.expression for x in dom.boundaries}
