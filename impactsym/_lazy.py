@@ -6,6 +6,17 @@ start-up) loads no heavy library it does not use.
 >>> getattr_, dir_ = lazy_attributes("impactsym", {"ImpactInputError": "errors"}, ns)
 >>> getattr_("ImpactInputError").__name__, "ImpactInputError" in ns, dir_()
 ('ImpactInputError', True, ['ImpactInputError'])
+
+Lazy values too: :class:`Later` is a value computed on first use, once, for what a result holds
+but few callers read (a canonical exact form, a simplified boundary curve), so that a caller
+reading only the verdict or the region does not pay for it. Its holders replace it by its value
+when it is first read (:class:`impactsym.laws.impulse_ratio.Violation` and its siblings,
+:class:`impactsym.domains.Boundary`), so every reader sees the value.
+
+>>> calls = []
+>>> later = Later(lambda: calls.append(1) or 42)
+>>> later(), later(), len(calls)
+(42, 42, 1)
 """
 
 from __future__ import annotations
@@ -31,3 +42,17 @@ def lazy_attributes(package: str, names: dict, namespace: dict):
         return sorted(set(namespace) | set(names))
 
     return __getattr__, __dir__
+
+
+class Later:
+    """``make()``, computed on the first call and kept (every holder that shares it shares the value)."""
+
+    __slots__ = ("_make", "_value")
+
+    def __init__(self, make):
+        self._make, self._value = make, None
+
+    def __call__(self):
+        if self._make is not None:
+            self._value, self._make = self._make(), None
+        return self._value

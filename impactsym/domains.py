@@ -37,6 +37,7 @@ from typing import Any
 
 import sympy as sp
 
+from ._lazy import Later as _Later
 from .committed import committed_expressions
 from .errors import ImpactInputError
 from .exact import certified_sign
@@ -53,25 +54,10 @@ alpha = sp.Symbol("alpha", nonnegative=True)
 e = sp.Symbol("e", positive=True)
 
 
-class _Later:
-    """A value computed on first use, once (every copy of a memoized domain shares it): what a
-    domain holds but few callers read (the simplified boundary curves and the inequalities that
-    print them), so that a caller that reads only the region does not pay for their ``simplify``.
-    Read through :class:`_LazyField`, it is the value it computes, identical when read."""
-
-    __slots__ = ("_make", "_value")
-
-    def __init__(self, make):
-        self._make, self._value = make, None
-
-    def __call__(self):
-        if self._make is not None:
-            self._value, self._make = self._make(), None
-        return self._value
-
-
 class _LazyField:
-    """A dataclass field that may hold a :class:`_Later`: read, it gives the computed value (a list
+    """A dataclass field that may hold a :class:`~impactsym._lazy.Later` (a value computed on first
+    use, once: every copy of a memoized domain shares it; the simplified boundary curves and the
+    inequalities that print them, which few callers read): read, it gives the computed value (a list
     is copied for each domain, as :func:`_fresh` copies it). The field has no default."""
 
     def __set_name__(self, owner, name):

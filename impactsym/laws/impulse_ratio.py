@@ -77,6 +77,7 @@ import numpy as np
 import sympy as sp
 
 from .. import kernels
+from .._lazy import Later as _Later
 from ..errors import DomainError, ImpactInputError
 from ..mechanics import check_gradients, check_mass_matrix, check_velocity
 from ..numbers import exact_str, is_exact, to_exact
@@ -90,25 +91,16 @@ __all__ = ["Violation", "ImpulseRatioResult", "impulse_ratio_law", "VIOLATION_CO
 VIOLATION_CONDITIONS = ("negative-discriminant", "no-approach", "negative-impulse", "penetration")
 
 
-class _Later:
-    """A value computed on first read: a canonical exact form (:func:`tidy`, a pure function of
-    values already decided) that a caller reading only the verdict never pays for. The dataclasses
-    below replace it by its value when the attribute is first read, so every reader (attribute,
-    ``repr``, ``==``, ``dataclasses.fields``) sees the value."""
-
-    __slots__ = ("make",)
-
-    def __init__(self, make):
-        self.make = make
-
-
 class _Resolved:
-    """Mixin: an attribute holding a :class:`_Later` is computed and stored on first read."""
+    """Mixin: an attribute holding a :class:`_Later` (:class:`impactsym._lazy.Later`: a canonical
+    exact form, :func:`tidy` of values already decided, that a caller reading only the verdict never
+    pays for) is computed and stored on first read, so every reader (attribute, ``repr``, ``==``,
+    ``dataclasses.fields``) sees the value."""
 
     def __getattribute__(self, name):
         value = object.__getattribute__(self, name)
         if type(value) is _Later:
-            value = value.make()
+            value = value()
             object.__setattr__(self, name, value)
         return value
 
