@@ -1141,7 +1141,9 @@ def kernels() -> list:
         expr = expr.subs(quad, qsym).subs({lin[0]: lsym[0], lin[1]: lsym[1]}).subs(sa * sb - gg**2, dsym)
         if not (not expr.has(sa * sb - gg**2) and not expr.has(quad)):
             raise DerivationError('derivation check failed: not expr.has(sa * sb - gg**2) and not expr.has(quad)')
-        return expr.subs(sub).subs({dsym: delta_f, qsym: quad_f, lsym[0]: adjc[0], lsym[1]: adjc[1]})
+        # symbols by expressions free of every key: one simultaneous replacement (xreplace) gives
+        # the two subs in a row (the generated kernels are byte-identical: tests/test_codegen_sync)
+        return expr.xreplace({**sub, dsym: delta_f, qsym: quad_f, lsym[0]: adjc[0], lsym[1]: adjc[1]})
 
     adjM = M.adjugate()
     for k, tag in ((0, "a"), (3, "b")):
