@@ -791,10 +791,9 @@ def _check_few_reflections(one, two, three):
     for m_val, want in ((1, one), (2, two), (3, three)):
         got = exit_relative_velocity(m_val)
         for gexpr, w in zip(got, want):
-            d = sp.expand_trig(gexpr).subs(sub) - w
-            d = sp.simplify(d.subs(Delta, s_A * s_B - g**2))
-            if not (d == 0):
-                raise DerivationError((m_val, d))
+            d = (sp.expand_trig(gexpr).subs(sub) - w).subs(Delta, s_A * s_B - g**2)
+            if not is_zero(d):  # simplify(d) == 0, decided first by exact tests (rational_zero)
+                raise DerivationError((m_val, sp.simplify(d)))
 
 
 @lru_cache(maxsize=None)
@@ -999,7 +998,7 @@ def _floored_det_m(outs, m00, m01, m11):
     if any(s.has(m00 * m11) for s in subbed):
         raise DerivationError("derivation check failed: det M occurs in a form the floor does not reach")
     floor = DET_M_FLOOR * m00 * m11
-    return [s.subs(d, sp.Max(det, floor)) for s in subbed]
+    return [s.xreplace({d: sp.Max(det, floor)}) for s in subbed]  # a fresh symbol: xreplace is subs
 
 
 def kernels() -> list:
