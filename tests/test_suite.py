@@ -52,10 +52,15 @@ def test_dask_local_cluster_matches_in_process(tmp_path, seed5):
     """A real ``LocalCluster`` (worker processes: the cases are pickled to another interpreter and
     the texts back) writes the same files as the in-process export. One worker process: each
     worker pays its own interpreter, Dask and SymPy/SciPy start-up (about 1.4 s of CPU), and the
-    number of workers does not enter the files (the index is written in the specs' order)."""
+    number of workers does not enter the files (the index is written in the specs' order). The
+    cluster has the suite's own Dask settings (``DASK_CONFIG``: no profiler, a slower health check)."""
+    import dask
     from dask.distributed import LocalCluster  # in the 'dev' extra (and 'sweeps'): never skipped
 
-    with LocalCluster(n_workers=1, threads_per_worker=1, processes=True, dashboard_address=":0") as cluster:
+    from impactsym.suite import DASK_CONFIG
+
+    with dask.config.set(DASK_CONFIG), \
+            LocalCluster(n_workers=1, threads_per_worker=1, processes=True, dashboard_address=":0") as cluster:
         export_suite(tmp_path / "dask", random_specs(5, 6), scheduler=cluster.scheduler_address, progress=True,
                      seed=5, random_count=6)
     assert tree(seed5) == tree(tmp_path / "dask")
