@@ -124,3 +124,35 @@ def test_tidy_keeps_a_quadratic_surd_as_the_generic_route_would():
     for x in (sp.sqrt(2) + sp.sqrt(3), sp.sqrt(2 + sp.sqrt(3)), sp.sqrt(sp.Symbol("a")), sp.cbrt(2),
               1 + sp.sqrt(2) + sp.sqrt(3), sp.sqrt(2) * sp.sqrt(sp.Rational(1, 3) + sp.sqrt(2))):
         assert not closed_form._quadratic_surd(x), x
+
+
+def _surd_sums(rng, count):
+    """Sums of a rational and 2 to 6 rational multiples of square roots of square-free integers, in
+    the forms the laws build them (a product by a surd, a common denominator, content factored)."""
+    out = [sp.sqrt(3) * (sp.sqrt(2) + 3 * sp.sqrt(6)) / 34, -sp.sqrt(2) / 2 + (sp.sqrt(2) + sp.sqrt(6)) / 8,
+           sp.sqrt(3) * (-sp.sqrt(6) + 5 * sp.sqrt(2)) / 34, sp.sqrt(2) + sp.sqrt(3)]
+    while len(out) < count:
+        big = rng.random() < 0.3
+        terms = [sp.Rational(rng.randint(-10**6, 10**6) if big else rng.randint(-40, 40) or 1,
+                             rng.randint(1, 10**6 if big else 60)) * sp.sqrt(n)
+                 for n in rng.sample([2, 3, 5, 6, 7, 10, 11, 13, 14, 15, 21, 30, 105], rng.randint(2, 6))]
+        if rng.random() < 0.6:
+            terms.append(sp.Rational(rng.randint(-40, 40), rng.randint(1, 60)))
+        y = sp.Add(*terms)
+        out.append([y, sp.radsimp(y), sp.together(y), sp.factor_terms(y)][rng.randint(0, 3)])
+    return out
+
+
+def test_tidy_takes_a_sum_of_surds_as_the_generic_route_would():
+    """``tidy`` of a number whose expansion is ``Σ qᵢ√nᵢ + r`` is ``radsimp`` of that expansion,
+    without the generic route; the generic route (expand, sqrtdenest, radsimp, simplify, rational
+    guess) gives the same expression, argument for argument."""
+    from impactsym.arithmetic import closed_form
+
+    for x in _surd_sums(random.Random(16), 12):
+        assert closed_form._surd_sum(sp.expand(x)), x
+        assert sp.srepr(closed_form._tidy(x)) == sp.srepr(closed_form._tidy_generic(x)), x
+    # what the fast path must not take: nested roots, symbols, other radicals, rationals
+    for x in (sp.sqrt(2 + sp.sqrt(3)) + sp.sqrt(2), sp.sqrt(sp.Symbol("a")) + sp.sqrt(2), sp.cbrt(2) + sp.sqrt(2),
+              sp.sqrt(-2) + sp.sqrt(3), sp.pi + sp.sqrt(2), sp.Rational(1, 3)):
+        assert not closed_form._surd_sum(sp.expand(x)), x

@@ -168,6 +168,13 @@ def _quadratic_surd(x) -> bool:
     return _surd_term(x)
 
 
+def _surd_sum(e) -> bool:
+    """``e`` is a sum of rationals and rational multiples of square roots of integers, as SymPy's
+    ``expand`` gives it (``Σ qᵢ√nᵢ + r``, the ``nᵢ > 1`` square-free and distinct, so ``e`` is
+    irrational): an element of a multiquadratic field written on its basis."""
+    return e.is_Add and all(a.is_Rational or _surd_term(a) for a in e.args)
+
+
 def _tidy(x):
     x = sp.sympify(x)
     if x.is_Rational:
@@ -178,6 +185,15 @@ def _tidy(x):
         # simplify, a 40-digit rational guess) returns the same expression at ~10 ms a number
         # (tests/test_arithmetic.py compares the two routes)
         return x
+    if not x.free_symbols:
+        e = sp.expand(x)
+        if _surd_sum(e):
+            # Σ qᵢ√nᵢ + r (the laws' p₁·w entries on the pool's angles): nothing to denest, and
+            # simplify gives the expanded sum back (its candidates are the sum over a common
+            # denominator, which its last step multiplies out again), so the generic route ends in
+            # radsimp of the expanded sum, irrational; the same expression without simplify's
+            # search (tests/test_arithmetic.py compares the two routes)
+            return sp.radsimp(e)
     return _tidy_generic(x)
 
 
