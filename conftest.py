@@ -1,4 +1,4 @@
-"""Shared fixtures. mpmath's precision is global state: reset it after every test (mpmath's own
+"""Shared hooks. mpmath's precision is global state: reset it after every test (mpmath's own
 habit), so one test's workdps can never leak into another's reference."""
 
 # The test process runs the audit in-process (tests/test_cli_reproduce, paper_checks) and derives
@@ -24,11 +24,18 @@ import mpmath  # noqa: E402
 import pytest  # noqa: E402
 
 
-@pytest.fixture(autouse=True)
-def _reset_mpmath_precision():
+@pytest.hookimpl(wrapper=True)
+def pytest_runtest_protocol(item, nextitem):
+    """Each test's run (its set-up, call and tear-down) leaves mpmath's precision as it found it: a
+    hook, not an autouse fixture, which cost about 0.07 ms a test more (fixture set-up and
+    finalizer for each of the ~3770 tests; measured on 4000 trivial tests: 3.57 -> 3.38 s CPU, 3.27
+    without either). No fixture of a wider scope sets the precision, so every test starts at the
+    session's precision, as with the fixture."""
     saved = mpmath.mp.prec
-    yield
-    mpmath.mp.prec = saved
+    try:
+        return (yield)
+    finally:
+        mpmath.mp.prec = saved
 
 
 # Hypothesis: derandomized, so CI explores the same examples (and takes the same time) on every
