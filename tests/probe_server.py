@@ -15,7 +15,9 @@ the session:
   ``python -c CODE`` as a forked child: a real process with its own exit status and its own
   standard streams (files, read back as ``subprocess.run(..., capture_output=True, text=True)``
   would), whose request runs at the interpreter's top level, so an uncaught exception prints its
-  traceback and exits 1 and ``SystemExit`` sets the status, as in a fresh ``python -m``. What it
+  traceback (by ``sys.excepthook``) and exits 1 and ``SystemExit`` sets the status, as in a fresh
+  ``python -m``; the child then ends as the interpreter does (threads joined, exit handlers run,
+  streams flushed) but by ``os._exit``, without tearing down the preloaded libraries. What it
   cannot show is which modules a request imports (they are loaded before it starts): that is the
   cold server's question. Nothing of this checkout is imported before a request (only third-party
   libraries), so the request imports ``impactsym`` itself, in its own order.
@@ -116,16 +118,50 @@ def _serve():
             reply(("exit", os.waitstatus_to_exitcode(status), os.times()[2] - t[2] + os.times()[3] - t[3]))
 
 
+def _probe_server_exit(status, sys=sys, os=os):
+    # the end of a request's process as the interpreter's own: its threads joined, its exit
+    # handlers run, the standard streams flushed (status 120 if that fails); then the process ends
+    # without freeing the preloaded libraries object by object (0.03 s of CPU a request)
+    threading = sys.modules.get("threading")
+    if threading is not None:
+        threading._shutdown()
+    import atexit
+
+    atexit._run_exitfuncs()
+    for stream in (sys.stdout, sys.stderr):
+        try:
+            if stream is not None:
+                stream.flush()
+        except Exception:
+            status = 120
+    os._exit(status & 0xFF)
+
+
 _request = _serve()
 del _serve
-if _request[0] == "-m":
-    import runpy
+try:
+    if _request[0] == "-m":
+        import runpy
 
-    sys.argv = ["-m", *_request[2]]
-    runpy._run_module_as_main(_request[1])
+        sys.argv = ["-m", *_request[2]]
+        runpy._run_module_as_main(_request[1])
+    else:
+        sys.argv = ["-c", *_request[2]]
+        exec(compile(_request[1], "<string>", "exec"), {"__name__": "__main__", "__builtins__": __builtins__})
+except KeyboardInterrupt:
+    raise  # the interpreter ends such a process by SIGINT: let it
+except SystemExit as _probe_server_stop:  # as the interpreter reads SystemExit's code
+    _code = _probe_server_stop.code
+    if _code is not None and not isinstance(_code, int):
+        print(_code, file=sys.stderr)
+        _code = 1
+    _probe_server_exit(_code or 0)
+except BaseException:  # an uncaught exception: its traceback by sys.excepthook, status 1
+    sys.last_type, sys.last_value, sys.last_traceback = sys.exc_info()
+    sys.excepthook(*sys.exc_info())
+    _probe_server_exit(1)
 else:
-    sys.argv = ["-c", *_request[2]]
-    exec(compile(_request[1], "<string>", "exec"), {"__name__": "__main__", "__builtins__": __builtins__})
+    _probe_server_exit(0)
 '''
 
 
