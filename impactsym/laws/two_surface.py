@@ -624,9 +624,10 @@ def _resolve(exact, M, H, v, n, digits=DEFAULT_DIGITS, max_exact_digits=DEFAULT_
 
             verify_matrices("two-surface", Mq, Hq, vq, vplus, jump)
             _verify_count_rational(df, m)
-            vel = _rational_column([vplus[i, 0] for i in range(n)])
+            qs = [vplus[i, 0] for i in range(n)]
+            vel = _rational_column(qs)
             imp = _rational_column([jump[i, 0] for i in range(2)])
-            outcomes.append(TwoSurfaceOutcome(first, order, m, vel, _floats(vel), imp, True))
+            outcomes.append(TwoSurfaceOutcome(first, order, m, vel, _nearest_floats(qs), imp, True))
         elif rational_path:
             want = digits if exact else 20
             vel_b, imp_b, rad, prec = _certified_exit(df, m, want, W_ex, gram_ex, v_ex, first == 1)
@@ -763,6 +764,12 @@ def _rational_column(qs) -> sp.Matrix:
         return sp.Matrix._fromrep(DomainMatrix(dod, (len(qs), 1), ZZ))
     dod = {i: {0: QQ(int(q.p), int(q.q))} for i, q in enumerate(qs) if q != 0}
     return sp.Matrix._fromrep(DomainMatrix(dod, (len(qs), 1), QQ))
+
+
+def _nearest_floats(qs) -> np.ndarray:
+    """``float_vector`` of the column of the exact ``fmpq`` entries ``qs``: each the correctly
+    rounded ``p / q`` (Python's integer division, what ``float(Fraction(p, q))`` computes)."""
+    return np.array([int(q.p) / int(q.q) for q in qs])
 
 
 def _as_output(exact, v, vq):
