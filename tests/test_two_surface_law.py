@@ -30,15 +30,11 @@ from impactsym.laws.two_surface import AlternatingOrder, resolve_two_surfaces
 
 
 # --------------------------------------------------------------------------- references
-def _valid(H, v):
-    return all(sum(h[j] * v[j] for j in range(len(v))) >= 0 for h in H)
-
-
 def _q(x) -> fmpq:
     """``x`` (int, Fraction, float's binary value, fmpq) as an exact ``fmpq``."""
-    if isinstance(x, fmpq):
+    if type(x) is fmpq:
         return x
-    f = x if isinstance(x, Fraction) else Fraction(x)
+    f = x if type(x) is Fraction else Fraction(x)
     return fmpq(f.numerator, f.denominator)
 
 
@@ -49,25 +45,37 @@ def _solve(M, b):
     return [x[i, 0] for i in range(n)]
 
 
+def _solve_rows(M, H):
+    """``[M⁻¹ h for h in H]`` in rationals: one exact solve with the rows of ``H`` as right-hand
+    sides (the unique solution, column by column, as :func:`_solve` gives it)."""
+    n, k = len(M), len(H)
+    x = fmpq_mat(n, n, [_q(a) for row in M for a in row]).solve(
+        fmpq_mat(n, k, [_q(H[j][i]) for i in range(n) for j in range(k)]))
+    return [[x[i, j] for i in range(n)] for j in range(k)]
+
+
 def iterate_fraction(M, H, v, first, cap=10**6):
     """Explicit alternating reflections from surface ``first``; returns (order, velocity) or None
     when the branch does not exist; (``[]``, v) when v is valid."""
+    n = len(v)
     v = [_q(x) for x in v]
     H = [[_q(x) for x in h] for h in H]
-    if _valid(H, v):
+    hv = [sum(h[j] * v[j] for j in range(n)) for h in H]  # (H_0 v, H_1 v) of the current v
+    if all(x >= 0 for x in hv):
         return [], v
-    if sum(H[first][j] * v[j] for j in range(len(v))) >= 0:
+    if hv[first] >= 0:
         return None
-    ws = [_solve(M, h) for h in H]
-    ss = [sum(h[j] * w[j] for j in range(len(v))) for h, w in zip(H, ws)]
+    ws = _solve_rows(M, H)
+    ss = [sum(h[j] * w[j] for j in range(n)) for h, w in zip(H, ws)]
     order, i = [], first
     while True:
-        h, w, s = H[i], ws[i], ss[i]
-        uv = sum(h[j] * v[j] for j in range(len(v)))
+        w, uv = ws[i], hv[i]
         assert uv < 0, "the forced surface must be violated"
-        v = [v[j] - 2 * w[j] * uv / s for j in range(len(v))]
+        coef = 2 * uv / ss[i]  # (exact: v - 2 w (uv)/(uw) componentwise)
+        v = [v[j] - coef * w[j] for j in range(n)]
         order.append(i)
-        if _valid(H, v):
+        hv = [sum(h[j] * v[j] for j in range(n)) for h in H]
+        if hv[0] >= 0 and hv[1] >= 0:
             return order, v
         i = 1 - i
         assert len(order) < cap
@@ -124,11 +132,16 @@ def _random_case(rng, n, size=9):
     """A random rational SPD mass matrix (LLᵀ + I), two gradient rows and a velocity."""
     def q():
         return Fraction(rng.randint(-size, size), rng.randint(1, size))
-    L = [[q() for _ in range(n)] for _ in range(n)]
-    M = [[sum(L[i][k] * L[j][k] for k in range(n)) + (1 if i == j else 0) for j in range(n)] for i in range(n)]
+    # M exactly in fmpq (Fraction's arithmetic at C speed), returned as Fractions; symmetric by construction
+    L = [[fmpq(rng.randint(-size, size), rng.randint(1, size)) for _ in range(n)] for _ in range(n)]
+    Mq = [[None] * n for _ in range(n)]
+    for i in range(n):
+        for j in range(i, n):
+            Mq[i][j] = Mq[j][i] = sum((L[i][k] * L[j][k] for k in range(n)), fmpq(1 if i == j else 0))
+    M = [[Fraction(int(x.p), int(x.q)) for x in row] for row in Mq]
     while True:
         H = [[q() for _ in range(n)] for _ in range(2)]
-        ws = [_solve(M, h) for h in H]
+        ws = _solve_rows(Mq, H)
         gram = [[sum(_q(H[i][k]) * ws[j][k] for k in range(n)) for j in range(2)] for i in range(2)]
         if all(any(x != 0 for x in h) for h in H) and gram[0][0] * gram[1][1] != gram[0][1] ** 2:
             break
