@@ -286,6 +286,15 @@ class _Data:
         return _Data(self.sb, self.sa, self.g, self.cb, self.ca)
 
     def balls(self, prec: int):
+        """The Arb balls at ``prec`` bits, made once per precision (the bound, the A-first count
+        and the exit each ask for them; the same enclosures of the same exact data)."""
+        memo = self.__dict__.setdefault("_balls", {})
+        hit = memo.get(prec)
+        if hit is None:
+            hit = memo[prec] = self._balls_at(prec)
+        return hit
+
+    def _balls_at(self, prec: int):
         with ctx.workprec(prec):
             sa, sb, g, ca, cb, D = (enclose(x, prec) for x in (self.sa, self.sb, self.g, self.ca, self.cb, self.D))
             rD = D.sqrt()
