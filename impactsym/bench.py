@@ -84,6 +84,14 @@ def naive_outputs(name: str):
     return args, outs
 
 
+#: the warning flags :func:`compile_c` builds with (they change no generated code: the library is
+#: the one ``-std=c99 -O2`` alone builds, byte for byte); the compiler's diagnostics are kept in
+#: :data:`C_DIAGNOSTICS` (the tests hold them empty: the kernels compile cleanly as C99 with these)
+C_WARNING_FLAGS = ("-pedantic", "-Wall", "-Wextra")
+#: the compiler and its stderr text of :func:`compile_c`'s build (filled by the first call)
+C_DIAGNOSTICS: dict = {}
+
+
 @lru_cache(maxsize=1)
 def compile_c() -> ctypes.CDLL | None:
     """All generated C kernels in one shared library (``gcc -std=c99 -O2``), or None without a compiler."""
@@ -92,7 +100,15 @@ def compile_c() -> ctypes.CDLL | None:
         return None
     out = Path(tempfile.mkdtemp(prefix="impactsym-bench-")) / "libk.so"
     srcs = sorted(str(p) for p in (KERNEL_DIR / "c").glob("*.c"))
-    subprocess.run([cc, "-std=c99", "-O2", "-fPIC", "-shared", "-o", str(out), *srcs, "-lm"], check=True)
+    cmd = [cc, "-std=c99", *C_WARNING_FLAGS, "-O2", "-fPIC", "-shared", "-o", str(out), *srcs, "-lm"]
+    res = subprocess.run(cmd, capture_output=True, text=True)
+    C_DIAGNOSTICS.update(compiler=cc, stderr=res.stderr)
+    if res.stderr:  # (shown, as the compiler's own output would be)
+        import sys
+
+        sys.stderr.write(res.stderr)
+    if res.returncode != 0:
+        raise subprocess.CalledProcessError(res.returncode, cmd, res.stdout, res.stderr)
     return ctypes.CDLL(str(out))
 
 

@@ -18,7 +18,7 @@ from pathlib import Path
 
 import numpy as np
 
-from impactsym.bench import c_batch
+from impactsym.bench import C_DIAGNOSTICS, C_WARNING_FLAGS, c_batch, compile_c
 import pytest
 
 from derivations.codegen import KERNEL_DIR
@@ -40,15 +40,15 @@ NOT_HELD: dict = {}
 
 
 @pytest.fixture(scope="module")
-def clib(tmp_path_factory):
-    out = tmp_path_factory.mktemp("ckernels")
-    sources = sorted((KERNEL_DIR / "c").glob("*.c"))
-    lib = out / "libimpactsym_kernels.so"
-    cmd = [CC, "-std=c99", "-pedantic", "-Wall", "-Wextra", "-Werror", "-O2", "-fPIC", "-shared",
-           "-o", str(lib), *map(str, sources), "-lm"]
-    res = subprocess.run(cmd, capture_output=True, text=True)
-    assert res.returncode == 0 and not res.stderr, res.stderr
-    return ctypes.CDLL(str(lib))
+def clib():
+    """Every committed C source in one library, built once per session by
+    :func:`impactsym.bench.compile_c` (which the accuracy checks and the bench call too) with
+    ``-std=c99 -pedantic -Wall -Wextra -O2``: it must build with no diagnostic at all (what
+    ``-Werror`` with these flags asks)."""
+    lib = compile_c()  # (raises CalledProcessError where the compiler fails)
+    assert {"-pedantic", "-Wall", "-Wextra"} <= set(C_WARNING_FLAGS)
+    assert lib is not None and C_DIAGNOSTICS["compiler"] == CC and not C_DIAGNOSTICS["stderr"], C_DIAGNOSTICS
+    return lib
 
 
 def test_every_family_has_a_c_pair():

@@ -18,6 +18,7 @@ from fractions import Fraction
 
 import mpmath
 from flint import fmpq, fmpq_mat
+from mpmath.libmp import from_int, mpf_add, mpf_div, mpf_ge, mpf_mul, mpf_mul_int, mpf_sub
 import numpy as np
 import pytest
 import sympy as sp
@@ -30,15 +31,11 @@ from impactsym.laws.two_surface import AlternatingOrder, resolve_two_surfaces
 
 
 # --------------------------------------------------------------------------- references
-def _valid(H, v):
-    return all(sum(h[j] * v[j] for j in range(len(v))) >= 0 for h in H)
-
-
 def _q(x) -> fmpq:
     """``x`` (int, Fraction, float's binary value, fmpq) as an exact ``fmpq``."""
-    if isinstance(x, fmpq):
+    if type(x) is fmpq:
         return x
-    f = x if isinstance(x, Fraction) else Fraction(x)
+    f = x if type(x) is Fraction else Fraction(x)
     return fmpq(f.numerator, f.denominator)
 
 
@@ -49,25 +46,37 @@ def _solve(M, b):
     return [x[i, 0] for i in range(n)]
 
 
+def _solve_rows(M, H):
+    """``[M⁻¹ h for h in H]`` in rationals: one exact solve with the rows of ``H`` as right-hand
+    sides (the unique solution, column by column, as :func:`_solve` gives it)."""
+    n, k = len(M), len(H)
+    x = fmpq_mat(n, n, [_q(a) for row in M for a in row]).solve(
+        fmpq_mat(n, k, [_q(H[j][i]) for i in range(n) for j in range(k)]))
+    return [[x[i, j] for i in range(n)] for j in range(k)]
+
+
 def iterate_fraction(M, H, v, first, cap=10**6):
     """Explicit alternating reflections from surface ``first``; returns (order, velocity) or None
     when the branch does not exist; (``[]``, v) when v is valid."""
+    n = len(v)
     v = [_q(x) for x in v]
     H = [[_q(x) for x in h] for h in H]
-    if _valid(H, v):
+    hv = [sum(h[j] * v[j] for j in range(n)) for h in H]  # (H_0 v, H_1 v) of the current v
+    if all(x >= 0 for x in hv):
         return [], v
-    if sum(H[first][j] * v[j] for j in range(len(v))) >= 0:
+    if hv[first] >= 0:
         return None
-    ws = [_solve(M, h) for h in H]
-    ss = [sum(h[j] * w[j] for j in range(len(v))) for h, w in zip(H, ws)]
+    ws = _solve_rows(M, H)
+    ss = [sum(h[j] * w[j] for j in range(n)) for h, w in zip(H, ws)]
     order, i = [], first
     while True:
-        h, w, s = H[i], ws[i], ss[i]
-        uv = sum(h[j] * v[j] for j in range(len(v)))
+        w, uv = ws[i], hv[i]
         assert uv < 0, "the forced surface must be violated"
-        v = [v[j] - 2 * w[j] * uv / s for j in range(len(v))]
+        coef = 2 * uv / ss[i]  # (exact: v - 2 w (uv)/(uw) componentwise)
+        v = [v[j] - coef * w[j] for j in range(n)]
         order.append(i)
-        if _valid(H, v):
+        hv = [sum(h[j] * v[j] for j in range(n)) for h in H]
+        if hv[0] >= 0 and hv[1] >= 0:
             return order, v
         i = 1 - i
         assert len(order) < cap
@@ -97,19 +106,38 @@ def iterate_mpmath(M, H, v, first, dps=80):
         vm = mpmath.matrix([mpmath.mpf(Fraction(x).numerator) / Fraction(x).denominator for x in v])
         ws = [mpmath.lu_solve(Mm, h) for h in Hm]
         ss = [sum(h[j] * w[j] for j in range(len(v))) for h, w in zip(Hm, ws)]
-        # the iteration on lists of mpf: the same operations as on mpmath matrices (each component
-        # v_j - (2 uv / s) w_j), without a matrix object per step
+        # the iteration on mpmath's raw values (mpf._mpf_ tuples, through the libmp functions the mpf
+        # operators call for these operand types, in the same order: the same values as the mpf
+        # expressions in the comments, without an mpf object per operation)
         n = len(v)
-        Hl, wl, vl = [[h[j] for j in range(n)] for h in Hm], [[w[j] for j in range(n)] for w in ws], list(vm)
+        prec, rnd = mpmath.mp._prec_rounding
+        zero = from_int(0)
+        Hl = [[h[j]._mpf_ for j in range(n)] for h in Hm]
+        wl = [[w[j]._mpf_ for j in range(n)] for w in ws]
+        vl = [vm[j]._mpf_ for j in range(n)]
+        ssr = [x._mpf_ for x in ss]
+
+        def dot(h, x):  # sum(h[j] * x[j] for j in range(n)): 0 + h_0 x_0 is the product's __radd__(0)
+            acc = mpf_add(mpf_mul(h[0], x[0], prec, rnd), zero, prec, rnd)
+            for j in range(1, n):
+                acc = mpf_add(acc, mpf_mul(h[j], x[j], prec, rnd), prec, rnd)
+            return acc
+
         i, count = first, 0
+        uv = dot(Hl[i], vl)
         while True:
-            uv = sum(Hl[i][j] * vl[j] for j in range(n))
-            coef = 2 * uv / ss[i]
-            vl = [vl[j] - coef * wl[i][j] for j in range(n)]
+            coef = mpf_div(mpf_mul_int(uv, 2, prec, rnd), ssr[i], prec, rnd)  # 2 * uv / s
+            vl = [mpf_sub(vl[j], mpf_mul(coef, wl[i][j], prec, rnd), prec, rnd) for j in range(n)]  # v - coef w
             count += 1
-            if all(sum(h[j] * vl[j] for j in range(n)) >= 0 for h in Hl):
-                return count, mpmath.matrix(vl)
+            # H_0 v, then H_1 v where H_0 v >= 0 (all()'s order); the next step's u v is the one of
+            # these for its surface, or computed where all() stopped
+            hv = [dot(Hl[0], vl)]
+            if mpf_ge(hv[0], zero):
+                hv.append(dot(Hl[1], vl))
+                if mpf_ge(hv[1], zero):
+                    return count, mpmath.matrix([mpmath.mp.make_mpf(x) for x in vl])
             i = 1 - i
+            uv = hv[i] if i < len(hv) else dot(Hl[i], vl)
 
 
 def _fr_matrix(A):
@@ -124,11 +152,16 @@ def _random_case(rng, n, size=9):
     """A random rational SPD mass matrix (LLᵀ + I), two gradient rows and a velocity."""
     def q():
         return Fraction(rng.randint(-size, size), rng.randint(1, size))
-    L = [[q() for _ in range(n)] for _ in range(n)]
-    M = [[sum(L[i][k] * L[j][k] for k in range(n)) + (1 if i == j else 0) for j in range(n)] for i in range(n)]
+    # M exactly in fmpq (Fraction's arithmetic at C speed), returned as Fractions; symmetric by construction
+    L = [[fmpq(rng.randint(-size, size), rng.randint(1, size)) for _ in range(n)] for _ in range(n)]
+    Mq = [[None] * n for _ in range(n)]
+    for i in range(n):
+        for j in range(i, n):
+            Mq[i][j] = Mq[j][i] = sum((L[i][k] * L[j][k] for k in range(n)), fmpq(1 if i == j else 0))
+    M = [[Fraction(int(x.p), int(x.q)) for x in row] for row in Mq]
     while True:
         H = [[q() for _ in range(n)] for _ in range(2)]
-        ws = [_solve(M, h) for h in H]
+        ws = _solve_rows(Mq, H)
         gram = [[sum(_q(H[i][k]) * ws[j][k] for k in range(n)) for j in range(2)] for i in range(2)]
         if all(any(x != 0 for x in h) for h in H) and gram[0][0] * gram[1][1] != gram[0][1] ** 2:
             break
@@ -196,8 +229,8 @@ def test_exit_is_valid_energy_preserving_and_impulses_nonnegative():
     rng = random.Random(11)
     for _ in range(200):
         M, H, v = _random_case(rng, 3)
-        res = resolve_two_surfaces(sp.Matrix(M), sp.Matrix(H), sp.Matrix(v))
         Ms, Hs, vs = sp.Matrix(M), sp.Matrix(H), sp.Matrix(v)
+        res = resolve_two_surfaces(Ms.copy(), Hs.copy(), vs.copy())  # (copies: the checks read the data as given)
         for o in res.outcomes:
             assert all(x >= 0 for x in Hs * o.velocity)
             assert (o.velocity.T * Ms * o.velocity)[0] == (vs.T * Ms * vs)[0]

@@ -62,8 +62,10 @@ def as_fmpq(x) -> flint.fmpq | None:
     if isinstance(x, flint.fmpq):
         return x
     if isinstance(x, (float, np.floating)):
-        f = _float_fraction(x)
-        return flint.fmpq(f.numerator, f.denominator)
+        xf = float(x)
+        if not math.isfinite(xf):
+            raise ImpactInputError("value", f"must be finite, got {xf}")
+        return flint.fmpq(*xf.as_integer_ratio())  # (Fraction(xf)'s terms: the binary value, lowest terms)
     if isinstance(x, (int, np.integer)):
         return flint.fmpq(int(x))
     if isinstance(x, Fraction):
@@ -132,6 +134,9 @@ def rational_matrix(A: Any) -> flint.fmpq_mat | None:
     if _sympy_instance(A, "MatrixBase"):
         rows, cols = A.shape
         entries = list(A)
+    elif isinstance(A, np.ndarray) and A.dtype.kind == "f" and A.ndim in (1, 2):
+        rows, cols = (A.shape[0], 1) if A.ndim == 1 else A.shape
+        entries = A.ravel().tolist()  # (Python floats: what the object array below holds)
     else:
         arr = np.asarray(A, dtype=object)
         if arr.ndim == 1:

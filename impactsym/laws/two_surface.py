@@ -252,6 +252,27 @@ _fmpq = to_fmpq
 _floats = float_vector
 
 
+#: expression -> its radsimp (the irrational path's exact forms: the sequential law's two-surface
+#: selection resolves the same data again, and each branch iterates from the same v)
+_RADSIMP: dict = {}
+
+
+def _radsimp(x):
+    """``sp.radsimp(x)``, remembered by the expression: radsimp is a function of the expression
+    (its ``nsimplify`` of a numeric denominator sets its own precision), and its ``nsimplify``
+    step costs a PSLQ search per numeric denominator (``pi, E`` masses: most of the path)."""
+    from sympy.core.parameters import global_parameters as gp
+
+    key = (x, gp.evaluate, gp.distribute)  # (SymPy's evaluation switches: radsimp builds under them)
+    hit = _RADSIMP.get(key)
+    if hit is None:
+        hit = sp.radsimp(x)
+        if len(_RADSIMP) >= 4096:
+            _RADSIMP.pop(next(iter(_RADSIMP)))
+        _RADSIMP[key] = hit
+    return hit
+
+
 class _Data:
     """``s_A, s_B, g, c_A, c_B, Δ`` of one ordering of the two rows (exact), and ``W``, ``Γ``."""
 
@@ -259,12 +280,21 @@ class _Data:
         self.sa, self.sb, self.g, self.ca, self.cb = sa, sb, g, ca, cb
         self.D = sa * sb - g * g
         if not isinstance(self.D, fmpq):
-            self.D = sp.radsimp(sp.expand(self.D))
+            self.D = _radsimp(sp.expand(self.D))
 
     def swapped(self) -> "_Data":
         return _Data(self.sb, self.sa, self.g, self.cb, self.ca)
 
     def balls(self, prec: int):
+        """The Arb balls at ``prec`` bits, made once per precision (the bound, the A-first count
+        and the exit each ask for them; the same enclosures of the same exact data)."""
+        memo = self.__dict__.setdefault("_balls", {})
+        hit = memo.get(prec)
+        if hit is None:
+            hit = memo[prec] = self._balls_at(prec)
+        return hit
+
+    def _balls_at(self, prec: int):
         with ctx.workprec(prec):
             sa, sb, g, ca, cb, D = (enclose(x, prec) for x in (self.sa, self.sb, self.g, self.ca, self.cb, self.D))
             rD = D.sqrt()
@@ -335,9 +365,9 @@ def _checked(mass_matrix, gradients, velocity):
 def _invariants(exact, M, H, v, n):
     """``W = M⁻¹Hᵀ``, ``Γ``, ``c`` exactly; rational data as fmpq, irrational as SymPy."""
     if exact and not (all_rational(M) and all_rational(H) and all_rational(v)):
-        W = M.LUsolve(H.T).applyfunc(sp.radsimp)
-        gram = (H * W).applyfunc(sp.radsimp)
-        c = (H * v).applyfunc(sp.radsimp)
+        W = M.LUsolve(H.T).applyfunc(_radsimp)
+        gram = (H * W).applyfunc(_radsimp)
+        c = (H * v).applyfunc(_radsimp)
         return W, gram, c, False
     # exact rational, or float at its binary value
     Mq, Hq, vq = rational_matrix(M), rational_matrix(H), rational_matrix(v)
@@ -397,7 +427,7 @@ def _iterate_exact(M, HA, HB, v, m):
     for k in range(m):
         h = HA if k % 2 == 0 else HB
         w, s = _r.sympy_parts(M, h)
-        cur = _r.reflect_along(cur, w, (h * cur)[0, 0], _r.gain(s))[0].applyfunc(sp.radsimp)
+        cur = _r.reflect_along(cur, w, (h * cur)[0, 0], _r.gain(s))[0].applyfunc(_radsimp)
         out.append(cur)
     return out
 
@@ -624,9 +654,10 @@ def _resolve(exact, M, H, v, n, digits=DEFAULT_DIGITS, max_exact_digits=DEFAULT_
 
             verify_matrices("two-surface", Mq, Hq, vq, vplus, jump)
             _verify_count_rational(df, m)
-            vel = _rational_column([vplus[i, 0] for i in range(n)])
+            qs = [vplus[i, 0] for i in range(n)]
+            vel = _rational_column(qs)
             imp = _rational_column([jump[i, 0] for i in range(2)])
-            outcomes.append(TwoSurfaceOutcome(first, order, m, vel, _floats(vel), imp, True))
+            outcomes.append(TwoSurfaceOutcome(first, order, m, vel, _nearest_floats(qs), imp, True))
         elif rational_path:
             want = digits if exact else 20
             vel_b, imp_b, rad, prec = _certified_exit(df, m, want, W_ex, gram_ex, v_ex, first == 1)
@@ -644,7 +675,7 @@ def _resolve(exact, M, H, v, n, digits=DEFAULT_DIGITS, max_exact_digits=DEFAULT_
             rows = (HA, HB) if first == 0 else (HB, HA)
             if m <= MAX_EXACT_ALGEBRAIC_REFLECTIONS:
                 vel = _iterate_exact(M, rows[0], rows[1], v, m)[-1]
-                imp = (gram.LUsolve(H * vel - c)).applyfunc(sp.radsimp)
+                imp = (gram.LUsolve(H * vel - c)).applyfunc(_radsimp)
                 verify_exact("two-surface", M, H, v, vel, imp)
                 outcomes.append(TwoSurfaceOutcome(first, order, m, vel, _floats(vel), imp, True))
             else:
@@ -765,6 +796,12 @@ def _rational_column(qs) -> sp.Matrix:
     return sp.Matrix._fromrep(DomainMatrix(dod, (len(qs), 1), QQ))
 
 
+def _nearest_floats(qs) -> np.ndarray:
+    """``float_vector`` of the column of the exact ``fmpq`` entries ``qs``: each the correctly
+    rounded ``p / q`` (Python's integer division, what ``float(Fraction(p, q))`` computes)."""
+    return np.array([int(q.p) / int(q.q) for q in qs])
+
+
 def _as_output(exact, v, vq):
     if exact:
         return sp.Matrix(v)
@@ -776,7 +813,7 @@ def _kinetic_cos(d: _Data, exact: bool):
         ss = d.sa * d.sb
         val = sp.Rational(int(d.g.p), int(d.g.q)) / sp.sqrt(sp.Rational(int(ss.p), int(ss.q)))
         return val if exact else float(sp.N(val, 17))
-    return sp.radsimp(d.g / sp.sqrt(d.sa * d.sb))
+    return _radsimp(d.g / sp.sqrt(d.sa * d.sb))
 
 
 #: ``cos²(π/K)`` for the ``K ≥ 2`` where it is rational (Niven's theorem; see :func:`rational_tie`)
