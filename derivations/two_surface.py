@@ -812,16 +812,16 @@ def _branch_expressions(first_is_a: bool):
     D = sa * sb - gg**2
     psi_a, beta_ = _count_angles()
     sub = {s_A: sa, s_B: sb, g: gg, c_A: ca, c_B: cb, Delta: D}
-    psi_e = psi_a.subs(sub)
-    beta_e = beta_.subs(sub)
+    # symbols by expressions free of every key: one simultaneous replacement (xreplace) gives the
+    # chain of subs (psi, beta through fresh names, then the arguments, then m) srepr for srepr
+    psi_e = psi_a.xreplace(sub)
+    beta_e = beta_.xreplace(sub)
     count = emitted_count(sa, sb, gg, ca, cb, psi_e / beta_e)
     mm = sp.Symbol("m_count", real=True)
     ea, eb = _emitted_exit(mm)
-    ea = ea.subs({psi: sp.Symbol("psi_x"), beta: sp.Symbol("beta_x")})
-    eb = eb.subs({psi: sp.Symbol("psi_x"), beta: sp.Symbol("beta_x")})
-    ea, eb = (e.subs(sub).subs({sp.Symbol("psi_x"): psi_e, sp.Symbol("beta_x"): beta_e}) for e in (ea, eb))
     # the trigonometric branch is the count's last one (above 3): m = ceiling(psi/beta) there
-    ea, eb = (e.subs(mm, sp.ceiling(psi_e / beta_e)) for e in (ea, eb))
+    rep = {**sub, psi: psi_e, beta: beta_e, mm: sp.ceiling(psi_e / beta_e)}
+    ea, eb = (e.xreplace(rep) for e in (ea, eb))
     if not first_is_a:
         ea, eb = eb, ea
     return count, ea, eb
