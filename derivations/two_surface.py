@@ -323,7 +323,7 @@ def reflection_count_derivation() -> dict:
     """
     a = sp.Symbol("a", real=True)
     img = _reflection_across(a) * sp.Matrix([sp.cos(theta), sp.sin(theta)])
-    refl_ok = sp.simplify(img - sp.Matrix([sp.cos(2 * a - theta), sp.sin(2 * a - theta)])) == sp.zeros(2, 1)
+    refl_ok = _all_zero(img - sp.Matrix([sp.cos(2 * a - theta), sp.sin(2 * a - theta)]))  # exact (is_zero)
     refl = lambda ang, th: 2 * ang - th  # noqa: E731  (checked just above)
     x = sp.Symbol("x", real=True)
     # A-last, excess x = theta; reflect in B (line at beta):
