@@ -384,7 +384,7 @@ def _kinetic_norm_squared():
     gram = sp.Matrix([[s_A, g], [g, s_B]])
     c = sp.Matrix([c_A, c_B])
     p2 = (s_B * c_A**2 - 2 * g * c_A * c_B + s_A * c_B**2) / Delta
-    if not (sp.simplify((p2 - (c.T * gram.inv() * c)[0, 0]).subs(s_B, S_B_OF_DELTA)) == 0):
+    if not is_zero((p2 - (c.T * gram.inv() * c)[0, 0]).subs(s_B, S_B_OF_DELTA)):  # exact (rational_zero)
         raise DerivationError('derivation check failed: sp.simplify((p2 - (c.T * gram.inv() * c)[0, 0]).subs(s_B, S_B_OF_DELTA)) == 0')
     return p2
 
