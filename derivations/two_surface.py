@@ -875,7 +875,7 @@ def _branch_frames(first_is_a: bool):
         t_first, t_other = (angle, beta - angle) if frame == 0 else (beta - angle, angle)
         for pw, t in zip(inner, (t_first, t_other)):
             got = pw.args[idx]
-            if not (_same_condition(got.cond, cond) and sp.simplify(sp.expand_trig(got.expr.doit() - sp.sin(t))) == 0):
+            if not (_same_condition(got.cond, cond) and is_zero(sp.expand_trig(got.expr.doit() - sp.sin(t)))):
                 raise DerivationError(f"derivation check failed: frame branch {idx} is not _emitted_exit's")
         rep = {psi: psi_e, beta: beta_e}
         cond_e, angle_e = (x.subs(rep).subs(mm, sp.ceiling(psi_e / beta_e)) for x in (cond, angle))
