@@ -1145,8 +1145,19 @@ def kernels() -> list:
         if not is_zero(lin[i].subs(sub) - adjc[i]):  # exact (rational_zero)
             raise DerivationError('derivation check failed: sp.simplify(lin[i].subs(sub) - adjc[i]) == 0')
 
+    delta_gram = sa * sb - gg**2
+    factored_forms = {quad: qsym, -quad: -qsym, lin[0]: lsym[0], -lin[0]: -lsym[0], lin[1]: lsym[1],
+                      -lin[1]: -lsym[1], delta_gram: dsym, -delta_gram: -dsym}
+
     def _factored(expr):
-        expr = expr.subs(quad, qsym).subs({lin[0]: lsym[0], lin[1]: lsym[1]}).subs(sa * sb - gg**2, dsym)
+        # the stable forms by one xreplace of each form and its negative (what subs does at a node equal
+        # to them); subs differs from it only at a sum holding the terms of one (or of its negative)
+        # among others, which has() finds (it matches such sums): then the three subs in a row, as
+        # before (srepr-identical on all 36 forms, 0.40 -> 0.13 s with a cold SymPy cache)
+        got = expr.xreplace(factored_forms)
+        if any(got.has(f) for f in factored_forms):
+            got = expr.subs(quad, qsym).subs({lin[0]: lsym[0], lin[1]: lsym[1]}).subs(sa * sb - gg**2, dsym)
+        expr = got
         if not (not expr.has(sa * sb - gg**2) and not expr.has(quad)):
             raise DerivationError('derivation check failed: not expr.has(sa * sb - gg**2) and not expr.has(quad)')
         # symbols by expressions free of every key: one simultaneous replacement (xreplace) gives
