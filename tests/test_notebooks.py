@@ -58,11 +58,15 @@ def _execute(nb, kernel, **options):
 
 @pytest.fixture(scope="module")
 def kernel():
-    """One python3 kernel, started in the repository root (where every notebook runs), for the module."""
+    """One python3 kernel, started in the repository root (where every notebook runs), for the module.
+
+    Its input history is off (``HistoryManager.enabled=False``): nothing here reads it, and it
+    would write every cell into the user's ``~/.ipython`` history database (about 1.5 ms of the
+    kernel's CPU per cell)."""
     from jupyter_client.manager import KernelManager
 
     km = KernelManager(kernel_name="python3")
-    km.start_kernel(cwd=str(ROOT))
+    km.start_kernel(cwd=str(ROOT), extra_arguments=["--HistoryManager.enabled=False"])
     yield km
     km.shutdown_kernel(now=True)
 
