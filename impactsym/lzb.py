@@ -256,6 +256,7 @@ def lzb_impact(M, H, v, stiffness, exponent=1.5, restitution=1.0, *, rtol: float
         i_ep, i_r, N = n + k, n + k + 1, n + 2 * k + 2
         few = k <= 24
         zero_k, one_k = np.zeros(k), np.ones(k)
+        al, bl, ie2 = a.tolist(), b.tolist(), inv_e2.tolist()
 
         def rhs(_P, y, out=None, pp=pp):
             # dv/dP_p = M⁻¹Hᵀ f/f_p, ds_j/dP_p = −c_j w_j b_j/f_p (0 for an inactive contact and the
@@ -270,6 +271,29 @@ def lzb_impact(M, H, v, stiffness, exponent=1.5, restitution=1.0, *, rtol: float
             fp = a_pp * max(y.item(i_ep), Eeps_f) ** expo_pp
             if out is None:
                 out = np.empty(N)
+            if few and fp != 0.0:
+                # a few contacts as Python floats: the same IEEE products and quotients, contact by
+                # contact, in the formula's order: f_j/f_p = (a_j s_j⁺^η_j)/f_p (the powers NumPy's, on
+                # np.maximum's s⁺), f_p/f_p for the primary, and (c w_j) b_j/(−f_p) with c = 1/e_j² where
+                # w_j > 0 (a NaN w_j takes c = 1, as np.where on np.greater does), +0.0 for the primary
+                # and an inactive contact (s_j <= 0 and w_j >= 0, the same comparisons); all written into
+                # ``out`` at once. (fp == 0 would raise in Python: NumPy's path below.)
+                pw = np.maximum(ss, zero_k)
+                np.power(pw, eta, out=pw)
+                pl = pw.tolist()
+                wl = ww.tolist()
+                sl = ss.tolist()
+                nfp = -fp
+                ratio = [al[j] * pl[j] / fp for j in range(k)]
+                ratio[pp] = fp / fp
+                if elastic:
+                    cw = wl
+                else:
+                    cw = [ie2[j] * w if w > 0.0 else 1.0 * w for j, w in enumerate(wl)]
+                ds = [0.0 if j == pp or (sl[j] <= 0.0 and wl[j] >= 0.0) else cw[j] * bl[j] / nfp for j in range(k)]
+                out[n:] = ds + [-cw[pp]] + ratio + [1.0 / fp if track_time else 0.0]
+                A.dot(out[i_r:N - 1], out=out[:n])  # the same BLAS call as A.dot(ratio), into its place
+                return out
             ratio = out[i_r:N - 1]
             np.maximum(ss, zero_k, out=ratio)
             np.power(ratio, eta, out=ratio)
@@ -286,17 +310,10 @@ def lzb_impact(M, H, v, stiffness, exponent=1.5, restitution=1.0, *, rtol: float
                 cwp = -ds.item(pp)
                 np.multiply(ds, b, out=ds)
             np.divide(ds, np.array(-fp), out=ds)
-            # an inactive contact (s_j <= 0 and w_j >= 0) gets +0.0: a few contacts are read as
-            # Python floats (the same comparisons, NaN included), many through NumPy's masks
-            if few:
-                sl = ss.tolist()
-                for j in range(k):
-                    if sl[j] <= 0.0 and ww.item(j) >= 0.0:
-                        ds[j] = 0.0
-            else:
-                inactive = np.less_equal(ss, zero_k)
-                inactive &= np.greater_equal(ww, zero_k)
-                np.copyto(ds, zero_k, where=inactive)
+            # an inactive contact (s_j <= 0 and w_j >= 0) gets +0.0
+            inactive = np.less_equal(ss, zero_k)
+            inactive &= np.greater_equal(ww, zero_k)
+            np.copyto(ds, zero_k, where=inactive)
             ds[pp] = 0.0
             out[i_ep] = cwp
             out[N - 1] = 1.0 / fp if track_time else 0.0
