@@ -591,6 +591,9 @@ def compliant_impact(M, H, v, stiffness, exponent=1.5, damping=None, *, hunt_cro
     zero_k = np.zeros(k)
     N = 2 * n + k
 
+    # the +0.0 of δ⁺'s zeros is made by the power itself when no exponent is an odd integer
+    # (IEEE pow(−0, p) = +0 for p > 0 not an odd integer; pow(±0, p) = ±0 for an odd one)
+    canon = lin or bool(np.any((p % 2) == 1))
     Hneg = -Hf  # (−H) q is −(H q) bit for bit but for the sign of a zero, which only δ ≤ 0 sees (masked)
     ng0 = -g0
 
@@ -620,16 +623,18 @@ def compliant_impact(M, H, v, stiffness, exponent=1.5, damping=None, *, hunt_cro
         else:
             # elastic: f = K (δ⁺)^p without a mask (two ufuncs fewer, and no masked loop). Where
             # δ > 0 these are the masked product's operations on the same values; where δ <= 0, δ⁺
-            # is a zero, made +0.0 (−0.0 + 0.0 is +0.0; np.maximum may keep either zero), so
-            # (δ⁺)^p = +0.0 (p >= 1) and K·(+0.0) = +0.0, the masked product's zero. (A NaN δ gives
+            # is a zero, made +0.0 (−0.0 + 0.0 is +0.0; np.maximum may keep either zero; without an
+            # odd integer exponent the power does it: pow(±0, p) = +0), so (δ⁺)^p = +0.0 (p >= 1)
+            # and K·(+0.0) = +0.0, the masked product's zero. (A NaN δ gives
             # NaN where the mask gave 0; it needs a non-finite stage already in the table, whose
             # step is rejected with the same step-size factor either way.)
             np.maximum(d, zero_k, out=d)
-            np.add(d, zero_k, out=d)
+            if canon:
+                np.add(d, zero_k, out=d)
             if not lin:
                 np.power(d, p, out=d)
             np.multiply(K, d, out=f)
-        out[n:2 * n] = A.dot(f)
+        A.dot(f, out=out[n:2 * n])  # the product into its place: the same BLAS call as A.dot(f)
         return out
 
     def stop(_t, y):
