@@ -177,7 +177,7 @@ class _Run:
     __slots__ = ("t", "y", "t_events", "y_events", "status", "message", "nfev", "steps", "y_last")
 
 
-def _dop853(fun, t0, t_bound, y0, rtol, atol, events, keep_states=True, into=False):
+def _dop853(fun, t0, t_bound, y0, rtol, atol, events, keep_states=True, into=False, values=None):
     """``solve_ivp(fun, (t0, t_bound), y0, method="DOP853", rtol=rtol, atol=atol, events=events)``, faster.
 
     The same floating-point operations in the same order as SciPy's ``DOP853`` (the initial step,
@@ -191,6 +191,10 @@ def _dop853(fun, t0, t_bound, y0, rtol, atol, events, keep_states=True, into=Fal
     NumPy one of the same value); the events carry SciPy's ``terminal`` and ``direction``
     attributes. With ``into``, ``fun(t, y, out)`` writes the stages into the stage table's rows
     (``out`` is None where a fresh array is wanted) instead of returning arrays to copy there.
+    ``values(t, y)``, if given, returns the events' values at an accepted state in one call (a
+    list, one per event), equal to the events' own but for the sign of a zero: only their signs
+    are read there (which events change sign within a step), while the roots are found with the
+    events themselves.
 
     Returns an object with ``t`` (accepted times, only if ``keep_states``), ``y`` (the states, one
     column per time, only if ``keep_states``), ``steps``, ``y_last`` (the final state), ``t_events``,
@@ -213,7 +217,10 @@ def _dop853(fun, t0, t_bound, y0, rtol, atol, events, keep_states=True, into=Fal
     expo = solver.error_exponent
     nscale = float(solver.n)
     t, y, f, h_abs = solver.t, solver.y, solver.f, float(solver.h_abs)
-    g = [event(t, y) for event in events]
+    if values is None:
+        def values(t, y):
+            return [event(t, y) for event in events]
+    g = values(t, y)
     abs_y = np.abs(y)
     ts, ys = ([t], [y]) if keep_states else (None, None)
     t_events = [[] for _ in events]
@@ -284,7 +291,7 @@ def _dop853(fun, t0, t_bound, y0, rtol, atol, events, keep_states=True, into=Fal
         if keep_states:
             ts.append(t)
             ys.append(y)
-        g_new = [event(t, y) for event in events]
+        g_new = values(t, y)
         active = [i for i, (a, b, d) in enumerate(zip(g, g_new, dirs))
                   if (d > 0 and a <= 0 and b >= 0) or (d < 0 and a >= 0 and b <= 0)
                   or (d == 0 and ((a <= 0 and b >= 0) or (a >= 0 and b <= 0)))]
@@ -645,6 +652,18 @@ def compliant_impact(M, H, v, stiffness, exponent=1.5, damping=None, *, hunt_cro
     stop.terminal = True
     stop.direction = 1
     events = [stop]
+    g0l = g0.tolist()
+
+    def stop_value(_t, y):
+        # stop's value at an accepted state, its float operations contact by contact in Python
+        # floats (the same matrix products): min(g_i / L, w_i / V + ε) is one of those values, the
+        # one np.minimum's reduction gives (a NaN, which the reduction would give, goes to stop)
+        gl = (Hf @ y[:n]).tolist()
+        wl = (Hf @ y[n:2 * n]).tolist()
+        vals = [(a + b) / Lsc for a, b in zip(g0l, gl)]
+        vals += [w / V + SEPARATION_EPS for w in wl]
+        tot = sum(vals)
+        return min(vals) if tot == tot else stop(_t, y)
 
     def energy(y):
         q, qd = y[:n], y[n:2 * n]
@@ -658,6 +677,12 @@ def compliant_impact(M, H, v, stiffness, exponent=1.5, damping=None, *, hunt_cro
         rest.terminal = True
         rest.direction = -1
         events.append(rest)
+
+        def values(t, y):
+            return [stop_value(t, y), rest(t, y)]
+    else:
+        def values(t, y):
+            return [stop_value(t, y)]
 
     atol_vec = atol * np.concatenate([np.full(n, Lsc), np.full(n, V), np.full(k, Psc)])
     y = np.concatenate([np.zeros(n), v0, np.zeros(k)])
@@ -687,7 +712,7 @@ def compliant_impact(M, H, v, stiffness, exponent=1.5, damping=None, *, hunt_cro
         if t >= t_max:
             raise NonTermination(f"compliant impact: not over at t_max = {t_max:g} (contact time scale {T:g})"
                                  f"{theorem or '; the termination theorem gives finiteness, not a bound on the time'}")
-        sol = _dop853(rhs, t, min(t + window, t_max), y, rtol, atol_vec, events, into=True)
+        sol = _dop853(rhs, t, min(t + window, t_max), y, rtol, atol_vec, events, into=True, values=values)
         if sol.status == -1:  # pragma: no cover - integrator failure
             raise NonTermination(f"compliant impact: integrator failed ({sol.message})")
         steps += sol.steps

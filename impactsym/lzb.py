@@ -346,6 +346,12 @@ def lzb_impact(M, H, v, stiffness, exponent=1.5, restitution=1.0, *, rtol: float
 
         switch.terminal = True
         switch.direction = 1
+        Eeps_e, Ep_drop_e = float(Eeps), float(Ep_drop)
+
+        def values(_P, y):
+            # the three events' values at once (end_primary's and drop's differences as Python floats)
+            Ey = y.item(n + k)
+            return [Ey - Eeps_e, switch(_P, y), Ey - Ep_drop_e]
 
         y0 = np.concatenate([v, s, [Ep], P, [t_equiv]])
         sscale = np.maximum(T0, 1e-300) ** (1 / (eta + 1))
@@ -353,7 +359,7 @@ def lzb_impact(M, H, v, stiffness, exponent=1.5, restitution=1.0, *, rtol: float
         atol_vec[-1] = atol * Tsc
         span = 1e3 * Pscale
         sol = _dop853(rhs, 0.0, span, y0, rtol, atol_vec, [end_primary, switch, drop], keep_states=False,
-                      into=True)
+                      into=True, values=values)
         segments += 1
         steps += sol.steps
         nfev += sol.nfev
