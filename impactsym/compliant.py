@@ -177,7 +177,7 @@ class _Run:
     __slots__ = ("t", "y", "t_events", "y_events", "status", "message", "nfev", "steps", "y_last")
 
 
-def _dop853(fun, t0, t_bound, y0, rtol, atol, events, keep_states=True, into=False, values=None):
+def _dop853(fun, t0, t_bound, y0, rtol, atol, events, keep_states=True, into=False, values=None, stage=None):
     """``solve_ivp(fun, (t0, t_bound), y0, method="DOP853", rtol=rtol, atol=atol, events=events)``, faster.
 
     The same floating-point operations in the same order as SciPy's ``DOP853`` (the initial step,
@@ -194,7 +194,10 @@ def _dop853(fun, t0, t_bound, y0, rtol, atol, events, keep_states=True, into=Fal
     ``values(t, y)``, if given, returns the events' values at an accepted state in one call (a
     list, one per event), equal to the events' own but for the sign of a zero: only their signs
     are read there (which events change sign within a step), while the roots are found with the
-    events themselves.
+    events themselves. ``stage(y, out)``, if given, is called once per stage row ``out`` with the
+    one buffer ``y`` that will hold every stage's input, and returns ``None`` or a function of no
+    argument that does ``fun(t, y, out)`` for ``y``'s contents at the time (``fun`` must not read
+    ``t`` then): its views and work arrays are made once per integration, not once per stage.
 
     Returns an object with ``t`` (accepted times, only if ``keep_states``), ``y`` (the states, one
     column per time, only if ``keep_states``), ``steps``, ``y_last`` (the final state), ``t_events``,
@@ -210,7 +213,9 @@ def _dop853(fun, t0, t_bound, y0, rtol, atol, events, keep_states=True, into=Fal
     dirs = [float(d) for d in event_dir]
     K = solver.K
     A, B, C, E3, E5 = solver.A, solver.B, solver.C, solver.E3, solver.E5
-    stages = [(K[:s].T, A[s][:s], float(C[s]), s, K[s]) for s in range(1, len(C))]
+    ybuf = np.empty(K.shape[1])  # every bound stage's input (stage), written by np.add as dy would be
+    stages = [(K[:s].T, A[s][:s], float(C[s]), s, K[s], None if stage is None else stage(ybuf, K[s]))
+              for s in range(1, len(C))]
     KbT, KT = K[:-1].T, K.T
     rtol, atol = solver.rtol, solver.atol
     rtol_arr = np.array(rtol)
@@ -247,10 +252,13 @@ def _dop853(fun, t0, t_bound, y0, rtol, atol, events, keep_states=True, into=Fal
             h_arr = np.array(h)  # a 0-d array multiplies as the float does, without converting it each time
             # rk_step: each stage's input y + (K[:s]ᵀ a_s) h, built in one buffer
             K[0] = f
-            for KsT, a, c, s, Ks in stages:
+            for KsT, a, c, s, Ks, bound in stages:
                 dy = KsT.dot(a)  # np.dot's own routine, without its dispatcher
                 np.multiply(dy, h_arr, out=dy)
-                if into:
+                if bound is not None:
+                    np.add(y, dy, out=ybuf)
+                    bound()
+                elif into:
                     fun(t + c * h, np.add(y, dy, out=dy), Ks)
                 else:
                     K[s] = fun(t + c * h, np.add(y, dy, out=dy))
@@ -644,6 +652,31 @@ def compliant_impact(M, H, v, stiffness, exponent=1.5, damping=None, *, hunt_cro
         A.dot(f, out=out[n:2 * n])  # the product into its place: the same BLAS call as A.dot(f)
         return out
 
+    def bind(y, out):
+        # rhs(t, y, out) for the contents of the driver's stage buffer y, elastic: the same
+        # operations on the same values (the products written into their places by the same BLAS
+        # calls), with the views and the indentation array made once per integration
+        if masked:
+            return None
+        q, qd = y[:n], y[n:2 * n]
+        o_q, o_v, f = out[:n], out[n:2 * n], out[2 * n:]
+        d = np.empty(k)
+
+        def stage():
+            o_q[...] = qd
+            Hneg.dot(q, out=d)
+            if not touching:
+                np.add(ng0, d, out=d)
+            np.maximum(d, zero_k, out=d)
+            if canon:
+                np.add(d, zero_k, out=d)
+            if not lin:
+                np.power(d, p, out=d)
+            np.multiply(K, d, out=f)
+            A.dot(f, out=o_v)
+
+        return stage
+
     def stop(_t, y):
         g = (g0 + Hf @ y[:n]) / Lsc
         w = (Hf @ y[n:2 * n]) / V + SEPARATION_EPS
@@ -712,7 +745,8 @@ def compliant_impact(M, H, v, stiffness, exponent=1.5, damping=None, *, hunt_cro
         if t >= t_max:
             raise NonTermination(f"compliant impact: not over at t_max = {t_max:g} (contact time scale {T:g})"
                                  f"{theorem or '; the termination theorem gives finiteness, not a bound on the time'}")
-        sol = _dop853(rhs, t, min(t + window, t_max), y, rtol, atol_vec, events, into=True, values=values)
+        sol = _dop853(rhs, t, min(t + window, t_max), y, rtol, atol_vec, events, into=True, values=values,
+                      stage=bind)
         if sol.status == -1:  # pragma: no cover - integrator failure
             raise NonTermination(f"compliant impact: integrator failed ({sol.message})")
         steps += sol.steps
