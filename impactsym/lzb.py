@@ -370,10 +370,18 @@ def lzb_impact(M, H, v, stiffness, exponent=1.5, restitution=1.0, *, rtol: float
         switch.direction = 1
         Eeps_e, Ep_drop_e = float(Eeps), float(Ep_drop)
 
-        def values(_P, y):
-            # the three events' values at once (end_primary's and drop's differences as Python floats)
+        def values(_P, y, others=others):
+            # the three events' values at once: end_primary's and drop's differences as Python
+            # floats, and switch's with the largest other energy taken by Python's max (the same
+            # value; the energies are >= 0, so a NaN among them is one in their sum, and is kept)
             Ey = y.item(n + k)
-            return [Ey - Eeps_e, switch(_P, y), Ey - Ep_drop_e]
+            if k == 1:
+                sw = -1.0 - SWITCH_FACTOR * Ey
+            else:
+                Eo = (np.maximum(y[n:n + k][others], 0.0) ** eta_o1).tolist()
+                tot = sum(Eo)
+                sw = (max(Eo) if tot == tot else tot) - SWITCH_FACTOR * Ey
+            return [Ey - Eeps_e, sw, Ey - Ep_drop_e]
 
         y0 = np.concatenate([v, s, [Ep], P, [t_equiv]])
         sscale = np.maximum(T0, 1e-300) ** (1 / (eta + 1))
