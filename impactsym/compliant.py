@@ -177,7 +177,7 @@ class _Run:
     __slots__ = ("t", "y", "t_events", "y_events", "status", "message", "nfev", "steps", "y_last")
 
 
-def _dop853(fun, t0, t_bound, y0, rtol, atol, events, keep_states=True, into=False):
+def _dop853(fun, t0, t_bound, y0, rtol, atol, events, keep_states=True, into=False, values=None, stage=None):
     """``solve_ivp(fun, (t0, t_bound), y0, method="DOP853", rtol=rtol, atol=atol, events=events)``, faster.
 
     The same floating-point operations in the same order as SciPy's ``DOP853`` (the initial step,
@@ -191,6 +191,13 @@ def _dop853(fun, t0, t_bound, y0, rtol, atol, events, keep_states=True, into=Fal
     NumPy one of the same value); the events carry SciPy's ``terminal`` and ``direction``
     attributes. With ``into``, ``fun(t, y, out)`` writes the stages into the stage table's rows
     (``out`` is None where a fresh array is wanted) instead of returning arrays to copy there.
+    ``values(t, y)``, if given, returns the events' values at an accepted state in one call (a
+    list, one per event), equal to the events' own but for the sign of a zero: only their signs
+    are read there (which events change sign within a step), while the roots are found with the
+    events themselves. ``stage(y, out)``, if given, is called once per stage row ``out`` with the
+    one buffer ``y`` that will hold every stage's input, and returns ``None`` or a function of no
+    argument that does ``fun(t, y, out)`` for ``y``'s contents at the time (``fun`` must not read
+    ``t`` then): its views and work arrays are made once per integration, not once per stage.
 
     Returns an object with ``t`` (accepted times, only if ``keep_states``), ``y`` (the states, one
     column per time, only if ``keep_states``), ``steps``, ``y_last`` (the final state), ``t_events``,
@@ -206,14 +213,19 @@ def _dop853(fun, t0, t_bound, y0, rtol, atol, events, keep_states=True, into=Fal
     dirs = [float(d) for d in event_dir]
     K = solver.K
     A, B, C, E3, E5 = solver.A, solver.B, solver.C, solver.E3, solver.E5
-    stages = [(K[:s].T, A[s][:s], float(C[s]), s, K[s]) for s in range(1, len(C))]
+    ybuf = np.empty(K.shape[1])  # every bound stage's input (stage), written by np.add as dy would be
+    stages = [(K[:s].T, A[s][:s], float(C[s]), s, K[s], None if stage is None else stage(ybuf, K[s]))
+              for s in range(1, len(C))]
     KbT, KT = K[:-1].T, K.T
     rtol, atol = solver.rtol, solver.atol
     rtol_arr = np.array(rtol)
     expo = solver.error_exponent
     nscale = float(solver.n)
     t, y, f, h_abs = solver.t, solver.y, solver.f, float(solver.h_abs)
-    g = [event(t, y) for event in events]
+    if values is None:
+        def values(t, y):
+            return [event(t, y) for event in events]
+    g = values(t, y)
     abs_y = np.abs(y)
     ts, ys = ([t], [y]) if keep_states else (None, None)
     t_events = [[] for _ in events]
@@ -240,10 +252,13 @@ def _dop853(fun, t0, t_bound, y0, rtol, atol, events, keep_states=True, into=Fal
             h_arr = np.array(h)  # a 0-d array multiplies as the float does, without converting it each time
             # rk_step: each stage's input y + (K[:s]ᵀ a_s) h, built in one buffer
             K[0] = f
-            for KsT, a, c, s, Ks in stages:
+            for KsT, a, c, s, Ks, bound in stages:
                 dy = KsT.dot(a)  # np.dot's own routine, without its dispatcher
                 np.multiply(dy, h_arr, out=dy)
-                if into:
+                if bound is not None:
+                    np.add(y, dy, out=ybuf)
+                    bound()
+                elif into:
                     fun(t + c * h, np.add(y, dy, out=dy), Ks)
                 else:
                     K[s] = fun(t + c * h, np.add(y, dy, out=dy))
@@ -284,7 +299,7 @@ def _dop853(fun, t0, t_bound, y0, rtol, atol, events, keep_states=True, into=Fal
         if keep_states:
             ts.append(t)
             ys.append(y)
-        g_new = [event(t, y) for event in events]
+        g_new = values(t, y)
         active = [i for i, (a, b, d) in enumerate(zip(g, g_new, dirs))
                   if (d > 0 and a <= 0 and b >= 0) or (d < 0 and a >= 0 and b <= 0)
                   or (d == 0 and ((a <= 0 and b >= 0) or (a >= 0 and b <= 0)))]
@@ -591,6 +606,9 @@ def compliant_impact(M, H, v, stiffness, exponent=1.5, damping=None, *, hunt_cro
     zero_k = np.zeros(k)
     N = 2 * n + k
 
+    # the +0.0 of δ⁺'s zeros is made by the power itself when no exponent is an odd integer
+    # (IEEE pow(−0, p) = +0 for p > 0 not an odd integer; pow(±0, p) = ±0 for an odd one)
+    canon = lin or bool(np.any((p % 2) == 1))
     Hneg = -Hf  # (−H) q is −(H q) bit for bit but for the sign of a zero, which only δ ≤ 0 sees (masked)
     ng0 = -g0
 
@@ -620,17 +638,44 @@ def compliant_impact(M, H, v, stiffness, exponent=1.5, damping=None, *, hunt_cro
         else:
             # elastic: f = K (δ⁺)^p without a mask (two ufuncs fewer, and no masked loop). Where
             # δ > 0 these are the masked product's operations on the same values; where δ <= 0, δ⁺
-            # is a zero, made +0.0 (−0.0 + 0.0 is +0.0; np.maximum may keep either zero), so
-            # (δ⁺)^p = +0.0 (p >= 1) and K·(+0.0) = +0.0, the masked product's zero. (A NaN δ gives
+            # is a zero, made +0.0 (−0.0 + 0.0 is +0.0; np.maximum may keep either zero; without an
+            # odd integer exponent the power does it: pow(±0, p) = +0), so (δ⁺)^p = +0.0 (p >= 1)
+            # and K·(+0.0) = +0.0, the masked product's zero. (A NaN δ gives
             # NaN where the mask gave 0; it needs a non-finite stage already in the table, whose
             # step is rejected with the same step-size factor either way.)
             np.maximum(d, zero_k, out=d)
-            np.add(d, zero_k, out=d)
+            if canon:
+                np.add(d, zero_k, out=d)
             if not lin:
                 np.power(d, p, out=d)
             np.multiply(K, d, out=f)
-        out[n:2 * n] = A.dot(f)
+        A.dot(f, out=out[n:2 * n])  # the product into its place: the same BLAS call as A.dot(f)
         return out
+
+    def bind(y, out):
+        # rhs(t, y, out) for the contents of the driver's stage buffer y, elastic: the same
+        # operations on the same values (the products written into their places by the same BLAS
+        # calls), with the views and the indentation array made once per integration
+        if masked:
+            return None
+        q, qd = y[:n], y[n:2 * n]
+        o_q, o_v, f = out[:n], out[n:2 * n], out[2 * n:]
+        d = np.empty(k)
+
+        def stage():
+            o_q[...] = qd
+            Hneg.dot(q, out=d)
+            if not touching:
+                np.add(ng0, d, out=d)
+            np.maximum(d, zero_k, out=d)
+            if canon:
+                np.add(d, zero_k, out=d)
+            if not lin:
+                np.power(d, p, out=d)
+            np.multiply(K, d, out=f)
+            A.dot(f, out=o_v)
+
+        return stage
 
     def stop(_t, y):
         g = (g0 + Hf @ y[:n]) / Lsc
@@ -640,6 +685,18 @@ def compliant_impact(M, H, v, stiffness, exponent=1.5, damping=None, *, hunt_cro
     stop.terminal = True
     stop.direction = 1
     events = [stop]
+    g0l = g0.tolist()
+
+    def stop_value(_t, y):
+        # stop's value at an accepted state, its float operations contact by contact in Python
+        # floats (the same matrix products): min(g_i / L, w_i / V + ε) is one of those values, the
+        # one np.minimum's reduction gives (a NaN, which the reduction would give, goes to stop)
+        gl = (Hf @ y[:n]).tolist()
+        wl = (Hf @ y[n:2 * n]).tolist()
+        vals = [(a + b) / Lsc for a, b in zip(g0l, gl)]
+        vals += [w / V + SEPARATION_EPS for w in wl]
+        tot = sum(vals)
+        return min(vals) if tot == tot else stop(_t, y)
 
     def energy(y):
         q, qd = y[:n], y[n:2 * n]
@@ -653,6 +710,12 @@ def compliant_impact(M, H, v, stiffness, exponent=1.5, damping=None, *, hunt_cro
         rest.terminal = True
         rest.direction = -1
         events.append(rest)
+
+        def values(t, y):
+            return [stop_value(t, y), rest(t, y)]
+    else:
+        def values(t, y):
+            return [stop_value(t, y)]
 
     atol_vec = atol * np.concatenate([np.full(n, Lsc), np.full(n, V), np.full(k, Psc)])
     y = np.concatenate([np.zeros(n), v0, np.zeros(k)])
@@ -682,7 +745,8 @@ def compliant_impact(M, H, v, stiffness, exponent=1.5, damping=None, *, hunt_cro
         if t >= t_max:
             raise NonTermination(f"compliant impact: not over at t_max = {t_max:g} (contact time scale {T:g})"
                                  f"{theorem or '; the termination theorem gives finiteness, not a bound on the time'}")
-        sol = _dop853(rhs, t, min(t + window, t_max), y, rtol, atol_vec, events, into=True)
+        sol = _dop853(rhs, t, min(t + window, t_max), y, rtol, atol_vec, events, into=True, values=values,
+                      stage=bind)
         if sol.status == -1:  # pragma: no cover - integrator failure
             raise NonTermination(f"compliant impact: integrator failed ({sol.message})")
         steps += sol.steps

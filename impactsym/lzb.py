@@ -256,6 +256,21 @@ def lzb_impact(M, H, v, stiffness, exponent=1.5, restitution=1.0, *, rtol: float
         i_ep, i_r, N = n + k, n + k + 1, n + 2 * k + 2
         few = k <= 24
         zero_k, one_k = np.zeros(k), np.ones(k)
+        al, bl, ie2 = a.tolist(), b.tolist(), inv_e2.tolist()
+
+        def tail(wl, sl, pl, fp, pp=pp):
+            # out[n:] for a few contacts, as Python floats: the same IEEE products and quotients,
+            # contact by contact, in the formula's order (rhs below): ds_j = (c w_j) b_j/(−f_p) with
+            # c = 1/e_j² where w_j > 0 (a NaN w_j takes c = 1, as np.where on np.greater does), +0.0
+            # for the primary and an inactive contact (s_j <= 0 and w_j >= 0, the same comparisons);
+            # dE_p = −c_p w_p; f_j/f_p = (a_j s_j⁺^η_j)/f_p (pl: NumPy's powers of np.maximum's s⁺),
+            # f_p/f_p for the primary; dt = 1/f_p
+            nfp = -fp
+            ratio = [al[j] * pl[j] / fp for j in range(k)]
+            ratio[pp] = fp / fp
+            cw = wl if elastic else [ie2[j] * w if w > 0.0 else 1.0 * w for j, w in enumerate(wl)]
+            ds = [0.0 if j == pp or (sl[j] <= 0.0 and wl[j] >= 0.0) else cw[j] * bl[j] / nfp for j in range(k)]
+            return ds + [-cw[pp]] + ratio + [1.0 / fp if track_time else 0.0]
 
         def rhs(_P, y, out=None, pp=pp):
             # dv/dP_p = M⁻¹Hᵀ f/f_p, ds_j/dP_p = −c_j w_j b_j/f_p (0 for an inactive contact and the
@@ -270,6 +285,15 @@ def lzb_impact(M, H, v, stiffness, exponent=1.5, restitution=1.0, *, rtol: float
             fp = a_pp * max(y.item(i_ep), Eeps_f) ** expo_pp
             if out is None:
                 out = np.empty(N)
+            if few and fp != 0.0:
+                # a few contacts as Python floats (tail), written into ``out`` at once, then
+                # M⁻¹Hᵀ f/f_p by the same BLAS call as A.dot(ratio), into its place. (fp == 0 would
+                # raise in Python: NumPy's path below.)
+                pw = np.maximum(ss, zero_k)
+                np.power(pw, eta, out=pw)
+                out[n:] = tail(ww.tolist(), ss.tolist(), pw.tolist(), fp)
+                A.dot(out[i_r:N - 1], out=out[:n])
+                return out
             ratio = out[i_r:N - 1]
             np.maximum(ss, zero_k, out=ratio)
             np.power(ratio, eta, out=ratio)
@@ -286,21 +310,36 @@ def lzb_impact(M, H, v, stiffness, exponent=1.5, restitution=1.0, *, rtol: float
                 cwp = -ds.item(pp)
                 np.multiply(ds, b, out=ds)
             np.divide(ds, np.array(-fp), out=ds)
-            # an inactive contact (s_j <= 0 and w_j >= 0) gets +0.0: a few contacts are read as
-            # Python floats (the same comparisons, NaN included), many through NumPy's masks
-            if few:
-                sl = ss.tolist()
-                for j in range(k):
-                    if sl[j] <= 0.0 and ww.item(j) >= 0.0:
-                        ds[j] = 0.0
-            else:
-                inactive = np.less_equal(ss, zero_k)
-                inactive &= np.greater_equal(ww, zero_k)
-                np.copyto(ds, zero_k, where=inactive)
+            # an inactive contact (s_j <= 0 and w_j >= 0) gets +0.0
+            inactive = np.less_equal(ss, zero_k)
+            inactive &= np.greater_equal(ww, zero_k)
+            np.copyto(ds, zero_k, where=inactive)
             ds[pp] = 0.0
             out[i_ep] = cwp
             out[N - 1] = 1.0 / fp if track_time else 0.0
             return out
+
+        def bind(y, out):
+            # rhs(P, y, out) for the contents of the driver's stage buffer y (a few contacts): the
+            # same operations on the same values, with the views and work arrays made once
+            if not few:
+                return None
+            q, ss = y[:n], y[n:i_ep]
+            o_v, o_tail, o_ratio = out[:n], out[n:], out[i_r:N - 1]
+            ww, pw = np.empty(k), np.empty(k)
+
+            def stage():
+                fp = a_pp * max(y.item(i_ep), Eeps_f) ** expo_pp
+                if fp == 0.0:
+                    rhs(None, y, out)
+                    return
+                Hf.dot(q, out=ww)
+                np.maximum(ss, zero_k, out=pw)
+                np.power(pw, eta, out=pw)
+                o_tail[...] = tail(ww.tolist(), ss.tolist(), pw.tolist(), fp)
+                A.dot(o_ratio, out=o_v)
+
+            return stage
 
         def end_primary(_P, y, pp=pp):
             return y[n + k] - Eeps
@@ -329,6 +368,20 @@ def lzb_impact(M, H, v, stiffness, exponent=1.5, restitution=1.0, *, rtol: float
 
         switch.terminal = True
         switch.direction = 1
+        Eeps_e, Ep_drop_e = float(Eeps), float(Ep_drop)
+
+        def values(_P, y, others=others):
+            # the three events' values at once: end_primary's and drop's differences as Python
+            # floats, and switch's with the largest other energy taken by Python's max (the same
+            # value; the energies are >= 0, so a NaN among them is one in their sum, and is kept)
+            Ey = y.item(n + k)
+            if k == 1:
+                sw = -1.0 - SWITCH_FACTOR * Ey
+            else:
+                Eo = (np.maximum(y[n:n + k][others], 0.0) ** eta_o1).tolist()
+                tot = sum(Eo)
+                sw = (max(Eo) if tot == tot else tot) - SWITCH_FACTOR * Ey
+            return [Ey - Eeps_e, sw, Ey - Ep_drop_e]
 
         y0 = np.concatenate([v, s, [Ep], P, [t_equiv]])
         sscale = np.maximum(T0, 1e-300) ** (1 / (eta + 1))
@@ -336,7 +389,7 @@ def lzb_impact(M, H, v, stiffness, exponent=1.5, restitution=1.0, *, rtol: float
         atol_vec[-1] = atol * Tsc
         span = 1e3 * Pscale
         sol = _dop853(rhs, 0.0, span, y0, rtol, atol_vec, [end_primary, switch, drop], keep_states=False,
-                      into=True)
+                      into=True, values=values, stage=bind)
         segments += 1
         steps += sol.steps
         nfev += sol.nfev

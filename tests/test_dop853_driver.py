@@ -20,8 +20,10 @@ from impactsym.compliant import _dop853, chain_impact, compliant_impact
 from impactsym.lzb import lzb_chain
 
 
-def _via_solve_ivp(fun, t0, t_bound, y0, rtol, atol, events, keep_states=True, into=False):
-    # SciPy calls fun(t, y) and copies what it returns: `into` (write into the stage table) does not apply
+def _via_solve_ivp(fun, t0, t_bound, y0, rtol, atol, events, keep_states=True, into=False, values=None,
+                   stage=None):
+    # SciPy calls fun(t, y) and copies what it returns: `into` (write into the stage table) does not apply;
+    # nor do `values` (the events' values in one call: SciPy calls the events themselves) and `stage`
     sol = solve_ivp(fun, (t0, t_bound), y0, method="DOP853", rtol=rtol, atol=atol, events=events)
     run = compliant._Run()
     run.t, run.y, run.steps, run.y_last = sol.t, sol.y, len(sol.t) - 1, sol.y[:, -1]
