@@ -861,8 +861,9 @@ def plot(result: dict, path) -> None:
             if ax.get_legend_handles_labels()[0]:
                 ax.legend(fontsize=8)
     fig.suptitle(f"impactsym cost model: {result['law']} (dashed: fitted size^k)")
-    fig.tight_layout()
-    fig.savefig(path, dpi=90)
+    from .figures._common import tight_layout_once
+
+    tight_layout_once(fig).savefig(path, dpi=90)
     plt.close(fig)
 
 

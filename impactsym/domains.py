@@ -576,7 +576,9 @@ def plot_domain(theta, path, *, alpha_max=None, points: int = 400, ax=None, lege
     if legend:
         ax.legend(loc="lower right", fontsize=8)
     if own:
-        fig.tight_layout()
+        from .figures._common import tight_layout_once
+
+        tight_layout_once(fig)
     if path is not None:
         fig.savefig(path, dpi=100)
     lines = {"g": ax.lines[0].get_ydata().copy(), "h": ax.lines[1].get_ydata().copy(), "alpha": ax.lines[0].get_xdata().copy()}
