@@ -340,12 +340,9 @@ def plot(result: dict, path) -> None:
     handles += [Line2D([], [], marker="o", ls="", color=colors[f], label=f) for f in formulas]
     axes[1].legend(handles=handles, fontsize=8, loc="upper left", bbox_to_anchor=(1.02, 1.0))
     fig.suptitle("impactsym: speed versus error of every evaluation path")
-    fig.tight_layout()
-    # tight_layout leaves a placeholder engine, which lays nothing out but costs savefig a priming
-    # draw; without an engine the one draw makes the same pixels (figures._without_layout_engine)
-    with matplotlib.rc_context({"figure.autolayout": False, "figure.constrained_layout.use": False}):
-        fig.set_layout_engine(None)
-    fig.savefig(path, dpi=110)
+    from .figures._common import tight_layout_once
+
+    tight_layout_once(fig).savefig(path, dpi=110)
     plt.close(fig)
 
 

@@ -861,12 +861,9 @@ def plot(result: dict, path) -> None:
             if ax.get_legend_handles_labels()[0]:
                 ax.legend(fontsize=8)
     fig.suptitle(f"impactsym cost model: {result['law']} (dashed: fitted size^k)")
-    fig.tight_layout()
-    # tight_layout leaves a placeholder engine, which lays nothing out but costs savefig a priming
-    # draw; without an engine the one draw makes the same pixels (figures._without_layout_engine)
-    with matplotlib.rc_context({"figure.autolayout": False, "figure.constrained_layout.use": False}):
-        fig.set_layout_engine(None)
-    fig.savefig(path, dpi=90)
+    from .figures._common import tight_layout_once
+
+    tight_layout_once(fig).savefig(path, dpi=90)
     plt.close(fig)
 
 

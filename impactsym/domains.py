@@ -576,11 +576,9 @@ def plot_domain(theta, path, *, alpha_max=None, points: int = 400, ax=None, lege
     if legend:
         ax.legend(loc="lower right", fontsize=8)
     if own:
-        fig.tight_layout()
-        # tight_layout leaves a placeholder engine, which lays nothing out but costs savefig a priming
-        # draw; without an engine the one draw makes the same pixels (figures._without_layout_engine)
-        with matplotlib.rc_context({"figure.autolayout": False, "figure.constrained_layout.use": False}):
-            fig.set_layout_engine(None)
+        from .figures._common import tight_layout_once
+
+        tight_layout_once(fig)
     if path is not None:
         fig.savefig(path, dpi=100)
     lines = {"g": ax.lines[0].get_ydata().copy(), "h": ax.lines[1].get_ydata().copy(), "alpha": ax.lines[0].get_xdata().copy()}

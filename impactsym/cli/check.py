@@ -246,8 +246,9 @@ def _sweep_figure(out):
     ax.set_ylabel("||v_engine - v_law||_M / ||v-||_M")
     ax.set_title(f"{out['engine']}: distance to each law as {out['setting']} changes", fontsize=9)
     ax.legend(fontsize=6, ncol=2)
-    fig.tight_layout()
-    return fig
+    from ..figures._common import tight_layout_once
+
+    return tight_layout_once(fig)
 
 
 def render_sweep(result: dict) -> str:

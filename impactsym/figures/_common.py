@@ -49,28 +49,31 @@ def _tight(fig) -> None:
     fig.set_layout_engine("tight")
 
 
-def _laid_out(fig):
-    """Run the layout :func:`_tight` deferred (``fig.tight_layout()``), then leave ``fig`` with no
-    layout engine (:func:`_without_layout_engine`)."""
-    from matplotlib.layout_engine import PlaceHolderLayoutEngine, TightLayoutEngine
+def tight_layout_once(fig):
+    """``fig.tight_layout()``, then no layout engine at all, so that drawing ``fig`` does not lay it
+    out again; returns ``fig``.
 
-    if isinstance(fig.get_layout_engine(), TightLayoutEngine):
-        fig.tight_layout()
-    if isinstance(fig.get_layout_engine(), PlaceHolderLayoutEngine):
-        _without_layout_engine(fig)
+    ``tight_layout()`` leaves a placeholder engine (it lays out nothing), and while a figure has
+    any engine ``savefig`` first draws it once without rendering, for an engine to lay it out, and
+    then draws it again: with no engine the one drawing gives the same pixels (the PNG bytes are
+    identical) for a third less work. An engine that the rcParams ask for (``figure.autolayout``,
+    ``figure.constrained_layout.use``) is kept.
+    """
+    import matplotlib as mpl
+
+    fig.tight_layout()
+    if not (mpl.rcParams["figure.autolayout"] or mpl.rcParams["figure.constrained_layout.use"]):
+        fig.set_layout_engine(None)  # with those rcParams off: no engine at all
     return fig
 
 
-def _without_layout_engine(fig):
-    """Take off the engine ``fig.tight_layout()`` leaves behind, a ``PlaceHolderLayoutEngine``, which
-    lays nothing out: ``savefig`` gives a figure with any engine a priming draw before the real one
-    (so that a layout can see drawn positions), and without it the one draw makes the same pixels
-    at about two thirds of the cost. ``set_layout_engine(None)`` would put rcParams' default engine
-    back; they are held off for the call."""
-    import matplotlib
+def _laid_out(fig):
+    """Run the layout :func:`_tight` deferred (:func:`tight_layout_once`: ``fig.tight_layout()``,
+    leaving no engine)."""
+    from matplotlib.layout_engine import TightLayoutEngine
 
-    with matplotlib.rc_context({"figure.autolayout": False, "figure.constrained_layout.use": False}):
-        fig.set_layout_engine(None)
+    if isinstance(fig.get_layout_engine(), TightLayoutEngine):
+        tight_layout_once(fig)
     return fig
 
 

@@ -156,6 +156,7 @@ def ordering_regions(M, H, depth: int | None = None) -> list[dict]:
     >>> [(r["from"], r["to"], {k: len(v) for k, v in r["orders"].items()}) for r in regs if all(r["approaching"])]
     [(['-1', '-1'], ['-19', '-23'], {0: 3, 1: 4}), (['-19', '-23'], ['-40', '-439'], {0: 4, 1: 4}), (['-40', '-439'], ['0', '-1'], {0: 4, 1: 3})]
     """
+    from ..arithmetic.closed_form import certified_sign
     from ..laws.reflection import reflection_map
     from ..laws.sequential import termination_bound
     from ..laws.two_surface import resolve_two_surfaces
@@ -188,7 +189,11 @@ def ordering_regions(M, H, depth: int | None = None) -> list[dict]:
     for r1, r2 in zip(ordered, ordered[1:] + ordered[:1]):
         s = r1 + r2
         w = Hx * s
-        if all(sp.sign(x) >= 0 for x in w):
+        # the signs of H s and the agreement of the two exits below are decided exactly by
+        # certified_sign (a rational at once; else an enclosure, or an exact zero test), not by
+        # SymPy's sign and simplify on the radicals of irrational gradients
+        sw = [certified_sign(x) for x in w]
+        if all(x >= 0 for x in sw):
             continue  # already valid: no impact
         res = resolve_two_surfaces(Mx, Hx, s)
         orders, maps = {}, {}
@@ -197,11 +202,11 @@ def ordering_regions(M, H, depth: int | None = None) -> list[dict]:
             T = sp.eye(2)
             for i in o.order:
                 T = Gs[i] * T
-            if any(sp.simplify(a - b) != 0 for a, b in zip(T * s, o.velocity)):  # pragma: no cover - a bug
+            if any(certified_sign(a - b) != 0 for a, b in zip(T * s, o.velocity)):  # pragma: no cover - a bug
                 raise ArithmeticError(f"ordering {list(o.order)}: the closed form and the product of reflections differ")
             maps[o.first] = [_vs(T.row(0)), _vs(T.row(1))]
         out.append({"from": _vs(r1), "to": _vs(r2), "orders": orders, "maps": maps,
-                    "approaching": [bool(sp.sign(x) < 0) for x in w]})
+                    "approaching": [x < 0 for x in sw]})
     return out
 
 
