@@ -612,6 +612,15 @@ def compliant_impact(M, H, v, stiffness, exponent=1.5, damping=None, *, hunt_cro
     Hneg = -Hf  # (−H) q is −(H q) bit for bit but for the sign of a zero, which only δ ≤ 0 sees (masked)
     ng0 = -g0
 
+    def elastic_force(d, f):
+        # f = K (δ⁺)^p into ``f``, from the indentations ``d`` (overwritten): rhs's elastic branch
+        np.maximum(d, zero_k, out=d)
+        if canon:
+            np.add(d, zero_k, out=d)
+        if not lin:
+            np.power(d, p, out=d)
+        np.multiply(K, d, out=f)
+
     def rhs(_t, y, out=None):
         # (q̇, M⁻¹Hᵀf, f) with f_i = where(δ_i > 0, force_i, 0), written into ``out`` (a row of the
         # stage table) or a new array; the operations that round are those of the formula in the
@@ -643,12 +652,7 @@ def compliant_impact(M, H, v, stiffness, exponent=1.5, damping=None, *, hunt_cro
             # and K·(+0.0) = +0.0, the masked product's zero. (A NaN δ gives
             # NaN where the mask gave 0; it needs a non-finite stage already in the table, whose
             # step is rejected with the same step-size factor either way.)
-            np.maximum(d, zero_k, out=d)
-            if canon:
-                np.add(d, zero_k, out=d)
-            if not lin:
-                np.power(d, p, out=d)
-            np.multiply(K, d, out=f)
+            elastic_force(d, f)
         A.dot(f, out=out[n:2 * n])  # the product into its place: the same BLAS call as A.dot(f)
         return out
 
@@ -667,12 +671,7 @@ def compliant_impact(M, H, v, stiffness, exponent=1.5, damping=None, *, hunt_cro
             Hneg.dot(q, out=d)
             if not touching:
                 np.add(ng0, d, out=d)
-            np.maximum(d, zero_k, out=d)
-            if canon:
-                np.add(d, zero_k, out=d)
-            if not lin:
-                np.power(d, p, out=d)
-            np.multiply(K, d, out=f)
+            elastic_force(d, f)
             A.dot(f, out=o_v)
 
         return stage
