@@ -31,11 +31,15 @@ __all__ = ["float_to_rational", "as_fmpq", "to_fmpq", "bits", "rational_matrix",
            "exact_data", "all_rational", "float_vector", "rational_sqrt"]
 
 
-def _float_fraction(x) -> Fraction:
+def _finite_float(x) -> float:
     xf = float(x)
     if not math.isfinite(xf):
         raise ImpactInputError("value", f"must be finite, got {xf}")
-    return Fraction(xf)
+    return xf
+
+
+def _float_fraction(x) -> Fraction:
+    return Fraction(_finite_float(x))
 
 
 def float_to_rational(x: float) -> sp.Rational:
@@ -62,10 +66,7 @@ def as_fmpq(x) -> flint.fmpq | None:
     if isinstance(x, flint.fmpq):
         return x
     if isinstance(x, (float, np.floating)):
-        xf = float(x)
-        if not math.isfinite(xf):
-            raise ImpactInputError("value", f"must be finite, got {xf}")
-        return flint.fmpq(*xf.as_integer_ratio())  # (Fraction(xf)'s terms: the binary value, lowest terms)
+        return flint.fmpq(*_finite_float(x).as_integer_ratio())  # Fraction(x)'s terms: its binary value
     if isinstance(x, (int, np.integer)):
         return flint.fmpq(int(x))
     if isinstance(x, Fraction):
