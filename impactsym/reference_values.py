@@ -38,7 +38,6 @@ True
 
 from __future__ import annotations
 
-import re
 from dataclasses import dataclass
 from functools import lru_cache
 from typing import Mapping, Sequence
@@ -833,93 +832,10 @@ def kernel_reference(name: str) -> Reference:
             from sympy.functions.elementary.piecewise import ExprCondPair
 
             ns = {**vars(sp), "ExprCondPair": ExprCondPair}  # srepr text written by derivations/codegen.py
-            memo: dict = {}
-            args = [_read_srepr(a, ns, memo) for a in k["sympy"]["args"]]
-            outs = [_read_srepr(o, ns, memo) for o in k["sympy"]["outputs"]]
+            args = [eval(a, ns) for a in k["sympy"]["args"]]
+            outs = [eval(o, ns) for o in k["sympy"]["outputs"]]
             return Reference(args, outs)
     raise KeyError(f"no closed-form kernel {name!r} in the catalog")
-
-
-#: one token of srepr text: a call ``Name(``, a string literal, an integer, a keyword ``name=``, a name
-_SREPR_TOKEN = re.compile(r"\s*(?:([A-Za-z_]\w*)\(|'([^'\\]*)'|(-?\d+)(?![\w.])|([A-Za-z_]\w*)=(?!=)|([A-Za-z_]\w*)(?![\w(=]))")
-_SREPR_PARENS = re.compile(r"[()]|'[^'\\]*'")
-
-
-def _read_srepr(text: str, ns: dict, memo: dict):
-    """``eval(text, ns)`` of srepr text (calls ``Name(arg, ..., key=value)`` of string literals,
-    integers, names and nested calls), each distinct call text built once (``memo``: text ->
-    object, shared by the texts of one kernel): the constructors are evaluated on equal arguments
-    in the same order, so the result is the one ``eval`` builds, without rebuilding the repeats
-    (the catalog's two_surface_resolution_2 is 338 kB of srepr text for 363 distinct nodes).
-
-    >>> from sympy.functions.elementary.piecewise import ExprCondPair
-    >>> ns, x = {**vars(sp), "ExprCondPair": ExprCondPair}, sp.Symbol("x", real=True)
-    >>> t = sp.srepr(sp.Piecewise((x**2 + sp.Rational(1, 3) * x, x > 0), (-x, True)) + sp.sqrt(x**2 + 1))
-    >>> _read_srepr(t, ns, {}) == eval(t, ns)
-    True
-    """
-    if '"' in text or "\\" in text:  # (a name with a quote or a backslash: eval reads it)
-        return eval(text, ns)
-    close: dict = {}
-    stack = []
-    for m in _SREPR_PARENS.finditer(text):  # (string literals skipped: a '(' in a name is no call)
-        c = m.group()
-        if c == "(":
-            stack.append(m.start())
-        elif c == ")":
-            close[stack.pop()] = m.start()
-    if stack:  # (unbalanced: eval's error)
-        return eval(text, ns)
-    match = _SREPR_TOKEN.match
-
-    def value(i):
-        """The value of the expression at ``i`` and the position after it."""
-        m = match(text, i)
-        if m is None:
-            raise SyntaxError(f"srepr text at {i}: {text[i:i + 40]!r}")
-        if m.group(1) is None:
-            if m.group(2) is not None:
-                return m.group(2), m.end()
-            if m.group(3) is not None:
-                return int(m.group(3)), m.end()
-            if m.group(5) is not None:
-                return eval(m.group(5), ns), m.end()
-            raise SyntaxError(f"srepr text at {i}: a keyword where a value belongs")
-        start = m.start(1)
-        end = close[m.end() - 1] + 1
-        key = text[start:end]
-        hit = memo.get(key, memo)
-        if hit is not memo:
-            return hit, end
-        pos, args, kwargs = m.end(), [], {}
-        stop = end - 1
-        while True:
-            while text[pos] in " \n\t":
-                pos += 1
-            if pos == stop:
-                break
-            k = match(text, pos)
-            if k is not None and k.group(4) is not None:
-                kwargs[k.group(4)], pos = value(k.end())
-            else:
-                v, pos = value(pos)
-                args.append(v)
-            while text[pos] in " \n\t":
-                pos += 1
-            if text[pos] == ",":
-                pos += 1
-            elif pos != stop:
-                raise SyntaxError(f"srepr text at {pos}: {text[pos:pos + 40]!r}")
-        obj = memo[key] = ns[m.group(1)](*args, **kwargs)
-        return obj, end
-
-    try:
-        out, pos = value(0)
-        if text[pos:].strip():
-            raise SyntaxError(f"srepr text: trailing {text[pos:pos + 40]!r}")
-    except (SyntaxError, KeyError, IndexError):  # text of another shape (or a name not in ns): eval reads it
-        return eval(text, ns)
-    return out
 
 
 def _digits_agreed(a, b, dps, sens) -> float:
