@@ -499,3 +499,53 @@ def test_termination_bound_at_extreme_scales(M, H):
         expected = int(mpmath.ceil(mpmath.pi / beta))
     assert seq.termination_bound(M, H) == expected
     assert resolve_two_surfaces(M, H, "-1,0").bound == expected
+
+
+def _unevaluated_with_a_zero_sub_sum(c):
+    """``(2√3(√3 + 1) − 2√3(√3 + 1))/2048 + c`` built under ``evaluate(False)``, as the two-surface
+    law's exact iteration builds its exits: the inner sum is exactly zero and is kept."""
+    r3 = sp.sqrt(3)
+    with sp.evaluate(False):
+        t = sp.Mul(sp.Integer(2), r3, sp.Add(r3, sp.Integer(1)))
+        z = sp.Add(t, sp.Mul(sp.Integer(-1), sp.Integer(2), r3, sp.Add(r3, sp.Integer(1))))
+        return sp.Add(sp.Mul(sp.Rational(1, 2048), z), sp.Integer(c)) if c else sp.Mul(sp.Rational(1, 2048), z)
+
+
+def test_sign_and_ball_of_an_unevaluated_form_with_an_exact_zero_sub_sum():
+    """SymPy's strict evalf refuses such a form (it cannot certify the zero sub-sum), although the
+    whole is 1: certified_sign and enclose decide it by its expansion, the same number (it raised
+    UndecidableSign before)."""
+    from flint import ctx
+    from sympy.core.evalf import PrecisionExhausted
+
+    from impactsym.arithmetic.balls import enclose
+    from impactsym.arithmetic.closed_form import certified_sign
+
+    for c in (1, -1, 0):
+        x = _unevaluated_with_a_zero_sub_sum(c)
+        if c:
+            with pytest.raises(PrecisionExhausted):
+                x.evalf(15, strict=True)
+        assert certified_sign(x) == c
+        with ctx.workprec(200):
+            b = enclose(x, 200)
+            assert (b - c).contains(0) and b.rad() < sp.Rational(1, 2**150)
+
+
+def test_two_surface_exit_whose_iteration_keeps_a_zero_sub_sum():
+    """Irrational gradients (1, 0) and (−√3, 1), v = (−1, −√3 − 1): the exact iteration's exit
+    holds an unevaluated zero sub-sum, and its verification raised UndecidableSign (reached by
+    figures.ordering_regions). Now each ordering's exit is returned verified: elastic, with
+    non-negative impulses and no contact approaching."""
+    from impactsym.arithmetic.closed_form import certified_sign
+
+    r3 = sp.sqrt(3)
+    H, v = sp.Matrix([[1, 0], [-r3, 1]]), sp.Matrix([-1, -r3 - 1])
+    res = ts.resolve_two_surfaces(sp.eye(2), H, v)
+    assert res.outcomes
+    for o in res.outcomes:
+        vp = sp.Matrix(o.velocity)
+        assert o.exact and certified_sign(sp.expand((vp.T * vp)[0] - (v.T * v)[0])) == 0
+        assert all(certified_sign(x) >= 0 for x in H * vp)
+        assert all(certified_sign(p) >= 0 for p in o.impulse)
+        assert sp.expand(vp - v - H.T * sp.Matrix(o.impulse)) == sp.zeros(2, 1)

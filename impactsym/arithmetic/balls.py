@@ -53,7 +53,18 @@ def enclose(x, prec: int) -> arb:
         return arb(0)
     # SymPy's evalf with strict=True either reaches `digits` correct significant digits or raises;
     # the binary value it returns is taken exactly, and widened by a relative 10^-(digits-3).
-    val = x.evalf(digits, strict=True)
+    from sympy.core.evalf import PrecisionExhausted
+
+    try:
+        val = x.evalf(digits, strict=True)
+    except PrecisionExhausted:
+        # an unevaluated form (built under evaluate(False)) with a sub-sum that is exactly zero,
+        # which strict evalf cannot certify, although the whole is not zero (certified_sign above
+        # decided it by the expansion): the expansion is the same number
+        x = sp.expand(x)
+        if x.is_Rational:
+            return arb(fmpq(int(x.p), int(x.q)))
+        val = x.evalf(digits, strict=True)
     sgn, man, exp, _ = val._mpf_
     man = -int(man) if sgn else int(man)
     mid = arb(fmpq(man * 2**exp)) if exp >= 0 else arb(fmpq(man, 2 ** (-exp)))

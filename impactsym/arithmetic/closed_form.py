@@ -87,6 +87,16 @@ def _certified_sign(expr, max_digits: int) -> int:
             z = _exact_zero(x)
             if z is True:
                 return 0
+        if digits == 15:
+            # strict evalf refuses an expression with a sub-sum that is exactly zero (it cannot
+            # certify that sub-sum's sign), although the whole need not be zero: an unevaluated
+            # form (built under evaluate(False)) such as (a − a)/2048 + 1 is 1. Its expansion is
+            # the same number; where it is rational that is the sign, else it is evaluated instead.
+            e = sp.expand(x)
+            s = _rational_sign(e)
+            if s is not None:
+                return s
+            x = e
         digits *= 2
     raise UndecidableSign(f"the sign of {x} could not be certified at {max_digits} digits")
 
