@@ -18,7 +18,6 @@ from fractions import Fraction
 
 import mpmath
 from flint import fmpq, fmpq_mat
-from mpmath.libmp import from_int, mpf_add, mpf_div, mpf_ge, mpf_mul, mpf_mul_int, mpf_sub
 import numpy as np
 import pytest
 import sympy as sp
@@ -106,38 +105,19 @@ def iterate_mpmath(M, H, v, first, dps=80):
         vm = mpmath.matrix([mpmath.mpf(Fraction(x).numerator) / Fraction(x).denominator for x in v])
         ws = [mpmath.lu_solve(Mm, h) for h in Hm]
         ss = [sum(h[j] * w[j] for j in range(len(v))) for h, w in zip(Hm, ws)]
-        # the iteration on mpmath's raw values (mpf._mpf_ tuples, through the libmp functions the mpf
-        # operators call for these operand types, in the same order: the same values as the mpf
-        # expressions in the comments, without an mpf object per operation)
+        # the iteration on lists of mpf: the same operations as on mpmath matrices (each component
+        # v_j - (2 uv / s) w_j), without a matrix object per step
         n = len(v)
-        prec, rnd = mpmath.mp._prec_rounding
-        zero = from_int(0)
-        Hl = [[h[j]._mpf_ for j in range(n)] for h in Hm]
-        wl = [[w[j]._mpf_ for j in range(n)] for w in ws]
-        vl = [vm[j]._mpf_ for j in range(n)]
-        ssr = [x._mpf_ for x in ss]
-
-        def dot(h, x):  # sum(h[j] * x[j] for j in range(n)): 0 + h_0 x_0 is the product's __radd__(0)
-            acc = mpf_add(mpf_mul(h[0], x[0], prec, rnd), zero, prec, rnd)
-            for j in range(1, n):
-                acc = mpf_add(acc, mpf_mul(h[j], x[j], prec, rnd), prec, rnd)
-            return acc
-
+        Hl, wl, vl = [[h[j] for j in range(n)] for h in Hm], [[w[j] for j in range(n)] for w in ws], list(vm)
         i, count = first, 0
-        uv = dot(Hl[i], vl)
         while True:
-            coef = mpf_div(mpf_mul_int(uv, 2, prec, rnd), ssr[i], prec, rnd)  # 2 * uv / s
-            vl = [mpf_sub(vl[j], mpf_mul(coef, wl[i][j], prec, rnd), prec, rnd) for j in range(n)]  # v - coef w
+            uv = sum(Hl[i][j] * vl[j] for j in range(n))
+            coef = 2 * uv / ss[i]
+            vl = [vl[j] - coef * wl[i][j] for j in range(n)]
             count += 1
-            # H_0 v, then H_1 v where H_0 v >= 0 (all()'s order); the next step's u v is the one of
-            # these for its surface, or computed where all() stopped
-            hv = [dot(Hl[0], vl)]
-            if mpf_ge(hv[0], zero):
-                hv.append(dot(Hl[1], vl))
-                if mpf_ge(hv[1], zero):
-                    return count, mpmath.matrix([mpmath.mp.make_mpf(x) for x in vl])
+            if all(sum(h[j] * vl[j] for j in range(n)) >= 0 for h in Hl):
+                return count, mpmath.matrix(vl)
             i = 1 - i
-            uv = hv[i] if i < len(hv) else dot(Hl[i], vl)
 
 
 def _fr_matrix(A):
