@@ -1156,9 +1156,9 @@ def kernels() -> list:
         # before (srepr-identical on all 36 forms, 0.40 -> 0.13 s with a cold SymPy cache)
         got = expr.xreplace(factored_forms)
         if any(got.has(f) for f in factored_forms):
-            got = expr.subs(quad, qsym).subs({lin[0]: lsym[0], lin[1]: lsym[1]}).subs(sa * sb - gg**2, dsym)
+            got = expr.subs(quad, qsym).subs({lin[0]: lsym[0], lin[1]: lsym[1]}).subs(delta_gram, dsym)
         expr = got
-        if not (not expr.has(sa * sb - gg**2) and not expr.has(quad)):
+        if not (not expr.has(delta_gram) and not expr.has(quad)):
             raise DerivationError('derivation check failed: not expr.has(sa * sb - gg**2) and not expr.has(quad)')
         # symbols by expressions free of every key: one simultaneous replacement (xreplace) gives
         # the two subs in a row (the generated kernels are byte-identical: tests/test_codegen_sync)
