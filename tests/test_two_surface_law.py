@@ -75,7 +75,7 @@ def iterate_fraction(M, H, v, first, cap=10**6):
         v = [v[j] - coef * w[j] for j in range(n)]
         order.append(i)
         hv = [sum(h[j] * v[j] for j in range(n)) for h in H]
-        if hv[0] >= 0 and hv[1] >= 0:
+        if all(x >= 0 for x in hv):
             return order, v
         i = 1 - i
         assert len(order) < cap
