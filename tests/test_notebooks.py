@@ -113,10 +113,10 @@ def test_reset_leaves_no_name_behind(kernel):
 
 
 def test_reset_gives_the_kernels_backend_back(kernel):
-    """After a notebook that drew through impactsym.figures (which selects Agg), the next one's
+    """After a notebook that built a figure of impactsym.figures (which selects Agg), the next one's
     ``plt.show()`` shows its figure, as in a fresh kernel (the inline backend)."""
     nb = nbformat.v4.new_notebook(cells=[nbformat.v4.new_code_cell(
-        "import impactsym.figures as F\nF.show(F.sm_fig1_convex_corner()[0]);")])
+        "import impactsym.figures as F\nfig, src = F.sm_fig1_convex_corner()")])
     _execute(nb, kernel, timeout=60)
     nb = nbformat.v4.new_notebook(cells=[nbformat.v4.new_code_cell(RESET), nbformat.v4.new_code_cell(
         "import matplotlib.pyplot as plt\nplt.figure(figsize=(1, 1)).add_axes((0, 0, 1, 1)).set_axis_off()\nplt.show()")])
