@@ -3,9 +3,10 @@ committed without outputs (the policy in notebooks/README.md).
 
 The notebooks run in one real Jupyter kernel (nbclient, ``python3``), started once for the module:
 before each notebook the kernel's figures are closed and its namespace is reset (``%reset -f``), so
-a notebook that forgets an import or a definition still fails. What the kernel keeps between
-notebooks is only what Python itself caches (imported modules), which spares each notebook the
-kernel start and the imports of SymPy, NumPy and impactsym.
+a notebook that forgets an import or a definition still fails; matplotlib's global state (backend,
+rcParams, IPython's inline integration) is put back as a fresh kernel has it (:data:`RESET_MATPLOTLIB`).
+What the kernel keeps between notebooks is only what Python itself caches (imported modules), which
+spares each notebook the kernel start and the imports of SymPy, NumPy and impactsym.
 """
 
 from pathlib import Path
@@ -23,10 +24,38 @@ NOTEBOOKS = sorted((ROOT / "notebooks").glob("*.ipynb"))
 #: caches) are then frozen (``gc.freeze``), so that the next notebook's collections, the next reset's
 #: included, walk only the objects made since. Two resets, each a full collection of a heap grown by
 #: every notebook before it, were about 0.4 s of the kernel's CPU per notebook.
-RESET = ("import sys as _sys\n"
-         "if 'matplotlib.pyplot' in _sys.modules:\n"
-         "    _sys.modules['matplotlib.pyplot'].close('all')\n"
-         "del _sys\n"
+#:
+#: Matplotlib keeps a global state a notebook changes: the backend (``impactsym.figures`` selects
+#: Agg), the rcParams, and IPython's inline integration, which the inline backend sets up when it is
+#: first loaded (interactive mode, a hook that shows the figures left open after a cell). A fresh
+#: kernel finds the rcParams of the files and the backend the kernel asks for (``MPLBACKEND``: the
+#: inline one), chosen by pyplot at its first figure. Left as an earlier notebook had set it, a
+#: notebook's ``plt.show()`` showed nothing (engines.ipynb, after a figure notebook had selected Agg).
+#: So the reset restores that: the rcParams as matplotlib read them, the kernel's backend, pyplot's
+#: backend left to choose again at the next figure, and the inline integration taken down (its module
+#: dropped, so that loading the inline backend again sets it up again, as in a fresh kernel).
+RESET_MATPLOTLIB = """\
+import sys as _sys
+if 'matplotlib' in _sys.modules:
+    import os as _os
+    _mpl = _sys.modules['matplotlib']
+    if 'matplotlib.pyplot' in _sys.modules:
+        _plt = _sys.modules['matplotlib.pyplot']
+        _plt.close('all')
+        _plt.uninstall_repl_displayhook()  # installed again with the backend
+        _plt._backend_mod = None  # the backend chosen again at the next figure
+        del _plt
+    if 'matplotlib_inline.backend_inline' in _sys.modules:  # its hook off, no figure formatter
+        _sys.modules.pop('matplotlib_inline.backend_inline').configure_inline_support(get_ipython(), 'agg')
+        for _f in get_ipython().display_formatter.formatters.values():
+            _f.pop(_sys.modules['matplotlib.figure'].Figure, None)
+    _mpl.rcParams.update(_mpl.rcParamsOrig)
+    if _os.environ.get('MPLBACKEND'):
+        _mpl.rcParams['backend'] = _os.environ['MPLBACKEND']
+    del _os, _mpl
+del _sys
+"""
+RESET = (RESET_MATPLOTLIB +
          "%reset -f\n"
          "import gc as _gc\n"
          "_gc.freeze()\n"
@@ -81,6 +110,19 @@ def test_reset_leaves_no_name_behind(kernel):
     errors = [o for o in nb.cells[1].outputs if o.output_type == "error"]
     assert errors and errors[0].ename == "NameError"
 
+
+
+def test_reset_gives_the_kernels_backend_back(kernel):
+    """After a notebook that built a figure of impactsym.figures (which selects Agg), the next one's
+    ``plt.show()`` shows its figure, as in a fresh kernel (the inline backend)."""
+    nb = nbformat.v4.new_notebook(cells=[nbformat.v4.new_code_cell(
+        "import impactsym.figures as F\nfig, src = F.sm_fig1_convex_corner()")])
+    _execute(nb, kernel, timeout=60)
+    nb = nbformat.v4.new_notebook(cells=[nbformat.v4.new_code_cell(RESET), nbformat.v4.new_code_cell(
+        "import matplotlib.pyplot as plt\nplt.figure(figsize=(1, 1)).add_axes((0, 0, 1, 1)).set_axis_off()\nplt.show()")])
+    _execute(nb, kernel, timeout=60)
+    assert [o.output_type for o in nb.cells[1].outputs] == ["display_data"]
+    assert "image/png" in nb.cells[1].outputs[0].data
 
 @pytest.mark.parametrize("path", NOTEBOOKS, ids=lambda p: p.name)
 def test_notebook_executes(path, kernel):
