@@ -111,7 +111,6 @@ def test_reset_leaves_no_name_behind(kernel):
     assert errors and errors[0].ename == "NameError"
 
 
-
 def test_reset_gives_the_kernels_backend_back(kernel):
     """After a notebook that built a figure of impactsym.figures (which selects Agg), the next one's
     ``plt.show()`` shows its figure, as in a fresh kernel (the inline backend)."""
@@ -123,6 +122,7 @@ def test_reset_gives_the_kernels_backend_back(kernel):
     _execute(nb, kernel, timeout=60)
     assert [o.output_type for o in nb.cells[1].outputs] == ["display_data"]
     assert "image/png" in nb.cells[1].outputs[0].data
+
 
 @pytest.mark.parametrize("path", NOTEBOOKS, ids=lambda p: p.name)
 def test_notebook_executes(path, kernel):
