@@ -656,22 +656,73 @@ def compliant_impact(M, H, v, stiffness, exponent=1.5, damping=None, *, hunt_cro
         A.dot(f, out=out[n:2 * n])  # the product into its place: the same BLAS call as A.dot(f)
         return out
 
+    few = k <= 24
+    Kl, Cl, Dl = K.tolist(), C.tolist(), D.tolist()
+
+    def masked_force(dl, ppl, pml, wl):
+        # rhs's masked force for a few contacts as Python floats, contact by contact: the same IEEE
+        # products and sums in the formula's order (δ⁺ is δ where δ > 0; a bool δ > 0 multiplies as
+        # 1.0), +0.0 where δ <= 0 (or NaN); None where np.maximum(ff, 0.0) is not read off the sign
+        # of ff (a zero, whose sign np.maximum's loops may pick either way, or a NaN): NumPy's path
+        fl = []
+        for j, dj in enumerate(dl):
+            if dj > 0.0:
+                if hc:
+                    ff = Kl[j] * ppl[j] * (1.0 + Dl[j] * -wl[j])
+                else:
+                    ff = Kl[j] * ppl[j] + Cl[j] * (pml[j] if not lin else 1.0) * -wl[j]
+                if ff > 0.0:
+                    fl.append(ff)
+                elif ff < 0.0:
+                    fl.append(0.0)
+                else:
+                    return None
+            else:
+                fl.append(0.0)
+        return fl
+
     def bind(y, out):
-        # rhs(t, y, out) for the contents of the driver's stage buffer y, elastic: the same
-        # operations on the same values (the products written into their places by the same BLAS
-        # calls), with the views and the indentation array made once per integration
-        if masked:
+        # rhs(t, y, out) for the contents of the driver's stage buffer y: the same operations on the
+        # same values (the products written into their places by the same BLAS calls), with the views
+        # and work arrays made once per integration; masked (damped, Hunt–Crossley), for a few
+        # contacts, with the per-contact arithmetic of masked_force (rhs itself where that declines)
+        if masked and not few:
             return None
         q, qd = y[:n], y[n:2 * n]
         o_q, o_v, f = out[:n], out[n:2 * n], out[2 * n:]
         d = np.empty(k)
 
+        if not masked:
+            def stage():
+                o_q[...] = qd
+                Hneg.dot(q, out=d)
+                if not touching:
+                    np.add(ng0, d, out=d)
+                elastic_force(d, f)
+                A.dot(f, out=o_v)
+
+            return stage
+
+        dp, w = np.empty(k), np.empty(k)
+        dpp = dp if lin else np.empty(k)
+        dpm1 = None if (hc or lin) else np.empty(k)
+
         def stage():
-            o_q[...] = qd
             Hneg.dot(q, out=d)
             if not touching:
                 np.add(ng0, d, out=d)
-            elastic_force(d, f)
+            np.maximum(d, zero_k, out=dp)
+            if not lin:
+                np.power(dp, p, out=dpp)
+            if dpm1 is not None:
+                np.power(dp, pm1, out=dpm1)
+            Hf.dot(qd, out=w)
+            fl = masked_force(d.tolist(), dpp.tolist(), None if dpm1 is None else dpm1.tolist(), w.tolist())
+            if fl is None:
+                rhs(None, y, out)
+                return
+            o_q[...] = qd
+            f[...] = fl
             A.dot(f, out=o_v)
 
         return stage
