@@ -216,6 +216,9 @@ def _dop853(fun, t0, t_bound, y0, rtol, atol, events, keep_states=True, into=Fal
     ybuf = np.empty(K.shape[1])  # every bound stage's input (stage), written by np.add as dy would be
     stages = [(K[:s].T, A[s][:s], float(C[s]), s, K[s], None if stage is None else stage(ybuf, K[s]))
               for s in range(1, len(C))]
+    # the last stage f(t + h, y_new) bound to K[-1] as well: y_new is copied into the stage buffer,
+    # and the accepted f is then that row (K[0] takes it once at the start of the next step)
+    last = None if stage is None else stage(ybuf, K[-1])
     KbT, KT = K[:-1].T, K.T
     rtol, atol = solver.rtol, solver.atol
     rtol_arr = np.array(rtol)
@@ -240,6 +243,7 @@ def _dop853(fun, t0, t_bound, y0, rtol, atol, events, keep_states=True, into=Fal
         if h_abs < min_step:
             h_abs = min_step
         rejected = False
+        K[0] = f  # no stage writes K[0]; a rejected attempt leaves it as it was
         while True:
             if h_abs < min_step:
                 status, message = -1, solver.TOO_SMALL_STEP
@@ -251,7 +255,6 @@ def _dop853(fun, t0, t_bound, y0, rtol, atol, events, keep_states=True, into=Fal
             h_abs = abs(h)
             h_arr = np.array(h)  # a 0-d array multiplies as the float does, without converting it each time
             # rk_step: each stage's input y + (K[:s]ᵀ a_s) h, built in one buffer
-            K[0] = f
             for KsT, a, c, s, Ks, bound in stages:
                 dy = KsT.dot(a)  # np.dot's own routine, without its dispatcher
                 np.multiply(dy, h_arr, out=dy)
@@ -265,8 +268,13 @@ def _dop853(fun, t0, t_bound, y0, rtol, atol, events, keep_states=True, into=Fal
             dy = KbT.dot(B)
             np.multiply(h_arr, dy, out=dy)
             y_new = np.add(y, dy, out=dy)
-            f_new = fun(t + h, y_new)
-            K[-1] = f_new
+            if last is not None:
+                ybuf[...] = y_new
+                last()
+                f_new = K[-1]  # read (as K[0], and by the dense output) before the next attempt writes it
+            else:
+                f_new = fun(t + h, y_new)
+                K[-1] = f_new
             calls += len(stages) + 1
             # DOP853._estimate_error_norm (|y| kept from the step that accepted y)
             abs_new = np.abs(y_new)
