@@ -219,6 +219,10 @@ def _dop853(fun, t0, t_bound, y0, rtol, atol, events, keep_states=True, into=Fal
     # the last stage f(t + h, y_new) bound to K[-1] as well: y_new is copied into the stage buffer,
     # and the accepted f is then that row (K[0] takes it once at the start of the next step)
     last = None if stage is None else stage(ybuf, K[-1])
+    # every stage bound: the loop below with only what it reads (the products' methods bound once)
+    bound_stages = ([(KsT.dot, a, bound) for KsT, a, _c, _s, _Ks, bound in stages]
+                    if last is not None and all(st[-1] is not None for st in stages) else None)
+    multiply, add = np.multiply, np.add
     KbT, KT = K[:-1].T, K.T
     rtol, atol = solver.rtol, solver.atol
     rtol_arr = np.array(rtol)
@@ -255,16 +259,23 @@ def _dop853(fun, t0, t_bound, y0, rtol, atol, events, keep_states=True, into=Fal
             h_abs = abs(h)
             h_arr = np.array(h)  # a 0-d array multiplies as the float does, without converting it each time
             # rk_step: each stage's input y + (K[:s]ᵀ a_s) h, built in one buffer
-            for KsT, a, c, s, Ks, bound in stages:
-                dy = KsT.dot(a)  # np.dot's own routine, without its dispatcher
-                np.multiply(dy, h_arr, out=dy)
-                if bound is not None:
-                    np.add(y, dy, out=ybuf)
+            if bound_stages is not None:
+                for dot, a, bound in bound_stages:
+                    dy = dot(a)
+                    multiply(dy, h_arr, out=dy)
+                    add(y, dy, out=ybuf)
                     bound()
-                elif into:
-                    fun(t + c * h, np.add(y, dy, out=dy), Ks)
-                else:
-                    K[s] = fun(t + c * h, np.add(y, dy, out=dy))
+            else:
+                for KsT, a, c, s, Ks, bound in stages:
+                    dy = KsT.dot(a)  # np.dot's own routine, without its dispatcher
+                    np.multiply(dy, h_arr, out=dy)
+                    if bound is not None:
+                        np.add(y, dy, out=ybuf)
+                        bound()
+                    elif into:
+                        fun(t + c * h, np.add(y, dy, out=dy), Ks)
+                    else:
+                        K[s] = fun(t + c * h, np.add(y, dy, out=dy))
             dy = KbT.dot(B)
             np.multiply(h_arr, dy, out=dy)
             y_new = np.add(y, dy, out=dy)
@@ -283,8 +294,8 @@ def _dop853(fun, t0, t_bound, y0, rtol, atol, events, keep_states=True, into=Fal
             np.add(atol, scale, out=scale)
             err5 = KT.dot(E5) / scale
             err3 = KT.dot(E3) / scale
-            e5 = sqrt(float(err5.dot(err5))) ** 2
-            e3 = sqrt(float(err3.dot(err3))) ** 2
+            e5 = sqrt(err5.dot(err5)) ** 2  # math.sqrt reads the NumPy float as float() would
+            e3 = sqrt(err3.dot(err3)) ** 2
             if e5 == 0 and e3 == 0:
                 error_norm = 0.0
             else:
