@@ -216,6 +216,13 @@ def _dop853(fun, t0, t_bound, y0, rtol, atol, events, keep_states=True, into=Fal
     ybuf = np.empty(K.shape[1])  # every bound stage's input (stage), written by np.add as dy would be
     stages = [(K[:s].T, A[s][:s], float(C[s]), s, K[s], None if stage is None else stage(ybuf, K[s]))
               for s in range(1, len(C))]
+    # the last stage f(t + h, y_new) bound to K[-1] as well: y_new is copied into the stage buffer,
+    # and the accepted f is then that row (K[0] takes it once at the start of the next step)
+    last = None if stage is None else stage(ybuf, K[-1])
+    # every stage bound: the loop below with only what it reads (the products' methods bound once)
+    bound_stages = ([(KsT.dot, a, bound) for KsT, a, _c, _s, _Ks, bound in stages]
+                    if last is not None and all(st[-1] is not None for st in stages) else None)
+    multiply, add = np.multiply, np.add
     KbT, KT = K[:-1].T, K.T
     rtol, atol = solver.rtol, solver.atol
     rtol_arr = np.array(rtol)
@@ -240,6 +247,7 @@ def _dop853(fun, t0, t_bound, y0, rtol, atol, events, keep_states=True, into=Fal
         if h_abs < min_step:
             h_abs = min_step
         rejected = False
+        K[0] = f  # no stage writes K[0]; a rejected attempt leaves it as it was
         while True:
             if h_abs < min_step:
                 status, message = -1, solver.TOO_SMALL_STEP
@@ -251,22 +259,33 @@ def _dop853(fun, t0, t_bound, y0, rtol, atol, events, keep_states=True, into=Fal
             h_abs = abs(h)
             h_arr = np.array(h)  # a 0-d array multiplies as the float does, without converting it each time
             # rk_step: each stage's input y + (K[:s]ᵀ a_s) h, built in one buffer
-            K[0] = f
-            for KsT, a, c, s, Ks, bound in stages:
-                dy = KsT.dot(a)  # np.dot's own routine, without its dispatcher
-                np.multiply(dy, h_arr, out=dy)
-                if bound is not None:
-                    np.add(y, dy, out=ybuf)
+            if bound_stages is not None:
+                for dot, a, bound in bound_stages:
+                    dy = dot(a)
+                    multiply(dy, h_arr, out=dy)
+                    add(y, dy, out=ybuf)
                     bound()
-                elif into:
-                    fun(t + c * h, np.add(y, dy, out=dy), Ks)
-                else:
-                    K[s] = fun(t + c * h, np.add(y, dy, out=dy))
+            else:
+                for KsT, a, c, s, Ks, bound in stages:
+                    dy = KsT.dot(a)  # np.dot's own routine, without its dispatcher
+                    np.multiply(dy, h_arr, out=dy)
+                    if bound is not None:
+                        np.add(y, dy, out=ybuf)
+                        bound()
+                    elif into:
+                        fun(t + c * h, np.add(y, dy, out=dy), Ks)
+                    else:
+                        K[s] = fun(t + c * h, np.add(y, dy, out=dy))
             dy = KbT.dot(B)
             np.multiply(h_arr, dy, out=dy)
             y_new = np.add(y, dy, out=dy)
-            f_new = fun(t + h, y_new)
-            K[-1] = f_new
+            if last is not None:
+                ybuf[...] = y_new
+                last()
+                f_new = K[-1]  # read (as K[0], and by the dense output) before the next attempt writes it
+            else:
+                f_new = fun(t + h, y_new)
+                K[-1] = f_new
             calls += len(stages) + 1
             # DOP853._estimate_error_norm (|y| kept from the step that accepted y)
             abs_new = np.abs(y_new)
@@ -275,8 +294,8 @@ def _dop853(fun, t0, t_bound, y0, rtol, atol, events, keep_states=True, into=Fal
             np.add(atol, scale, out=scale)
             err5 = KT.dot(E5) / scale
             err3 = KT.dot(E3) / scale
-            e5 = sqrt(float(err5.dot(err5))) ** 2
-            e3 = sqrt(float(err3.dot(err3))) ** 2
+            e5 = sqrt(err5.dot(err5)) ** 2  # math.sqrt reads the NumPy float as float() would
+            e3 = sqrt(err3.dot(err3)) ** 2
             if e5 == 0 and e3 == 0:
                 error_norm = 0.0
             else:
@@ -656,22 +675,73 @@ def compliant_impact(M, H, v, stiffness, exponent=1.5, damping=None, *, hunt_cro
         A.dot(f, out=out[n:2 * n])  # the product into its place: the same BLAS call as A.dot(f)
         return out
 
+    few = k <= 24
+    Kl, Cl, Dl = K.tolist(), C.tolist(), D.tolist()
+
+    def masked_force(dl, ppl, pml, wl):
+        # rhs's masked force for a few contacts as Python floats, contact by contact: the same IEEE
+        # products and sums in the formula's order (δ⁺ is δ where δ > 0; a bool δ > 0 multiplies as
+        # 1.0), +0.0 where δ <= 0 (or NaN); None where np.maximum(ff, 0.0) is not read off the sign
+        # of ff (a zero, whose sign np.maximum's loops may pick either way, or a NaN): NumPy's path
+        fl = []
+        for j, dj in enumerate(dl):
+            if dj > 0.0:
+                if hc:
+                    ff = Kl[j] * ppl[j] * (1.0 + Dl[j] * -wl[j])
+                else:
+                    ff = Kl[j] * ppl[j] + Cl[j] * (pml[j] if not lin else 1.0) * -wl[j]
+                if ff > 0.0:
+                    fl.append(ff)
+                elif ff < 0.0:
+                    fl.append(0.0)
+                else:
+                    return None
+            else:
+                fl.append(0.0)
+        return fl
+
     def bind(y, out):
-        # rhs(t, y, out) for the contents of the driver's stage buffer y, elastic: the same
-        # operations on the same values (the products written into their places by the same BLAS
-        # calls), with the views and the indentation array made once per integration
-        if masked:
+        # rhs(t, y, out) for the contents of the driver's stage buffer y: the same operations on the
+        # same values (the products written into their places by the same BLAS calls), with the views
+        # and work arrays made once per integration; masked (damped, Hunt–Crossley), for a few
+        # contacts, with the per-contact arithmetic of masked_force (rhs itself where that declines)
+        if masked and not few:
             return None
         q, qd = y[:n], y[n:2 * n]
         o_q, o_v, f = out[:n], out[n:2 * n], out[2 * n:]
         d = np.empty(k)
 
+        if not masked:
+            def stage():
+                o_q[...] = qd
+                Hneg.dot(q, out=d)
+                if not touching:
+                    np.add(ng0, d, out=d)
+                elastic_force(d, f)
+                A.dot(f, out=o_v)
+
+            return stage
+
+        dp, w = np.empty(k), np.empty(k)
+        dpp = dp if lin else np.empty(k)
+        dpm1 = None if (hc or lin) else np.empty(k)
+
         def stage():
-            o_q[...] = qd
             Hneg.dot(q, out=d)
             if not touching:
                 np.add(ng0, d, out=d)
-            elastic_force(d, f)
+            np.maximum(d, zero_k, out=dp)
+            if not lin:
+                np.power(dp, p, out=dpp)
+            if dpm1 is not None:
+                np.power(dp, pm1, out=dpm1)
+            Hf.dot(qd, out=w)
+            fl = masked_force(d.tolist(), dpp.tolist(), None if dpm1 is None else dpm1.tolist(), w.tolist())
+            if fl is None:
+                rhs(None, y, out)
+                return
+            o_q[...] = qd
+            f[...] = fl
             A.dot(f, out=o_v)
 
         return stage

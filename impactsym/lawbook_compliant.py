@@ -190,11 +190,15 @@ def _restitution(system: System, law: str) -> np.ndarray:
 
 def _float_matrices(system: System):
     from .compliant import float_system
+    from .numbers import _float_of
 
     def arr(A):
         if isinstance(A, RationalMatrix):  # the floats SymPy's evalf(17) gives the same rationals
             return np.array(A.json_floats(), dtype=float)
-        return np.array(A.evalf(17).tolist(), dtype=float) if is_sympy(A, "MatrixBase") else np.asarray(A, float)
+        if is_sympy(A, "MatrixBase"):
+            # each entry's float(N(x, 17)), as A.evalf(17) gives it; a rational without evalf (json_float)
+            return np.array([[_float_of(x) for x in row] for row in A.tolist()], dtype=float)
+        return np.asarray(A, float)
 
     return float_system(arr(system.M), arr(system.H), arr(system.v).reshape(-1))
 
