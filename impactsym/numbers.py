@@ -135,7 +135,9 @@ def check_finite_exact(value: sp.Expr, argument: str) -> sp.Expr:
     ...
     impactsym.errors.ImpactInputError: e: must be a finite real number, got oo
     """
-    if value.has(sp.nan, sp.oo, -sp.oo, sp.zoo) or value.free_symbols or value.is_real is False:
+    if isinstance(value, sp.Rational):  # a finite real number (nan, oo and zoo are not Rationals)
+        return value
+    if value.has(sp.nan, sp.oo, sp.S.NegativeInfinity, sp.zoo) or value.free_symbols or value.is_real is False:
         raise ImpactInputError(argument, f"must be a finite real number, got {value}")
     return value
 
