@@ -90,7 +90,7 @@ def check_mass_matrix(M: Any, argument: str = "mass_matrix", *, exact: bool | No
     if len(shape) != 2 or shape[0] != shape[1] or shape[0] == 0:
         raise ImpactInputError(argument, f"must be a non-empty square matrix, got shape {tuple(shape)}")
     n = shape[0]
-    if exact and all(x.is_Rational for x in A):
+    if exact and (_over_rationals(A) or all(x.is_Rational for row in A.tolist() for x in row)):
         return _check_rational_spd(A, argument)
     if exact:
         for i in range(n):
@@ -118,6 +118,20 @@ def check_mass_matrix(M: Any, argument: str = "mass_matrix", *, exact: bool | No
     except np.linalg.LinAlgError:
         raise ImpactInputError(argument, "not positive definite (Cholesky factorization failed)") from None
     return A
+
+
+def _over_rationals(A) -> bool:
+    """Whether the SymPy matrix ``A`` is stored over ``ZZ`` or ``QQ``: every entry is then rational
+    (and a zero entry is not stored), known without reading the entries one by one."""
+    from .numbers import _rational_domain
+
+    return _rational_domain(A)
+
+
+def _nonzero_rows(A) -> set:
+    """The rows of a SymPy matrix over ``ZZ``/``QQ`` that hold a non-zero entry (its sparse
+    ``DomainMatrix`` stores no zero)."""
+    return {i for i, row in A._rep.to_sdm().items() if row}
 
 
 def _rational_rows(A: sp.Matrix) -> list:
@@ -267,7 +281,11 @@ def check_gradient(u: Any, n: int, argument: str = "gradient", *, exact: bool | 
     length = g.rows if exact else g.shape[0]
     if length != n:
         raise ImpactInputError(argument, f"has length {length}, expected {n} (the mass matrix is {n}×{n})")
-    if (exact and all(certified_sign(x) == 0 for x in g)) or (not exact and not np.any(g)):
+    if exact:
+        zero = not _nonzero_rows(g) if _over_rationals(g) else all(certified_sign(x) == 0 for x in g)
+    else:
+        zero = not np.any(g)
+    if zero:
         raise ImpactInputError(argument, "is the zero covector (a constraint gradient must be non-zero)")
     return g.T if exact else g
 
@@ -292,9 +310,13 @@ def check_gradients(H: Any, n: int, argument: str = "gradients", *, exact: bool 
         raise ImpactInputError(argument, f"has {cols} columns, expected {n} (the mass matrix is {n}×{n})")
     if rows == 0:
         raise ImpactInputError(argument, "has no rows (at least one closed contact is needed)")
+    nonzero = _nonzero_rows(A) if exact and _over_rationals(A) else None
     for i in range(rows):
-        row = A[i, :]
-        zero = all(certified_sign(x) == 0 for x in row) if exact else not np.any(row)
+        if nonzero is not None:
+            zero = i not in nonzero
+        else:
+            row = A[i, :]
+            zero = all(certified_sign(x) == 0 for x in row) if exact else not np.any(row)
         if zero:
             raise ImpactInputError(argument, f"row {i} is the zero covector (a constraint gradient must be non-zero)")
     return A

@@ -135,7 +135,9 @@ def check_finite_exact(value: sp.Expr, argument: str) -> sp.Expr:
     ...
     impactsym.errors.ImpactInputError: e: must be a finite real number, got oo
     """
-    if value.has(sp.nan, sp.oo, -sp.oo, sp.zoo) or value.free_symbols or value.is_real is False:
+    if isinstance(value, sp.Rational):  # a finite real number (nan, oo and zoo are not Rationals)
+        return value
+    if value.has(sp.nan, sp.oo, sp.S.NegativeInfinity, sp.zoo) or value.free_symbols or value.is_real is False:
         raise ImpactInputError(argument, f"must be a finite real number, got {value}")
     return value
 
@@ -166,6 +168,8 @@ def parse_number(text: Any, argument: str = "value") -> sp.Expr:
     if isinstance(text, bool):
         raise ImpactInputError(argument, f"must be a number, got {text!r}")
     if _is_sp(text, "Basic"):
+        if isinstance(text, sp.Rational):  # finite and real: what sympify and the check return, at once
+            return text
         if _is_sp(text, "Float"):
             return float_to_rational(float(text))
         return check_finite_exact(sp.sympify(text), argument)
@@ -406,7 +410,7 @@ def to_exact_matrix(obj: Any, argument: str = "matrix", *, vector: bool = False)
     if isinstance(obj, str):
         return parse_vector(obj, argument) if vector else parse_matrix(obj, argument)
     if _is_sp(obj, "MatrixBase"):
-        m = sp.Matrix(obj).applyfunc(lambda x: to_exact(x, argument))
+        m = _rational_copy(obj) if _rational_domain(obj) else sp.Matrix(obj).applyfunc(lambda x: to_exact(x, argument))
     else:
         arr = np.asarray(obj, dtype=object)
         if arr.ndim == 0:
@@ -427,6 +431,20 @@ def to_exact_matrix(obj: Any, argument: str = "matrix", *, vector: bool = False)
         else:
             raise ImpactInputError(argument, f"expected a vector, got shape {m.shape}")
     return m
+
+
+def _rational_copy(A) -> sp.Matrix:
+    """A new ``Matrix`` of the SymPy matrix ``A`` over ``ZZ`` or ``QQ``: the matrix
+    ``Matrix(A).applyfunc(to_exact)`` builds (every entry a finite rational, which :func:`to_exact`
+    returns as it is; stored sparse, over ``ZZ`` when every entry is an integer, as SymPy builds a
+    matrix of Integers), from ``A``'s own ``DomainMatrix``, without one :func:`parse_number` per
+    entry: the laws re-check their ``M``, ``H`` and ``v`` on every call (issue 15)."""
+    rep = A._rep.to_sparse()
+    if rep.domain.is_QQ and all(x.denominator == 1 for row in rep.rep.values() for x in row.values()):
+        rep = rep.convert_to(sp.ZZ)
+    else:
+        rep = rep.copy()
+    return sp.Matrix._fromrep(rep)
 
 
 def to_float_array(obj: Any, argument: str = "array") -> np.ndarray:

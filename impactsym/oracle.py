@@ -97,10 +97,24 @@ BATCH_SCHEMA = "impactsym.batch/1"
 def _simplify(x):
     """A canonical form of an exact scalar: rationals stay, algebraic numbers are expanded and
     their denominators rationalized."""
+    if isinstance(x, sp.Rational):  # what expand returns for a rational: the number itself
+        return x
     x = sp.expand(x)
-    if x.is_Rational:
+    if x.is_Rational or _rational_surd(x):
         return x
     return sp.radsimp(x)
+
+
+def _rational_surd(x) -> bool:
+    """Whether ``x`` is ``q·√m`` (``q`` rational, ``m > 1`` an integer), SymPy's own form of a
+    rational times the square root of a rational (``sqrt(8/3)`` is ``2*sqrt(6)/3``): its
+    denominator is rational, so ``radsimp`` returns it unchanged, after a millisecond's search
+    (a distance ``sqrt(d²)`` of every outcome of every law; tests/test_check.py checks the forms)."""
+    if not isinstance(x, sp.Expr):
+        return False
+    coeff, rest = x.as_coeff_Mul()
+    return bool(coeff.is_Rational and rest.is_Pow and rest.exp is sp.S.Half and rest.base.is_Integer
+                and rest.base.p > 1)
 
 
 def _is_zero(x) -> bool:
@@ -168,9 +182,10 @@ def kinetic_distance(system: System, a, b) -> dict:
     return _kinetic_distance(M, _quad(M, v), a, b)
 
 
-def _kinetic_distance(M, denom, a, b) -> dict:
+def _kinetic_distance(M, denom, a, b, scratch: dict | None = None) -> dict:
     """:func:`kinetic_distance` given the exact ``M`` and ``denom = ‖v⁻‖²_M`` (:func:`check` reads
-    them once for every outcome of every law)."""
+    them once for every outcome of every law, and passes one ``scratch`` dict, which keeps their
+    30-digit mpmath values for the next inexact outcome)."""
     if denom == 0:
         raise ImpactInputError("velocity", "is zero: the relative distance ||v - v_law||_M / ||v-||_M is undefined")
     if isinstance(a, sp.MatrixBase) and isinstance(b, sp.MatrixBase):
@@ -185,10 +200,16 @@ def _kinetic_distance(M, denom, a, b) -> dict:
                 return [vec[i] for i in range(vec.rows)]
             return [mpmath.mpf(float(x)) for x in np.asarray(vec, dtype=float).reshape(-1)]
 
-        Mm = [[mpmath.mpf(sp.N(M[i, j], 40)) for j in range(M.cols)] for i in range(M.rows)]
+        got = scratch.get("mpf") if scratch is not None else None
+        if got is None:  # M and denom at 30 digits (from 40), as every inexact outcome reads them
+            got = ([[mpmath.mpf(sp.N(M[i, j], 40)) for j in range(M.cols)] for i in range(M.rows)],
+                   mpmath.mpf(sp.N(denom, 40)))
+            if scratch is not None:
+                scratch["mpf"] = got
+        Mm, dm = got
         diff = [x - y for x, y in zip(mp(a), mp(b))]
         q = mpmath.fsum(diff[i] * Mm[i][j] * diff[j] for i in range(len(diff)) for j in range(len(diff)))
-        d = mpmath.sqrt(q / mpmath.mpf(sp.N(denom, 40)))
+        d = mpmath.sqrt(q / dm)
         return {"exact": False, "distance_squared": None, "distance": mpmath.nstr(d, 17), "distance_float": float(d)}
 
 
@@ -398,14 +419,14 @@ def _tolerance(value) -> sp.Expr:
     return tol
 
 
-def _law_entry(M, denom, res, vo, tol) -> dict:
+def _law_entry(M, denom, res, vo, tol, scratch: dict | None = None) -> dict:
     candidates = [("outcome", i, o) for i, o in enumerate(res.outcomes)] + \
                  [("selected", i, o) for i, o in enumerate(res.selected)]
     rows = []
     for kind, i, o in candidates:
         if o.velocity is None:
             continue
-        d = _kinetic_distance(M, denom, vo, o.velocity)
+        d = _kinetic_distance(M, denom, vo, o.velocity, scratch)
         rows.append((kind, i, o, d))
     entry: dict = {"uniqueness": res.uniqueness, "exactness": res.exactness, "outcomes": len(res.outcomes),
                    "selected": len(res.selected)}
@@ -474,11 +495,12 @@ def check(system: System, observed, *, tolerance=DEFAULT_TOLERANCE, laws: Iterab
         raise ImpactInputError("velocity", "is zero: there is no impact to check against")
     results = resolve_all(system, laws=names, options=options or {})
     entries, matches = {}, []
+    scratch: dict = {}  # M and denom in mpmath, read once for every inexact outcome of this check
     for name, res in results.items():
         if isinstance(res, str):
             entries[name] = {"refused": res, "match": False}
             continue
-        entries[name] = _law_entry(M, denom, res, vo, tol)
+        entries[name] = _law_entry(M, denom, res, vo, tol, scratch)
         if entries[name]["match"]:
             matches.append(name)
     mom = momentum_residual(system, vo)

@@ -269,3 +269,23 @@ def test_sweep_shows_which_law_the_engine_follows_per_setting(tmp_path):
                            (["--observed", "0,0,1", "--plot", str(png)], "plot")):
         code, out, err = run(["check", "--scene", "three-ball-cradle", *argv, "--json"])
         assert code == 2 and json.loads(out)["error"]["argument"] == argument, (argv, out)
+
+
+def test_a_rational_surd_is_its_own_canonical_form():
+    """oracle._simplify returns q*sqrt(m) (SymPy's form of a rational times the square root of a
+    rational) as it is: what radsimp(expand(.)) gives it, structurally, for small and 40-digit
+    rationals and either sign; other surds still go through radsimp."""
+    import random
+
+    from impactsym.oracle import _rational_surd, _simplify
+
+    rng = random.Random(15)
+    for _ in range(40):
+        k = rng.choice([10, 10 ** 6, 10 ** 40])
+        r, c = sp.Rational(rng.randint(0, k), rng.randint(1, k)), sp.Rational(rng.randint(-k, k), rng.randint(1, k))
+        for x in (sp.sqrt(r), c * sp.sqrt(r)):
+            assert sp.srepr(_simplify(x)) == sp.srepr(sp.radsimp(sp.expand(x))), x
+    assert _rational_surd(2 * sp.sqrt(6) / 3) and _rational_surd(-sp.sqrt(2))
+    assert not any(_rational_surd(x) for x in (1 / (1 + sp.sqrt(2)), sp.sqrt(2) + sp.sqrt(3), sp.cbrt(2),
+                                                 sp.sqrt(2) * sp.pi, sp.Integer(3), sp.sqrt(sp.sqrt(2))))
+    assert _simplify(1 / (1 + sp.sqrt(2))) == sp.sqrt(2) - 1

@@ -121,3 +121,29 @@ def test_pool_kinetic_angle_eq42():
     sc = pool(theta)
     c = kinetic_angle_cos(sc.M, sc.H[0, :], sc.H[1, :])
     assert sp.simplify(c + sp.cos(theta) / 2) == 0
+
+
+def test_to_exact_matrix_of_a_rational_matrix_is_the_entrywise_one():
+    """The ZZ/QQ fast path of to_exact_matrix builds the matrix the entry-by-entry reading builds:
+    the same entries, domain (ZZ when every entry is an integer, also from a QQ matrix) and sparse
+    format, as a new mutable matrix; an ImmutableMatrix and a dense-format one too."""
+    from impactsym.numbers import to_exact, to_exact_matrix
+
+    half = sp.Rational(1, 2)
+    base = [sp.Matrix([[1, 0], [0, 2]]), sp.Matrix([[1, half], [half, 2]]), (sp.Matrix([[1, 3]]) * half) * 2,
+            sp.zeros(2, 3), sp.Matrix([1, -half, 0])]
+    mats = []
+    for m in base:
+        dense = sp.Matrix(m)
+        dense._rep = dense._rep.to_dense()
+        mats += [m, sp.ImmutableMatrix(m), m.T, dense]
+    for m in mats:
+        for vector in (False, True):
+            if vector and 1 not in m.shape:
+                continue
+            want = sp.Matrix(m).applyfunc(lambda x: to_exact(x, "m"))
+            want = want.T if vector and want.cols != 1 else want
+            got = to_exact_matrix(m, "m", vector=vector)
+            assert type(got) is type(want) and got == want
+            assert (got._rep.domain, got._rep.rep.fmt) == (want._rep.domain, want._rep.rep.fmt)
+            assert got._rep.rep is not m._rep.rep

@@ -117,3 +117,34 @@ def test_cradle_parameters_are_checked():
     with pytest.raises(ImpactInputError, match="masses"):
         cradle(3, masses=[1, 1])
     assert set(SCENES) == {"two-balls-wall", "three-ball-cradle", "cradle", "balls-against-wall"}
+
+
+def test_a_cached_scene_is_handed_out_as_a_deep_copy():
+    """copy_scene gives what copy.deepcopy gave (every field equal, matrices over the same domain)
+    and a copy whose matrices, lists and meta are its own; the cache is not changed through it."""
+    import copy
+
+    from impactsym.scenes import load_scene
+    from impactsym.scenes.registry import BUILTIN_SCENES, SHIPPED_SCENES
+    from impactsym.scenes.scene import copy_scene
+
+    def form(x):
+        if isinstance(x, sp.MatrixBase) and not isinstance(x, sp.Basic):
+            return type(x), x._rep.domain, x._rep.rep.fmt, x.tolist()
+        if isinstance(x, dict):
+            return {k: form(v) for k, v in x.items()}
+        if isinstance(x, (list, tuple)):
+            return type(x), [form(v) for v in x]
+        return type(x), repr(x)
+
+    names = [(n, {"theta": "pi/4"} if n == "pool" else None) for n in BUILTIN_SCENES] + \
+            [(n, None) for n in SHIPPED_SCENES]
+    for name, params in names:
+        sc = load_scene(name, params)
+        a, b = copy.deepcopy(sc), copy_scene(sc)
+        assert form(vars(a)) == form(vars(b)), name
+        b.M[0, 0] = 99
+        b.contacts.append("x")
+        b.meta["scene_json"]["added"] = 1
+        again = load_scene(name, params)
+        assert form(vars(again)) == form(vars(a)), name

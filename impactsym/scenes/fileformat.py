@@ -105,7 +105,6 @@ impactsym.errors.ImpactInputError: bodies[0].mass: must be positive (ball 1), go
 
 from __future__ import annotations
 
-import copy
 import math
 import os
 from functools import lru_cache
@@ -115,7 +114,7 @@ import numpy as np
 
 from ..arithmetic import LazyModule, sympy_instance
 from ..errors import ImpactInputError
-from .scene import Scene
+from .scene import Scene, copy_scene
 
 # SymPy is imported on first use: a float scene (and its checks) runs without it (issue 15)
 sp = LazyModule("sympy", globals(), "sp")
@@ -155,7 +154,7 @@ def load_scene_file(path, *, name: str | None = None) -> Scene:
     # modification time, size); every caller gets its own copy (a Scene's matrices, lists and meta
     # are mutable) (issue 15)
     key = (os.getcwd(), st.st_dev, st.st_ino, st.st_mtime_ns, st.st_size)
-    return copy.deepcopy(_load_scene_file_cached(str(p), name, key))
+    return copy_scene(_load_scene_file_cached(str(p), name, key))
 
 
 @lru_cache(maxsize=256)

@@ -31,7 +31,6 @@ impactsym.errors.ImpactInputError: n_balls: --n-balls does not apply to --scene 
 
 from __future__ import annotations
 
-import copy
 import re
 from fractions import Fraction
 from functools import lru_cache
@@ -214,7 +213,9 @@ def build_scene(name: str, params: dict | None = None) -> Scene:
         return _build_builtin(name, given)
     # a built-in scene is a pure function of its parameters: built once, and every caller gets its
     # own copy (a Scene's matrices, lists and meta are mutable) (issue 15)
-    return copy.deepcopy(_build_builtin_cached(name, frozen))
+    from .scene import copy_scene
+
+    return copy_scene(_build_builtin_cached(name, frozen))
 
 
 @lru_cache(maxsize=256)

@@ -149,3 +149,57 @@ def check_restitution(values, k: int, contacts=(), argument: str = "restitution"
             raise ImpactInputError(argument, f"{where} must lie in [0, 1], got {x}")
         out.append(x)
     return out
+
+
+#: leaves a copy shares: immutable, and never changed in place
+_SHARED = (str, bytes, int, float, complex, bool, type(None), Fraction, range)
+
+
+def copy_scene(scene: Scene) -> Scene:
+    """A deep copy of ``scene`` (what ``copy.deepcopy`` gives: every list, dict and mutable matrix
+    its own, shared objects shared once), without rebuilding the immutable leaves: SymPy numbers and
+    expressions, strings, ints and Fractions are shared, as they cannot change. A cached scene is
+    handed out this way to every caller (issue 15: ``copy.deepcopy`` rebuilt every SymPy entry of
+    ``M``, ``H``, ``v`` and the meta through ``__reduce_ex__``)."""
+    import copy
+    import sys
+
+    memo: dict = {}
+    basic = sp.Basic if "sympy" in sys.modules else None  # no SymPy object before SymPy is loaded
+
+    def dup(x):
+        if isinstance(x, _SHARED):
+            return x
+        got = memo.get(id(x))
+        if got is not None:
+            return got[1]
+        t = type(x)
+        if t is list:
+            out = []
+            memo[id(x)] = (x, out)
+            out.extend(dup(y) for y in x)
+        elif t is dict:
+            out = {}
+            memo[id(x)] = (x, out)
+            for k, y in x.items():
+                out[dup(k)] = dup(y)
+        elif t is tuple:
+            out = tuple(dup(y) for y in x)
+            memo[id(x)] = (x, out)
+        elif basic is not None and isinstance(x, basic):  # immutable (an ImmutableMatrix too)
+            out = x
+        elif basic is not None and sympy_instance(x, "MatrixBase"):  # a mutable SymPy matrix: its own entries
+            out = x.copy()
+            memo[id(x)] = (x, out)
+        elif isinstance(x, np.ndarray) and x.dtype != object:
+            out = x.copy()
+            memo[id(x)] = (x, out)
+        else:
+            out = copy.deepcopy(x, {})
+            memo[id(x)] = (x, out)
+        return out
+
+    new = copy.copy(scene)  # the dataclass's fields, without __post_init__ (restitution is checked)
+    for name, value in vars(scene).items():
+        setattr(new, name, dup(value))
+    return new
