@@ -28,7 +28,7 @@ from __future__ import annotations
 
 from flint import arb, ctx, fmpq
 
-from .arithmetic import RationalField, enclose, in_row_space, sign_surd, to_fmpq
+from .arithmetic import RationalField, enclose, enclose_narrow, in_row_space, sign_surd, to_fmpq
 from .errors import VerificationError
 
 # SymPy and mpmath are imported on first use: the float path (and rational data) runs without them
@@ -156,8 +156,9 @@ def _verify_algebraic(law, Mr, Hr, vr, vp, pr, closed, energy_ratio, impulse_non
         raise VerificationError(law, "an algebraic outcome must come with its impulse to be verified")
     prec = ALGEBRAIC_CHECK_BITS
     with ctx.workprec(prec):
-        vel = [enclose(x, prec) for x in vp]
-        imp = [enclose(x, prec) for x in pr]
+        # (balls no wider than enclose's evalf balls, read only by the checks below)
+        vel = [enclose_narrow(x, prec) for x in vp]
+        imp = [enclose_narrow(x, prec) for x in pr]
     verify_balls(law, Mr, Hr, vr, vel, imp, prec, closed=closed, energy_ratio=energy_ratio,
                  impulse_nonnegative=impulse_nonnegative, energy_at_most=energy_at_most)
 

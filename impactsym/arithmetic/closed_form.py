@@ -28,7 +28,7 @@ from ..errors import UndecidableSign
 #: SymPy, imported on first use: the rational paths (python-flint) run without it
 sp = LazyModule("sympy", globals(), "sp")
 
-__all__ = ["certified_sign", "certified_compare", "tidy"]
+__all__ = ["certified_sign", "certified_compare", "tidy", "arb_tree"]
 
 _MAX_DIGITS = 2000
 
@@ -69,6 +69,9 @@ def _certified_sign(expr, max_digits: int) -> int:
     s = _rational_sign(x)
     if s is not None:
         return s
+    s = _ball_sign(x)
+    if s is not None:
+        return s
     # (no early ``x.is_zero``: SymPy's assumption inference on a large expression costs more than
     # the enclosure below, and a zero is still recognized by ``_exact_zero`` after it)
     # Interval evaluation: mpmath-backed evalf with the error estimate; accept only when the
@@ -99,6 +102,131 @@ def _certified_sign(expr, max_digits: int) -> int:
             x = e
         digits *= 2
     raise UndecidableSign(f"the sign of {x} could not be certified at {max_digits} digits")
+
+
+class _NoBall(Exception):
+    """The expression holds a node :func:`arb_tree` does not evaluate (a Float, ``I``, ...)."""
+
+
+def _arb_ipow(b, n: int):
+    """``b**n`` for an integer ``n >= 0`` by squaring (products of balls: valid for a ball that
+    holds 0, where Arb's general power is ``nan``)."""
+    from flint import arb
+
+    acc = arb(1)
+    while n:
+        if n & 1:
+            acc = acc * b
+        n >>= 1
+        if n:
+            b = b * b
+    return acc
+
+
+def _arb_functions():
+    """SymPy function class -> its Arb enclosure (arguments: balls); Arb returns ``nan`` outside
+    a function's real domain (``log`` of a ball holding 0, ``acos`` beyond ±1)."""
+    from flint import arb
+
+    return {sp.sin: arb.sin, sp.cos: arb.cos, sp.tan: arb.tan, sp.exp: arb.exp, sp.log: arb.log,
+            sp.atan: arb.atan, sp.asin: arb.asin, sp.acos: arb.acos, sp.Abs: abs,
+            sp.atan2: lambda y, x: arb.atan2(y, x)}
+
+
+_ARB_FUNCTIONS: dict = {}
+
+
+def arb_tree(x, prec: int):
+    """An Arb ball enclosing the real closed-form number ``x`` (SymPy), by ball arithmetic on its
+    expression tree at working precision ``prec``; ``None`` when the tree holds a node it does
+    not evaluate (a Float, ``I``, a function outside ``sin cos tan exp log atan asin acos Abs
+    atan2``, a root of a number not certainly positive) or the ball is not finite (a division by
+    a ball holding 0, a function outside its domain). Every operation is Arb's, so the ball is
+    rigorous whatever the working precision (which only sets its width); the tree is read as
+    built, so an unevaluated sub-sum that is exactly zero is a narrow ball around 0 (where
+    SymPy's strict ``evalf`` refuses). The ball is made and should be read inside one
+    ``ctx.workprec(prec)`` block (it is made inside such a block here).
+
+    >>> from flint import arb
+    >>> b = arb_tree(sp.sqrt(2) * sp.pi - sp.Rational(1, 3), 100)
+    >>> b.overlaps(arb("4.1095496048250329136825476567") + arb(0, 1e-28)), b.rad() < 2.0 ** -90
+    (True, True)
+    >>> arb_tree(sp.sqrt(-2 + sp.sqrt(3)), 100) is None, arb_tree(sp.Float(0.5), 100) is None
+    (True, True)
+    """
+    from flint import ctx
+
+    with ctx.workprec(prec):
+        try:
+            b = _arb_node(x)
+        except (_NoBall, RecursionError, ZeroDivisionError, ValueError):
+            return None
+        return b if b.is_finite() else None
+
+
+def _arb_node(x):
+    from flint import arb, fmpq
+
+    if x.is_Rational:
+        return arb(int(x.p)) if x.q == 1 else arb(fmpq(int(x.p), int(x.q)))
+    if x.is_Add:
+        acc = _arb_node(x.args[0])
+        for a in x.args[1:]:
+            acc = acc + _arb_node(a)
+        return acc
+    if x.is_Mul:
+        acc = _arb_node(x.args[0])
+        for a in x.args[1:]:
+            acc = acc * _arb_node(a)
+        return acc
+    if x.is_Pow:
+        base, e = x.args
+        b = _arb_node(base)
+        if e.is_Integer:
+            n = int(e)
+            return _arb_ipow(b, n) if n >= 0 else 1 / _arb_ipow(b, -n)
+        if not b > 0:  # a real power needs a positive base (SymPy's principal branch is complex)
+            raise _NoBall
+        if e.is_Rational:
+            p, q = int(e.p), int(e.q)
+            r = b.sqrt() if q == 2 else b.root(q)
+            return _arb_ipow(r, p) if p >= 0 else 1 / _arb_ipow(r, -p)
+        return (_arb_node(e) * b.log()).exp()
+    if x is sp.pi:
+        return arb.pi()
+    if x is sp.E:
+        return arb.const_e()
+    if x.is_Function:
+        if not _ARB_FUNCTIONS:
+            _ARB_FUNCTIONS.update(_arb_functions())
+        f = _ARB_FUNCTIONS.get(x.func)
+        if f is None:
+            raise _NoBall
+        return f(*(_arb_node(a) for a in x.args))
+    raise _NoBall
+
+
+#: working precisions (bits) of the ball test of a sign, before the evalf ladder below it
+_BALL_SIGN_BITS = (96, 384)
+
+
+def _ball_sign(x) -> int | None:
+    """The sign of ``x`` when a ball of :func:`arb_tree` excludes 0 (certain: Arb's comparisons
+    are), else ``None``. A few tenths of a millisecond where SymPy's strict ``evalf`` of the
+    laws' nested iterates takes tens of milliseconds, and, on an unevaluated form with an exactly
+    zero sub-sum (which strict evalf refuses), seconds of assumption queries in ``_exact_zero``."""
+    from flint import ctx
+
+    for prec in _BALL_SIGN_BITS:
+        b = arb_tree(x, prec)
+        if b is None:
+            return None
+        with ctx.workprec(prec):
+            if b > 0:
+                return 1
+            if b < 0:
+                return -1
+    return None
 
 
 def _exact_zero(x: sp.Expr) -> bool | None:
