@@ -188,9 +188,10 @@ def verify_balls(law: str, M, H, v, vel_balls, p_balls, prec: int, *, closed=Non
     impactsym.errors.VerificationError: demo: verification of the outcome failed: H_1 v+ = -1.000000000 is certainly negative on a closed contact (a bug in impactsym; the outcome was not returned)
     """
     with ctx.workprec(prec):
-        Mr = [[enclose(x, prec) for x in row] for row in _entries(M)]
-        Hr = [[enclose(x, prec) for x in row] for row in _entries(H)]
-        vr = [enclose(x, prec) for x in _vector(v)]
+        # (the data's balls no wider than enclose's evalf balls, read only by the checks below)
+        Mr = [[enclose_narrow(x, prec) for x in row] for row in _entries(M)]
+        Hr = [[enclose_narrow(x, prec) for x in row] for row in _entries(H)]
+        vr = [enclose_narrow(x, prec) for x in _vector(v)]
         vp = list(vel_balls)
         pr = list(p_balls) if p_balls is not None else None
         k, n = len(Hr), len(vr)
@@ -209,12 +210,12 @@ def verify_balls(law: str, M, H, v, vel_balls, p_balls, prec: int, *, closed=Non
                 failure = f"H_{i + 1} v+ = {w.str(10, radius=True)} is certainly negative on a closed contact"
                 break
         if failure is None and energy_ratio is not None:
-            e = enclose(energy_ratio, prec)
+            e = enclose_narrow(energy_ratio, prec)
             diff = dot(vp, [dot(row, vp) for row in Mr]) - e * dot(vr, [dot(row, vr) for row in Mr])
             if not diff.is_finite() or not diff.contains(0):
                 failure = f"kinetic energy: v+^T M v+ - e v^T M v = {diff.str(10, radius=True)} excludes 0"
         if failure is None and energy_at_most is not None:
-            e = enclose(energy_at_most, prec)
+            e = enclose_narrow(energy_at_most, prec)
             diff = dot(vp, [dot(row, vp) for row in Mr]) - e * dot(vr, [dot(row, vr) for row in Mr])
             if not diff.is_finite() or diff > 0:
                 failure = f"kinetic energy: v+^T M v+ - e v^T M v = {diff.str(10, radius=True)} is certainly positive"
