@@ -237,6 +237,8 @@ def _ball_sign(x) -> int | None:
 _MQ_MAX_PRIMES = 6
 #: largest radicand (bits) factored to find the square-free part of a square root
 _MQ_MAX_RADICAND_BITS = 64
+#: largest integer exponent taken exactly (the coefficients grow linearly with it)
+_MQ_MAX_POWER = 1 << 12
 
 
 class _MQ:
@@ -342,6 +344,8 @@ def _mq_node(x) -> _MQ:
 def _mq_node_pow(b: _MQ, n: int) -> _MQ:
     from flint import fmpq
 
+    if abs(n) > _MQ_MAX_POWER:
+        raise _NoBall
     if n < 0:
         b, n = b.inverse(), -n
     acc = _MQ({1: fmpq(1)})
