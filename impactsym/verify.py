@@ -28,7 +28,7 @@ from __future__ import annotations
 
 from flint import arb, ctx, fmpq
 
-from .arithmetic import RationalField, enclose, in_row_space, sign_surd, to_fmpq
+from .arithmetic import RationalField, enclose, enclose_narrow, in_row_space, sign_surd, to_fmpq
 from .errors import VerificationError
 
 # SymPy and mpmath are imported on first use: the float path (and rational data) runs without them
@@ -156,8 +156,9 @@ def _verify_algebraic(law, Mr, Hr, vr, vp, pr, closed, energy_ratio, impulse_non
         raise VerificationError(law, "an algebraic outcome must come with its impulse to be verified")
     prec = ALGEBRAIC_CHECK_BITS
     with ctx.workprec(prec):
-        vel = [enclose(x, prec) for x in vp]
-        imp = [enclose(x, prec) for x in pr]
+        # (balls no wider than enclose's evalf balls, read only by the checks below)
+        vel = [enclose_narrow(x, prec) for x in vp]
+        imp = [enclose_narrow(x, prec) for x in pr]
     verify_balls(law, Mr, Hr, vr, vel, imp, prec, closed=closed, energy_ratio=energy_ratio,
                  impulse_nonnegative=impulse_nonnegative, energy_at_most=energy_at_most)
 
@@ -187,9 +188,10 @@ def verify_balls(law: str, M, H, v, vel_balls, p_balls, prec: int, *, closed=Non
     impactsym.errors.VerificationError: demo: verification of the outcome failed: H_1 v+ = -1.000000000 is certainly negative on a closed contact (a bug in impactsym; the outcome was not returned)
     """
     with ctx.workprec(prec):
-        Mr = [[enclose(x, prec) for x in row] for row in _entries(M)]
-        Hr = [[enclose(x, prec) for x in row] for row in _entries(H)]
-        vr = [enclose(x, prec) for x in _vector(v)]
+        # (the data's balls no wider than enclose's evalf balls, read only by the checks below)
+        Mr = [[enclose_narrow(x, prec) for x in row] for row in _entries(M)]
+        Hr = [[enclose_narrow(x, prec) for x in row] for row in _entries(H)]
+        vr = [enclose_narrow(x, prec) for x in _vector(v)]
         vp = list(vel_balls)
         pr = list(p_balls) if p_balls is not None else None
         k, n = len(Hr), len(vr)
@@ -208,12 +210,12 @@ def verify_balls(law: str, M, H, v, vel_balls, p_balls, prec: int, *, closed=Non
                 failure = f"H_{i + 1} v+ = {w.str(10, radius=True)} is certainly negative on a closed contact"
                 break
         if failure is None and energy_ratio is not None:
-            e = enclose(energy_ratio, prec)
+            e = enclose_narrow(energy_ratio, prec)
             diff = dot(vp, [dot(row, vp) for row in Mr]) - e * dot(vr, [dot(row, vr) for row in Mr])
             if not diff.is_finite() or not diff.contains(0):
                 failure = f"kinetic energy: v+^T M v+ - e v^T M v = {diff.str(10, radius=True)} excludes 0"
         if failure is None and energy_at_most is not None:
-            e = enclose(energy_at_most, prec)
+            e = enclose_narrow(energy_at_most, prec)
             diff = dot(vp, [dot(row, vp) for row in Mr]) - e * dot(vr, [dot(row, vr) for row in Mr])
             if not diff.is_finite() or diff > 0:
                 failure = f"kinetic energy: v+^T M v+ - e v^T M v = {diff.str(10, radius=True)} is certainly positive"

@@ -34,7 +34,7 @@ from .._lazy import lazy_attributes
 #: every public name and the submodule it lives in, imported on first use (PEP 562): the plain-text
 #: reader (:mod:`~impactsym.arithmetic.literals`) serves the command line's start-up without SymPy
 _NAMES = {
-    **dict.fromkeys(["arb_mid_float", "arb_to_mpf", "arf_fmpq", "ball_ends", "certified_ceil", "certified_ceiling", "enclose",
+    **dict.fromkeys(["arb_mid_float", "arb_to_mpf", "arf_fmpq", "ball_ends", "certified_ceil", "certified_ceiling", "enclose", "enclose_narrow",
                      "nearest_int"], "balls"),
     **dict.fromkeys(["certified_compare", "certified_sign", "tidy"], "closed_form"),
     **dict.fromkeys(["AlgebraicField", "RationalField", "compare_surds", "field_of", "sign_of", "sign_surd"],
@@ -92,5 +92,5 @@ __all__ = [
     "sign_of", "sign_surd", "compare_surds", "RationalField", "AlgebraicField", "field_of",
     "rref", "kernel_basis", "nullspace", "solve_columns", "rank", "independent", "in_row_space", "dot",
     "matvec", "minner", "exact_rank", "ExactLinearAlgebra",
-    "enclose", "arf_fmpq", "ball_ends", "certified_ceil", "certified_ceiling", "nearest_int", "arb_to_mpf",
+    "enclose", "enclose_narrow", "arf_fmpq", "ball_ends", "certified_ceil", "certified_ceiling", "nearest_int", "arb_to_mpf",
 ]

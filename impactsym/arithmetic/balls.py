@@ -18,14 +18,14 @@ import math
 
 from flint import arb, fmpq
 
-from .closed_form import certified_sign
+from .closed_form import arb_tree, certified_sign
 
 # SymPy and mpmath are imported on first use: the float path (and rational data) runs without them
 from . import LazyModule
 mpmath = LazyModule("mpmath", globals(), "mpmath")
 sp = LazyModule("sympy", globals(), "sp")
 
-__all__ = ["enclose", "arf_fmpq", "ball_ends", "certified_ceil", "certified_ceiling", "nearest_int", "arb_to_mpf"]
+__all__ = ["enclose", "enclose_narrow", "arf_fmpq", "ball_ends", "certified_ceil", "certified_ceiling", "nearest_int", "arb_to_mpf"]
 
 
 def enclose(x, prec: int) -> arb:
@@ -69,6 +69,42 @@ def enclose(x, prec: int) -> arb:
     man = -int(man) if sgn else int(man)
     mid = arb(fmpq(man * 2**exp)) if exp >= 0 else arb(fmpq(man, 2 ** (-exp)))
     return mid + arb(0, abs(mid) * arb(10) ** (-(digits - 3)))
+
+
+def enclose_narrow(x, prec: int) -> arb:
+    """An Arb ball enclosing the exact number ``x`` with a radius below ``2^-(prec+24)·|mid|``
+    (or ``2^-2prec`` absolutely): no wider than :func:`enclose`'s evalf ball (``10^-(d-3)·|mid|``
+    at ``d = ⌊0.30103·prec⌋ + 10`` digits), for a check that only reads the ball (not its
+    midpoint into an output); call inside ``ctx.workprec(prec)``.
+
+    Exact numbers are taken as :func:`enclose` takes them; a SymPy expression by ball
+    arithmetic on its tree (:func:`~impactsym.arithmetic.closed_form.arb_tree`) at ``prec + 64``
+    bits, then ``2·prec + 64``, and by :func:`enclose` when neither is narrow enough (or the tree
+    holds a node Arb does not evaluate): the balls of the laws' nested algebraic iterates
+    without SymPy's strict ``evalf`` at ``0.3·prec`` digits (tens of milliseconds a number, and
+    an expansion when an unevaluated sub-sum is exactly zero).
+
+    >>> from flint import ctx
+    >>> with ctx.workprec(200):
+    ...     b = enclose_narrow(sp.sqrt(2) - 1, 200)
+    ...     ok = ((b + 1) ** 2 - 2).contains(0) and b.rad() < 2.0 ** -220
+    >>> ok
+    True
+    """
+    if isinstance(x, (arb, fmpq, int)):
+        return enclose(x, prec)
+    x = sp.sympify(x)
+    if x.is_Rational:
+        return enclose(x, prec)
+    for wp in (prec + 64, 2 * prec + 64):
+        b = arb_tree(x, wp)
+        if b is None:
+            break
+        # exact reads of the radius and midpoint (no rounding at any precision)
+        rad, mid = arf_fmpq(b.rad()), abs(arf_fmpq(b.mid()))
+        if rad <= mid / (fmpq(2) ** (prec + 24)) or rad <= 1 / (fmpq(2) ** (2 * prec)):
+            return b
+    return enclose(x, prec)
 
 
 def arf_fmpq(x: arb) -> fmpq:

@@ -28,7 +28,7 @@ from ..errors import UndecidableSign
 #: SymPy, imported on first use: the rational paths (python-flint) run without it
 sp = LazyModule("sympy", globals(), "sp")
 
-__all__ = ["certified_sign", "certified_compare", "tidy"]
+__all__ = ["certified_sign", "certified_compare", "tidy", "arb_tree"]
 
 _MAX_DIGITS = 2000
 
@@ -69,6 +69,12 @@ def _certified_sign(expr, max_digits: int) -> int:
     s = _rational_sign(x)
     if s is not None:
         return s
+    s = _ball_sign(x)
+    if s is not None:
+        return s
+    s = _multiquadratic_sign(x)
+    if s is not None:
+        return s
     # (no early ``x.is_zero``: SymPy's assumption inference on a large expression costs more than
     # the enclosure below, and a zero is still recognized by ``_exact_zero`` after it)
     # Interval evaluation: mpmath-backed evalf with the error estimate; accept only when the
@@ -99,6 +105,299 @@ def _certified_sign(expr, max_digits: int) -> int:
             x = e
         digits *= 2
     raise UndecidableSign(f"the sign of {x} could not be certified at {max_digits} digits")
+
+
+class _NoBall(Exception):
+    """The expression holds a node :func:`arb_tree` does not evaluate (a Float, ``I``, ...)."""
+
+
+def _arb_ipow(b, n: int):
+    """``b**n`` for an integer ``n >= 0`` by squaring (products of balls: valid for a ball that
+    holds 0, where Arb's general power is ``nan``)."""
+    from flint import arb
+
+    acc = arb(1)
+    while n:
+        if n & 1:
+            acc = acc * b
+        n >>= 1
+        if n:
+            b = b * b
+    return acc
+
+
+def _arb_functions():
+    """SymPy function class -> its Arb enclosure (arguments: balls); Arb returns ``nan`` outside
+    a function's real domain (``log`` of a ball holding 0, ``acos`` beyond ±1)."""
+    from flint import arb
+
+    return {sp.sin: arb.sin, sp.cos: arb.cos, sp.tan: arb.tan, sp.exp: arb.exp, sp.log: arb.log,
+            sp.atan: arb.atan, sp.asin: arb.asin, sp.acos: arb.acos, sp.Abs: abs,
+            sp.atan2: lambda y, x: arb.atan2(y, x)}
+
+
+_ARB_FUNCTIONS: dict = {}
+
+
+def arb_tree(x, prec: int):
+    """An Arb ball enclosing the real closed-form number ``x`` (SymPy), by ball arithmetic on its
+    expression tree at working precision ``prec``; ``None`` when the tree holds a node it does
+    not evaluate (a Float, ``I``, a function outside ``sin cos tan exp log atan asin acos Abs
+    atan2``, a root of a number not certainly positive) or the ball is not finite (a division by
+    a ball holding 0, a function outside its domain). Every operation is Arb's, so the ball is
+    rigorous whatever the working precision (which only sets its width); the tree is read as
+    built, so an unevaluated sub-sum that is exactly zero is a narrow ball around 0 (where
+    SymPy's strict ``evalf`` refuses). The ball is made and should be read inside one
+    ``ctx.workprec(prec)`` block (it is made inside such a block here).
+
+    >>> from flint import arb
+    >>> b = arb_tree(sp.sqrt(2) * sp.pi - sp.Rational(1, 3), 100)
+    >>> b.overlaps(arb("4.1095496048250329136825476567") + arb(0, 1e-28)), b.rad() < 2.0 ** -90
+    (True, True)
+    >>> arb_tree(sp.sqrt(-2 + sp.sqrt(3)), 100) is None, arb_tree(sp.Float(0.5), 100) is None
+    (True, True)
+    """
+    from flint import ctx
+
+    with ctx.workprec(prec):
+        try:
+            b = _arb_node(x)
+        except (_NoBall, RecursionError, ZeroDivisionError, ValueError):
+            return None
+        return b if b.is_finite() else None
+
+
+def _arb_node(x):
+    from flint import arb, fmpq
+
+    if x.is_Rational:
+        return arb(int(x.p)) if x.q == 1 else arb(fmpq(int(x.p), int(x.q)))
+    if x.is_Add:
+        acc = _arb_node(x.args[0])
+        for a in x.args[1:]:
+            acc = acc + _arb_node(a)
+        return acc
+    if x.is_Mul:
+        acc = _arb_node(x.args[0])
+        for a in x.args[1:]:
+            acc = acc * _arb_node(a)
+        return acc
+    if x.is_Pow:
+        base, e = x.args
+        b = _arb_node(base)
+        if e.is_Integer:
+            n = int(e)
+            return _arb_ipow(b, n) if n >= 0 else 1 / _arb_ipow(b, -n)
+        if not b > 0:  # a real power needs a positive base (SymPy's principal branch is complex)
+            raise _NoBall
+        if e.is_Rational:
+            p, q = int(e.p), int(e.q)
+            r = b.sqrt() if q == 2 else b.root(q)
+            return _arb_ipow(r, p) if p >= 0 else 1 / _arb_ipow(r, -p)
+        return (_arb_node(e) * b.log()).exp()
+    if x is sp.pi:
+        return arb.pi()
+    if x is sp.E:
+        return arb.const_e()
+    if x.is_Function:
+        if not _ARB_FUNCTIONS:
+            _ARB_FUNCTIONS.update(_arb_functions())
+        f = _ARB_FUNCTIONS.get(x.func)
+        if f is None:
+            raise _NoBall
+        return f(*(_arb_node(a) for a in x.args))
+    raise _NoBall
+
+
+#: working precisions (bits) of the ball test of a sign, before the evalf ladder below it
+_BALL_SIGN_BITS = (96, 384)
+
+
+def _ball_sign(x) -> int | None:
+    """The sign of ``x`` when a ball of :func:`arb_tree` excludes 0 (certain: Arb's comparisons
+    are), else ``None``. A few tenths of a millisecond where SymPy's strict ``evalf`` of the
+    laws' nested iterates takes tens of milliseconds, and, on an unevaluated form with an exactly
+    zero sub-sum (which strict evalf refuses), seconds of assumption queries in ``_exact_zero``."""
+    from flint import ctx
+
+    for prec in _BALL_SIGN_BITS:
+        b = arb_tree(x, prec)
+        if b is None:
+            return None
+        with ctx.workprec(prec):
+            if b > 0:
+                return 1
+            if b < 0:
+                return -1
+    return None
+
+
+#: most distinct primes under the square roots of a number decided in its multiquadratic field
+#: (an inverse takes one conjugate per prime, each doubling the terms: 2^k of them)
+_MQ_MAX_PRIMES = 6
+#: largest radicand (bits) factored to find the square-free part of a square root
+_MQ_MAX_RADICAND_BITS = 64
+#: largest integer exponent taken exactly (the coefficients grow linearly with it)
+_MQ_MAX_POWER = 1 << 12
+
+
+class _MQ:
+    """An element ``Σ c_m √m`` of a multiquadratic field ``Q(√p₁, …, √p_k)``: ``{m: c_m}`` with
+    ``m`` square-free positive integers (``1``: the rational part) and ``fmpq`` coefficients ``≠ 0``.
+    The ``√m`` of distinct square-free ``m`` are linearly independent over ``Q`` (Besicovitch), so
+    the element is zero exactly when the dict is empty."""
+
+    __slots__ = ("t",)
+
+    def __init__(self, t):
+        self.t = t
+
+    def __add__(self, o):
+        t = dict(self.t)
+        for m, c in o.t.items():
+            c2 = t.get(m, 0) + c
+            if c2:
+                t[m] = c2
+            else:
+                t.pop(m, None)
+        return _MQ(t)
+
+    def __mul__(self, o):
+        from math import gcd
+
+        t: dict = {}
+        for m1, c1 in self.t.items():
+            for m2, c2 in o.t.items():
+                g = gcd(m1, m2)
+                m, c = (m1 // g) * (m2 // g), c1 * c2 * g
+                c3 = t.get(m, 0) + c
+                if c3:
+                    t[m] = c3
+                else:
+                    t.pop(m, None)
+        return _MQ(t)
+
+    def primes(self):
+        from flint import fmpz
+
+        ps = set()
+        for m in self.t:
+            if m > 1:
+                ps.update(int(p) for p, _ in fmpz(m).factor())
+        return ps
+
+    def inverse(self):
+        """``1/self`` by one conjugation (``√p → −√p``) per prime: the product of ``self`` and its
+        conjugates over ``p₁ … p_j`` has no ``√p_i`` with ``i ≤ j``, so it ends rational."""
+        ps = sorted(self.primes())
+        if len(ps) > _MQ_MAX_PRIMES:
+            raise _NoBall
+        from flint import fmpq
+
+        num, den = _MQ({1: fmpq(1)}), self
+        for p in ps:
+            conj = _MQ({m: (-c if m % p == 0 else c) for m, c in den.t.items()})
+            num, den = num * conj, den * conj
+        if not den.t:
+            raise ZeroDivisionError
+        if list(den.t) != [1]:  # (the norm is rational; otherwise no decision here, the ladder decides)
+            raise _NoBall
+        r = den.t[1]
+        return _MQ({m2: c / r for m2, c in num.t.items()})
+
+
+def _mq_node(x) -> _MQ:
+    from flint import fmpq, fmpz
+
+    if x.is_Rational:
+        return _MQ({1: fmpq(int(x.p), int(x.q))} if x.p else {})
+    if x.is_Add:
+        acc = _mq_node(x.args[0])
+        for a in x.args[1:]:
+            acc = acc + _mq_node(a)
+        return acc
+    if x.is_Mul:
+        acc = _mq_node(x.args[0])
+        for a in x.args[1:]:
+            acc = acc * _mq_node(a)
+        return acc
+    if x.is_Pow:
+        base, e = x.args
+        if e.is_Integer:
+            return _mq_node_pow(_mq_node(base), int(e))
+        if e.is_Rational and e.q == 2 and base.is_Rational and base > 0:
+            # (p/q)^(k/2) = (√(pq)/q)^k, √(pq) = s√m with m square-free
+            p, q = int(base.p), int(base.q)
+            if (p * q).bit_length() > _MQ_MAX_RADICAND_BITS:
+                raise _NoBall
+            s, m = 1, 1
+            for f, k in fmpz(p * q).factor():
+                s *= int(f) ** (k // 2)
+                if k % 2:
+                    m *= int(f)
+            root = _MQ({m: fmpq(s, q)})
+            return _mq_node_pow(root, int(e.p))
+        raise _NoBall
+    raise _NoBall
+
+
+def _mq_node_pow(b: _MQ, n: int) -> _MQ:
+    from flint import fmpq
+
+    if abs(n) > _MQ_MAX_POWER:
+        raise _NoBall
+    if n < 0:
+        b, n = b.inverse(), -n
+    acc = _MQ({1: fmpq(1)})
+    while n:
+        if n & 1:
+            acc = acc * b
+        n >>= 1
+        if n:
+            b = b * b
+    return acc
+
+
+def multiquadratic(x) -> dict | None:
+    """``x`` (a SymPy number built from rationals by ``+ × ÷``, integer powers and square roots
+    of positive rationals) as ``{m: c_m}``, ``x = Σ c_m √m`` over distinct square-free ``m``
+    (``fmpq`` coefficients, none zero: ``{}`` is exactly 0); ``None`` for any other number (a
+    nested radical, ``pi``, a function) or more than six primes under the roots. Exact (python-flint
+    rationals), so it decides a zero that the ball of :func:`arb_tree` can only bracket.
+
+    >>> sorted(multiquadratic(sp.sqrt(2) * (1 + sp.sqrt(6)) / (2 - sp.sqrt(3))).items())   # 6 + 2√2 + 4√3 + √6
+    [(1, 6), (2, 2), (3, 4), (6, 1)]
+    >>> multiquadratic(sp.sqrt(8) - 2 * sp.sqrt(2)), multiquadratic(sp.sqrt(1 + sp.sqrt(2))) is None
+    ({}, True)
+    """
+    try:
+        return _mq_node(x).t
+    except (_NoBall, ZeroDivisionError, RecursionError):
+        return None
+
+
+def _multiquadratic_sign(x) -> int | None:
+    """The sign of ``x`` decided in its multiquadratic field (:func:`multiquadratic`): ``0``
+    when the exact element is zero, else the sign of ``Σ c_m √m`` on Arb balls at rising precision
+    (certain to end: the sum is not zero, and it has no cancelling sub-sums left); ``None`` when
+    ``x`` is not such a number."""
+    from flint import arb, ctx, fmpq
+
+    t = multiquadratic(x)
+    if t is None:
+        return None
+    if not t:
+        return 0
+    prec = 128
+    while prec <= 1 << 16:
+        with ctx.workprec(prec):
+            b = sum((arb(c) * arb(m).sqrt() for m, c in t.items()), arb(0))
+            if b > 0:
+                return 1
+            if b < 0:
+                return -1
+        prec *= 4
+    return None
 
 
 def _exact_zero(x: sp.Expr) -> bool | None:

@@ -417,7 +417,7 @@ def _make_tie_check_algebraic(M, HA, HB, v):
         it = _iterate_exact(M, HA, HB, v, j)
         last = it[-1]
         row = HB if j % 2 else HA
-        return certified_sign((row * last)[0, 0]) == 0
+        return certified_sign(_matmul(row, last)[0, 0]) == 0
     return check
 
 
@@ -427,9 +427,25 @@ def _iterate_exact(M, HA, HB, v, m):
     for k in range(m):
         h = HA if k % 2 == 0 else HB
         w, s = _r.sympy_parts(M, h)
-        cur = _r.reflect_along(cur, w, (h * cur)[0, 0], _r.gain(s))[0].applyfunc(_radsimp)
+        cur = _r.reflect_along(cur, w, _matmul(h, cur)[0, 0], _r.gain(s))[0].applyfunc(_radsimp)
         out.append(cur)
     return out
+
+
+def _matmul(A, B) -> sp.Matrix:
+    """``A * B`` of SymPy matrices of finite exact numbers, the same matrix: each entry
+    ``Add(*[A[i,k]*B[k,j] ...])`` over the pairs of non-zero entries, as SymPy's product builds it
+    (``Add`` of the products), without its products ``0 * B[k,j]`` (SymPy's test for an infinite
+    entry, whose ``is_finite`` on a nested iterate asks the assumption system for signs by
+    ``evalf``: a tenth of a second per product)."""
+    rows = []
+    for i in range(A.rows):
+        row = []
+        for j in range(B.cols):
+            terms = [A[i, k] * B[k, j] for k in range(A.cols) if A[i, k] != 0 and B[k, j] != 0]
+            row.append(sp.Add(*terms) if terms else sp.S.Zero)
+        rows.append(row)
+    return sp.Matrix(rows)
 
 
 def _w_after(balls, m: int):
@@ -675,7 +691,7 @@ def _resolve(exact, M, H, v, n, digits=DEFAULT_DIGITS, max_exact_digits=DEFAULT_
             rows = (HA, HB) if first == 0 else (HB, HA)
             if m <= MAX_EXACT_ALGEBRAIC_REFLECTIONS:
                 vel = _iterate_exact(M, rows[0], rows[1], v, m)[-1]
-                imp = (gram.LUsolve(H * vel - c)).applyfunc(_radsimp)
+                imp = (gram.LUsolve(_matmul(H, vel) - c)).applyfunc(_radsimp)
                 verify_exact("two-surface", M, H, v, vel, imp)
                 outcomes.append(TwoSurfaceOutcome(first, order, m, vel, _floats(vel), imp, True))
             else:
