@@ -324,6 +324,14 @@ class _DagEvaluator:
             done[k] = v
             return v
 
+        # raw: arguments of both a sin and a cos node (each pair computed by one mpf_cos_sin, at the first
+        # of the two the call needs; ``cs<k>`` set to _U on entry)
+        trig: dict = {}
+        for n_kind, n_fun, n_ch in nodes:
+            if raw and n_kind == "fun" and n_fun in ("sin", "cos"):
+                trig.setdefault(n_ch[0], set()).add(n_fun)
+        paired = {c for c, ps in trig.items() if len(ps) == 2}
+        pairs: set = set()
         closure: dict = {}
 
         def eager(k) -> set:
@@ -350,11 +358,11 @@ class _DagEvaluator:
                 return f"{_RAW_BINARY[op]}({acc}, {c}, prec, rnd)", "f"
             if ta == "f" and tc == "i":  # mpf op int
                 return {"+": f"mpf_add({acc}, from_int({c}), prec, rnd)",
-                        "*": f"mpf_mul_int({acc}, {c}, prec, rnd)",
+                        "*": f"_mul_int({acc}, {c}, prec, rnd)",
                         "/": f"mpf_div({acc}, from_int({c}), prec, rnd)"}[op], "f"
             if ta == "i" and tc == "f":  # int op mpf: the mpf's reflected operator
                 return {"+": f"mpf_add({c}, from_int({acc}), prec, rnd)",
-                        "*": f"mpf_mul_int({c}, {acc}, prec, rnd)",
+                        "*": f"_mul_int({c}, {acc}, prec, rnd)",
                         "/": f"mpf_rdiv_int({acc}, {c}, prec, rnd)"}[op], "f"
             if {ta, tc} <= {"f", "i", "fi"} and "fi" in (ta, tc):  # a Piecewise of an mpf or an int: at run time
                 return f"{_DYNAMIC[op]}({acc}, {c}, prec, rnd)", "f" if "f" in (ta, tc) else "fi"
@@ -426,7 +434,14 @@ class _DagEvaluator:
                 if raw:  # (an int argument converted exactly, as mpmath's functions do; Python's abs keeps an int)
                     need("f", *[c for c in ch if p == "Abs" or types[c] != "i"])
                     args = [f"from_int({a})" if types[c] == "i" else a for a, c in zip(args, ch)]
-                    emit(f"{v} = {_RAW_FUN[p]}({', '.join(args)}, prec, rnd)")
+                    if p in ("sin", "cos") and ch[0] in paired:  # cos and sin of one argument: one mpf_cos_sin
+                        pair = f"cs{ch[0]}"  # (its (cos, sin) are mpf_cos's and mpf_sin's, which call it)
+                        pairs.add(pair)
+                        emit(f"if {pair} is _U:")
+                        emit(f"    {pair} = mpf_cos_sin({args[0]}, prec, rnd)")
+                        emit(f"{v} = {pair}[{1 if p == 'sin' else 0}]")
+                    else:
+                        emit(f"{v} = {_RAW_FUN[p]}({', '.join(args)}, prec, rnd)")
                 else:
                     emit(f"{v} = {const(self._FUN[p])}({', '.join(args)})")
             elif kind == "rel":
@@ -489,6 +504,8 @@ class _DagEvaluator:
             init = [f"    {' = '.join(f'v{k}' for k in chunk)} = _U"
                     for chunk in (unset[i:i + 50] for i in range(0, len(unset), 50))]
             init += [f"    v{k} = B[{k}]" for k in sorted(known)]
+            if pairs:
+                init.append(f"    {' = '.join(sorted(pairs))} = _U")
             if raw:  # (the outputs back as mpf: an mpf tuple boxed, an int or None as it is)
                 init.insert(0, "    prec, rnd = _ctx._prec_rounding")
                 outs = [f"_make({o})" if types[r] == "f" else f"_box({o})" if types[r] in ("m", "fi") else o
@@ -533,8 +550,26 @@ def _dynamic_add(a, b, prec, rnd):
 
 def _dynamic_mul(a, b, prec, rnd):
     if type(a) is tuple:
-        return mpf_mul(a, b, prec, rnd) if type(b) is tuple else mpf_mul_int(a, b, prec, rnd)
-    return mpf_mul_int(b, a, prec, rnd) if type(b) is tuple else a * b
+        return mpf_mul(a, b, prec, rnd) if type(b) is tuple else _mul_int(a, b, prec, rnd)
+    return _mul_int(b, a, prec, rnd) if type(b) is tuple else a * b
+
+
+def _mul_int(s, n, prec, rnd):
+    """``mpf_mul_int(s, n, prec, rnd)``; where ``n`` is ±1 or ±2 and ``s`` a normalized finite non-zero
+    value (odd mantissa) of at most ``prec`` bits the product is exact, and its normalized tuple is
+    written directly (``mpf_mul_int`` multiplies the mantissa, counts its bits and normalizes back to
+    this): the emitted formulas' ``-1 * x`` of every subtraction (issue 15)."""
+    sign, man, exp, bc = s
+    if man & 1 and bc <= prec:
+        if n == -1:
+            return (sign ^ 1, man, exp, bc)
+        if n == 2:
+            return (sign, man, exp + 1, bc)
+        if n == -2:
+            return (sign ^ 1, man, exp + 1, bc)
+        if n == 1:
+            return s
+    return mpf_mul_int(s, n, prec, rnd)
 
 
 def _dynamic_div(a, b, prec, rnd):
@@ -553,11 +588,11 @@ def _box(v):
 
 
 _RAW_NAMESPACE = {"_ctx": mpmath.mp, "_make": mpmath.mp.make_mpf, "_box": _box, "_dynamic_add": _dynamic_add,
-                  "_dynamic_mul": _dynamic_mul, "_dynamic_div": _dynamic_div,
+                  "_dynamic_mul": _dynamic_mul, "_dynamic_div": _dynamic_div, "_mul_int": _mul_int,
                   **{name: getattr(libmp, name) for name in
                      ("fnan", "from_int", "mpf_pi", "mpf_pos", "mpf_add", "mpf_mul", "mpf_mul_int", "mpf_div",
                       "mpf_rdiv_int", "mpf_sqrt", "mpf_pow_int", "mpf_pow", "mpf_mod", "mpf_ge", "mpf_le", "mpf_gt",
-                      "mpf_lt", "mpf_eq", *_RAW_FUN.values())}}
+                      "mpf_lt", "mpf_eq", "mpf_cos_sin", *_RAW_FUN.values())}}
 
 
 class _Unsupported(Exception):
