@@ -21,7 +21,7 @@ from functools import lru_cache
 
 import sympy as sp
 
-__all__ = ["simplify_remembered"]
+__all__ = ["simplify_remembered", "solveset_remembered"]
 
 
 def simplify_remembered(expr, **kwargs):
@@ -41,3 +41,21 @@ def _simplify_cached(expr, **kwargs):
 
 #: SymPy's simplify and nothing of impactsym: kept across the mutation tests' cache clears
 _simplify_cached.sympy_only = True
+
+
+def solveset_remembered(f, symbol, domain):
+    """``sympy.solveset(f, symbol, domain)``, remembered per (immutable) arguments: the paper
+    checks' sign proofs on an interval (``cos θ > 0`` on ``[π/2, 2π/3[``, ...) are decided again
+    whenever a mutation test re-evaluates their claim (0.02-0.1 s each), and SymPy's answer to the
+    same question is the same set. Kept across the mutation tests' cache clears, like
+    :func:`simplify_remembered` (SymPy alone: a mutant's different inequality is another key)."""
+    return _solveset_cached(f, symbol, domain)
+
+
+@lru_cache(maxsize=1024, typed=True)
+def _solveset_cached(f, symbol, domain):
+    return sp.solveset(f, symbol, domain)
+
+
+#: SymPy's solveset and nothing of impactsym: kept across the mutation tests' cache clears
+_solveset_cached.sympy_only = True
