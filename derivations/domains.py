@@ -48,6 +48,7 @@ from pathlib import Path
 import sympy as sp
 
 from .memo import simplify
+from impactsym.arithmetic.remembered import solve_remembered
 from .rational_zero import is_zero
 
 from impactsym.models.acary_taha import chain3, pool
@@ -248,7 +249,7 @@ def chain3_domain() -> dict:
     if not (c2["b"] == 0 and sp.expand(c2["c"] - (2 * alpha - 1)) == 0):
         raise DerivationError('derivation check failed: c2["b"] == 0 and sp.expand(c2["c"] - (2 * alpha - 1)) == 0')
     g, h = c1["g"], cond["h"]
-    alpha_min = sp.solve(c2["c"], alpha)[0]
+    alpha_min = solve_remembered(c2["c"], alpha)[0]
     dg = sp.factor(sp.diff(g, alpha))
     # g′ = 4(2α − 1)/(2 − α)³ > 0 on (1/2, 2): no root of numerator or denominator inside
     g_increasing = _positive_on(dg, sp.Rational(1, 2), 2)
@@ -292,7 +293,7 @@ def chain3_alpha_max_expr():
     """
     g = admissibility_conditions(chain3(), [alpha])["contacts"][0]["g"]
     a = sp.Symbol("a", real=True)
-    roots = sp.solve(sp.numer(sp.together(g.subs(alpha, a) - e)), a)
+    roots = solve_remembered(sp.numer(sp.together(g.subs(alpha, a) - e)), a)
     # choose the root that is 1 at e = 1 and 1/2 at e = 1/3 (the branch inside [1/2, 1])
     picked = [r for r in roots if is_zero(r.subs(e, 1) - 1) and is_zero(r.subs(e, sp.Rational(1, 3)) - sp.Rational(1, 2))]
     if not (len(picked) == 1):
@@ -372,7 +373,7 @@ def pool_claims() -> dict:
     out["eq32_D2"] = {"verdict": "corrected", "proof": {"printed": "D2 = {alpha in [0, oo[, e in [g(alpha), 1]}",
                       "derived": "D2 = {alpha >= 0, h(alpha) <= e <= 1} (Delta >= 0 <=> e >= h)"}}
     dg = sp.factor(sp.diff(g, alpha))
-    crit = sp.solve(sp.numer(dg), alpha)
+    crit = solve_remembered(sp.numer(dg), alpha)
     d2 = sp.factor(sp.diff(g, alpha, 2).subs(alpha, c / 2))
     gmin = sp.factor(g.subs(alpha, c / 2))
     out["g_minimum"] = {"verdict": "confirmed" if (crit == [c / 2] and is_zero(gmin - (2 - c**2) / (4 - c**2))) else "refuted",
