@@ -51,6 +51,7 @@ from pathlib import Path
 import sympy as sp
 
 from .memo import simplify
+from impactsym.arithmetic.remembered import solve_remembered
 from .rational_zero import is_zero, is_zero_algebraic, nonzero_at_a_point
 
 from impactsym.models.acary_taha import pool
@@ -235,7 +236,7 @@ def epsilon_device(theta_value=theta) -> dict:
     sc, law = pool_law(theta_value, tau, 1)
     A = sp.factor(law.A)
     p = sp.Symbol("p_1")
-    roots = sp.solve(sp.expand(law.A * p**2 + law.B * p + law.C), p)
+    roots = solve_remembered(sp.expand(law.A * p**2 + law.B * p + law.C), p)
     phys = sp.factor((-law.B + eps * sp.cos(tau)) / (2 * A))
     # the law's own root at the two sides of cos τ = 0, with √(cos²τ) evaluated exactly
     at = {}
@@ -456,7 +457,7 @@ def eq33_theta() -> dict:
     for k, v in derived.items():
         num = sp.numer(sp.together(v - printed[k]))
         eqs.extend(sp.Poly(sp.expand(num), alpha).coeffs())
-    sols = sp.solve(eqs + [c**2 + s**2 - 1], [c, s], dict=True)
+    sols = solve_remembered(eqs + [c**2 + s**2 - 1], [c, s], dict=True)
     thetas = []
     for sol in sols:
         t = sp.atan2(sol[s], sol[c])
@@ -523,7 +524,7 @@ def eq37_analysis() -> dict:
     n12 = sp.Matrix([-1, sp.sqrt(3)]) / 2
     n13 = sp.Matrix([1, sp.sqrt(3)]) / 2
     P1, P2, P3 = sp.symbols("P1 P2 P3")
-    sol = sp.solve(list(sp.Matrix([repaired["x2+"], repaired["y2+"]]) - (P1 * n12 - P2 * sp.Matrix([1, 0])))
+    sol = solve_remembered(list(sp.Matrix([repaired["x2+"], repaired["y2+"]]) - (P1 * n12 - P2 * sp.Matrix([1, 0])))
                    + list(sp.Matrix([repaired["x3+"], repaired["y3+"]]) - (P2 * sp.Matrix([1, 0]) + P3 * n13)),
                    [P1, P2, P3], dict=True)[0]
     # rational functions of alpha with rational coefficients (sqrt(3) cancels): cancel is their normal

@@ -39,6 +39,7 @@ from typing import Callable
 import sympy as sp
 
 from .memo import simplify
+from impactsym.arithmetic.remembered import solve_remembered
 from .algebra import block_determinant_lemma, nc_symbols, rewrite
 from .codegen import ArrayKernel, ScalarKernel, numpy_code, render_family
 from .rational_zero import cancel, factor, factored_numerator, is_zero, is_zero_rational_function
@@ -227,7 +228,7 @@ def derive_single_impact(n: int) -> Derivation:
     # the roots as solve finds them, unsimplified (simplifying costs more than the solve; only the
     # n = 2 roots are printed, and the claims that print them simplify them: solve's default form,
     # tests/test_reflection_roots.py); the kept root is factored below, the zero root decided exactly
-    roots = sp.solve(energy_num, lam, check=False, simplify=False)
+    roots = solve_remembered(energy_num, lam, check=False, simplify=False)
     if not all(is_zero_rational_function(energy_num.xreplace({lam: r})) for r in roots):
         raise DerivationError("a root of the energy equation does not satisfy it")
     discarded = [(r, TRIVIAL_ROOT_REASON) for r in roots if is_zero(r)]
@@ -321,7 +322,7 @@ def derive_general(restitution: bool = False) -> Derivation:
         qplus_t = Qt - lam * Wt
         condition = rewrite(qplus_t * MM * qplus - Qt * MM * Q, RULES)  # energy jump
         e_val = 1
-    roots = sp.solve(condition, lam)
+    roots = solve_remembered(condition, lam)
     discarded = [(r, TRIVIAL_ROOT_REASON) for r in roots if r == 0]
     kept = [r for r in roots if r != 0]
     if not (len(kept) == 1):

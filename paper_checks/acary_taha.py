@@ -34,6 +34,7 @@ import sympy as sp
 from derivations.memo import simplify
 from derivations.rational_zero import is_zero, is_zero_algebraic
 
+from impactsym.arithmetic.remembered import solveset_remembered
 from impactsym.exact import certified_sign
 from impactsym.mechanics import kinetic_angle_cos, m_normal
 from impactsym.models.acary_taha import bernoulli, chain3, pool
@@ -686,7 +687,7 @@ def two_contacts():
     d2 = simplify(sp.expand((G3 - G1).dot(G3 - G1)))
     gap = sp.factor(simplify(d2 - 4))  # squared distance minus (2a)^2
     # a proof on the whole interval: the gap's only zero in [0, π] is 2π/3, and it is positive at θ = 0
-    zeros = sp.solveset(gap, th, sp.Interval(0, sp.pi))
+    zeros = solveset_remembered(gap, th, sp.Interval(0, sp.pi))
     ok = zeros == sp.FiniteSet(2 * sp.pi / 3) and certified_sign(gap.subs(th, 0)) > 0
     ok &= identical(gap, 8 * sp.cos(th) + 4).equal
     return Finding("exact-match" if ok else "refuted",
@@ -871,7 +872,7 @@ def g_min():
     ex = extremum(g, a, c / 2, kind="min")
     d2 = sp.factor(ex["f''(x0)"])
     d2_form = identical(d2, 64 / (4 - c**2) ** 3).equal
-    positive = sp.solveset(4 - c**2 <= 0, c, sp.Interval(0, 1)) == sp.S.EmptySet
+    positive = solveset_remembered(4 - c**2 <= 0, c, sp.Interval(0, 1)) == sp.S.EmptySet
     value = identical(g.subs(a, c / 2), (2 - c**2) / (4 - c**2)).equal
     r = _pc("g_minimum")
     ok = ex["stationary"] and d2_form and positive and value and r["verdict"] == "confirmed"
@@ -1054,7 +1055,7 @@ def pi2_alpha0():
     th = sp.Symbol("theta", real=True)
     w12, k = _coupling_proof()
     # coupled ⇔ W₁₂ = k cos θ < 0; on [π/2, 2π/3[ cos θ ≤ 0 (solveset), so with k < 0 never coupled
-    cos_pos = sp.solveset(sp.cos(th) > 0, th, sp.Interval.Ropen(sp.pi / 2, 2 * sp.pi / 3))
+    cos_pos = solveset_remembered(sp.cos(th) > 0, th, sp.Interval.Ropen(sp.pi / 2, 2 * sp.pi / 3))
     ok = certified_sign(k) < 0 and cos_pos == sp.S.EmptySet
     rows = _coupling_samples((sp.pi / 2, 3 * sp.pi / 5, 5 * sp.pi / 8),
                              lambda t: certified_sign(k * sp.cos(t)) < 0)
@@ -1103,7 +1104,7 @@ def tau_ge():
     sc = pool(th_, tau_)
     w_sym = [simplify(x) for x in sc.H * sc.v]
     if w_sym[1] == 0 and not w_sym[0].has(th_):
-        none = sp.solveset(w_sym[0] < 0, tau_, sp.Interval(sp.pi / 2, sp.pi)) == sp.S.EmptySet
+        none = solveset_remembered(w_sym[0] < 0, tau_, sp.Interval(sp.pi / 2, sp.pi)) == sp.S.EmptySet
         how = f"proved for every θ and τ ∈ [π/2, π]: H q̇⁻ = {w_sym}"
     else:  # the samples decide (a non-approaching sample is still an exact counterexample)
         none = all(not any(r["approaching"]) for r in rows)
@@ -1138,8 +1139,10 @@ def _eq3536_claim(name: str, key: str, theta_label: str):
         eps = sp.Symbol("epsilon", real=True)
         th = 0 if name == "eq35" else sp.pi / 2
         vm = (sp.cos(th - tau), sp.sin(th - tau))
-        res = momentum_energy_residuals(pr, vm, energy=False, simplified=False)  # simplified at ε = 1 below
-        note += f" The printed state fails x-momentum: Δp_x = {sp.factor(sp.simplify(res['px'].subs(eps, 1)))} at ε = 1."
+        res = momentum_energy_residuals(pr, vm, energy=False, simplified=False)  # factored at ε = 1 below
+        # a rational function of α and cos τ: factor is its factored normal form, the same with or
+        # without a simplify first (srepr for srepr; 0.08 s of simplify's search spared)
+        note += f" The printed state fails x-momentum: Δp_x = {sp.factor(res['px'].subs(eps, 1))} at ε = 1."
     return Finding("exact-match" if ok else "erratum", published=str(pr[key]), published_expr=pr[key], derived=d[key],
                    corrected=None if ok else d[key], note=note)
 
@@ -1470,7 +1473,7 @@ _definition("at-eq44", "eq. 44", "impact condition v1 ∈ −𝒯1", r"v_1\in-\m
 def eq45():
     t = sp.Symbol("t", real=True)
     # on [0, π] (where angles live): cos t < 0 exactly on ]π/2, π] (solveset, a proof)
-    equivalence = sp.solveset(sp.cos(t) < 0, t, sp.Interval(0, sp.pi)) == sp.Interval.Lopen(sp.pi / 2, sp.pi)
+    equivalence = solveset_remembered(sp.cos(t) < 0, t, sp.Interval(0, sp.pi)) == sp.Interval.Lopen(sp.pi / 2, sp.pi)
     from impactsym.laws.coupling import impact_degree
     sc3 = chain3()
     deg = impact_degree(sc3.M, sc3.H, sc3.v)

@@ -57,6 +57,7 @@ import mpmath
 import sympy as sp
 
 from derivations.memo import simplify
+from impactsym.arithmetic.remembered import solve_remembered
 __all__ = [
     "VERDICTS", "EVIDENCE_KINDS", "PAPERS", "DIGITS", "Finding", "Claim", "Registered", "REGISTRY", "claim",
     "evaluate", "evaluate_all", "identical", "Identity", "Inconclusive", "compare_decimal", "compare_decimals",
@@ -692,7 +693,7 @@ def conservation(M, H, vminus, vplus, e=1, *, values: bool = True) -> dict:
         momentum = rational is not False
         p = list(rational) if momentum else None
     else:
-        sol = sp.solve(list(H.T * sp.Matrix(p_syms) - rhs), p_syms, dict=True)
+        sol = solve_remembered(list(H.T * sp.Matrix(p_syms) - rhs), p_syms, dict=True)
         momentum = bool(sol)
         p = [sp.radsimp(simplify(sol[0].get(s, s))) for s in p_syms] if sol else None
     free = bool(p) and any(x.free_symbols for x in p)

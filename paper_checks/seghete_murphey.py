@@ -25,6 +25,7 @@ from functools import lru_cache
 import sympy as sp
 
 from derivations.memo import simplify
+from impactsym.arithmetic.remembered import solve_remembered
 from derivations.rational_zero import cancel, is_zero, is_zero_algebraic, is_zero_rational_function
 
 from derivations import reflection as drefl
@@ -270,9 +271,12 @@ def trivial_root():
     solve = [identical(energy.subs(lam, r), 0).equal for r in d.roots]
     stays = identical(qp.subs(lam, 0), d.qminus).equal  # λ = 0 keeps q̇⁻
     ok = disc == [0] and len(d.roots) == 2 and all(solve) and stays
+    # the roots as solve found them (sums of rational functions of the symbols) over one
+    # denominator: together gives the form simplify gave them (srepr for srepr), without its
+    # search (0.2 s; as in quadratic above)
     return Finding("exact-match" if ok else "refuted",
                    published="The solution λ_A = 0 is trivial and gives q̇_{A+} = q̇_{A−} ... we will discard this solution.",
-                   derived={"roots": [simplify(r) for r in d.roots], "discarded": disc},
+                   derived={"roots": [sp.together(r) for r in d.roots], "discarded": disc},
                    note="SymPy finds exactly two roots; λ = 0 keeps q̇⁻, which crosses the surface when u q̇⁻ < 0 "
                         "('always false' holds for an approaching velocity; for grazing, u q̇⁻ = 0, the roots coincide).")
 
@@ -340,9 +344,9 @@ def eq2a():
     literal_coeff = literal.jacobian(qp)  # how the printed form constrains q̇⁺
     jump_coeff = jump.jacobian(qp)
     at_vf = jump.subs(dict(zip(qp, vf)))
-    sol = sp.solve(list(at_vf), [la, lb], dict=True)
+    sol = solve_remembered(list(at_vf), [la, lb], dict=True)
     signs_ok = len(sol) == 1 and all(certified_sign(x) <= 0 for x in sol[0].values())
-    lit_sol = sp.solve(list(literal), [la, lb], dict=True)
+    lit_sol = solve_remembered(list(literal), [la, lb], dict=True)
     lit_ok = len(lit_sol) == 1 and all(certified_sign(x) <= 0 for x in lit_sol[0].values())
     if literal_coeff.rank() == M.rows and lit_ok:
         verdict = "exact-match"  # the printed form determines q̇⁺ (never, for this transcription)
@@ -389,7 +393,7 @@ def continuum():
     disc = sp.expand(sp.discriminant(energy, la))
     # the package's outcome is one solution: its multipliers lie on the family
     vf = r.outcomes[0].velocity
-    mult = sp.solve(list(vp - vf), [la, lb], dict=True)
+    mult = solve_remembered(list(vp - vf), [la, lb], dict=True)
     if len(mult) != 1 or energy.subs(mult[0]) != 0:
         raise ArithmeticError(f"the sequential outcome {list(vf)} is not a solution of system (2): {mult}")
     lb_star = mult[0][lb]
@@ -398,7 +402,7 @@ def continuum():
     d_star = disc.subs(lb, lb_star)
     sgn = certified_sign(d_star)
     zeros = sorted(sp.real_roots(sp.Poly(disc, lb)), key=lambda x: sp.N(x, 30))
-    fam = sp.solve(energy, la)
+    fam = solve_remembered(energy, la)
     verdict = "exact-match" if sgn > 0 else "refuted"
     return Finding(verdict,
                    published="the system described by (2) will have a continuum of solutions instead of the two we found before",

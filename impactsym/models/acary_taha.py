@@ -243,10 +243,19 @@ def _pool_gradients(theta, third_contact: bool, constraint: str, a) -> sp.Immuta
     P = pool_positions(theta, a)
     at = dict(zip(q, [*P[0], *P[1], *P[2]]))
     rows = []
-    for h in hs:
+    for (i, j), h in zip(pairs, hs):
         # a contact's gradient wrt ball j is minus its gradient wrt ball i (h depends on the
         # difference of the two positions only): each such pair is simplified once
         raw = [sp.diff(h, qj).subs(at) for qj in q]
+        if constraint == "distance" and isinstance(theta, sp.Symbol):
+            # the distance at contact, ‖G_j − G_i‖² at the positions, is a polynomial in cos θ, sin θ:
+            # sin²θ = 1 − cos²θ writes it as a number when it is one (4a² for 1–2), and the
+            # entries' √ of it is that number's root: the same entries, which simplify then need
+            # not find through trigsimp (0.2 s for the symbolic pool's first row)
+            d2 = (G[j] - G[i]).dot(G[j] - G[i]).subs(at)
+            d2_number = sp.expand(sp.expand(d2).subs(sp.sin(theta) ** 2, 1 - sp.cos(theta) ** 2))
+            if d2_number.is_number and d2_number != d2:
+                raw = [x.xreplace({d2: d2_number}) for x in raw]
         done: dict = {}
         row = []
         for x in raw:
