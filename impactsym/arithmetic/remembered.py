@@ -1,8 +1,9 @@
-"""SymPy's ``simplify`` (and ``solve``, ``solveset``), remembered per expression, for the exact forms that recur: the derivations'
-and paper checks' simplifications (:mod:`derivations.memo` calls it), the pool's gradient entries (:mod:`impactsym.models.acary_taha`) and the kinetic angles and M-normals of
-:mod:`impactsym.mechanics` are simplified again whenever their own caches are cleared (the paper
-checks' mutation tests clear every cache of impactsym between mutations), and ``simplify`` of the
-same expression is the same expression.
+"""SymPy's ``simplify`` (and ``solve``, ``solveset``), remembered per expression, for the exact
+forms that recur: the derivations' and paper checks' simplifications (:mod:`derivations.memo`
+calls it), the pool's gradient entries (:mod:`impactsym.models.acary_taha`) and the kinetic angles
+and M-normals of :mod:`impactsym.mechanics` are simplified again whenever their own caches are
+cleared (the paper checks' mutation tests clear every cache of impactsym between mutations), and
+``simplify`` of the same expression is the same expression.
 
 The memo calls SymPy alone (``paper_checks.mutations.clear_caches`` keeps it, marked
 ``sympy_only``): no function of impactsym runs inside it, so it never holds a value that a mutated
