@@ -111,18 +111,35 @@ class _NoBall(Exception):
     """The expression holds a node :func:`arb_tree` does not evaluate (a Float, ``I``, ...)."""
 
 
-def _arb_ipow(b, n: int):
-    """``b**n`` for an integer ``n >= 0`` by squaring (products of balls: valid for a ball that
-    holds 0, where Arb's general power is ``nan``)."""
-    from flint import arb
-
-    acc = arb(1)
+def _power(b, n: int, one):
+    """``b**n`` for an integer ``n >= 0`` by repeated squaring, from ``one`` (the products of the
+    element's own type: for a ball that holds 0 they are valid where Arb's general power is
+    ``nan``; in a multiquadratic field they stay exact)."""
+    acc = one
     while n:
         if n & 1:
             acc = acc * b
         n >>= 1
         if n:
             b = b * b
+    return acc
+
+
+def _arb_ipow(b, n: int):
+    """``b**n`` for an integer ``n >= 0`` on Arb balls (:func:`_power`)."""
+    from flint import arb
+
+    return _power(b, n, arb(1))
+
+
+def _sum_or_product(x, node):
+    """The sum or product of ``node`` of ``x``'s terms, in the order of ``x.args`` (``None`` if
+    ``x`` is neither an ``Add`` nor a ``Mul``): the two trees' common step."""
+    if not (x.is_Add or x.is_Mul):
+        return None
+    acc = node(x.args[0])
+    for a in x.args[1:]:
+        acc = acc + node(a) if x.is_Add else acc * node(a)
     return acc
 
 
@@ -172,15 +189,8 @@ def _arb_node(x):
 
     if x.is_Rational:
         return arb(int(x.p)) if x.q == 1 else arb(fmpq(int(x.p), int(x.q)))
-    if x.is_Add:
-        acc = _arb_node(x.args[0])
-        for a in x.args[1:]:
-            acc = acc + _arb_node(a)
-        return acc
-    if x.is_Mul:
-        acc = _arb_node(x.args[0])
-        for a in x.args[1:]:
-            acc = acc * _arb_node(a)
+    acc = _sum_or_product(x, _arb_node)
+    if acc is not None:
         return acc
     if x.is_Pow:
         base, e = x.args
@@ -311,15 +321,8 @@ def _mq_node(x) -> _MQ:
 
     if x.is_Rational:
         return _MQ({1: fmpq(int(x.p), int(x.q))} if x.p else {})
-    if x.is_Add:
-        acc = _mq_node(x.args[0])
-        for a in x.args[1:]:
-            acc = acc + _mq_node(a)
-        return acc
-    if x.is_Mul:
-        acc = _mq_node(x.args[0])
-        for a in x.args[1:]:
-            acc = acc * _mq_node(a)
+    acc = _sum_or_product(x, _mq_node)
+    if acc is not None:
         return acc
     if x.is_Pow:
         base, e = x.args
@@ -348,14 +351,7 @@ def _mq_node_pow(b: _MQ, n: int) -> _MQ:
         raise _NoBall
     if n < 0:
         b, n = b.inverse(), -n
-    acc = _MQ({1: fmpq(1)})
-    while n:
-        if n & 1:
-            acc = acc * b
-        n >>= 1
-        if n:
-            b = b * b
-    return acc
+    return _power(b, n, _MQ({1: fmpq(1)}))
 
 
 def multiquadratic(x) -> dict | None:
