@@ -262,14 +262,19 @@ class _MQ:
     def __init__(self, t):
         self.t = t
 
+    @staticmethod
+    def _accumulate(t: dict, m: int, c) -> None:
+        # t[m] += c, the key dropped where the coefficient becomes 0 (no zero is ever stored)
+        c2 = t.get(m, 0) + c
+        if c2:
+            t[m] = c2
+        else:
+            t.pop(m, None)
+
     def __add__(self, o):
         t = dict(self.t)
         for m, c in o.t.items():
-            c2 = t.get(m, 0) + c
-            if c2:
-                t[m] = c2
-            else:
-                t.pop(m, None)
+            self._accumulate(t, m, c)
         return _MQ(t)
 
     def __mul__(self, o):
@@ -279,12 +284,7 @@ class _MQ:
         for m1, c1 in self.t.items():
             for m2, c2 in o.t.items():
                 g = gcd(m1, m2)
-                m, c = (m1 // g) * (m2 // g), c1 * c2 * g
-                c3 = t.get(m, 0) + c
-                if c3:
-                    t[m] = c3
-                else:
-                    t.pop(m, None)
+                self._accumulate(t, (m1 // g) * (m2 // g), c1 * c2 * g)
         return _MQ(t)
 
     def primes(self):
