@@ -503,10 +503,14 @@ def _tidy(x):
 
 
 def _tidy_generic(x):
+    # simplify through its SymPy-only memo (the same expression: sp.simplify's), which the mutation
+    # tests keep when they clear impactsym's caches (this function's own memo, _tidy_cached, is cleared)
+    from .remembered import simplify_remembered
+
     if x.free_symbols:
-        return sp.simplify(x)
+        return simplify_remembered(x)
     y = sp.radsimp(sp.sqrtdenest(sp.expand(x)))
-    y = sp.radsimp(sp.simplify(y))
+    y = sp.radsimp(simplify_remembered(y))
     if y.is_Rational:
         return y
     # a rational in disguise? guess it from 40 digits, then confirm exactly (certified sign 0)
