@@ -48,7 +48,6 @@ from pathlib import Path
 import sympy as sp
 
 from .memo import simplify
-from impactsym.arithmetic.remembered import solve_remembered
 from .rational_zero import is_zero
 
 from impactsym.models.acary_taha import chain3, pool
@@ -56,6 +55,7 @@ from impactsym.models.acary_taha import chain3, pool
 from .codegen import ScalarKernel, render_expressions, render_family
 from .impulse_ratio import general_quadratic
 
+from impactsym.arithmetic.remembered import solve_remembered
 from impactsym.errors import DerivationError
 
 __all__ = [

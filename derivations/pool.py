@@ -51,7 +51,6 @@ from pathlib import Path
 import sympy as sp
 
 from .memo import simplify
-from impactsym.arithmetic.remembered import solve_remembered
 from .rational_zero import is_zero, is_zero_algebraic, nonzero_at_a_point
 
 from impactsym.models.acary_taha import pool
@@ -60,6 +59,7 @@ from .chain3 import closed_form, stable_root
 from .codegen import ScalarKernel, render_family
 from .impulse_ratio import general_quadratic, on_energy_line
 
+from impactsym.arithmetic.remembered import solve_remembered
 from impactsym.errors import DerivationError
 
 __all__ = [

@@ -39,11 +39,11 @@ from typing import Callable
 import sympy as sp
 
 from .memo import simplify
-from impactsym.arithmetic.remembered import solve_remembered
 from .algebra import block_determinant_lemma, nc_symbols, rewrite
 from .codegen import ArrayKernel, ScalarKernel, numpy_code, render_family
 from .rational_zero import cancel, factor, factored_numerator, is_zero, is_zero_rational_function
 
+from impactsym.arithmetic.remembered import solve_remembered
 from impactsym.errors import DerivationError
 
 __all__ = [

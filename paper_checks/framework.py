@@ -58,6 +58,7 @@ import sympy as sp
 
 from derivations.memo import simplify
 from impactsym.arithmetic.remembered import solve_remembered
+
 __all__ = [
     "VERDICTS", "EVIDENCE_KINDS", "PAPERS", "DIGITS", "Finding", "Claim", "Registered", "REGISTRY", "claim",
     "evaluate", "evaluate_all", "identical", "Identity", "Inconclusive", "compare_decimal", "compare_decimals",

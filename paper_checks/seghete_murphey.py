@@ -25,10 +25,10 @@ from functools import lru_cache
 import sympy as sp
 
 from derivations.memo import simplify
-from impactsym.arithmetic.remembered import solve_remembered
 from derivations.rational_zero import cancel, is_zero, is_zero_algebraic, is_zero_rational_function
 
 from derivations import reflection as drefl
+from impactsym.arithmetic.remembered import solve_remembered
 from impactsym.laws.reflection import reflection_map
 from impactsym.exact import certified_sign
 
