@@ -873,41 +873,51 @@ def accuracy_check(kernel: str, inputs: dict, impls: dict, bound: float = 64.0, 
     ratios: dict = {}
     mixed: dict = {}
     full = None
+    judged: dict = {}  # (full is None, the continuous outputs) -> their ratios: languages that agree are judged once
     for lang, g in got.items():
-        screened = None
-        if vals is not None:
-            with mpmath.workdps(dps):
-                screened = []
-                for i in smooth:
-                    v, c = vals[i], g[i]
-                    if mpmath.isnan(v) and math.isnan(c):
-                        screened.append(0.0)
-                    elif not math.isfinite(c) or v == 0 or mpmath.isnan(v):
-                        screened = None
-                        break
-                    else:
-                        screened.append(float(abs(mpmath.mpf(c) - v) / (EPS * abs(v))))
-        if screen and screened is not None and max(screened, default=0.0) <= bound:
-            r = screened
-        elif full is None and dps == 2 * TARGET_DPS and all(_exact_float(vals[i], g[i]) for i in smooth):
-            # every output is the exact value (or NaN where that is NaN): error_ratio is 0 whatever the
-            # sensitivity, and evaluate's ladder stops at this first rung (its agreement test divides by
-            # at least as much), with these values
-            r = [0.0] * len(smooth)
+        state = (full is None, tuple(g[i] for i in smooth))
+        r = judged.get(state)
+        if r is not None:
+            r = list(r)
         else:
-            if full is None:
-                full = ref.evaluate(inputs)
-                vals, dps = full.values, full.dps
-            er = error_ratio(full, g)
-            r = [er[i] for i in smooth]
+            screened = None
+            if vals is not None:
+                with mpmath.workdps(dps):
+                    screened = []
+                    for i in smooth:
+                        v, c = vals[i], g[i]
+                        if mpmath.isnan(v) and math.isnan(c):
+                            screened.append(0.0)
+                        elif not math.isfinite(c) or v == 0 or mpmath.isnan(v):
+                            screened = None
+                            break
+                        else:
+                            screened.append(float(abs(mpmath.mpf(c) - v) / (EPS * abs(v))))
+            if screen and screened is not None and max(screened, default=0.0) <= bound:
+                r = screened
+            elif full is None and dps == 2 * TARGET_DPS and all(_exact_float(vals[i], g[i]) for i in smooth):
+                # every output is the exact value (or NaN where that is NaN): error_ratio is 0 whatever the
+                # sensitivity, and evaluate's ladder stops at this first rung (its agreement test divides by
+                # at least as much), with these values
+                r = [0.0] * len(smooth)
+            else:
+                if full is None:
+                    full = ref.evaluate(inputs)
+                    vals, dps = full.values, full.dps
+                er = error_ratio(full, g)
+                r = [er[i] for i in smooth]
+            # (under the state it was judged in: once evaluate has run, a screen reads its values)
+            judged[state] = list(r)
         k = int(np.argmax(r)) if r else 0
         ratios[lang] = (float(r[k]) if r else 0.0, names[smooth[k]] if r else None)
         over = [j for j, x in enumerate(r) if not x <= bound]
         if over and jumps:  # an exit where the box crosses a count boundary or its branch's edge
             r = list(r)
             for j in list(over):
-                ok, _, ratio = mixed.setdefault((smooth[j], g[smooth[j]]), value_in_neighbourhood(
-                    kernel, inputs, smooth[j], g[smooth[j]], ref, bound))
+                at = (smooth[j], g[smooth[j]])
+                if at not in mixed:  # (each output's value judged once, whichever language gave it)
+                    mixed[at] = value_in_neighbourhood(kernel, inputs, smooth[j], g[smooth[j]], ref, bound)
+                ok, _, ratio = mixed[at]
                 if ok:  # judged (and reported) against the witness
                     r[j] = ratio
                     over.remove(j)

@@ -38,6 +38,7 @@ True
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 from functools import lru_cache
 from typing import Mapping, Sequence
@@ -45,8 +46,8 @@ from typing import Mapping, Sequence
 import mpmath
 import numpy as np
 from mpmath import libmp
-from mpmath.libmp import (ComplexResult, from_int, mpf_add, mpf_div, mpf_mul, mpf_mul_int,  # noqa: F401
-                          mpf_rdiv_int)
+from mpmath.libmp import (ComplexResult, from_float, from_int, mpf_add, mpf_div, mpf_mul, mpf_mul_int,  # noqa: F401
+                          mpf_rdiv_int, mpf_sub)
 import sympy as sp
 from sympy.printing.pycode import MpmathPrinter
 
@@ -674,6 +675,9 @@ class Reference:
             err = OutsideDomain("the exact value is not real at these inputs (a real function of a complex value)")
             err.nonreal = list(range(len(self.outputs)))
             raise err from None
+        mpf, prec = mpmath.mpf, mpmath.mp.prec
+        if all(type(v) is mpf and v._mpf_[3] <= prec for v in raw):  # real, and already at this precision:
+            return list(raw)  # mpmath.mpf(v) would be v
         nonreal = [i for i, v in enumerate(raw) if isinstance(v, mpmath.mpc) and v.imag != 0]
         if nonreal:
             err = OutsideDomain(f"the exact value is not real at these inputs (e.g. D < 0): {raw}")
@@ -688,7 +692,7 @@ class Reference:
     def _base(self, xs):
         """``_values(xs)`` at the current precision, remembered for the last few points: the same
         operations at the same precision give the same values (a fresh list each time)."""
-        key = (tuple(xs), mpmath.mp._prec_rounding[0], mpmath.mp._prec_rounding[1])
+        key = (tuple(x._mpf_ for x in xs), *mpmath.mp._prec_rounding)  # (the values' tuples: hashed in C)
         memo = self.__dict__.setdefault("_memo", {})
         hit = memo.get(key)
         if hit is None:
@@ -806,7 +810,7 @@ class Reference:
         return self._checked("values", fx, dps, lambda: self._ladder_values(fx, dps, inputs))
 
     def _ladder_values(self, fx, dps, inputs):
-        xs = [mpmath.mpf(x) for x in fx]
+        xs = _exact(fx)
         lo = dps
         with mpmath.workdps(lo):
             vals = self._base(xs)
@@ -814,8 +818,11 @@ class Reference:
             hi = 2 * lo
             with mpmath.workdps(hi):
                 vals2 = self._base(xs)
+            need = min(lo, TARGET_DPS) - GUARD_DIGITS
+            if _surely_agree(vals, vals2, need):  # (the digits themselves are not returned)
+                return vals2, hi
             agreed = _digits_agreed(vals, vals2, hi, [mpmath.mpf(0)] * len(vals))
-            if agreed >= min(lo, TARGET_DPS) - GUARD_DIGITS:
+            if agreed >= need:
                 return vals2, hi
             if hi >= MAX_DPS:
                 raise ReferenceUnstable(
@@ -830,7 +837,7 @@ class Reference:
         return self._checked("evaluate", fx, dps, lambda: self._ladder_evaluate(fx, dps, inputs))
 
     def _ladder_evaluate(self, fx, dps, inputs) -> ReferenceValue:
-        xs = [mpmath.mpf(x) for x in fx]  # exact: mpf(float) is the binary value
+        xs = _exact(fx)
         lo = dps
         with mpmath.workdps(lo):  # the lower rung's sensitivity is never read: values only
             vals = self._base(xs)
@@ -871,6 +878,40 @@ def kernel_reference(name: str) -> Reference:
             outs = [eval(o, ns) for o in k["sympy"]["outputs"]]
             return Reference(args, outs)
     raise KeyError(f"no closed-form kernel {name!r} in the catalog")
+
+
+def _exact(fx) -> list:
+    """The floats ``fx`` as mpf, exactly (their binary values, at any precision)."""
+    return [_make_mpf(from_float(x)) for x in fx]
+
+
+_make_mpf = mpmath.mp.make_mpf
+
+
+def _surely_agree(a, b, digits) -> bool:
+    """Whether :func:`_digits_agreed` of the rungs ``a`` and ``b`` is at least ``digits`` (whatever the
+    sensitivities), read off the exponents alone: every pair of components is equal, or finite, non-zero
+    and differs by less than ``2^-k`` times the larger, with ``2^(1-k) < 10^-(digits+1)``. ``False``
+    where that does not settle it (the caller then counts the digits).
+
+    >>> with mpmath.workdps(50):
+    ...     a = mpmath.mpf(1) / 3
+    >>> with mpmath.workdps(100):
+    ...     b = mpmath.mpf(1) / 3
+    >>> _surely_agree([a, mpmath.mpf(2)], [b, mpmath.mpf(2)], 40), _surely_agree([a], [b], 52)
+    (True, False)
+    """
+    bits = math.ceil((digits + 1) * math.log2(10)) + 2
+    for x, y in zip(a, b):
+        x, y = x._mpf_, y._mpf_
+        if x == y:  # (NaN in both as well: no digits to count)
+            continue
+        if not x[1] or not y[1]:  # a zero, an infinity or a NaN
+            return False
+        d = mpf_sub(x, y)  # (exact): |d| < 2^(exp + bc), |x| >= 2^(exp + bc - 1)
+        if d[2] + d[3] > max(x[2] + x[3], y[2] + y[3]) - bits:
+            return False
+    return True
 
 
 def _digits_agreed(a, b, dps, sens) -> float:
