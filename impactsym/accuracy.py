@@ -827,6 +827,16 @@ def _exact_float(v, c: float) -> bool:
     return math.isfinite(c) and v == c
 
 
+def _screenable(v, c: float) -> bool:
+    """Whether output value ``c`` is screened against the reference value ``v`` by its relative error
+    (both NaN: no such branch; otherwise a finite number against a non-zero exact value)."""
+    import mpmath
+
+    if mpmath.isnan(v):
+        return math.isnan(c)
+    return math.isfinite(c) and v != 0
+
+
 def accuracy_check(kernel: str, inputs: dict, impls: dict, bound: float = 64.0, ref=None,
                    screen: bool = True) -> Verdict:
     """Check every output of every implementation of ``kernel`` at ``inputs`` against the
@@ -848,7 +858,7 @@ def accuracy_check(kernel: str, inputs: dict, impls: dict, bound: float = 64.0, 
     """
     import mpmath
 
-    from .reference_values import EPS, TARGET_DPS, OutsideDomain, ReferenceUnstable, error_ratio
+    from .reference_values import TARGET_DPS, OutsideDomain, ReferenceUnstable, ReferenceValue, error_ratio
 
     ref = ref or reference(kernel)
     names = _outputs(kernel)
@@ -881,18 +891,10 @@ def accuracy_check(kernel: str, inputs: dict, impls: dict, bound: float = 64.0, 
             r = list(r)
         else:
             screened = None
-            if vals is not None:
-                with mpmath.workdps(dps):
-                    screened = []
-                    for i in smooth:
-                        v, c = vals[i], g[i]
-                        if mpmath.isnan(v) and math.isnan(c):
-                            screened.append(0.0)
-                        elif not math.isfinite(c) or v == 0 or mpmath.isnan(v):
-                            screened = None
-                            break
-                        else:
-                            screened.append(float(abs(mpmath.mpf(c) - v) / (EPS * abs(v))))
+            if vals is not None and all(_screenable(vals[i], g[i]) for i in smooth):
+                # |f^ - f| / (eps |f|): the ratio without the sensitivity (an upper bound of the ratio)
+                er = error_ratio(ReferenceValue(vals, [mpmath.mpf(0)] * len(vals), [], dps, 0.0), g)
+                screened = [er[i] for i in smooth]
             if screen and screened is not None and max(screened, default=0.0) <= bound:
                 r = screened
             elif full is None and dps == 2 * TARGET_DPS and all(_exact_float(vals[i], g[i]) for i in smooth):

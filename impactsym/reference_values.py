@@ -48,7 +48,7 @@ import mpmath
 import numpy as np
 from mpmath import libmp
 from mpmath.libmp import (ComplexResult, from_float, from_int, mpf_add, mpf_div, mpf_mul, mpf_mul_int,  # noqa: F401
-                          mpf_abs, mpf_rdiv_int, mpf_sub)
+                          mpf_abs, mpf_rdiv_int, mpf_sub, to_float)
 import sympy as sp
 from sympy.printing.pycode import MpmathPrinter
 
@@ -992,15 +992,19 @@ def error_ratio(ref: ReferenceValue, computed: Sequence[float]) -> list[float]:
     """
     out = []
     with mpmath.workdps(ref.dps):
-        for v, s, c in zip(ref.values, ref.sensitivity, computed):
-            c = float(c)
-            if mpmath.isnan(v) and np.isnan(c):  # "no such branch" (NaN) in both
-                out.append(0.0)
-                continue
-            if not np.isfinite(c) or mpmath.isnan(v):  # NaN against a number, either way round
-                out.append(float("inf"))
-                continue
-            d = abs(mpmath.mpf(c) - v)
-            scale = EPS * (abs(v) + s)
-            out.append(0.0 if d == 0 else (float(d / scale) if scale != 0 else float("inf")))
+        prec, rnd = mpmath.mp._prec_rounding
+    eps, fzero = from_float(EPS), libmp.fzero
+    for v, s, c in zip(ref.values, ref.sensitivity, computed):
+        c, v = float(c), v._mpf_
+        if v == libmp.fnan:  # "no such branch" (NaN) in both; or a number where there is none
+            out.append(0.0 if math.isnan(c) else math.inf)
+            continue
+        if not math.isfinite(c):
+            out.append(math.inf)
+            continue
+        # |mpf(c) - v| / (EPS * (|v| + s)) at the reference's precision, on raw tuples: the steps the mpf
+        # operators take (mpf(c) is exact), without an mpf object per step
+        d = mpf_abs(mpf_sub(from_float(c), v, prec, rnd), prec, rnd)
+        scale = mpf_mul(mpf_add(mpf_abs(v, prec, rnd), s._mpf_, prec, rnd), eps, prec, rnd)
+        out.append(0.0 if d == fzero else (to_float(mpf_div(d, scale, prec, rnd), rnd=rnd) if scale != fzero else math.inf))
     return out
