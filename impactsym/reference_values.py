@@ -924,8 +924,20 @@ def _eval_srepr(texts, ns) -> list:
 
 
 def _exact(fx) -> list:
-    """The floats ``fx`` as mpf, exactly (their binary values, at any precision)."""
-    return [_make_mpf(from_float(x)) for x in fx]
+    """The floats ``fx`` as mpf, exactly (their binary values, at any precision); each float converted
+    once (the grids' inputs are a few corner values: 1.0, 1e-12, ...)."""
+    out = []
+    for x in fx:
+        m = _EXACT.get(x)
+        if m is None:
+            if len(_EXACT) >= 4096:
+                _EXACT.clear()
+            m = _EXACT[x] = _make_mpf(from_float(x))  # (0.0 and -0.0 share a key, and an mpf: zero)
+        out.append(m)
+    return out
+
+
+_EXACT: dict = {}
 
 
 _make_mpf = mpmath.mp.make_mpf
