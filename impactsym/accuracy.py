@@ -827,6 +827,16 @@ def _exact_float(v, c: float) -> bool:
     return math.isfinite(c) and v == c
 
 
+def _screenable(v, c: float) -> bool:
+    """Whether output value ``c`` is screened against the reference value ``v`` by its relative error
+    (both NaN: no such branch; otherwise a finite number against a non-zero exact value)."""
+    import mpmath
+
+    if mpmath.isnan(v):
+        return math.isnan(c)
+    return math.isfinite(c) and v != 0
+
+
 def accuracy_check(kernel: str, inputs: dict, impls: dict, bound: float = 64.0, ref=None,
                    screen: bool = True) -> Verdict:
     """Check every output of every implementation of ``kernel`` at ``inputs`` against the
@@ -848,7 +858,7 @@ def accuracy_check(kernel: str, inputs: dict, impls: dict, bound: float = 64.0, 
     """
     import mpmath
 
-    from .reference_values import EPS, TARGET_DPS, OutsideDomain, ReferenceUnstable, error_ratio
+    from .reference_values import TARGET_DPS, OutsideDomain, ReferenceUnstable, ReferenceValue, error_ratio
 
     ref = ref or reference(kernel)
     names = _outputs(kernel)
@@ -873,41 +883,43 @@ def accuracy_check(kernel: str, inputs: dict, impls: dict, bound: float = 64.0, 
     ratios: dict = {}
     mixed: dict = {}
     full = None
+    judged: dict = {}  # (full is None, the continuous outputs) -> their ratios: languages that agree are judged once
     for lang, g in got.items():
-        screened = None
-        if vals is not None:
-            with mpmath.workdps(dps):
-                screened = []
-                for i in smooth:
-                    v, c = vals[i], g[i]
-                    if mpmath.isnan(v) and math.isnan(c):
-                        screened.append(0.0)
-                    elif not math.isfinite(c) or v == 0 or mpmath.isnan(v):
-                        screened = None
-                        break
-                    else:
-                        screened.append(float(abs(mpmath.mpf(c) - v) / (EPS * abs(v))))
-        if screen and screened is not None and max(screened, default=0.0) <= bound:
-            r = screened
-        elif full is None and dps == 2 * TARGET_DPS and all(_exact_float(vals[i], g[i]) for i in smooth):
-            # every output is the exact value (or NaN where that is NaN): error_ratio is 0 whatever the
-            # sensitivity, and evaluate's ladder stops at this first rung (its agreement test divides by
-            # at least as much), with these values
-            r = [0.0] * len(smooth)
+        state = (full is None, tuple(g[i] for i in smooth))
+        r = judged.get(state)
+        if r is not None:
+            r = list(r)
         else:
-            if full is None:
-                full = ref.evaluate(inputs)
-                vals, dps = full.values, full.dps
-            er = error_ratio(full, g)
-            r = [er[i] for i in smooth]
+            screened = None
+            if vals is not None and all(_screenable(vals[i], g[i]) for i in smooth):
+                # |f^ - f| / (eps |f|): the ratio without the sensitivity (an upper bound of the ratio)
+                er = error_ratio(ReferenceValue(vals, [mpmath.mpf(0)] * len(vals), [], dps, 0.0), g)
+                screened = [er[i] for i in smooth]
+            if screen and screened is not None and max(screened, default=0.0) <= bound:
+                r = screened
+            elif full is None and dps == 2 * TARGET_DPS and all(_exact_float(vals[i], g[i]) for i in smooth):
+                # every output is the exact value (or NaN where that is NaN): error_ratio is 0 whatever the
+                # sensitivity, and evaluate's ladder stops at this first rung (its agreement test divides by
+                # at least as much), with these values
+                r = [0.0] * len(smooth)
+            else:
+                if full is None:
+                    full = ref.evaluate(inputs)
+                    vals, dps = full.values, full.dps
+                er = error_ratio(full, g)
+                r = [er[i] for i in smooth]
+            # (under the state it was judged in: once evaluate has run, a screen reads its values)
+            judged[state] = list(r)
         k = int(np.argmax(r)) if r else 0
         ratios[lang] = (float(r[k]) if r else 0.0, names[smooth[k]] if r else None)
         over = [j for j, x in enumerate(r) if not x <= bound]
         if over and jumps:  # an exit where the box crosses a count boundary or its branch's edge
             r = list(r)
             for j in list(over):
-                ok, _, ratio = mixed.setdefault((smooth[j], g[smooth[j]]), value_in_neighbourhood(
-                    kernel, inputs, smooth[j], g[smooth[j]], ref, bound))
+                at = (smooth[j], g[smooth[j]])
+                if at not in mixed:  # (each output's value judged once, whichever language gave it)
+                    mixed[at] = value_in_neighbourhood(kernel, inputs, smooth[j], g[smooth[j]], ref, bound)
+                ok, _, ratio = mixed[at]
                 if ok:  # judged (and reported) against the witness
                     r[j] = ratio
                     over.remove(j)
