@@ -85,6 +85,22 @@ class _SharedTermOrder:
             hit = _ORDERED_TERMS[key] = tuple(expr.as_ordered_terms(order=order))
         return list(hit)
 
+    def _handle_UnevaluatedExpr(self, expr):
+        """``CodePrinter.doprint``'s first step, ``expr.replace(re, ...)``, which returns ``expr`` itself
+        when no node is an ``re``: that is decided once per expression for all printers (the stock
+        ``replace`` walks the whole tree, repeated subexpressions and all, in each of seven languages)."""
+        if isinstance(expr, sp.Basic):
+            no_re = _NO_RE.get(expr)
+            if no_re is None:
+                no_re = _NO_RE[expr] = not any(isinstance(n, sp.re) for n in _distinct_nodes(expr))
+            if no_re:
+                return expr
+        return super()._handle_UnevaluatedExpr(expr)
+
+
+#: expression -> whether it has no ``re`` node (:meth:`_SharedTermOrder._handle_UnevaluatedExpr`)
+_NO_RE: dict = {}
+
 
 class _Printer(_SharedTermOrder, NumPyPrinter):
     """NumPy printer with a fixed module alias, so output is deterministic and short."""
@@ -665,10 +681,47 @@ def _doc_lines(k) -> list[str]:
     return [ln.rstrip() for ln in textwrap.dedent(k.doc).strip("\n").splitlines()] or [k.name]
 
 
+def _free_symbols_shared(expr, memo: dict) -> set:
+    """``expr.free_symbols``, computed once per distinct subexpression (``Basic.free_symbols`` is
+    the union over the arguments, recomputed at every repetition of a subexpression: a quarter
+    of printing the C and Rust forms). A node whose class defines its own ``free_symbols``
+    (``Symbol``, and bound variables: ``Integral``, ``Lambda``, ...) is asked directly.
+
+    >>> x, y = sp.symbols("x y")
+    >>> e = sp.Piecewise((sp.sin(x) * (x + y), x > 0), (sp.Integral(x * y, x), True))
+    >>> _free_symbols_shared(e, {}) == e.free_symbols
+    True
+    """
+    standard = sp.Basic.__dict__["free_symbols"]
+    stack = [(expr, False)]
+    while stack:
+        node, done = stack.pop()
+        if node in memo:
+            continue
+        if done or type(node).free_symbols is not standard or not node.args:
+            if type(node).free_symbols is standard:
+                memo[node] = set().union(*(memo[a] for a in node.args))
+            else:
+                memo[node] = node.free_symbols
+            continue
+        stack.append((node, True))
+        stack.extend((a, False) for a in node.args if a not in memo)
+    return memo[expr]
+
+
+_USED_ARGS: dict = {}
+
+
 def _used_args(k: ScalarKernel) -> set:
-    used = set()
+    """The names of the kernel's arguments its outputs use (once per kernel object: the C and the
+    Rust forms both ask)."""
+    hit = _USED_ARGS.get(id(k))
+    if hit is not None and hit[0] is k:
+        return hit[1]
+    used, memo = set(), {}
     for e in k.outputs:
-        used |= {str(s) for s in sp.sympify(e).free_symbols}
+        used |= {str(s) for s in _free_symbols_shared(sp.sympify(e), memo)}
+    _USED_ARGS[id(k)] = (k, used)
     return used
 
 
@@ -983,10 +1036,23 @@ def _srepr(expr) -> str:
     >>> _srepr(e) == sp.srepr(e)
     True
     """
-    expr = sp.sympify(expr)
-    if any(isinstance(n, sp.Float) for n in _distinct_nodes(expr)):
-        return sp.srepr(expr)
-    return _SharedReprPrinter().doprint(expr)
+    return _srepr_all([expr])[0]
+
+
+def _srepr_all(exprs) -> list:
+    """``[sympy.srepr(e) for e in exprs]``, each distinct subexpression of all of them printed once
+    (a kernel's outputs repeat each other's subexpressions), unless one of them has a ``Float``.
+
+    >>> x = sp.Symbol("x", positive=True)
+    >>> es = [sp.sqrt(x + 1) * (x + 1), sp.Piecewise((sp.sqrt(x + 1), x > 1), (x, True))]
+    >>> _srepr_all(es) == [sp.srepr(e) for e in es]
+    True
+    """
+    exprs = [sp.sympify(e) for e in exprs]
+    if any(isinstance(n, sp.Float) for e in exprs for n in _distinct_nodes(e)):
+        return [sp.srepr(e) for e in exprs]
+    printer = _SharedReprPrinter()
+    return [printer.doprint(e) for e in exprs]
 
 
 def catalog_entry(family: str, derivation: str, k) -> dict:
@@ -1004,7 +1070,7 @@ def catalog_entry(family: str, derivation: str, k) -> dict:
         "code": {lang: kernel_code(k, lang) for lang in LANGUAGES},
         # the exact formulas (srepr keeps assumptions): references evaluate these, not the code
         "sympy": {"args": [sp.srepr(a) for a in k.args],
-                  "outputs": [_srepr(o) for o in (k.exact_outputs or k.outputs)]}
+                  "outputs": _srepr_all(k.exact_outputs or k.outputs)}
         if scalar else None,
     }
     return entry
