@@ -249,6 +249,31 @@ def _distinct_nodes(expr) -> list:
     return list(seen)
 
 
+def _has_any(expr, patterns) -> bool:
+    """``any(expr.has(p) for p in patterns)`` for expression patterns, each distinct subexpression
+    of ``expr`` visited once (SymPy 1.14's ``Basic._has`` walks the whole tree, repetitions and all,
+    for each pattern): a node equal to a pattern, or matching its ``_has_matcher`` (a sum holding a
+    pattern's terms among others).
+
+    >>> x, y, z = sp.symbols("x y z")
+    >>> e = sp.sqrt(x + y + z) * sp.sin(x + y + z) + (x + y + z)**2
+    >>> [_has_any(e, ps) == any(e.has(p) for p in ps) for ps in ([x + y], [y * z], [x + 1, 2 * y])]
+    [True, True, True]
+    """
+    patterns = [sp.sympify(p) for p in patterns]
+    if not isinstance(expr, sp.Basic) or any(isinstance(p, type) for p in patterns):
+        return any(expr.has(p) for p in patterns)
+    nodes = set(_distinct_nodes(expr))
+    if any(p in nodes for p in patterns):
+        return True
+    for p in patterns:
+        if hasattr(p, "_has_matcher"):
+            match = p._has_matcher()
+            if any(match(n) for n in nodes):
+                return True
+    return False
+
+
 def _xreplace_shared(expr, rule: dict, memo: dict | None = None):
     """``expr.xreplace(rule)``, each distinct subexpression visited once (SymPy 1.14's
     ``Basic._xreplace``, with a memo: a node is rebuilt when a rule matched inside it). A ``memo``
@@ -378,7 +403,7 @@ def _printed(k: ScalarKernel, lang: str):
     if hit is not None and hit[0] is k:
         return hit[1]
     replacements, reduced = _cse(k)
-    doprint = numpy_code if lang == "numpy" else _printers()[lang].doprint
+    doprint = numpy_code if lang == "numpy" else _printer(lang).doprint
     out = ([(sym, doprint(expr)) for sym, expr in replacements], [doprint(e) for e in reduced])
     _PRINTED[(id(k), lang)] = (k, out)
     return out
@@ -666,15 +691,21 @@ class _JuliaPrinter(_SharedTermOrder, JuliaCodePrinter):
     """SymPy's Julia printer, sorting each sum's terms once (:class:`_SharedTermOrder`)."""
 
 
-def _printers():
-    return {
-        "c": _CPrinter(),
-        "julia": _JuliaPrinter({"inline": True}),
-        "octave": _OctavePrinter(),
-        "fortran": _FortranPrinter(),
-        "rust": _RustPrinter(),
-        "python": _PythonPrinter(),
-    }
+#: language -> a fresh printer of it
+_PRINTER_MAKERS = {
+    "c": _CPrinter,
+    "julia": lambda: _JuliaPrinter({"inline": True}),
+    "octave": _OctavePrinter,
+    "fortran": _FortranPrinter,
+    "rust": _RustPrinter,
+    "python": _PythonPrinter,
+}
+
+
+def _printer(lang: str):
+    """A fresh printer of one language (building all six for one was ~0.5 ms, the C printer's
+    macros most of it)."""
+    return _PRINTER_MAKERS[lang]()
 
 
 def _doc_lines(k) -> list[str]:
@@ -787,7 +818,7 @@ def _flat(code: str) -> str:
 
 
 def julia_scalar(k: ScalarKernel) -> str:
-    P = _printers()["julia"]
+    P = _printer("julia")
     replacements, reduced = _cse(k)
     args = ", ".join(f"{a}={k.defaults[str(a)]!r}" if str(a) in k.defaults else str(a) for a in k.args)
     lines = ['"""', *_doc_lines(k), '"""', f"function {k.name}({args})"]
@@ -803,7 +834,7 @@ def julia_scalar(k: ScalarKernel) -> str:
 
 def octave_scalar(k: ScalarKernel) -> str:
     """One Octave/MATLAB function file (element-wise operators: broadcasts over arrays)."""
-    P = _printers()["octave"]
+    P = _printer("octave")
     replacements, reduced = _cse(k)
     outs = ", ".join(k.output_names)
     lines = [f"function [{outs}] = {k.name}({', '.join(str(a) for a in k.args)})"]
