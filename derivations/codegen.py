@@ -314,8 +314,6 @@ def _sub_pre_shared(e, shared: dict | None = None):
     replacement, whose rule sends every such sum ``a`` (with ``-a`` not a product) to ``-1·(-a)``
     whichever output it occurs in, so the replacement of a subexpression is the same in all of
     them. The second replacement depends on the output's own sums and is not shared."""
-    from sympy.core.sorting import default_sort_key
-
     shared = {} if shared is None else shared
     minus = shared.setdefault("minus", {})
     first = shared.setdefault("first", {})
@@ -342,7 +340,9 @@ def _sub_pre_shared(e, shared: dict | None = None):
     # e.g. y - x -> 1*-1*(x - y)
     if isinstance(e, sp.Basic):
         negs = {}
-        for a in sorted((n for n in _distinct_nodes(e) if isinstance(n, sp.Add)), key=default_sort_key):
+        # SymPy visits the sums in default_sort_key order; the rule is a dict read node by node by
+        # xreplace, each sum one key: the order changes nothing and its sort keys are not computed
+        for a in (n for n in _distinct_nodes(e) if isinstance(n, sp.Add)):
             if a in ignore:
                 continue
             if a in reps:
