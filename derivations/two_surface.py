@@ -1001,13 +1001,25 @@ def _floored_det_m(outs, m00, m01, m11):
     """
     det = m00 * m11 - m01**2
     d = sp.Symbol("det_M_floored", positive=True)
-    subbed = [o.subs(det, d) for o in outs]
-    from .codegen import _has_any
+    from .codegen import _distinct_nodes, _has_any, _xreplace_shared
 
+    # o.subs(det, d) is the replacement of every node det (and -det) when no other sum holds det's
+    # terms or their negatives among others (Add._eval_subs matches those as well; Mul, Pow, the
+    # functions and the conditions rebuild their arguments, Piecewise and And drop what becomes
+    # False or follows a True as their construction does): checked, else subs itself. One
+    # replacement shared by the outputs, which repeat each other's subexpressions (issue 15)
+    terms = [set(det.args), set((-det).args)]
+    nodes = set().union(*(_distinct_nodes(sp.sympify(o)) for o in outs))
+    if any(isinstance(n, sp.Add) and n not in (det, -det) and any(t <= set(n.args) for t in terms) for n in nodes):
+        subbed = [o.subs(det, d) for o in outs]
+    else:
+        memo: dict = {}
+        subbed = [_xreplace_shared(sp.sympify(o), {det: d, -det: -d}, memo) for o in outs]
     if any(_has_any(s, [m00 * m11]) for s in subbed):
         raise DerivationError("derivation check failed: det M occurs in a form the floor does not reach")
     floor = DET_M_FLOOR * m00 * m11
-    return [s.xreplace({d: sp.Max(det, floor)}) for s in subbed]  # a fresh symbol: xreplace is subs
+    back: dict = {}
+    return [_xreplace_shared(s, {d: sp.Max(det, floor)}, back) for s in subbed]  # a fresh symbol: xreplace is subs
 
 
 def kernels() -> list:
