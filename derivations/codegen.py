@@ -85,6 +85,22 @@ class _SharedTermOrder:
             hit = _ORDERED_TERMS[key] = tuple(expr.as_ordered_terms(order=order))
         return list(hit)
 
+    def _handle_UnevaluatedExpr(self, expr):
+        """``CodePrinter.doprint``'s first step, ``expr.replace(re, ...)``, which returns ``expr`` itself
+        when no node is an ``re``: that is decided once per expression for all printers (the stock
+        ``replace`` walks the whole tree, repeated subexpressions and all, in each of seven languages)."""
+        if isinstance(expr, sp.Basic):
+            no_re = _NO_RE.get(expr)
+            if no_re is None:
+                no_re = _NO_RE[expr] = not any(isinstance(n, sp.re) for n in _distinct_nodes(expr))
+            if no_re:
+                return expr
+        return super()._handle_UnevaluatedExpr(expr)
+
+
+#: expression -> whether it has no ``re`` node (:meth:`_SharedTermOrder._handle_UnevaluatedExpr`)
+_NO_RE: dict = {}
+
 
 class _Printer(_SharedTermOrder, NumPyPrinter):
     """NumPy printer with a fixed module alias, so output is deterministic and short."""
@@ -233,6 +249,31 @@ def _distinct_nodes(expr) -> list:
     return list(seen)
 
 
+def _has_any(expr, patterns) -> bool:
+    """``any(expr.has(p) for p in patterns)`` for expression patterns, each distinct subexpression
+    of ``expr`` visited once (SymPy 1.14's ``Basic._has`` walks the whole tree, repetitions and all,
+    for each pattern): a node equal to a pattern, or matching its ``_has_matcher`` (a sum holding a
+    pattern's terms among others).
+
+    >>> x, y, z = sp.symbols("x y z")
+    >>> e = sp.sqrt(x + y + z) * sp.sin(x + y + z) + (x + y + z)**2
+    >>> [_has_any(e, ps) == any(e.has(p) for p in ps) for ps in ([x + y], [y * z], [x + 1, 2 * y])]
+    [True, True, True]
+    """
+    patterns = [sp.sympify(p) for p in patterns]
+    if not isinstance(expr, sp.Basic) or any(isinstance(p, type) for p in patterns):
+        return any(expr.has(p) for p in patterns)
+    nodes = set(_distinct_nodes(expr))
+    if any(p in nodes for p in patterns):
+        return True
+    for p in patterns:
+        if hasattr(p, "_has_matcher"):
+            match = p._has_matcher()
+            if any(match(n) for n in nodes):
+                return True
+    return False
+
+
 def _xreplace_shared(expr, rule: dict, memo: dict | None = None):
     """``expr.xreplace(rule)``, each distinct subexpression visited once (SymPy 1.14's
     ``Basic._xreplace``, with a memo: a node is rebuilt when a rule matched inside it). A ``memo``
@@ -273,8 +314,6 @@ def _sub_pre_shared(e, shared: dict | None = None):
     replacement, whose rule sends every such sum ``a`` (with ``-a`` not a product) to ``-1·(-a)``
     whichever output it occurs in, so the replacement of a subexpression is the same in all of
     them. The second replacement depends on the output's own sums and is not shared."""
-    from sympy.core.sorting import default_sort_key
-
     shared = {} if shared is None else shared
     minus = shared.setdefault("minus", {})
     first = shared.setdefault("first", {})
@@ -301,7 +340,9 @@ def _sub_pre_shared(e, shared: dict | None = None):
     # e.g. y - x -> 1*-1*(x - y)
     if isinstance(e, sp.Basic):
         negs = {}
-        for a in sorted((n for n in _distinct_nodes(e) if isinstance(n, sp.Add)), key=default_sort_key):
+        # SymPy visits the sums in default_sort_key order; the rule is a dict read node by node by
+        # xreplace, each sum one key: the order changes nothing and its sort keys are not computed
+        for a in (n for n in _distinct_nodes(e) if isinstance(n, sp.Add)):
             if a in ignore:
                 continue
             if a in reps:
@@ -362,7 +403,7 @@ def _printed(k: ScalarKernel, lang: str):
     if hit is not None and hit[0] is k:
         return hit[1]
     replacements, reduced = _cse(k)
-    doprint = numpy_code if lang == "numpy" else _printers()[lang].doprint
+    doprint = numpy_code if lang == "numpy" else _printer(lang).doprint
     out = ([(sym, doprint(expr)) for sym, expr in replacements], [doprint(e) for e in reduced])
     _PRINTED[(id(k), lang)] = (k, out)
     return out
@@ -650,25 +691,68 @@ class _JuliaPrinter(_SharedTermOrder, JuliaCodePrinter):
     """SymPy's Julia printer, sorting each sum's terms once (:class:`_SharedTermOrder`)."""
 
 
-def _printers():
-    return {
-        "c": _CPrinter(),
-        "julia": _JuliaPrinter({"inline": True}),
-        "octave": _OctavePrinter(),
-        "fortran": _FortranPrinter(),
-        "rust": _RustPrinter(),
-        "python": _PythonPrinter(),
-    }
+#: language -> a fresh printer of it
+_PRINTER_MAKERS = {
+    "c": _CPrinter,
+    "julia": lambda: _JuliaPrinter({"inline": True}),
+    "octave": _OctavePrinter,
+    "fortran": _FortranPrinter,
+    "rust": _RustPrinter,
+    "python": _PythonPrinter,
+}
+
+
+def _printer(lang: str):
+    """A fresh printer of one language (building all six for one was ~0.5 ms, the C printer's
+    macros most of it)."""
+    return _PRINTER_MAKERS[lang]()
 
 
 def _doc_lines(k) -> list[str]:
     return [ln.rstrip() for ln in textwrap.dedent(k.doc).strip("\n").splitlines()] or [k.name]
 
 
+def _free_symbols_shared(expr, memo: dict) -> set:
+    """``expr.free_symbols``, computed once per distinct subexpression (``Basic.free_symbols`` is
+    the union over the arguments, recomputed at every repetition of a subexpression: a quarter
+    of printing the C and Rust forms). A node whose class defines its own ``free_symbols``
+    (``Symbol``, and bound variables: ``Integral``, ``Lambda``, ...) is asked directly.
+
+    >>> x, y = sp.symbols("x y")
+    >>> e = sp.Piecewise((sp.sin(x) * (x + y), x > 0), (sp.Integral(x * y, x), True))
+    >>> _free_symbols_shared(e, {}) == e.free_symbols
+    True
+    """
+    standard = sp.Basic.__dict__["free_symbols"]
+    stack = [(expr, False)]
+    while stack:
+        node, done = stack.pop()
+        if node in memo:
+            continue
+        if done or type(node).free_symbols is not standard or not node.args:
+            if type(node).free_symbols is standard:
+                memo[node] = set().union(*(memo[a] for a in node.args))
+            else:
+                memo[node] = node.free_symbols
+            continue
+        stack.append((node, True))
+        stack.extend((a, False) for a in node.args if a not in memo)
+    return memo[expr]
+
+
+_USED_ARGS: dict = {}
+
+
 def _used_args(k: ScalarKernel) -> set:
-    used = set()
+    """The names of the kernel's arguments its outputs use (once per kernel object: the C and the
+    Rust forms both ask)."""
+    hit = _USED_ARGS.get(id(k))
+    if hit is not None and hit[0] is k:
+        return hit[1]
+    used, memo = set(), {}
     for e in k.outputs:
-        used |= {str(s) for s in sp.sympify(e).free_symbols}
+        used |= {str(s) for s in _free_symbols_shared(sp.sympify(e), memo)}
+    _USED_ARGS[id(k)] = (k, used)
     return used
 
 
@@ -734,7 +818,7 @@ def _flat(code: str) -> str:
 
 
 def julia_scalar(k: ScalarKernel) -> str:
-    P = _printers()["julia"]
+    P = _printer("julia")
     replacements, reduced = _cse(k)
     args = ", ".join(f"{a}={k.defaults[str(a)]!r}" if str(a) in k.defaults else str(a) for a in k.args)
     lines = ['"""', *_doc_lines(k), '"""', f"function {k.name}({args})"]
@@ -750,7 +834,7 @@ def julia_scalar(k: ScalarKernel) -> str:
 
 def octave_scalar(k: ScalarKernel) -> str:
     """One Octave/MATLAB function file (element-wise operators: broadcasts over arrays)."""
-    P = _printers()["octave"]
+    P = _printer("octave")
     replacements, reduced = _cse(k)
     outs = ", ".join(k.output_names)
     lines = [f"function [{outs}] = {k.name}({', '.join(str(a) for a in k.args)})"]
@@ -983,10 +1067,23 @@ def _srepr(expr) -> str:
     >>> _srepr(e) == sp.srepr(e)
     True
     """
-    expr = sp.sympify(expr)
-    if any(isinstance(n, sp.Float) for n in _distinct_nodes(expr)):
-        return sp.srepr(expr)
-    return _SharedReprPrinter().doprint(expr)
+    return _srepr_all([expr])[0]
+
+
+def _srepr_all(exprs) -> list:
+    """``[sympy.srepr(e) for e in exprs]``, each distinct subexpression of all of them printed once
+    (a kernel's outputs repeat each other's subexpressions), unless one of them has a ``Float``.
+
+    >>> x = sp.Symbol("x", positive=True)
+    >>> es = [sp.sqrt(x + 1) * (x + 1), sp.Piecewise((sp.sqrt(x + 1), x > 1), (x, True))]
+    >>> _srepr_all(es) == [sp.srepr(e) for e in es]
+    True
+    """
+    exprs = [sp.sympify(e) for e in exprs]
+    if any(isinstance(n, sp.Float) for e in exprs for n in _distinct_nodes(e)):
+        return [sp.srepr(e) for e in exprs]
+    printer = _SharedReprPrinter()
+    return [printer.doprint(e) for e in exprs]
 
 
 def catalog_entry(family: str, derivation: str, k) -> dict:
@@ -1004,7 +1101,7 @@ def catalog_entry(family: str, derivation: str, k) -> dict:
         "code": {lang: kernel_code(k, lang) for lang in LANGUAGES},
         # the exact formulas (srepr keeps assumptions): references evaluate these, not the code
         "sympy": {"args": [sp.srepr(a) for a in k.args],
-                  "outputs": [_srepr(o) for o in (k.exact_outputs or k.outputs)]}
+                  "outputs": _srepr_all(k.exact_outputs or k.outputs)}
         if scalar else None,
     }
     return entry

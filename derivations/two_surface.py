@@ -1001,11 +1001,25 @@ def _floored_det_m(outs, m00, m01, m11):
     """
     det = m00 * m11 - m01**2
     d = sp.Symbol("det_M_floored", positive=True)
-    subbed = [o.subs(det, d) for o in outs]
-    if any(s.has(m00 * m11) for s in subbed):
+    from .codegen import _distinct_nodes, _has_any, _xreplace_shared
+
+    # o.subs(det, d) is the replacement of every node det (and -det) when no other sum holds det's
+    # terms or their negatives among others (Add._eval_subs matches those as well; Mul, Pow, the
+    # functions and the conditions rebuild their arguments, Piecewise and And drop what becomes
+    # False or follows a True as their construction does): checked, else subs itself. One
+    # replacement shared by the outputs, which repeat each other's subexpressions (issue 15)
+    terms = [set(det.args), set((-det).args)]
+    nodes = set().union(*(_distinct_nodes(sp.sympify(o)) for o in outs))
+    if any(isinstance(n, sp.Add) and n not in (det, -det) and any(t <= set(n.args) for t in terms) for n in nodes):
+        subbed = [o.subs(det, d) for o in outs]
+    else:
+        memo: dict = {}
+        subbed = [_xreplace_shared(sp.sympify(o), {det: d, -det: -d}, memo) for o in outs]
+    if any(_has_any(s, [m00 * m11]) for s in subbed):
         raise DerivationError("derivation check failed: det M occurs in a form the floor does not reach")
     floor = DET_M_FLOOR * m00 * m11
-    return [s.xreplace({d: sp.Max(det, floor)}) for s in subbed]  # a fresh symbol: xreplace is subs
+    back: dict = {}
+    return [_xreplace_shared(s, {d: sp.Max(det, floor)}, back) for s in subbed]  # a fresh symbol: xreplace is subs
 
 
 def kernels() -> list:
@@ -1149,16 +1163,19 @@ def kernels() -> list:
     factored_forms = {quad: qsym, -quad: -qsym, lin[0]: lsym[0], -lin[0]: -lsym[0], lin[1]: lsym[1],
                       -lin[1]: -lsym[1], delta_gram: dsym, -delta_gram: -dsym}
 
+    from .codegen import _has_any
+
     def _factored(expr):
         # the stable forms by one xreplace of each form and its negative (what subs does at a node equal
         # to them); subs differs from it only at a sum holding the terms of one (or of its negative)
         # among others, which has() finds (it matches such sums): then the three subs in a row, as
         # before (srepr-identical on all 36 forms, 0.40 -> 0.13 s with a cold SymPy cache)
+        # (has: once per distinct subexpression, _has_any)
         got = expr.xreplace(factored_forms)
-        if any(got.has(f) for f in factored_forms):
+        if _has_any(got, factored_forms):
             got = expr.subs(quad, qsym).subs({lin[0]: lsym[0], lin[1]: lsym[1]}).subs(delta_gram, dsym)
         expr = got
-        if not (not expr.has(delta_gram) and not expr.has(quad)):
+        if _has_any(expr, (delta_gram, quad)):
             raise DerivationError('derivation check failed: not expr.has(sa * sb - gg**2) and not expr.has(quad)')
         # symbols by expressions free of every key: one simultaneous replacement (xreplace) gives
         # the two subs in a row (the generated kernels are byte-identical: tests/test_codegen_sync)
