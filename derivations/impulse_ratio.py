@@ -100,7 +100,8 @@ def _p1_coefficients(balance, p1):
     derivation's time). ``Poly`` writes a coefficient as the polynomial of its domain, i.e. as the
     expanded sum of its terms, exactly this sum, unless the domain is a fraction field (a symbol in
     a denominator: ``(α² − α + 1)/m`` for symbolic masses, which it puts over one denominator) or
-    a term is not a monomial in ``p₁`` of degree ≤ 2: then ``Poly`` itself is asked.
+    a term is not a monomial in ``p₁`` of degree ≤ 2, or a Float occurs (domain ``RR``): then
+    ``Poly`` itself is asked.
 
     >>> p, a, m = sp.symbols("p_1 alpha m")
     >>> _p1_coefficients(sp.expand(a * p**2 / 2 + p * (a - 1) + 3), p)
@@ -108,14 +109,18 @@ def _p1_coefficients(balance, p1):
     >>> _p1_coefficients(sp.expand((a**2 - a + 1) * p**2 / m - p), p)
     ((alpha**2 - alpha + 1)/m, -1, 0)
     """
-    parts: dict = {0: [], 1: [], 2: []}
-    for term in sp.Add.make_args(balance):
+    # a Float makes Poly's domain RR (its own precision): Poly decides then
+    parts: dict | None = None if balance.has(sp.Float) else {0: [], 1: [], 2: []}
+    for term in sp.Add.make_args(balance) if parts is not None else ():
         c, mono = term.as_independent(p1, as_Add=False)
         k = 0 if mono == 1 else 1 if mono == p1 else 2 if mono == p1**2 else None
         if k is None or c.has(p1) or any(d.free_symbols for d in (sp.fraction(f)[1] for f in sp.Mul.make_args(c))):
-            poly = sp.Poly(balance, p1)
-            return tuple(poly.coeff_monomial(p1**k) for k in (2, 1, 0))
+            parts = None
+            break
         parts[k].append(c)
+    if parts is None:
+        poly = sp.Poly(balance, p1)
+        return tuple(poly.coeff_monomial(p1**k) for k in (2, 1, 0))
     return tuple(sp.Add(*parts[k]) for k in (2, 1, 0))
 
 
