@@ -77,8 +77,7 @@ def general_quadratic(M, H, v, e, alphas, *, simplified: bool = True) -> Quadrat
     vplus_of_p1 = v + p1 * w
     T_minus = (v.T * M * v)[0, 0] / 2
     balance = sp.expand((vplus_of_p1.T * M * vplus_of_p1)[0, 0] / 2 - e * T_minus)
-    poly = sp.Poly(balance, p1)
-    A, B, C = ((simplify if simplified else sp.sympify)(poly.coeff_monomial(p1**k)) for k in (2, 1, 0))
+    A, B, C = ((simplify if simplified else sp.sympify)(x) for x in _p1_coefficients(balance, p1))
     # identification with the closed forms stated in the docstring (checked, not assumed)
     if not (is_zero(A - (r.T * w)[0, 0] / 2)):
         raise DerivationError('derivation check failed: sp.simplify(A - (r.T * w)[0, 0] / 2) == 0')
@@ -90,6 +89,39 @@ def general_quadratic(M, H, v, e, alphas, *, simplified: bool = True) -> Quadrat
     root = (-B + sp.sqrt(D)) / (2 * A)
     other = (-B - sp.sqrt(D)) / (2 * A)
     return QuadraticLaw(A, B, C, D, a, root, other, root * a, v + root * w)
+
+
+def _p1_coefficients(balance, p1):
+    """The coefficients of ``p₁²``, ``p₁``, ``1`` in the expanded ``balance``, as
+    ``sympy.Poly(balance, p1).coeff_monomial`` gives them.
+
+    Read off the expanded sum term by term (each term is ``c·p₁ᵏ``, ``c`` free of ``p₁``), which
+    spares ``Poly``'s construction of a coefficient domain (about 10 ms a scene, half of the
+    derivation's time). ``Poly`` writes a coefficient as the polynomial of its domain, i.e. as the
+    expanded sum of its terms, exactly this sum, unless the domain is a fraction field (a symbol in
+    a denominator: ``(α² − α + 1)/m`` for symbolic masses, which it puts over one denominator) or
+    a term is not a monomial in ``p₁`` of degree ≤ 2, or a Float occurs (domain ``RR``): then
+    ``Poly`` itself is asked.
+
+    >>> p, a, m = sp.symbols("p_1 alpha m")
+    >>> _p1_coefficients(sp.expand(a * p**2 / 2 + p * (a - 1) + 3), p)
+    (alpha/2, alpha - 1, 3)
+    >>> _p1_coefficients(sp.expand((a**2 - a + 1) * p**2 / m - p), p)
+    ((alpha**2 - alpha + 1)/m, -1, 0)
+    """
+    # a Float makes Poly's domain RR (its own precision): Poly decides then
+    parts: dict | None = None if balance.has(sp.Float) else {0: [], 1: [], 2: []}
+    for term in sp.Add.make_args(balance) if parts is not None else ():
+        c, mono = term.as_independent(p1, as_Add=False)
+        k = 0 if mono == 1 else 1 if mono == p1 else 2 if mono == p1**2 else None
+        if k is None or c.has(p1) or any(d.free_symbols for d in (sp.fraction(f)[1] for f in sp.Mul.make_args(c))):
+            parts = None
+            break
+        parts[k].append(c)
+    if parts is None:
+        poly = sp.Poly(balance, p1)
+        return tuple(poly.coeff_monomial(p1**k) for k in (2, 1, 0))
+    return tuple(sp.Add(*parts[k]) for k in (2, 1, 0))
 
 
 def on_energy_line(law: QuadraticLaw, M, v, e) -> QuadraticLaw:

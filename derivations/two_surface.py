@@ -561,31 +561,34 @@ def reachable_arc_lengths(beta_over_pi, iterations: int) -> list:
     >>> reachable_arc_lengths(sp.Rational(1, 5), 4)
     [pi/5, 2*pi/5, 4*pi/5, 6*pi/5, 8*pi/5]
     """
-    b = sp.Rational(beta_over_pi) * sp.pi
+    # every endpoint is a rational multiple of π (reflections in the lines at angles 0 and β):
+    # the arcs are computed in units of π, with exact rational comparisons (SymPy's Min and Max of
+    # multiples of π compare them numerically, 1-2 ms each), and returned as multiples of π
+    b = sp.Rational(beta_over_pi)
     lo, hi = sp.Integer(0), b
     out = [hi - lo]
     mirror = [sp.Integer(0), b]  # line angles of A and B
     for k in range(iterations):
         a = mirror[k % 2]
-        if hi - lo >= 2 * sp.pi:
-            out.append(2 * sp.pi)
+        if hi - lo >= 2:
+            out.append(sp.Integer(2))
             continue
         # the reflected arc [2a - hi, 2a - lo]; the arc contains the mirror point a (it always
         # does: it contains [0, beta]), so the union is [min, max]
         if not (lo <= a <= hi):
             raise DerivationError('derivation check failed: lo <= a <= hi')
-        nlo, nhi = sp.Min(lo, 2 * a - hi), sp.Max(hi, 2 * a - lo)
+        nlo, nhi = min(lo, 2 * a - hi), max(hi, 2 * a - lo)
         plus, minus = hi - a, a - lo  # the two sides of the mirror inside the arc
-        if not (sp.simplify((nhi - nlo) - 2 * sp.Max(plus, minus)) == 0):  # S_u = 2 max(S+, S-)
-            raise DerivationError('derivation check failed: sp.simplify((nhi - nlo) - 2 * sp.Max(plus, minus)) == 0')
+        if not ((nhi - nlo) - 2 * max(plus, minus) == 0):  # S_u = 2 max(S+, S-)
+            raise DerivationError('derivation check failed: (nhi - nlo) - 2 * max(plus, minus) == 0')
         if k >= 1:  # the paper's S_u^+ = S_v + S_0, S_u^- = S_v - S_0 (S_v = S/2, S_0 = beta)
             half = (hi - lo) / 2
-            big, small = sp.Max(plus, minus), sp.Min(plus, minus)
-            if not (sp.simplify(big - (half + b)) == 0 and sp.simplify(small - (half - b)) == 0):
-                raise DerivationError('derivation check failed: sp.simplify(big - (half + b)) == 0 and sp.simplify(small - (half - b)) == 0')
+            big, small = max(plus, minus), min(plus, minus)
+            if not (big - (half + b) == 0 and small - (half - b) == 0):
+                raise DerivationError('derivation check failed: big - (half + b) == 0 and small - (half - b) == 0')
         lo, hi = nlo, nhi
-        out.append(sp.Min(hi - lo, 2 * sp.pi))
-    return out
+        out.append(min(hi - lo, sp.Integer(2)))
+    return [x * sp.pi for x in out]
 
 
 def area_step_counterexample() -> dict:

@@ -7,8 +7,9 @@ cleared (the paper checks' mutation tests clear every cache of impactsym between
 
 The memo calls SymPy alone (``paper_checks.mutations.clear_caches`` keeps it, marked
 ``sympy_only``): no function of impactsym runs inside it, so it never holds a value that a mutated
-function computed (a mutant's expression is another key). Unhashable arguments (mutable matrices)
-are simplified directly.
+function computed (a mutant's expression is another key). A dense mutable matrix is remembered as
+its immutable copy (``simplify`` would sympify it so); other unhashable arguments are simplified
+directly.
 
 >>> import sympy as sp
 >>> t = sp.Symbol("t")
@@ -26,7 +27,12 @@ __all__ = ["simplify_remembered", "solveset_remembered", "solve_remembered"]
 
 
 def simplify_remembered(expr, **kwargs):
-    """``sympy.simplify(expr, **kwargs)``, remembered per (immutable) expression and options."""
+    """``sympy.simplify(expr, **kwargs)``, remembered per (immutable) expression and options. A
+    mutable matrix is remembered as its immutable copy: ``simplify`` sympifies its argument, so it
+    simplifies that copy and returns an immutable matrix either way (the M-normals of
+    :func:`impactsym.mechanics.m_normal`, simplified again on every call otherwise)."""
+    if type(expr) is sp.MutableDenseMatrix:
+        expr = sp.ImmutableDenseMatrix(expr)
     try:
         return _simplify_cached(expr, **kwargs)
     except TypeError as exc:

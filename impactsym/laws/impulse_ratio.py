@@ -392,18 +392,13 @@ def _tidy(x):
     return tidy(x)  # remembered (impactsym.laws.delassus.tidy)
 
 
-@lru_cache(maxsize=1024)
-def _simplify_remembered(x):
-    return sp.simplify(x)
-
-
 def _simplify(x):
-    """``sp.simplify``, remembered like :func:`impactsym.laws.delassus.tidy` (a pure function of an
-    immutable expression: every ``(α, e)`` on one scene has the same ``T⁻``)."""
-    try:
-        return _simplify_remembered(x)
-    except TypeError:  # not hashable: computed afresh
-        return sp.simplify(x)
+    """``sp.simplify``, remembered (every ``(α, e)`` on one scene has the same ``T⁻``) in the one
+    memo of SymPy's simplify (:func:`impactsym.arithmetic.remembered.simplify_remembered`: kept
+    across the paper checks' mutation tests, which cleared a memo of this module's own)."""
+    from ..arithmetic.remembered import simplify_remembered
+
+    return simplify_remembered(x)
 
 
 def _show(x) -> str:

@@ -246,7 +246,10 @@ def _pool_gradients(theta, third_contact: bool, constraint: str, a) -> sp.Immuta
     for (i, j), h in zip(pairs, hs):
         # a contact's gradient wrt ball j is minus its gradient wrt ball i (h depends on the
         # difference of the two positions only): each such pair is simplified once
-        raw = [sp.diff(h, qj).subs(at) for qj in q]
+        # the positions are put in by xreplace (one simultaneous replacement of the six symbols,
+        # each entry rebuilt once; subs replaced them one after another, half again the time): the
+        # same entries (checked on every pool of the test suite)
+        raw = [sp.diff(h, qj).xreplace(at) for qj in q]
         if constraint == "distance" and isinstance(theta, sp.Symbol):
             # the distance at contact, ‖G_j − G_i‖² at the positions, is a polynomial in cos θ, sin θ:
             # sin²θ = 1 − cos²θ writes it as a number when it is one (4a² for 1–2), and the
