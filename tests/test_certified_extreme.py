@@ -348,6 +348,22 @@ def test_sequential_rejects_a_wrong_selection():
         seq._verify_selected(system, (sp.Matrix([1, 3]),), "energy")
 
 
+
+def test_a_rational_selection_on_algebraic_data_is_verified():
+    """A rational selected velocity of a system with an irrational mass is checked on balls with an
+    impulse solved exactly in the field (it raised "must come with its impulse" before, a traceback
+    on the CLI); a wrong selection fails energy or momentum."""
+    system = seq._ExactSystem(sp.Matrix([[1, 0], [0, sp.sqrt(2)]]), sp.eye(2), sp.Matrix([-1, -1]))
+    assert system.F is seq._Algebraic
+    assert seq._verify_selected(system, (sp.Matrix([0, 0]),), "cone") == (None,)
+    seq._verify_selected(system, (sp.Matrix([1, 1]),), "energy")
+    with pytest.raises(VerificationError, match="kinetic energy"):
+        seq._verify_selected(system, (sp.Matrix([1, 0]),), "energy")
+    rank_one = seq._ExactSystem(sp.Matrix([[1, 0], [0, sp.sqrt(2)]]), sp.Matrix([[1, 0]]), sp.Matrix([-1, -1]))
+    with pytest.raises(VerificationError, match="row space"):
+        seq._verify_selected(rank_one, (sp.Matrix([0, 0]),), "cone")
+    seq._verify_selected(rank_one, (sp.Matrix([0, -1]),), "cone")
+
 # --------------------------------------------------------------------------- law-level limits
 def test_iterate_path_refuses_up_front_when_the_count_exceeds_the_cap():
     from impactsym.errors import NonTermination

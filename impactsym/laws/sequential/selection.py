@@ -10,7 +10,7 @@ import math
 import numpy as np
 
 from ...arithmetic import certified_sign, compare_surds, rational_sqrt
-from ...errors import DomainError
+from ...errors import DomainError, VerificationError
 from .common import _Algebraic, _Rational, _dot, _independent, _matvec, _minner, _rank, _rref, _solve_columns
 
 # SymPy and mpmath are imported on first use: the float path (and rational data) runs without them
@@ -421,6 +421,16 @@ def _verify_selected(system, selected, reading, outcomes=(), raw=False):
                 p = next((q for v, q in outcomes if list(v) == exact_vel), None)
             if p is not None:
                 system.verify("sequential (selection)", exact_vel, p, "equal" if reading == "energy" else None)
+            elif F is not _Rational:
+                # algebraic data: verify_exact checks on balls, which needs an impulse; M(v − v0) = Hᵀq
+                # is solved exactly in the field (no solution: the momentum check fails). With H of
+                # lower rank q is one of many, so its sign is not read (nor is the row-space test's)
+                jump = _matvec(system.M, [F.norm(a - b) for a, b in zip(exact_vel, system.v0)], F)
+                solved = _solve_columns(system.H, jump, F)
+                if solved is None:
+                    raise VerificationError("sequential (selection)", "momentum: M(v+ - v) is not in the row space of H^T")
+                verify_exact("sequential (selection)", system.M, system.H, list(system.v0), exact_vel, solved[0],
+                             energy_ratio=1 if reading == "energy" else None, impulse_nonnegative=False)
             else:
                 verify_exact("sequential (selection)", system.M, system.H, list(system.v0), exact_vel, None,
                              energy_ratio=1 if reading == "energy" else None)
