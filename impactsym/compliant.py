@@ -683,27 +683,40 @@ def compliant_impact(M, H, v, stiffness, exponent=1.5, damping=None, *, hunt_cro
     few = k <= 24
     Kl, Cl, Dl = K.tolist(), C.tolist(), D.tolist()
     unit_k = all(x == 1.0 for x in Kl)
+    ones_l = [1.0] * k
 
     def masked_force(dl, ppl, pml, wl):
         # rhs's masked force for a few contacts as Python floats, contact by contact: the same IEEE
         # products and sums in the formula's order (δ⁺ is δ where δ > 0; a bool δ > 0 multiplies as
         # 1.0), +0.0 where δ <= 0 (or NaN); None where np.maximum(ff, 0.0) is not read off the sign
-        # of ff (a zero, whose sign np.maximum's loops may pick either way, or a NaN): NumPy's path
+        # of ff (a zero, whose sign np.maximum's loops may pick either way, or a NaN): NumPy's path.
+        # One loop over zipped lists per kind (no indexing, no comprehension)
         fl = []
-        for j, dj in enumerate(dl):
-            if dj > 0.0:
-                if hc:
-                    ff = Kl[j] * ppl[j] * (1.0 + Dl[j] * -wl[j])
+        fa = fl.append
+        if hc:
+            for dj, x, pj, c, wj in zip(dl, Kl, ppl, Dl, wl):
+                if dj > 0.0:
+                    ff = x * pj * (1.0 + c * -wj)
+                    if ff > 0.0:
+                        fa(ff)
+                    elif ff < 0.0:
+                        fa(0.0)
+                    else:
+                        return None
                 else:
-                    ff = Kl[j] * ppl[j] + Cl[j] * (pml[j] if not lin else 1.0) * -wl[j]
+                    fa(0.0)
+            return fl
+        for dj, x, pj, c, mj, wj in zip(dl, Kl, ppl, Cl, ones_l if lin else pml, wl):
+            if dj > 0.0:
+                ff = x * pj + c * mj * -wj
                 if ff > 0.0:
-                    fl.append(ff)
+                    fa(ff)
                 elif ff < 0.0:
-                    fl.append(0.0)
+                    fa(0.0)
                 else:
                     return None
             else:
-                fl.append(0.0)
+                fa(0.0)
         return fl
 
     def bind(y, out):
@@ -786,10 +799,21 @@ def compliant_impact(M, H, v, stiffness, exponent=1.5, damping=None, *, hunt_cro
         # of a zero, which only the signs read here do not see: 120000 random rows and states checked)
         gl = Hf.dot(y[:n]).tolist()
         wl = Hf.dot(y[n:2 * n]).tolist()
-        vals = [(a + b) / Lsc for a, b in zip(g0l, gl)]
-        vals += [w / V + SEPARATION_EPS for w in wl]
-        tot = sum(vals)
-        return min(vals) if tot == tot else stop(_t, y)
+        # (one loop: the smallest value, the first of equal ones as min() takes it; a NaN goes to stop)
+        m = inf
+        for a, b in zip(g0l, gl):
+            x = (a + b) / Lsc
+            if x < m:
+                m = x
+            elif x != x:
+                return stop(_t, y)
+        for w in wl:
+            x = w / V + SEPARATION_EPS
+            if x < m:
+                m = x
+            elif x != x:
+                return stop(_t, y)
+        return m
 
     def energy(y):
         q, qd = y[:n], y[n:2 * n]

@@ -381,6 +381,7 @@ def lzb_impact(M, H, v, stiffness, exponent=1.5, restitution=1.0, *, rtol: float
         drop.direction = -1
 
         eta_o1 = eta[others] + 1
+        idx_o, zero_o = n + np.flatnonzero(others), np.zeros(k - 1)
 
         def switch(_P, y, pp=pp, others=others):
             if k == 1:
@@ -400,7 +401,12 @@ def lzb_impact(M, H, v, stiffness, exponent=1.5, restitution=1.0, *, rtol: float
             if k == 1:
                 sw = -1.0 - SWITCH_FACTOR * Ey
             else:
-                Eo = (np.maximum(y[n:n + k][others], 0.0) ** eta_o1).tolist()
+                # the others' s by one take, then (s⁺)^(η+1) in place (np.maximum against zeros: the
+                # same values but for the sign of a zero, which the signs read here do not see)
+                so = y.take(idx_o)
+                np.maximum(so, zero_o, out=so)
+                np.power(so, eta_o1, out=so)
+                Eo = so.tolist()
                 tot = sum(Eo)
                 sw = (max(Eo) if tot == tot else tot) - SWITCH_FACTOR * Ey
             return [Ey - Eeps_e, sw, Ey - Ep_drop_e]
