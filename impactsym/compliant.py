@@ -324,9 +324,14 @@ def _dop853(fun, t0, t_bound, y0, rtol, atol, events, keep_states=True, into=Fal
             ts.append(t)
             ys.append(y)
         g_new = values(t, y)
-        active = [i for i, (a, b, d) in enumerate(zip(g, g_new, dirs))
-                  if (d > 0 and a <= 0 and b >= 0) or (d < 0 and a >= 0 and b <= 0)
-                  or (d == 0 and ((a <= 0 and b >= 0) or (a >= 0 and b <= 0)))]
+        # SciPy's find_active_events: up (a <= 0 <= b) for d > 0, down (a >= 0 >= b) for d < 0,
+        # either for d == 0; one plain loop (no comprehension to call at every step)
+        active = []
+        i = 0
+        for a, b, d in zip(g, g_new, dirs):
+            if (d >= 0 and a <= 0 and b >= 0) or (d <= 0 and a >= 0 and b <= 0):
+                active.append(i)
+            i += 1
         if active:
             # SciPy's dense output and event handling, on the solver's own state
             solver.t_old, solver.t, solver.y_old, solver.y, solver.f, solver.h_previous = t_old, t, y_old, y, f, h
