@@ -265,12 +265,28 @@ def lzb_impact(M, H, v, stiffness, exponent=1.5, restitution=1.0, *, rtol: float
             # for the primary and an inactive contact (s_j <= 0 and w_j >= 0, the same comparisons);
             # dE_p = −c_p w_p; f_j/f_p = (a_j s_j⁺^η_j)/f_p (pl: NumPy's powers of np.maximum's s⁺),
             # f_p/f_p for the primary; dt = 1/f_p
+            # (one loop, no comprehension: the primary's ds is computed and then replaced by its +0.0,
+            # a Python float product or quotient by the non-zero nfp never raises)
             nfp = -fp
-            ratio = [al[j] * pl[j] / fp for j in range(k)]
+            ds, ratio = [], []
+            dsa, ra = ds.append, ratio.append
+            if elastic:
+                for x, y, q, w, pj in zip(al, bl, sl, wl, pl):
+                    ra(x * pj / fp)
+                    dsa(0.0 if (q <= 0.0 and w >= 0.0) else w * y / nfp)
+                cwp = wl[pp]
+            else:
+                for x, y, c, q, w, pj in zip(al, bl, ie2, sl, wl, pl):
+                    ra(x * pj / fp)
+                    dsa(0.0 if (q <= 0.0 and w >= 0.0) else (c * w if w > 0.0 else 1.0 * w) * y / nfp)
+                w = wl[pp]
+                cwp = ie2[pp] * w if w > 0.0 else 1.0 * w
             ratio[pp] = fp / fp
-            cw = wl if elastic else [ie2[j] * w if w > 0.0 else 1.0 * w for j, w in enumerate(wl)]
-            ds = [0.0 if j == pp or (sl[j] <= 0.0 and wl[j] >= 0.0) else cw[j] * bl[j] / nfp for j in range(k)]
-            return ds + [-cw[pp]] + ratio + [1.0 / fp if track_time else 0.0]
+            ds[pp] = 0.0
+            ds.append(-cwp)
+            ds += ratio
+            ds.append(1.0 / fp if track_time else 0.0)
+            return ds
 
         def rhs(_P, y, out=None, pp=pp):
             # dv/dP_p = M⁻¹Hᵀ f/f_p, ds_j/dP_p = −c_j w_j b_j/f_p (0 for an inactive contact and the
@@ -326,18 +342,24 @@ def lzb_impact(M, H, v, stiffness, exponent=1.5, restitution=1.0, *, rtol: float
                 return None
             q, ss = y[:n], y[n:i_ep]
             o_v, o_tail, o_ratio = out[:n], out[n:], out[i_r:N - 1]
-            ww, pw = np.empty(k), np.empty(k)
+            # w, s⁺ and (s⁺)^η side by side, read by one tolist: s⁺ = np.maximum(s, 0) is <= 0 exactly
+            # where s is (a zero of either sign, or s <= 0 itself) and NaN where s is, so tail's test
+            # s_j <= 0 reads the same off s⁺ as off s
+            work = np.empty(3 * k)
+            ww, sp, pw = work[:k], work[k:2 * k], work[2 * k:]
+            maximum, power, item, k2 = np.maximum, np.power, y.item, 2 * k
 
             def stage():
-                fp = a_pp * max(y.item(i_ep), Eeps_f) ** expo_pp
+                fp = a_pp * max(item(i_ep), Eeps_f) ** expo_pp
                 if fp == 0.0:
                     rhs(None, y, out)
                     return
-                Hf.dot(q, out=ww)
-                np.maximum(ss, zero_k, out=pw)
-                np.power(pw, eta, out=pw)
-                o_tail[...] = tail(ww.tolist(), ss.tolist(), pw.tolist(), fp)
-                A.dot(o_ratio, out=o_v)
+                Hf.dot(q, ww)
+                maximum(ss, zero_k, out=sp)
+                power(sp, eta, out=pw)
+                wl = work.tolist()
+                o_tail[...] = tail(wl[:k], wl[k:k2], wl[k2:], fp)
+                A.dot(o_ratio, o_v)
 
             return stage
 
@@ -359,6 +381,7 @@ def lzb_impact(M, H, v, stiffness, exponent=1.5, restitution=1.0, *, rtol: float
         drop.direction = -1
 
         eta_o1 = eta[others] + 1
+        idx_o, zero_o = n + np.flatnonzero(others), np.zeros(k - 1)
 
         def switch(_P, y, pp=pp, others=others):
             if k == 1:
@@ -378,7 +401,12 @@ def lzb_impact(M, H, v, stiffness, exponent=1.5, restitution=1.0, *, rtol: float
             if k == 1:
                 sw = -1.0 - SWITCH_FACTOR * Ey
             else:
-                Eo = (np.maximum(y[n:n + k][others], 0.0) ** eta_o1).tolist()
+                # the others' s by one take, then (s⁺)^(η+1) in place (np.maximum against zeros: the
+                # same values but for the sign of a zero, which the signs read here do not see)
+                so = y.take(idx_o)
+                np.maximum(so, zero_o, out=so)
+                np.power(so, eta_o1, out=so)
+                Eo = so.tolist()
                 tot = sum(Eo)
                 sw = (max(Eo) if tot == tot else tot) - SWITCH_FACTOR * Ey
             return [Ey - Eeps_e, sw, Ey - Ep_drop_e]
