@@ -416,29 +416,25 @@ def lzb_impact(M, H, v, stiffness, exponent=1.5, restitution=1.0, *, rtol: float
         # one event per non-primary contact: a live one's s_j, a resting one's w_j = (H v)_j, each
         # falling through 0; an exact 0 reads 1.0 (a live contact starting from s_j = 0, a resting one
         # at w_j = 0), so that an event never fires at the point where its segment starts
-        watched = [(j, (n + j) if live[j] else -1) for j in range(k) if j != pp]
-        Hrows = [Hf[j].copy() for j in range(k)]
+        # (values below reads them by the same operations, so that both agree on every sign)
+        watched = [(j, n + j, None) if live[j] else (j, -1, Hf[j]) for j in range(k) if j != pp]
 
-        def contact_event(j, col):
-            if col >= 0:
+        def contact_event(col, row):
+            if row is None:
                 def release(_P, y):
-                    v = y.item(col)
-                    return v if v != 0.0 else 1.0
+                    x = y.item(col)
+                    return x if x != 0.0 else 1.0
                 ev = release
             else:
-                row = Hrows[j]
-
                 def activation(_P, y):
-                    v = float(row.dot(y[:n]))
-                    return v if v != 0.0 else 1.0
+                    x = float(row.dot(y[:n]))
+                    return x if x != 0.0 else 1.0
                 ev = activation
             ev.terminal = True
             ev.direction = -1
             return ev
 
-        contact_events = [contact_event(j, col) for j, col in watched]
-        rest_rows = [j for j, col in watched if col < 0]
-        Hrest = Hf[rest_rows] if rest_rows else None
+        contact_events = [contact_event(col, row) for _j, col, row in watched]
         Eeps_e, Ep_drop_e = float(Eeps), float(Ep_drop)
 
         def values(_P, y, others=others):
@@ -458,9 +454,9 @@ def lzb_impact(M, H, v, stiffness, exponent=1.5, restitution=1.0, *, rtol: float
                 tot = sum(Eo)
                 sw = (max(Eo) if tot == tot else tot) - SWITCH_FACTOR * Ey
             out = [Ey - Eeps_e, sw, Ey - Ep_drop_e]
-            wr = iter(Hrest.dot(y[:n]).tolist()) if Hrest is not None else None
-            for _j, col in watched:
-                x = y.item(col) if col >= 0 else next(wr)
+            q = y[:n]
+            for _j, col, row in watched:
+                x = y.item(col) if row is None else float(row.dot(q))
                 out.append(x if x != 0.0 else 1.0)
             return out
 
@@ -492,8 +488,8 @@ def lzb_impact(M, H, v, stiffness, exponent=1.5, restitution=1.0, *, rtol: float
         s[pp] = max(Ep, 0.0) ** (1 / (eta[pp] + 1))
         activated = -1
         if fired and fired[0] >= 3:
-            j, col = watched[fired[0] - 3]
-            if col >= 0:
+            j, _col, row = watched[fired[0] - 3]
+            if row is None:
                 s[j] = 0.0  # released: at rest from here while it separates
             else:
                 activated = j  # approaching: live from here
