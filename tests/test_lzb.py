@@ -20,7 +20,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from impactsym.compliant import chain_impact, chain_matrices, compliant_impact
+from impactsym.compliant import chain_impact, chain_matrices, compliant_impact, hunt_crossley_damping
 from impactsym.errors import ImpactInputError, NonTermination
 from impactsym.lzb import lzb_chain, lzb_impact
 
@@ -146,8 +146,41 @@ def test_lzb_ball_between_two_walls_comes_to_rest_geometrically():
     # begins to approach (its activation), and the one after it
     r = lzb_chain([1], [1], 1.0, restitution=0.5, walls=("left", "right"))
     assert abs(r.velocity[0]) < 1e-12 and 40 <= r.segments <= 3 * 41
-    with pytest.raises(NonTermination, match="max_segments = 50"):
+    with pytest.raises(NonTermination, match="max_segments = 50 segments$"):  # e = 1: no hint about e < 1
         lzb_chain([1], [1], 1.0, restitution=1.0, walls=("left", "right"), max_segments=50)
+
+
+#: a heavier ball pressing two light ones against a wall (found by a random sweep of chains with
+#: masses 10^U(-3, 3)): with these e < 1 LZB's primary switches back and forth for 2,281 segments
+#: (measured, about 4 s; 22 segments with e = 1), while the time-domain Hunt-Crossley law ends after
+#: 6 events (docs/compliant_termination.md, step 7)
+PRESSED = dict(masses=[0.1, 0.0012136698187731694, 0.019648917829882335],
+               stiffness=[1.5296872339242882, 0.941749639649623, 1.3681592501273514],
+               restitution=[0.6435555568226581, 0.5803994908858294, 0.8729976593078929])
+
+
+def test_lzb_a_run_past_max_segments_with_e_below_one_says_what_to_do():
+    m, K, e = PRESSED["masses"], PRESSED["stiffness"], PRESSED["restitution"]
+    with pytest.raises(NonTermination, match=r"max_segments = 60 segments; with restitution < 1 .*"
+                                             r"compliant_impact, --law hunt-crossley"):
+        lzb_chain(m, [1.0, 0, 0], K, restitution=e, walls=("right",), max_segments=60)
+    assert lzb_chain(m, [1.0, 0, 0], K, restitution=1.0, walls=("right",)).segments <= 60
+    M, H, _ = chain_matrices(m, walls=("right",))
+    D = [hunt_crossley_damping(x, 1.0) for x in e]
+    assert compliant_impact(M, H, [1.0, 0, 0], K, hunt_crossley=D).outcome == "separated"
+
+
+@pytest.mark.parametrize("scale", [1e-6, 1e-9])
+def test_lzb_does_not_depend_on_the_units(scale):
+    # masses and velocities times `scale` (impulses times scale²): the same outcome relative to V.
+    # SciPy locates event roots to an absolute 4·EPS in P_p, and with P_p ~ 1e-12 or 1e-18 the
+    # events were misplaced (v2+/V = 0.13202 and 0.10017 against 0.13186) before the segments were
+    # integrated in units of their own impulse scale (docs/compliant_termination.md, step 7)
+    ref = lzb_chain([1.0] * 3, [1.0, 0, 0], [1.0, 1.0], restitution=0.8)
+    r = lzb_chain([scale] * 3, [scale, 0, 0], [1.0, 1.0], restitution=0.8)
+    assert r.segments == ref.segments
+    assert np.allclose(r.velocity / scale, ref.velocity, rtol=0, atol=1e-9)
+    assert np.allclose(r.impulses / scale**2, ref.impulses, rtol=0, atol=1e-9)
 
 
 def test_lzb_light_primary_among_heavy_contacts_resolves():
