@@ -117,6 +117,8 @@ ENERGY_EPS = 1e-13
 SEPARATION_EPS = 1e-12
 #: switch the primary when another contact's energy exceeds SWITCH_FACTOR · E_p
 SWITCH_FACTOR = 1.5
+#: the pre-impact kinetic energies LZB takes: inside float64 with its energies' powers and squares
+ENERGY_RANGE = (1e-200, 1e200)
 #: start a new segment each time the primary's energy has fallen by this factor within one
 DROP_FACTOR = 1e-3
 
@@ -231,6 +233,14 @@ def lzb_impact(M, H, v, stiffness, exponent=1.5, restitution=1.0, *, rtol: float
     w0 = Hf @ v0
     if not np.any(w0 < 0):
         raise ImpactInputError("v", "no contact approaches ((H v)_i < 0 for none): there is no impact")
+    T_in = 0.5 * float(v0 @ Mf @ v0)
+    if not ENERGY_RANGE[0] <= T_in <= ENERGY_RANGE[1]:
+        # energies, impulses and their squares must stay inside float64 (with T⁻ ~ 1e±255 a run
+        # overflowed, divided by an underflowed zero or failed its own checks; at 1e±224 it still
+        # gave the outcome of the unit problem, relative to V, to 1e-11)
+        raise ImpactInputError("v", f"the kinetic energy T- = {T_in:.3g} is outside [{ENERGY_RANGE[0]:g}, "
+                                    f"{ENERGY_RANGE[1]:g}], where LZB's float64 integration works: rescale the units "
+                                    "(the outcome relative to the speeds does not depend on them)")
 
     A = np.linalg.solve(Mf, Hf.T)  # M⁻¹Hᵀ
     mu = 1.0 / np.einsum("ij,ji->i", Hf, A)
@@ -239,7 +249,7 @@ def lzb_impact(M, H, v, stiffness, exponent=1.5, restitution=1.0, *, rtol: float
     inv_e2 = 1.0 / e**2
     elastic = bool(np.all(inv_e2 == 1.0))
     V = float(np.max(-w0[w0 < 0]))
-    T0 = 0.5 * float(v0 @ Mf @ v0)
+    T0 = T_in
     Eeps = ENERGY_EPS * T0  # set again at every (re)start
     Pscale = float(np.max(mu)) * V
     Tsc = float(np.min((mu / (K * V ** (eta - 1))) ** (1 / (eta + 1))))  # contact time scale
@@ -516,7 +526,7 @@ def lzb_impact(M, H, v, stiffness, exponent=1.5, restitution=1.0, *, rtol: float
         # every larger scale integrates exactly as before
         # (the primary's impulse scale: what takes up its energy and its approach's kinetic energy)
         mu_p = float(mu[pp])
-        scale_P = math.sqrt(2.0 * mu_p * max(Ep, 0.0) + (mu_p * float(w[pp])) ** 2)
+        scale_P = math.hypot(math.sqrt(2.0 * mu_p) * math.sqrt(max(Ep, 0.0)), mu_p * float(w[pp]))  # no overflow
         unit = 1.0 if not 0.0 < scale_P < 2.0 ** -10 else 2.0 ** math.floor(math.log2(scale_P))
         fun, stage_of = rhs, bind
         if unit != 1.0:

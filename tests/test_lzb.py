@@ -170,7 +170,7 @@ def test_lzb_a_run_past_max_segments_with_e_below_one_says_what_to_do():
     assert compliant_impact(M, H, [1.0, 0, 0], K, hunt_crossley=D).outcome == "separated"
 
 
-@pytest.mark.parametrize("scale", [1e-6, 1e-9])
+@pytest.mark.parametrize("scale", [1e-6, 1e-9, 1e-60, 1e60])
 def test_lzb_does_not_depend_on_the_units(scale):
     # masses and velocities times `scale` (impulses times scale²): the same outcome relative to V.
     # SciPy locates event roots to an absolute 4·EPS in P_p, and with P_p ~ 1e-12 or 1e-18 the
@@ -181,6 +181,13 @@ def test_lzb_does_not_depend_on_the_units(scale):
     assert r.segments == ref.segments
     assert np.allclose(r.velocity / scale, ref.velocity, rtol=0, atol=1e-9)
     assert np.allclose(r.impulses / scale**2, ref.impulses, rtol=0, atol=1e-9)
+
+
+@pytest.mark.parametrize("scale", [1e-85, 1e85])
+def test_lzb_refuses_energies_beyond_its_float_range(scale):
+    # T- = 5e∓256: the run divided by an underflowed zero, overflowed, or failed its own checks
+    with pytest.raises(ImpactInputError, match=r"v: the kinetic energy T- = 5e[-+]?\d+ is outside \[1e-200, 1e\+200\]"):
+        lzb_chain([scale] * 3, [scale, 0, 0], [1.0, 1.0], restitution=0.8)
 
 
 def test_lzb_light_primary_among_heavy_contacts_resolves():
