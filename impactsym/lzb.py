@@ -196,7 +196,9 @@ def lzb_impact(M, H, v, stiffness, exponent=1.5, restitution=1.0, *, rtol: float
     ----------
     M : (n, n) symmetric positive definite mass matrix
     H : (k, n) rows of the closed contacts
-    v : (n,) pre-impact velocity
+    v : (n,) pre-impact velocity; its kinetic energy ``T⁻`` must lie in :data:`ENERGY_RANGE`
+        (``[1e-200, 1e200]``: inside float64 with the energies' powers and squares), else
+        ``ImpactInputError``; the outcome relative to the speeds does not depend on the units
     stiffness : ``K_i > 0`` per contact (or one number); only ratios matter
     exponent : ``η_i ≥ 1`` per contact (or one number), 3/2 for Hertz
     restitution : energetic coefficients ``e_i ∈ (0, 1]`` per contact (or one number)
