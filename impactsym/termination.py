@@ -494,7 +494,14 @@ def impulse_bounds(M, H, v, certificate: SeparationCertificate | None = None, *,
         bound = np.minimum(bound, 2 * np.sqrt(max(float(u @ Mf @ u), 0.0)) * np.sqrt(2 * T0) / Hu)
     W = Hf @ np.linalg.solve(Mf, Hf.T)
     if np.linalg.matrix_rank(W) == k:
-        bound = np.minimum(bound, 2 * np.sqrt(2 * T0 * np.maximum(np.diag(np.linalg.inv(W)), 0.0)))
+        d = np.maximum(np.diag(np.linalg.inv(W)), 0.0)
+        with np.errstate(over="ignore", under="ignore"):
+            q = 2 * T0 * d
+        # √(2T⁻ d) as one root while 2T⁻d is a normal float; as a product of roots where it would
+        # underflow (bodies of 1e-85 kg at 1e-85 m/s: 2T⁻d ~ 1e-340, a bound of 0 refused the run)
+        # or overflow (1e100: a bound of inf checked nothing)
+        normal = (q >= np.finfo(float).tiny) & np.isfinite(q)
+        bound = np.minimum(bound, 2 * np.where(normal, np.sqrt(q), np.sqrt(2 * T0) * np.sqrt(d)))
     return bound
 
 

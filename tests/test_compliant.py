@@ -366,3 +366,16 @@ def test_a_contact_that_never_acts_does_not_block_the_stop():
     r = compliant_impact(np.eye(3), [[-1.0, 1, 0], [0, 0, 1.0]], [1.0, 0, 0], 1.0)
     assert r.outcome == "separated" and r.events == 2
     assert close(r.velocity, [0, 1, 0], 1e-10)
+
+
+@pytest.mark.parametrize("scale", [1e-9, 1e-85, 1e-100, 1e100])
+def test_the_outcome_does_not_depend_on_the_units(scale):
+    # masses and velocity times `scale`: the same outcome relative to V (impulses times scale²). At
+    # 1e-85 the proved impulse bound √(2T⁻ (W⁻¹)_ii) underflowed to 0 (2T⁻(W⁻¹)_ii ~ 1e-340) and the
+    # run was refused by its own check
+    M, H, _ = chain_matrices([1.0] * 3)
+    ref = compliant_impact(M, H, [1.0, 0, 0], [1.0, 1.0])
+    M, H, _ = chain_matrices([scale] * 3)
+    r = compliant_impact(M, H, [scale, 0, 0], [1.0, 1.0])
+    assert np.allclose(r.velocity / scale, ref.velocity, rtol=0, atol=1e-10)
+    assert np.allclose(r.impulses / scale**2, ref.impulses, rtol=0, atol=1e-10)
