@@ -54,22 +54,23 @@ of ``E_p`` resolved the pinned case (``tests/test_lzb.py``) and 36 of 36 random 
 seeds of 12 chains: masses ``10^U(−3, 3)``, stiffnesses ``10^U(−2, 2)``, 5–7 balls, 0.2–4.7 s each
 on the shared machine).
 
-Termination (what is and is not proved; ``docs/compliant_termination.md``, step 7). The loop
-ends when, after a segment, every energy has been set to zero (the primary's energy fell below
+Termination (what is and is not proved; ``docs/compliant_termination.md``, step 7). The loop ends
+when, after a segment, every energy has been set to zero (the primary's energy fell below
 ``ENERGY_EPS · E⁰``: a truncation) and no contact approaches by more than ``SEPARATION_EPS · V``;
 ``max_segments`` caps it (``NonTermination``; with ``e < 1`` two light balls pressed between a
 heavier one and a wall take thousands of segments, where Hunt–Crossley in the time domain ends at
 once: docs/compliant_termination.md, step 7). A segment whose impulse scale is below ``2⁻¹⁰`` is
 integrated in ``P_p`` over a power of two near it (:func:`_in_units`), so that event roots are not
-lost to SciPy's absolute tolerance and the results do not depend on the units. The impulse bound of the compliant model holds here
-too (``M dv = Hᵀ dP`` with ``dP ≥ 0``, and ``T + Σ E_i`` never grows since ``c_j ≥ 1`` in
-expansion), so with a separating direction ``u`` the total impulse stays below
+lost to SciPy's absolute tolerance and the results do not depend on the units. The impulse bound of
+the compliant model holds here too (``M dv = Hᵀ dP`` with ``dP ≥ 0``, and ``T + Σ E_i`` never grows
+since ``c_j ≥ 1`` in expansion), so with a separating direction ``u`` the total impulse stays below
 ``2 ‖u‖_M √(2T⁻) / min (Hu)_i``; it is checked after every run
 (:func:`impactsym.termination.check_run`, with the momentum balance and the energy). No bound on
-the number of segments or restarts is proved: each restart is triggered by an approach left
-over from the previous segment, and nothing here shows that these stop; with ``e < 1`` on a ball
-between two walls the approach speed falls by the factor ``e`` per bounce, so the run ends after
-about ``log(1/SEPARATION_EPS) / log(1/e)`` restarts (120 segments and restarts in all, 40 wall impacts, at ``e = 1/2``, measured).
+the number of segments or restarts is proved: each restart is triggered by an approach left over
+from the previous segment, and nothing here shows that these stop; with ``e < 1`` on a ball between
+two walls the approach speed falls by the factor ``e`` per bounce, so the run ends after about
+``log(1/SEPARATION_EPS) / log(1/e)`` restarts (120 segments and restarts in all, 40 wall impacts,
+at ``e = 1/2``, measured).
 
 With every ``e_i = 1`` this is the time-domain compliant model of :mod:`impactsym.compliant`
 re-parametrized by ``P_p`` (``dt = dP_p / f_p``), except that contacts that open during the
