@@ -132,6 +132,9 @@ WALLS = ("left", "right")
 
 #: relative approach speed (in units of the largest initial one) treated as zero by the stopping test
 SEPARATION_EPS = 1e-12
+#: the pre-impact kinetic energies the compliant laws take: inside float64 with the products of
+#: the energy, the masses and the impulses that the run and its checks form
+ENERGY_RANGE = (1e-305, 1e300)
 
 
 @dataclass
@@ -521,7 +524,9 @@ def compliant_impact(M, H, v, stiffness, exponent=1.5, damping=None, *, hunt_cro
     ----------
     M : (n, n) symmetric positive definite mass matrix (SymPy matrices are converted to floats)
     H : (k, n) contact rows (``g = g⁰ + H q``); a wall is a row acting on one body only
-    v : (n,) pre-impact generalized velocity
+    v : (n,) pre-impact generalized velocity; its kinetic energy ``T⁻`` must lie in
+        :data:`ENERGY_RANGE` (``[1e-305, 1e300]``), else ``ImpactInputError``; the outcome relative to
+        the speeds does not depend on the units
     stiffness : ``K_i > 0``, one per contact (or one number for all)
     exponent : ``p_i ≥ 1`` per contact (or one number): 1.5 Hertz, 1 linear, any power
     damping : ``C_i ≥ 0`` of eq. 20 (``C δ^{p−1} δ̇``), per contact or one number (default 0)
@@ -579,6 +584,13 @@ def compliant_impact(M, H, v, stiffness, exponent=1.5, damping=None, *, hunt_cro
     w0 = Hf @ v0
     if not np.any(w0 < 0):
         raise ImpactInputError("v", "no contact approaches ((H v)_i < 0 for none): there is no impact")
+    T0 = 0.5 * float(v0 @ Mf @ v0)
+    if not ENERGY_RANGE[0] <= T0 <= ENERGY_RANGE[1]:
+        # (1e-150 kg at 1e-150 m/s: T- underflowed to 0 and the impulse bound with it; 1e150: inf,
+        # and a NaN momentum balance; from 1e-102 to 1e100 the outcome is the unit problem's)
+        raise ImpactInputError("v", f"the kinetic energy T- = {T0:.3g} is outside [{ENERGY_RANGE[0]:g}, "
+                                    f"{ENERGY_RANGE[1]:g}], where the float64 integration works: rescale the units "
+                                    "(the outcome relative to the speeds does not depend on them)")
     if rest_tol is not None and not (rest_tol > 0):
         raise ImpactInputError("rest_tol", f"must be > 0, got {rest_tol}")
 
@@ -617,7 +629,6 @@ def compliant_impact(M, H, v, stiffness, exponent=1.5, damping=None, *, hunt_cro
     T = float(np.min(Tc))
     Lsc = V * T
     Psc = float(np.max(mu)) * V
-    T0 = 0.5 * float(v0 @ Mf @ v0)
     if t_max is None:
         t_max = np.inf
     max_windows = 100_000

@@ -379,3 +379,12 @@ def test_the_outcome_does_not_depend_on_the_units(scale):
     r = compliant_impact(M, H, [scale, 0, 0], [1.0, 1.0])
     assert np.allclose(r.velocity / scale, ref.velocity, rtol=0, atol=1e-10)
     assert np.allclose(r.impulses / scale**2, ref.impulses, rtol=0, atol=1e-10)
+
+
+@pytest.mark.parametrize("scale", [1e-150, 1e150])
+def test_energies_beyond_the_float_range_are_refused_by_name(scale):
+    # T- = 5e∓451: it underflowed to 0 (the impulse bound with it, a correct run refused as a bug)
+    # or overflowed (a NaN momentum balance)
+    M, H, _ = chain_matrices([scale] * 3)
+    with pytest.raises(ImpactInputError, match=r"v: the kinetic energy T- = .* is outside \[1e-305, 1e\+300\]"):
+        compliant_impact(M, H, [scale, 0, 0], [1.0, 1.0])
