@@ -584,7 +584,8 @@ def compliant_impact(M, H, v, stiffness, exponent=1.5, damping=None, *, hunt_cro
     w0 = Hf @ v0
     if not np.any(w0 < 0):
         raise ImpactInputError("v", "no contact approaches ((H v)_i < 0 for none): there is no impact")
-    T0 = 0.5 * float(v0 @ Mf @ v0)
+    with np.errstate(over="ignore", under="ignore"):  # refused just below if it leaves the range
+        T0 = 0.5 * float(v0 @ Mf @ v0)
     if not ENERGY_RANGE[0] <= T0 <= ENERGY_RANGE[1]:
         # (1e-150 kg at 1e-150 m/s: T- underflowed to 0 and the impulse bound with it; 1e150: inf,
         # and a NaN momentum balance; from 1e-102 to 1e100 the outcome is the unit problem's)

@@ -236,7 +236,8 @@ def lzb_impact(M, H, v, stiffness, exponent=1.5, restitution=1.0, *, rtol: float
     w0 = Hf @ v0
     if not np.any(w0 < 0):
         raise ImpactInputError("v", "no contact approaches ((H v)_i < 0 for none): there is no impact")
-    T_in = 0.5 * float(v0 @ Mf @ v0)
+    with np.errstate(over="ignore", under="ignore"):  # refused just below if it leaves the range
+        T_in = 0.5 * float(v0 @ Mf @ v0)
     if not ENERGY_RANGE[0] <= T_in <= ENERGY_RANGE[1]:
         # energies, impulses and their squares must stay inside float64 (with T⁻ ~ 1e±255 a run
         # overflowed, divided by an underflowed zero or failed its own checks; at 1e±224 it still
