@@ -400,6 +400,23 @@ def float_system(M, H, v):
     return Mf, Hf, v0
 
 
+def _kinetic_energy_in_range(Mf, v0, energy_range, integration: str) -> float:
+    """``T⁻ = ½ v⁻ᵀ M v⁻``, refused by name (``ImpactInputError`` on ``v``) outside ``energy_range``,
+    the energies where ``integration`` stays inside float64 (computed without a warning where it
+    overflows or underflows: it is refused then).
+
+    >>> _kinetic_energy_in_range(np.eye(1), np.array([2.0]), (1e-300, 1e300), "this")
+    2.0
+    """
+    with np.errstate(over="ignore", under="ignore"):
+        T0 = 0.5 * float(v0 @ Mf @ v0)
+    if not energy_range[0] <= T0 <= energy_range[1]:
+        raise ImpactInputError("v", f"the kinetic energy T- = {T0:.3g} is outside [{energy_range[0]:g}, "
+                                    f"{energy_range[1]:g}], where {integration} works: rescale the units "
+                                    "(the outcome relative to the speeds does not depend on them)")
+    return T0
+
+
 def _vec(x, n, name):
     try:
         arr = np.asarray(x, dtype=float).reshape(-1)
@@ -584,14 +601,9 @@ def compliant_impact(M, H, v, stiffness, exponent=1.5, damping=None, *, hunt_cro
     w0 = Hf @ v0
     if not np.any(w0 < 0):
         raise ImpactInputError("v", "no contact approaches ((H v)_i < 0 for none): there is no impact")
-    with np.errstate(over="ignore", under="ignore"):  # refused just below if it leaves the range
-        T0 = 0.5 * float(v0 @ Mf @ v0)
-    if not ENERGY_RANGE[0] <= T0 <= ENERGY_RANGE[1]:
-        # (1e-150 kg at 1e-150 m/s: T- underflowed to 0 and the impulse bound with it; 1e150: inf,
-        # and a NaN momentum balance; from 1e-102 to 1e100 the outcome is the unit problem's)
-        raise ImpactInputError("v", f"the kinetic energy T- = {T0:.3g} is outside [{ENERGY_RANGE[0]:g}, "
-                                    f"{ENERGY_RANGE[1]:g}], where the float64 integration works: rescale the units "
-                                    "(the outcome relative to the speeds does not depend on them)")
+    # (1e-150 kg at 1e-150 m/s: T- underflowed to 0 and the impulse bound with it; 1e150: inf, and a
+    # NaN momentum balance; from 1e-102 to 1e100 the outcome is the unit problem's)
+    T0 = _kinetic_energy_in_range(Mf, v0, ENERGY_RANGE, "the float64 integration")
     if rest_tol is not None and not (rest_tol > 0):
         raise ImpactInputError("rest_tol", f"must be > 0, got {rest_tol}")
 

@@ -107,7 +107,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .compliant import _dop853, _per_contact, _vec, chain_matrices, float_system
+from .compliant import _dop853, _kinetic_energy_in_range, _per_contact, _vec, chain_matrices, float_system
 from .errors import ImpactInputError, NonTermination
 
 __all__ = ["LZBResult", "lzb_impact", "lzb_chain"]
@@ -236,15 +236,10 @@ def lzb_impact(M, H, v, stiffness, exponent=1.5, restitution=1.0, *, rtol: float
     w0 = Hf @ v0
     if not np.any(w0 < 0):
         raise ImpactInputError("v", "no contact approaches ((H v)_i < 0 for none): there is no impact")
-    with np.errstate(over="ignore", under="ignore"):  # refused just below if it leaves the range
-        T_in = 0.5 * float(v0 @ Mf @ v0)
-    if not ENERGY_RANGE[0] <= T_in <= ENERGY_RANGE[1]:
-        # energies, impulses and their squares must stay inside float64 (with T⁻ ~ 1e±255 a run
-        # overflowed, divided by an underflowed zero or failed its own checks; at 1e±224 it still
-        # gave the outcome of the unit problem, relative to V, to 1e-11)
-        raise ImpactInputError("v", f"the kinetic energy T- = {T_in:.3g} is outside [{ENERGY_RANGE[0]:g}, "
-                                    f"{ENERGY_RANGE[1]:g}], where LZB's float64 integration works: rescale the units "
-                                    "(the outcome relative to the speeds does not depend on them)")
+    # energies, impulses and their squares must stay inside float64 (with T⁻ ~ 1e±255 a run overflowed,
+    # divided by an underflowed zero or failed its own checks; at 5e±224 it still gave the outcome of
+    # the unit problem, relative to V, to 1e-11)
+    T0 = _kinetic_energy_in_range(Mf, v0, ENERGY_RANGE, "LZB's float64 integration")
 
     A = np.linalg.solve(Mf, Hf.T)  # M⁻¹Hᵀ
     mu = 1.0 / np.einsum("ij,ji->i", Hf, A)
@@ -253,7 +248,6 @@ def lzb_impact(M, H, v, stiffness, exponent=1.5, restitution=1.0, *, rtol: float
     inv_e2 = 1.0 / e**2
     elastic = bool(np.all(inv_e2 == 1.0))
     V = float(np.max(-w0[w0 < 0]))
-    T0 = T_in
     Eeps = ENERGY_EPS * T0  # set again at every (re)start
     Pscale = float(np.max(mu)) * V
     Tsc = float(np.min((mu / (K * V ** (eta - 1))) ** (1 / (eta + 1))))  # contact time scale
