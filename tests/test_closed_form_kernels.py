@@ -125,3 +125,16 @@ def test_pool_g_h_kernels_against_exact():
         ar = float_to_rational(a)
         assert _close(kernels.pool_g(th, a), sp.N(g.subs({DD.c: cs, DD.alpha: ar}), 50), 1.0, 1e-14)
         assert _close(kernels.pool_h(th, a), sp.N(h.subs({DD.c: cs, DD.alpha: ar}), 50), 1.0, 1e-14)
+
+
+@pytest.mark.parametrize("km, kv", [(240, -240), (-240, 240), (-200, -280), (240, 240), (-470, 0), (0, -470)])
+def test_chain3_kernel_scales_exactly_inside_its_precondition(km, kv):
+    """The documented precondition (every |x| and |m_i v_j| zero or within about 1e±150, so that the
+    squares are normal floats): masses times 2^km and velocities times 2^kv scale p by 2^(km+kv) and
+    w by 2^kv, bit for bit. (With every mass and velocity at 1e-90 the outputs were 10% off: the
+    precondition had named each number alone.)"""
+    m, v, ee, a = [1.0, 2.0, 0.5], [1.0, -0.25, -0.5], 0.9, 0.5
+    sm, sv = 2.0 ** km, 2.0 ** kv
+    ref = kernels.chain3_impulse_ratio(*m, *v, ee, a)
+    out = kernels.chain3_impulse_ratio(*(x * sm for x in m), *(x * sv for x in v), ee, a)
+    assert [float(x) for x in out] == [ref[0] * sm * sv, ref[1] * sm * sv, ref[2] * sv, ref[3] * sv, ref[4] * sv]
