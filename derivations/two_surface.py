@@ -1230,7 +1230,13 @@ def kernels() -> list:
         "Returns (count_a, v0_a, v1_a, count_b, v0_b, v1_b): counts and exit velocities of the branches\n"
         "starting with row 0 (a) and row 1 (b): v itself when valid, its reflections for counts 1-3,\n"
         "above H^-1 c' as |v|_M (cos t e + sin t n) in the frame of the nearer edge (no 1/det H); det M\n"
-        "floored at 2^-52 m_00 m_11. Float, uncertified (see impactsym.laws.two_surface).",
+        "floored at 2^-52 m_00 m_11. Float, uncertified (see impactsym.laws.two_surface).\n\n"
+        "Precondition: rows of H of order one. The law does not change when a row of H is scaled by a\n"
+        "positive factor, so normalize the rows first; then M and v may take any scales within 2^±480\n"
+        "(about 1e±144) for which v^T M v is a normal float (tested at the corners). H itself scaled by\n"
+        "2^±360 (about 1e±108) gave a wrong exit velocity, silently (0.117 instead of 0.0165), and\n"
+        "scaled by 2^±200 together with M or v scaled by 2^±480 as well: products of the inputs left\n"
+        "the normal floats.",
         exact_outputs=exact2,  # the references evaluate the true det M (the floor is a float guard)
     ))
     return out

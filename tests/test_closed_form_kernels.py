@@ -1,7 +1,9 @@
 """Generated kernels of the chain3, pool and domains families against 50-digit references
 computed from the exact closed forms (floats taken at their exact binary values)."""
 
+import math
 import mpmath
+
 import numpy as np
 import pytest
 import sympy as sp
@@ -138,3 +140,19 @@ def test_chain3_kernel_scales_exactly_inside_its_precondition(km, kv):
     ref = kernels.chain3_impulse_ratio(*m, *v, ee, a)
     out = kernels.chain3_impulse_ratio(*(x * sm for x in m), *(x * sv for x in v), ee, a)
     assert [float(x) for x in out] == [ref[0] * sm * sv, ref[1] * sm * sv, ref[2] * sv, ref[3] * sv, ref[4] * sv]
+
+
+@pytest.mark.parametrize("kh, km, kv", [(0, 0, 0), (0, -480, 480), (0, 480, -480), (0, 340, 340), (0, -340, -340),
+                                       (-300, 0, 0), (300, 0, 0)])
+def test_two_surface_kernel_scales_exactly_inside_its_precondition(kh, km, kv):
+    """Inside the documented precondition (rows of H of order one; M and v of any scales within
+    2^±480 for which v^T M v is a normal float), M times 2^km and v times 2^kv: the counts are the same and the exit velocities scale by
+    2^kv, bit for bit; H alone scaled by 2^±300 changes nothing. (At 2^±360 on H the exit velocity
+    was wrong: the precondition is needed.)"""
+    b = (1.0, 0.2, 2.0, 1.0, 0.0, -1.0, 1.0, -1.0, -0.5)
+    sh, sm, sv = 2.0 ** kh, 2.0 ** km, 2.0 ** kv
+    ref = [float(x) for x in kernels.two_surface_resolution_2(*b)]
+    out = [float(x) for x in kernels.two_surface_resolution_2(*(x * sm for x in b[:3]), *(x * sh for x in b[3:7]),
+                                                              *(x * sv for x in b[7:]))]
+    scale = [1.0, sv, sv, 1.0, sv, sv]
+    assert all(o == r * c or (math.isnan(o) and math.isnan(r)) for o, r, c in zip(out, ref, scale)), (out, ref)

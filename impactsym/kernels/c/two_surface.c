@@ -127,6 +127,13 @@ void two_surface_resolution_batch(size_t n, const double *s_a, const double *s_b
 /* starting with row 0 (a) and row 1 (b): v itself when valid, its reflections for counts 1-3, */
 /* above H^-1 c' as |v|_M (cos t e + sin t n) in the frame of the nearer edge (no 1/det H); det M */
 /* floored at 2^-52 m_00 m_11. Float, uncertified (see impactsym.laws.two_surface). */
+/* */
+/* Precondition: rows of H of order one. The law does not change when a row of H is scaled by a */
+/* positive factor, so normalize the rows first; then M and v may take any scales within 2^±480 */
+/* (about 1e±144) for which v^T M v is a normal float (tested at the corners). H itself scaled by */
+/* 2^±360 (about 1e±108) gave a wrong exit velocity, silently (0.117 instead of 0.0165), and */
+/* scaled by 2^±200 together with M or v scaled by 2^±480 as well: products of the inputs left */
+/* the normal floats. */
 void two_surface_resolution_2(double m_00, double m_01, double m_11, double h_00, double h_01, double h_10, double h_11, double v_0, double v_1, double *count_a, double *v0_a, double *v1_a, double *count_b, double *v0_b, double *v1_b)
 {
     const double x0 = h_00*v_0 + h_01*v_1;

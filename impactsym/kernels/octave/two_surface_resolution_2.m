@@ -7,6 +7,13 @@ function [count_a, v0_a, v1_a, count_b, v0_b, v1_b] = two_surface_resolution_2(m
   % starting with row 0 (a) and row 1 (b): v itself when valid, its reflections for counts 1-3,
   % above H^-1 c' as |v|_M (cos t e + sin t n) in the frame of the nearer edge (no 1/det H); det M
   % floored at 2^-52 m_00 m_11. Float, uncertified (see impactsym.laws.two_surface).
+  %
+  % Precondition: rows of H of order one. The law does not change when a row of H is scaled by a
+  % positive factor, so normalize the rows first; then M and v may take any scales within 2^±480
+  % (about 1e±144) for which v^T M v is a normal float (tested at the corners). H itself scaled by
+  % 2^±360 (about 1e±108) gave a wrong exit velocity, silently (0.117 instead of 0.0165), and
+  % scaled by 2^±200 together with M or v scaled by 2^±480 as well: products of the inputs left
+  % the normal floats.
   x0 = h_00.*v_0 + h_01.*v_1;
   x1 = h_10.*v_0 + h_11.*v_1;
   x2 = x0 >= 0 & x1 >= 0;

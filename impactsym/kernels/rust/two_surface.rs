@@ -108,6 +108,13 @@ pub fn two_surface_resolution(s_a: f64, s_b: f64, g: f64, c_a: f64, c_b: f64) ->
 /// starting with row 0 (a) and row 1 (b): v itself when valid, its reflections for counts 1-3,
 /// above H^-1 c' as |v|_M (cos t e + sin t n) in the frame of the nearer edge (no 1/det H); det M
 /// floored at 2^-52 m_00 m_11. Float, uncertified (see impactsym.laws.two_surface).
+///
+/// Precondition: rows of H of order one. The law does not change when a row of H is scaled by a
+/// positive factor, so normalize the rows first; then M and v may take any scales within 2^±480
+/// (about 1e±144) for which v^T M v is a normal float (tested at the corners). H itself scaled by
+/// 2^±360 (about 1e±108) gave a wrong exit velocity, silently (0.117 instead of 0.0165), and
+/// scaled by 2^±200 together with M or v scaled by 2^±480 as well: products of the inputs left
+/// the normal floats.
 #[allow(non_snake_case, unused_parens, clippy::all)]
 pub fn two_surface_resolution_2(m_00: f64, m_01: f64, m_11: f64, h_00: f64, h_01: f64, h_10: f64, h_11: f64, v_0: f64, v_1: f64) -> (f64, f64, f64, f64, f64, f64) {
     let x0 = h_00*v_0 + h_01*v_1;
