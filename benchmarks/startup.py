@@ -12,7 +12,11 @@ working directory so that no other checkout shadows it), interleaved, ``N`` time
 the median wall time and the median CPU time (user + sys of the process and its children), and the
 wall-time ratio to ``python -c "import numpy"``, the issue's yardstick (targets: ``--help`` within 2x,
 ``reflect`` on a 2x2 system within 3x). The machine is shared: the load is printed with the results,
-and the targets table also gives the CPU ratio, which the load disturbs less.
+and the targets table also gives the CPU ratio, which the load disturbs less. The long runs
+(``reproduce``, ``pytest``, the 1000-ball cradle) are also given in units of a machine yardstick, the
+CPU of a plain Python loop of 10^7 additions: machines of this kind have differed threefold in
+seconds, much less in that unit, and it lets a reader compare the README's figures with a run on
+another machine.
 
 The script rewrites only the rows it measured: a row of the results file that this run did not
 measure (the ``reproduce`` rows without ``--reproduce``) is kept as it was, with a note saying so.
@@ -35,12 +39,16 @@ RESULTS = ROOT / "benchmarks" / "results"
 N = int(os.environ.get("STARTUP_RUNS", 7))
 
 BASELINE = "python -c 'import numpy'"
+#: the machine's speed at plain Python, the unit in which the README quotes the long runs' CPU
+#: (machines of this kind have differed by 3x: 0.75 s to 2.4 s for this loop)
+YARDSTICK = "python -c (a loop of 10^7 additions: the machine yardstick)"
 REFLECT = "impactsym reflect (2x2, exact, --json)"
 _CHAIN3 = ["--mass-matrix", "1,0,0;0,1,0;0,0,1", "--gradients", "-1,1,0;0,-1,1", "--velocity", "1,0,0"]
 _TWO = ["--mass-matrix", "1,0;0,1", "--gradients", "1,0;0,1", "--velocity", "-1,-1"]
 COMMANDS = {
     BASELINE: ["-c", "import numpy"],
     "python -c 'pass'": ["-c", "pass"],
+    YARDSTICK: ["-c", "s = 0\nfor i in range(10 ** 7):\n    s += i"],
     "python -c 'import sympy'": ["-c", "import sympy"],
     "python -c 'import scipy.integrate'": ["-c", "import scipy.integrate"],
     "impactsym --help": ["-m", "impactsym", "--help"],
@@ -228,6 +236,14 @@ def main(reproduce: bool, write: bool = True, tests: bool = False) -> None:
             cpu = rows[label][1] if label in rows else float(_ROW.match(kept[label]).group(3))
             lines.append(f"| {label}{'' if label in rows else ' (kept from the previous file)'} | {target:g} | "
                          f"{cpu:.2f} | {'yes' if cpu < target else 'no'} |")
+    yard = rows[YARDSTICK][1]
+    long_rows = [label for label in (*(lb for lb, _ in CPU_TARGETS), "impactsym resolve --law sequential --float "
+                                     "--scene cradle --n-balls 1000 (--json)") if label in rows]
+    if long_rows:
+        lines += ["", f"The long runs in units of the machine yardstick (CPU of the loop of 10^7 additions: "
+                      f"{yard:.2f} s in this run), a figure that depends less on the machine than seconds do:", "",
+                  "| command | CPU / yardstick |", "|---|---:|"]
+        lines += [f"| {label} | {rows[label][1] / yard:.0f} |" for label in long_rows]
     if summary:
         lines += ["", f"The test run's summary: `{summary}`."]
     if phases:
