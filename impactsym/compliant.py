@@ -135,6 +135,14 @@ SEPARATION_EPS = 1e-12
 #: the pre-impact kinetic energies the compliant laws take: inside float64 with the products of
 #: the energy, the masses and the impulses that the run and its checks form
 ENERGY_RANGE = (1e-305, 1e300)
+#: the effective masses ``μ_i = 1/(H_i M⁻¹ H_iᵀ)`` the float64 integrations (the compliant laws and
+#: LZB) take. Measured (issue 15) on a grid of M, H and v scaled by 10^k, k = −150…150 in steps of
+#: 50: with μ and T⁻ inside their ranges no run of hertz, linear or LZB raised or hung (outcomes
+#: within 3e-8 of the unit problem's); outside, a row of H at 1e-140 or 1e140 (a 1e-320 one hung for
+#: minutes) ended in a ZeroDivisionError, a ValueError of the integrator or a failed self-check. A
+#: necessary condition, not a sufficient one: a random sweep of continuous scales still finds failed
+#: self-checks (raised, VerificationError) and some outcomes off by more than the tolerance inside it
+SCALE_RANGE = (1e-150, 1e150)
 
 
 @dataclass
@@ -417,6 +425,27 @@ def _kinetic_energy_in_range(Mf, v0, energy_range, integration: str) -> float:
     return T0
 
 
+def _contact_scales_in_range(Mf, Hf, integration: str) -> None:
+    """Refuse by name (``ImpactInputError`` on ``gradients``) a system with an effective mass
+    ``μ_i = 1/(H_i M⁻¹ H_iᵀ)`` outside :data:`SCALE_RANGE` (a row far from the scale of M),
+    computed without a warning where it overflows or underflows (refused then).
+
+    >>> _contact_scales_in_range(np.eye(1), np.array([[1e-160]]), "this")
+    Traceback (most recent call last):
+    ...
+    impactsym.errors.ImpactInputError: gradients: row 1's effective mass 1/(H_i M^-1 H_i^T) = inf is outside ...
+    """
+    lo, hi = SCALE_RANGE
+    with np.errstate(over="ignore", under="ignore", divide="ignore", invalid="ignore"):
+        mu = 1.0 / np.einsum("ij,ji->i", Hf, np.linalg.solve(Mf, Hf.T))
+    out = ~((mu >= lo) & (mu <= hi))
+    if np.any(out):
+        i = int(np.argmax(out))
+        raise ImpactInputError("gradients", f"row {i + 1}'s effective mass 1/(H_i M^-1 H_i^T) = {mu[i]:.3g} is "
+                                            f"outside [{lo:g}, {hi:g}], where {integration} works: rescale the "
+                                            "units of M or of that row")
+
+
 def _vec(x, n, name):
     try:
         arr = np.asarray(x, dtype=float).reshape(-1)
@@ -604,6 +633,7 @@ def compliant_impact(M, H, v, stiffness, exponent=1.5, damping=None, *, hunt_cro
     # (1e-150 kg at 1e-150 m/s: T- underflowed to 0 and the impulse bound with it; 1e150: inf, and a
     # NaN momentum balance; from 1e-102 to 1e100 the outcome is the unit problem's)
     T0 = _kinetic_energy_in_range(Mf, v0, ENERGY_RANGE, "the float64 integration")
+    _contact_scales_in_range(Mf, Hf, "the float64 integration")
     if rest_tol is not None and not (rest_tol > 0):
         raise ImpactInputError("rest_tol", f"must be > 0, got {rest_tol}")
 

@@ -107,7 +107,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .compliant import _dop853, _kinetic_energy_in_range, _per_contact, _vec, chain_matrices, float_system
+from .compliant import _contact_scales_in_range, _dop853, _kinetic_energy_in_range, _per_contact, _vec, chain_matrices, float_system
 from .errors import ImpactInputError, NonTermination
 
 __all__ = ["LZBResult", "lzb_impact", "lzb_chain"]
@@ -240,6 +240,7 @@ def lzb_impact(M, H, v, stiffness, exponent=1.5, restitution=1.0, *, rtol: float
     # divided by an underflowed zero or failed its own checks; at 5e±224 it still gave the outcome of
     # the unit problem, relative to V, to 1e-11)
     T0 = _kinetic_energy_in_range(Mf, v0, ENERGY_RANGE, "LZB's float64 integration")
+    _contact_scales_in_range(Mf, Hf, "LZB's float64 integration")
 
     A = np.linalg.solve(Mf, Hf.T)  # M⁻¹Hᵀ
     mu = 1.0 / np.einsum("ij,ji->i", Hf, A)

@@ -381,6 +381,35 @@ def test_the_outcome_does_not_depend_on_the_units(scale):
     assert np.allclose(r.impulses / scale**2, ref.impulses, rtol=0, atol=1e-10)
 
 
+# (M, H, v) scaled by 10^(a, b, c): rows whose effective masses M/H² (1e±280, or inf: 1e-320 squared
+# is 0) leave SCALE_RANGE
+_BEYOND = [((0, -140, 0), r"gradients: row 1's effective mass"), ((0, 140, 0), r"gradients: row 1's effective mass"),
+           ((-1, -160, -150), r"gradients: row 1's effective mass")]
+
+
+@pytest.mark.parametrize("kind", ["hertz", "linear", "hunt-crossley"])
+@pytest.mark.parametrize("exps, message", _BEYOND)
+def test_contact_scales_beyond_the_float_range_are_refused_by_name(kind, exps, message):
+    # without the check hertz and Hunt–Crossley ended in a ZeroDivisionError in the step control or a
+    # ValueError of the integrator ("a non-empty span"), and every law ran for minutes on the third
+    a, b, c = exps
+    M, H, _ = chain_matrices([1.0, 2.0, 1.5])
+    opts = {"exponent": 1.0} if kind == "linear" else ({"hunt_crossley": 0.3} if kind == "hunt-crossley" else {})
+    with pytest.raises(ImpactInputError, match=message):
+        compliant_impact(M * 10.0**a, H * 10.0**b, np.array([1.0, 0, -0.3]) * 10.0**c, 1.0, **opts)
+
+
+@pytest.mark.parametrize("b", [-100, 100])
+def test_rows_far_from_unit_scale_inside_the_range_give_the_unit_outcome(b):
+    # rows of H at 1e±100, M scaled by their squares (effective masses of order one) and v by their
+    # inverse (approach speeds of order one): inside SCALE_RANGE, the unit problem's outcome
+    M, H, _ = chain_matrices([1.0, 2.0, 1.5])
+    v = np.array([1.0, 0, -0.3])
+    ref = compliant_impact(M, H, v, 1.0)
+    r = compliant_impact(M * 10.0 ** (2 * b), H * 10.0**b, v * 10.0**-b, 1.0)
+    assert np.allclose(r.velocity * 10.0**b, ref.velocity, rtol=0, atol=1e-7)
+
+
 @pytest.mark.parametrize("scale", [1e-150, 1e150])
 def test_energies_beyond_the_float_range_are_refused_by_name(scale):
     # T- = 5e∓451: it underflowed to 0 (the impulse bound with it, a correct run refused as a bug)

@@ -190,6 +190,17 @@ def test_lzb_refuses_energies_beyond_its_float_range(scale):
         lzb_chain([scale] * 3, [scale, 0, 0], [1.0, 1.0], restitution=0.8)
 
 
+@pytest.mark.parametrize("exps, message", [((0, -140, 0), r"gradients: row 1's effective mass"),
+                                            ((0, 140, 0), r"gradients: row 1's effective mass")])
+def test_lzb_refuses_contact_scales_beyond_its_float_range(exps, message):
+    # without the check a row at 1e140 ran for minutes (one at 1e-140 returned; the range is the
+    # compliant laws', which share the check)
+    a, b, c = exps
+    M, H, _ = chain_matrices([1.0, 2.0, 1.5])
+    with pytest.raises(ImpactInputError, match=message):
+        lzb_impact(M * 10.0**a, H * 10.0**b, np.array([1.0, 0, -0.3]) * 10.0**c, 1.0, restitution=0.8)
+
+
 def test_lzb_light_primary_among_heavy_contacts_resolves():
     # the fastest approach (the primary at the start) is a 1e-3 ball's, while a heavy pair also
     # approaches with 1e4 times its energy: a threshold relative to the largest energy looped for ever
