@@ -570,6 +570,8 @@ def compliant_impact(M, H, v, stiffness, exponent=1.5, damping=None, *, hunt_cro
     ----------
     M : (n, n) symmetric positive definite mass matrix (SymPy matrices are converted to floats)
     H : (k, n) contact rows (``g = g⁰ + H q``); a wall is a row acting on one body only
+        (each row's effective mass ``1/(H_i M⁻¹ H_iᵀ)`` must lie in :data:`SCALE_RANGE`,
+        ``[1e-150, 1e150]``, else ``ImpactInputError`` on ``gradients``)
     v : (n,) pre-impact generalized velocity; its kinetic energy ``T⁻`` must lie in
         :data:`ENERGY_RANGE` (``[1e-305, 1e300]``), else ``ImpactInputError``; the outcome relative to
         the speeds does not depend on the units

@@ -196,7 +196,8 @@ def lzb_impact(M, H, v, stiffness, exponent=1.5, restitution=1.0, *, rtol: float
     Parameters
     ----------
     M : (n, n) symmetric positive definite mass matrix
-    H : (k, n) rows of the closed contacts
+    H : (k, n) rows of the closed contacts (each row's effective mass ``1/(H_i M⁻¹ H_iᵀ)`` must lie
+        in :data:`impactsym.compliant.SCALE_RANGE`, ``[1e-150, 1e150]``, else ``ImpactInputError``)
     v : (n,) pre-impact velocity; its kinetic energy ``T⁻`` must lie in :data:`ENERGY_RANGE`
         (``[1e-200, 1e200]``: inside float64 with the energies' powers and squares), else
         ``ImpactInputError``; the outcome relative to the speeds does not depend on the units
