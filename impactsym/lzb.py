@@ -60,7 +60,7 @@ when, after a segment, every energy has been set to zero (the primary's energy f
 ``max_segments`` caps it (``NonTermination``; with ``e < 1`` two light balls pressed between a
 heavier one and a wall take thousands of segments, where Hunt–Crossley in the time domain ends at
 once: docs/compliant_termination.md, step 7). A segment whose impulse scale is below ``2⁻¹⁰`` is
-integrated in ``P_p`` over a power of two near it (:func:`_in_units`), so that event roots are not
+integrated in ``P_p`` over a power of two near it (:func:`impactsym.compliant._in_units`), so that event roots are not
 lost to SciPy's absolute tolerance and the results do not depend on the units. The impulse bound of
 the compliant model holds here too (``M dv = Hᵀ dP`` with ``dP ≥ 0``, and ``T + Σ E_i`` never grows
 since ``c_j ≥ 1`` in expansion), so with a separating direction ``u`` the total impulse stays below
@@ -107,7 +107,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .compliant import _contact_scales_in_range, _dop853, _kinetic_energy_in_range, _per_contact, _vec, chain_matrices, float_system
+from .compliant import _contact_scales_in_range, _dop853, _in_units, _kinetic_energy_in_range, _per_contact, _vec, chain_matrices, float_system
 from .errors import ImpactInputError, NonTermination
 
 __all__ = ["LZBResult", "lzb_impact", "lzb_chain"]
@@ -150,31 +150,6 @@ class LZBResult:
     nfev: int
     #: the a-posteriori checks passed (:func:`impactsym.termination.check_run`)
     checks: dict | None = None
-
-
-def _in_units(rhs, bind, unit: float):
-    """``rhs`` and ``bind`` (a segment's right-hand side and its bound stages, in ``dP_p``) for the
-    independent variable ``P_p / unit``: every derivative times ``unit``, a power of two, so the
-    products are exact and the steps the same as in ``P_p``."""
-
-    def fun(P, y, out=None):
-        out = rhs(P, y, out)
-        np.multiply(out, unit, out=out)
-        return out
-
-    def stage_of(y, out):
-        stage = bind(y, out)
-        if stage is None:
-            return None
-        multiply = np.multiply
-
-        def scaled():
-            stage()
-            multiply(out, unit, out)
-
-        return scaled
-
-    return fun, stage_of
 
 
 def _too_many_segments(max_segments: int, e) -> NonTermination:
@@ -252,6 +227,9 @@ def lzb_impact(M, H, v, stiffness, exponent=1.5, restitution=1.0, *, rtol: float
     V = float(np.max(-w0[w0 < 0]))
     Eeps = ENERGY_EPS * T0  # set again at every (re)start
     Pscale = float(np.max(mu)) * V
+    # each velocity's own scale, |v_j| <= sqrt(2 T- (M^-1)_jj) (the energy does not grow), a product of
+    # roots (no underflow): V is in the units of H v, and with rows of H at 1e30 it was 1e30 too coarse
+    Vq = math.sqrt(2.0 * T0) * np.sqrt(np.diag(np.linalg.inv(Mf)))
     Tsc = float(np.min((mu / (K * V ** (eta - 1))) ** (1 / (eta + 1))))  # contact time scale
 
     v = v0.copy()
@@ -514,7 +492,7 @@ def lzb_impact(M, H, v, stiffness, exponent=1.5, restitution=1.0, *, rtol: float
 
         y0 = np.concatenate([v, s, [Ep], P, [t_equiv]])
         sscale = np.maximum(T0, 1e-300) ** (1 / (eta + 1))
-        atol_vec = atol * np.concatenate([np.full(n, V), sscale, [T0], np.full(k, Pscale), [1.0]])
+        atol_vec = atol * np.concatenate([Vq, sscale, [T0], np.full(k, Pscale), [1.0]])
         atol_vec[-1] = atol * Tsc
         span = 1e3 * Pscale
         # the independent variable in units of the segment's impulse scale when that is small: SciPy

@@ -399,15 +399,27 @@ def test_contact_scales_beyond_the_float_range_are_refused_by_name(kind, exps, m
         compliant_impact(M * 10.0**a, H * 10.0**b, np.array([1.0, 0, -0.3]) * 10.0**c, 1.0, **opts)
 
 
-@pytest.mark.parametrize("b", [-100, 100])
-def test_rows_far_from_unit_scale_inside_the_range_give_the_unit_outcome(b):
-    # rows of H at 1e±100, M scaled by their squares (effective masses of order one) and v by their
-    # inverse (approach speeds of order one): inside SCALE_RANGE, the unit problem's outcome
+@pytest.mark.parametrize("kind", ["hertz", "linear", "hunt-crossley"])
+@pytest.mark.parametrize("exps", [(200, 100, -100), (-200, -100, 100), (0, 30, 0), (0, -30, 0), (5, 60, -61),
+                                  (20, -60, 50), (85, 96, -164)])
+def test_rows_far_from_unit_scale_inside_the_range_give_the_unit_outcome(kind, exps):
+    # (M, H, v) scaled by 10^(a, b, c): the same problem in other units (with H's rows scaled, the
+    # same as K_i scaled by 10^(b(p+1)), to which the outcome relative to v is blind; Hunt–Crossley's
+    # D δ̇ is kept by D / 10^(b + c)). The tolerances on q and q' were in the gaps' units, 1e30
+    # times too coarse at b = 30 (Hertz 7e-8 off), and events were placed to SciPy's absolute 4·EPS
+    # in t with T ~ 1e-30 (7e-9 off; Hunt–Crossley's energy rose 1e5-fold at (20, -60, 50) and the
+    # run was refused as a bug). At (85, 96, -164) the first fix's 2 T- (M^-1)_jj underflowed to a
+    # zero tolerance, and the run hung. Measured now: within 4e-10 of the unit run (exactly it for Hertz
+    # and Hunt–Crossley but at 1e±100, whose T is not the unit one times a power of two)
+    a, b, c = exps
     M, H, _ = chain_matrices([1.0, 2.0, 1.5])
-    v = np.array([1.0, 0, -0.3])
-    ref = compliant_impact(M, H, v, 1.0)
-    r = compliant_impact(M * 10.0 ** (2 * b), H * 10.0**b, v * 10.0**-b, 1.0)
-    assert np.allclose(r.velocity * 10.0**b, ref.velocity, rtol=0, atol=1e-7)
+    v, K = np.array([1.0, 0.1, -0.3]), np.array([1.0, 3.0])
+    opts = {"exponent": 1.0} if kind == "linear" else {}
+    D = 0.3 if kind == "hunt-crossley" else None
+    ref = compliant_impact(M, H, v, K, hunt_crossley=D, **opts)
+    r = compliant_impact(M * 10.0**a, H * 10.0**b, v * 10.0**c, K, hunt_crossley=None if D is None else D / 10.0 ** (b + c),
+                         **opts)
+    assert np.allclose(r.velocity / 10.0**c, ref.velocity, rtol=0, atol=2e-9)
 
 
 @pytest.mark.parametrize("scale", [1e-150, 1e150])
@@ -417,3 +429,19 @@ def test_energies_beyond_the_float_range_are_refused_by_name(scale):
     M, H, _ = chain_matrices([scale] * 3)
     with pytest.raises(ImpactInputError, match=r"v: the kinetic energy T- = .* is outside \[1e-305, 1e\+300\]"):
         compliant_impact(M, H, [scale, 0, 0], [1.0, 1.0])
+
+
+def test_a_light_ball_ringing_between_heavy_ones_is_integrated_to_its_tolerance():
+    # found by a random scale sweep (at unit scale): a 0.12 ball between balls of 4.5 and 2.2, linear
+    # contacts, 32 contact events. With q in the state the gaps, differences of coordinates that had
+    # flown to |q| ~ 16, were kept to rtol |q|: at rtol 1e-11 the outcome was 5.7e-6 off (1.4e-7 at
+    # 1e-10, right at 1e-12). Integrating the gaps themselves: 4e-9 (measured)
+    M = np.diag([4.489158176666561, 0.11879985274780747, 2.161908545540771])
+    H = np.array([[-0.5616713383653437, 0.5616713383653437, 0.0], [0.0, -1.5514281517476494, 1.5514281517476494]])
+    v0 = np.array([1.0, -0.1212341328380594, -0.8169601501253737])
+    K = [0.14101766770683122, 6.689188949442548]
+    ref = compliant_impact(M, H, v0, K, 1.0, rtol=1e-13)
+    for rtol in (1e-10, 1e-11):
+        r = compliant_impact(M, H, v0, K, 1.0, rtol=rtol)
+        assert r.events == ref.events == 32
+        assert np.allclose(r.velocity, ref.velocity, rtol=0, atol=2e-8), rtol
