@@ -276,7 +276,12 @@ def lzb_impact(M, H, v, stiffness, exponent=1.5, restitution=1.0, *, rtol: float
             if track_time:
                 t_equiv += (eta[pp] + 1) * P0 / fp
             s[pp] = Ep ** (1 / (eta[pp] + 1))
-            primary = pp
+            # the primary is the contact with the largest energy from here on: after the first
+            # increment E_j/E_p = (w_j/w_p)^(η+1) K_j/K_p (equal η), which exceeds SWITCH_FACTOR when
+            # the fastest contact is the softer one. Kept as primary, its energy ran to zero while the
+            # other's grew (the switch event, already positive at the start, cannot fire upward) and
+            # DOP853's step underflowed: "integrator failed in segment 2" at ordinary masses and stiffnesses
+            primary = int(np.argmax(np.maximum(s, 0.0) ** (eta + 1)))
             continue
         pp = primary
         Ep = float(E[pp])

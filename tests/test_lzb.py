@@ -211,6 +211,29 @@ def test_lzb_light_primary_among_heavy_contacts_resolves():
     assert abs(np.dot(m, r.velocity) - np.dot(m, v0)) < 1e-9
 
 
+@pytest.mark.parametrize("e", [1.0, 0.8])
+def test_lzb_the_primary_after_the_first_increment_is_the_largest_energy(e):
+    # found by a seeded random scene sweep at ordinary scales: both contacts approach, the faster
+    # (contact 2, the primary of the start) is the softer, and after the closed-form first increment
+    # contact 1 holds 3.2 times its energy (E_1/E_2 = (w_1/w_2)^(η+1) K_1/K_2 for equal η). Kept as
+    # primary, contact 2's energy ran to zero while contact 1's grew (the switch event, already
+    # positive when the segment started, could not fire) and DOP853's step underflowed:
+    # "integrator failed in segment 2" at every rtol and e. Now the largest energy leads at once
+    M = np.diag([3.318338639776341, 0.20979070529730084, 3.6469698097738323])
+    H = np.array([[-1.2562460761600283, 1.2562460761600283, 0.0], [0.0, -3.102449452220847, 3.102449452220847]])
+    v0 = np.array([1.0, -0.21352198577008874, -0.7414475992844165])
+    K = [1.0871388947856058, 0.2811043602212992]
+    r = lzb_impact(M, H, v0, K, 1.5, e)
+    assert np.all(H @ r.velocity >= -1e-12) and np.all(r.impulses > 0)
+    assert np.allclose(M @ (r.velocity - v0), H.T @ r.impulses, rtol=0, atol=1e-12)
+    if e == 1.0:
+        # the elastic model is the time-domain Hertz law in P_p: the same outcome (no contact reopens)
+        c = compliant_impact(M, H, v0, K, 1.5)
+        assert abs(r.energy_ratio - 1) < 1e-9 and np.allclose(r.velocity, c.velocity, rtol=0, atol=1e-8)
+    else:
+        assert r.energy_ratio < 1
+
+
 def test_lzb_extreme_mass_and_stiffness_ratios_resolve():
     # found by a seeded random search (masses 10^U(-3,3), stiffnesses 10^U(-2,2)): DOP853's step size
     # underflowed in segment 7 until P_p was restarted at every DROP_FACTOR fall of the primary's energy
