@@ -924,11 +924,11 @@ def compliant_impact(M, H, v, stiffness, exponent=1.5, damping=None, *, hunt_cro
         def values(t, y):
             return [stop_value(t, y)]
 
-    # each coordinate's own scale: |v_j| <= sqrt(2 T- (M^-1)_jj) while the energy does not grow
-    # (Cauchy-Schwarz in the kinetic metric), and its displacement that speed times T. V and V T
-    # are in the units of the gaps H q: with H's rows scaled by 1e30 they were 1e30 too coarse for
-    # q and q' and the outcome was 1e-7 off. A product of roots: 2 T- (M^-1)_jj underflowed to 0 at
-    # T- ~ 1e-243 with masses of 1e85, where each root is a normal float, and a zero tolerance hung
+    # the gaps in units of V T (the state integrates them, not q); each speed in its own scale,
+    # |v_j| <= sqrt(2 T- (M^-1)_jj) while the energy does not grow (Cauchy-Schwarz in the kinetic
+    # metric): V is in the units of H q', 1e30 times too coarse for q' with H's rows at 1e30. A
+    # product of roots: 2 T- (M^-1)_jj underflowed to 0 at T- ~ 1e-243 with masses of 1e85, where
+    # each root is a normal float, and a zero tolerance hung the run
     Vq = sqrt(2.0 * T0) * np.sqrt(np.diag(Minv))
     atol_vec = atol * np.concatenate([np.full(k, Lsc), Vq, np.full(k, Psc)])
     # time in units of a power of two near T when T is far from 1 (exact: the same steps, scaled):
