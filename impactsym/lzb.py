@@ -9,7 +9,9 @@ approaching) and ``P_i`` the impulses:
 1. Force–energy relation (the compliant law ``f = K δ^η`` with ``E = K δ^{η+1}/(η+1)``):
    ``f_i = a_i E_i^{η_i/(η_i+1)}``, ``a_i = K_i^{1/(η_i+1)} (η_i+1)^{η_i/(η_i+1)}``.
 2. Primary contact ``p``: the contact with the largest potential energy (at the start, when all
-   ``E_i = 0``, the contact that approaches fastest). ``P_p`` is the independent variable.
+   ``E_i = 0``, the contact that approaches fastest, for the closed-form first increment only:
+   after it the largest energy leads, which is another contact when the fastest is much the
+   softer). ``P_p`` is the independent variable.
 3. Distributing rule: ``dP_j = (f_j / f_p) dP_p``, which for equal exponents is
    ``dP_j = (K_j/K_p)^{1/(1+η)} (E_j/E_p)^{η/(1+η)} dP_p`` (LZB 2008, eq. 3.13; LZB 2009 II).
 4. Velocities: ``M dv = Hᵀ dP``, hence ``dw = H M⁻¹ Hᵀ dP``.
