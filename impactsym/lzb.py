@@ -257,7 +257,9 @@ def lzb_impact(M, H, v, stiffness, exponent=1.5, restitution=1.0, *, rtol: float
             # would end them at once and restart them for ever)
             # (and to the primary's own approach energy: with a 1e-3 mass between heavy ones, the
             # heavy contacts' energies would otherwise swamp the light primary's first increment)
-            Eeps = ENERGY_EPS * 0.5 * mu[pp] * w[pp] ** 2
+            # (as (μ w) w: with μ ~ 1e-140 and w ~ 1e155, w² overflowed, Eeps was inf and every start
+            # ended at once, restarting until max_segments; with μ ~ 1e144 and w ~ 1e-165 it underflowed)
+            Eeps = ENERGY_EPS * 0.5 * (mu[pp] * w[pp]) * w[pp]
             segments += 1
             if segments > max_segments:
                 raise _too_many_segments(max_segments, e)
@@ -507,12 +509,15 @@ def lzb_impact(M, H, v, stiffness, exponent=1.5, restitution=1.0, *, rtol: float
         # segment's increments of P_p are ~1e-15 (a sub-impact restarted by an approach of 1e-7,
         # or bodies of 1e-6 kg at 1e-6 m/s): the root fell on the segment's start, and the run
         # repeated that empty segment until max_segments (or missed events and drifted with the
-        # units). By a power of two (exact: the same steps, scaled), and only below 2^-10, so that
-        # every larger scale integrates exactly as before
+        # units). And when it is large: at P_p ~ 1e162 (effective masses of 1e138 at speeds of 1e24)
+        # the error norm's squares of derivative/scale, ~1e-151 each, underflowed to zero and the
+        # step control divided by it. By a power of two (exact: the same steps, scaled), and only
+        # outside [2^-10, 2^10], so that every scale in between integrates exactly as before
         # (the primary's impulse scale: what takes up its energy and its approach's kinetic energy)
         mu_p = float(mu[pp])
         scale_P = math.hypot(math.sqrt(2.0 * mu_p) * math.sqrt(max(Ep, 0.0)), mu_p * float(w[pp]))  # no overflow
-        unit = 1.0 if not 0.0 < scale_P < 2.0 ** -10 else 2.0 ** math.floor(math.log2(scale_P))
+        far = 0.0 < scale_P < 2.0 ** -10 or scale_P > 2.0 ** 10
+        unit = 2.0 ** math.floor(math.log2(scale_P)) if far else 1.0
         fun, stage_of = rhs, bind
         if unit != 1.0:
             fun, stage_of = _in_units(rhs, bind, unit)

@@ -201,6 +201,33 @@ def test_lzb_refuses_contact_scales_beyond_its_float_range(exps, message):
         lzb_impact(M * 10.0**a, H * 10.0**b, np.array([1.0, 0, -0.3]) * 10.0**c, 1.0, restitution=0.8)
 
 
+@pytest.mark.parametrize("exps", [(42, -48, 72), (28, 84, 71), (2, -71, -94)])
+def test_lzb_far_scales_inside_its_ranges_give_the_unit_outcome(exps):
+    # (M, H, v) times 10^(a, b, c), found by a random scale sweep, every check passed (T- and the rows'
+    # effective masses inside their ranges): at P_p ~ 1e162 the error norm's squares underflowed and
+    # the step control divided by zero; with μ ~ 1e-140, w ~ 1e155 the restart threshold ½ μ w² was
+    # inf (w² overflowed) and every start ended at once until max_segments; with μ ~ 1e144,
+    # w ~ 1e-165 it underflowed and the run hung in one segment (hence the alarm)
+    import signal
+
+    def late(_signum, _frame):
+        raise TimeoutError("lzb_impact still running after 60 s")
+
+    a, b, c = exps
+    M, H, _ = chain_matrices([1.0, 2.0, 1.5])
+    v, K = np.array([1.0, 0.1, -0.3]), [1.0, 3.0]
+    ref = lzb_impact(M, H, v, K, 1.5, 0.8)
+    old = signal.signal(signal.SIGALRM, late)
+    signal.alarm(60)
+    try:
+        r = lzb_impact(M * 10.0**a, H * 10.0**b, v * 10.0**c, K, 1.5, 0.8, max_segments=1000)
+    finally:
+        signal.alarm(0)
+        signal.signal(signal.SIGALRM, old)
+    assert r.segments == ref.segments
+    assert np.allclose(r.velocity / 10.0**c, ref.velocity, rtol=0, atol=1e-9)
+
+
 def test_lzb_light_primary_among_heavy_contacts_resolves():
     # the fastest approach (the primary at the start) is a 1e-3 ball's, while a heavy pair also
     # approaches with 1e4 times its energy: a threshold relative to the largest energy looped for ever
