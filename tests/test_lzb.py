@@ -228,6 +228,22 @@ def test_lzb_far_scales_inside_its_ranges_give_the_unit_outcome(exps):
     assert np.allclose(r.velocity / 10.0**c, ref.velocity, rtol=0, atol=1e-9)
 
 
+def test_lzb_a_primary_turning_to_expansion_ends_its_segment():
+    # found by a random scene sweep (ordinary scales, e = 0.8): where w_p rises through 0 the
+    # primary's c_p jumps from 1 to 1/e², a kink in dE_p/dP_p that DOP853's error estimate does not
+    # see. Stepped across, the unloading took 7 steps at rtol = 1e-11 and ended 1e-3 off (T+/T- =
+    # 0.62137 against 0.61865; 20 steps and right at 1e-12). The turn now ends the segment
+    M = np.diag([0.15161862677077884, 2.1326628400954037, 1.3055729760531543])
+    H = np.array([[-1.6402925995700042, 1.6402925995700042, 0.0], [0.0, -0.48955204051301315, 0.48955204051301315]])
+    v0 = np.array([1.0, 0.24788107632041234, -0.5503201774156034])
+    K = [4.9195097981848335, 6.031188033788202]
+    ref = lzb_impact(M, H, v0, K, 1.5, 0.8, rtol=1e-13)
+    for rtol in (1e-10, 1e-11, 1e-12):
+        r = lzb_impact(M, H, v0, K, 1.5, 0.8, rtol=rtol)
+        assert np.allclose(r.velocity, ref.velocity, rtol=0, atol=1e-8), rtol
+        assert abs(r.energy_ratio - ref.energy_ratio) < 1e-8
+
+
 def test_lzb_light_primary_among_heavy_contacts_resolves():
     # the fastest approach (the primary at the start) is a 1e-3 ball's, while a heavy pair also
     # approaches with 1e4 times its energy: a threshold relative to the largest energy looped for ever
