@@ -40,7 +40,8 @@ last bits of the CPU's arithmetic at default tolerances and in 7 of 60 random ch
 segment starts with it live), when a compressing contact with ``e_j < 1``, the primary or a live
 one, turns to expansion (``w_j`` rises through 0, where ``c_j`` jumps to ``1/e_j²``: a kink that
 DOP853's error estimate does not see; stepped across, an unloading ended 1e-3 off at
-``rtol = 1e-11``), when ``E_p`` has fallen by
+``rtol = 1e-11``; within its segment the contact keeps ``c_j = 1``, so that the right-hand side
+stays smooth up to the event), when ``E_p`` has fallen by
 ``DROP_FACTOR = 1e-3`` within the segment (a new segment counts ``P_p`` from 0 again, so that the
 small increments near the end of an unloading are not lost in the ulps of a large ``P_p``), or when
 ``E_p`` falls below
@@ -311,6 +312,20 @@ def lzb_impact(M, H, v, stiffness, exponent=1.5, restitution=1.0, *, rtol: float
         # and the next one starts with it live.
         live = [j != pp and (j == activated or not (float(s[j]) <= 0.0 and float(w[j]) >= 0.0)) for j in range(k)]
         live_arr = np.array(live)
+        # the compressing contacts with e_j < 1 (the primary or live ones): where w_j rises through 0
+        # c_j jumps from 1 to 1/e_j², a kink of the right-hand side that DOP853's error estimate does
+        # not see. Stepped across, a primary's unloading took 7 steps at rtol = 1e-11 and ended 1e-3
+        # off (20 steps and right at 1e-12). Within the segment such a contact keeps c_j = 1 (the
+        # right-hand side is smooth, the last step's dense output too) and the segment ends at the
+        # turn, an event; ending there without holding c_j still read the root off a step across the
+        # kink (2e-6 off). Not a contact already at its turn (w_j >= −SEPARATION_EPS·V, the end
+        # test's zero speed): a ball between two walls at rest to 2e-20 otherwise alternated empty
+        # segments with a release
+        kinks = [(j, Hf[j]) for j in range(k) if inv_e2[j] != 1.0 and (j == pp or live[j]) and j != expanded
+                 and float(w[j]) < -SEPARATION_EPS * V]
+        inv_e2_seg = inv_e2.copy()
+        for j, _row in kinks:
+            inv_e2_seg[j] = 1.0
 
         # the primary's constants of this segment (the same numbers the formula below would index
         # again at each of the ~12 calls per DOP853 step), as Python floats: the same IEEE products
@@ -319,7 +334,7 @@ def lzb_impact(M, H, v, stiffness, exponent=1.5, restitution=1.0, *, rtol: float
         i_ep, i_r, N = n + k, n + k + 1, n + 2 * k + 2
         few = k <= 24
         zero_k, one_k = np.zeros(k), np.ones(k)
-        al, bl, ie2 = a.tolist(), b.tolist(), inv_e2.tolist()
+        al, bl, ie2 = a.tolist(), b.tolist(), inv_e2_seg.tolist()
 
         def tail(wl, sl, pl, fp, pp=pp):
             # out[n:] for a few contacts, as Python floats: the same IEEE products and quotients,
@@ -385,7 +400,7 @@ def lzb_impact(M, H, v, stiffness, exponent=1.5, restitution=1.0, *, rtol: float
                 cwp = -ww.item(pp)
                 np.multiply(ww, b, out=ds)
             else:
-                np.multiply(np.where(np.greater(ww, zero_k), inv_e2, one_k), ww, out=ds)
+                np.multiply(np.where(np.greater(ww, zero_k), inv_e2_seg, one_k), ww, out=ds)
                 cwp = -ds.item(pp)
                 np.multiply(ds, b, out=ds)
             np.divide(ds, np.array(-fp), out=ds)
@@ -478,15 +493,7 @@ def lzb_impact(M, H, v, stiffness, exponent=1.5, restitution=1.0, *, rtol: float
             return ev
 
         contact_events = [contact_event(col, row) for _j, col, row in watched]
-        # and one per compressing contact with e_j < 1 (the primary or live): its w_j rising through 0,
-        # where c_j jumps from 1 to 1/e_j², a kink of the right-hand side that DOP853's error
-        # estimate does not see. Stepped across, a primary's unloading took 7 steps at rtol = 1e-11
-        # and ended 1e-3 off (20 steps and right at 1e-12); the segment ends there instead. Not a
-        # contact already at its turn (w_j >= −SEPARATION_EPS·V, the end test's zero speed): a ball
-        # between two walls at rest to 2e-20 otherwise alternated empty segments with a release
-        kinks = [(j, Hf[j]) for j in range(k) if inv_e2[j] != 1.0 and (j == pp or live[j]) and j != expanded
-                 and float(w[j]) < -SEPARATION_EPS * V]
-
+        # and one per kink (above): its w_j rising through 0 ends the segment
         def kink_event(row):
             def expansion(_P, y):
                 return float(row.dot(y[:n]))

@@ -228,20 +228,40 @@ def test_lzb_far_scales_inside_its_ranges_give_the_unit_outcome(exps):
     assert np.allclose(r.velocity / 10.0**c, ref.velocity, rtol=0, atol=1e-9)
 
 
-def test_lzb_a_primary_turning_to_expansion_ends_its_segment():
-    # found by a random scene sweep (ordinary scales, e = 0.8): where w_p rises through 0 the
-    # primary's c_p jumps from 1 to 1/e², a kink in dE_p/dP_p that DOP853's error estimate does not
-    # see. Stepped across, the unloading took 7 steps at rtol = 1e-11 and ended 1e-3 off (T+/T- =
-    # 0.62137 against 0.61865; 20 steps and right at 1e-12). The turn now ends the segment
-    M = np.diag([0.15161862677077884, 2.1326628400954037, 1.3055729760531543])
-    H = np.array([[-1.6402925995700042, 1.6402925995700042, 0.0], [0.0, -0.48955204051301315, 0.48955204051301315]])
-    v0 = np.array([1.0, 0.24788107632041234, -0.5503201774156034])
-    K = [4.9195097981848335, 6.031188033788202]
+#: (masses, rows of H, v⁻, stiffnesses) of 3-ball scenes found by random scene sweeps, e = 0.8
+_TURNS = [
+    # the primary's unloading stepped across its turn: 7 steps at rtol = 1e-11, 1e-3 off (T+/T- =
+    # 0.62137 against 0.61865; 20 steps and right at 1e-12)
+    ([0.15161862677077884, 2.1326628400954037, 1.3055729760531543],
+     [[-1.6402925995700042, 1.6402925995700042, 0.0], [0.0, -0.48955204051301315, 0.48955204051301315]],
+     [1.0, 0.24788107632041234, -0.5503201774156034], [4.9195097981848335, 6.031188033788202]),
+    # a segment ended at the turn with c still jumping there: the root was read off a step across
+    # the kink, 2.5e-6 off at rtol = 1e-11 (and, at other scales, 2.2e-5 on the next scene)
+    ([0.3255209531577732, 0.7426820725253354, 1.2208529887308843],
+     [[-1.088399618263063, 1.088399618263063, 0.0], [0.0, -2.188788629259859, 2.188788629259859]],
+     [1.0, 0.13683763939720306, -0.9225743132097638], [0.2567100257590492, 0.4211629093035322]),
+    ([3.6155250593214476, 9.909876494713428, 0.8409219565516957],
+     [[-0.7575271222998695, 0.7575271222998695, 0.0], [0.0, -0.40136069583557166, 0.40136069583557166]],
+     [1.0, -0.2900505364891691, -0.5903716264918571], [1.4031872211713552, 0.10519969839423914]),
+]
+
+
+@pytest.mark.parametrize("case", range(len(_TURNS)))
+def test_lzb_a_contact_turning_to_expansion_ends_its_segment(case):
+    # where w_j rises through 0 a contact's c_j jumps from 1 to 1/e², a kink in the right-hand side
+    # that DOP853's error estimate does not see: a compressing contact with e < 1 keeps c_j = 1 in
+    # its segment, which ends at the turn (scaled, the third scene was 2.2e-5 off before)
+    m, H, v0, K = _TURNS[case]
+    M, H, v0 = np.diag(m), np.array(H), np.array(v0)
     ref = lzb_impact(M, H, v0, K, 1.5, 0.8, rtol=1e-13)
     for rtol in (1e-10, 1e-11, 1e-12):
         r = lzb_impact(M, H, v0, K, 1.5, 0.8, rtol=rtol)
         assert np.allclose(r.velocity, ref.velocity, rtol=0, atol=1e-8), rtol
         assert abs(r.energy_ratio - ref.energy_ratio) < 1e-8
+    if case == 2:
+        a, b, c = 146.19006719641328, 12.741756757481113, -119.58112451580696  # the sweep's scales
+        r = lzb_impact(M * 10.0**a, H * 10.0**b, v0 * 10.0**c, K, 1.5, 0.8)
+        assert np.allclose(r.velocity / 10.0**c, ref.velocity, rtol=0, atol=1e-8)
 
 
 def test_lzb_light_primary_among_heavy_contacts_resolves():
