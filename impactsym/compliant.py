@@ -74,7 +74,7 @@ Events counted: a contact event is a change of ``δ_i > 0`` between consecutive 
 ``steps`` and ``nfev`` report the integrator's work. No bound on the number of events is proved
 (for elastic chains the number of re-contacts depends on the mass ratios). Measured counts:
 ``benchmarks/results/compliant.md`` (a monodisperse Hertz chain of ``n ≤ 50`` balls struck at one
-end: exactly ``2(n − 1)`` events, each contact closes and opens once; 100 balls: 442 events, the
+end: exactly ``2(n − 1)`` events, each contact closes and opens once; 100 balls: 392 events, the
 tail re-contacting slowly).
 
 Scaling (dimensional analysis; tested in ``tests/test_compliant.py``). With ``x = V T x̃``,

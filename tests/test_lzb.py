@@ -11,7 +11,7 @@ Measured agreement (e = 1, Hertz, DOP853 at rtol 1e-11 in both; 2026-11, this ma
   instantaneous impact). Measured velocity differences: 0.063 (3 balls against a right wall),
   0.030 (wall on the left), 0.066 (a 10-ball chain with masses in [0.5, 2]), 0.044 (100 balls,
   3 strikers). Re-contacts that carry almost no energy change little: the 100-ball chain with one
-  striker re-closes contacts (442 events for 99 contacts) at relative speeds ~1e-8, and the two
+  striker re-closes contacts (392 events for 99 contacts) at relative speeds ~1e-8, and the two
   models still agree to 3.9e-10 there.
 """
 
