@@ -65,9 +65,10 @@ when, after a segment, every energy has been set to zero (the primary's energy f
 ``ENERGY_EPS · E⁰``: a truncation) and no contact approaches by more than ``SEPARATION_EPS · V``;
 ``max_segments`` caps it (``NonTermination``; with ``e < 1`` two light balls pressed between a
 heavier one and a wall take thousands of segments, where Hunt–Crossley in the time domain ends at
-once: docs/compliant_termination.md, step 7). A segment whose impulse scale is below ``2⁻¹⁰`` is
-integrated in ``P_p`` over a power of two near it (:func:`impactsym.compliant._in_units`), so that event roots are not
-lost to SciPy's absolute tolerance and the results do not depend on the units. The impulse bound of
+once: docs/compliant_termination.md, step 7). A segment whose impulse scale is below ``2⁻¹⁰`` or
+above ``2¹⁰`` is integrated in ``P_p`` over a power of two near it
+(:func:`impactsym.compliant._in_units`), so that event roots are not lost to SciPy's absolute
+tolerance, the error norm's squares do not underflow, and the results do not depend on the units. The impulse bound of
 the compliant model holds here too (``M dv = Hᵀ dP`` with ``dP ≥ 0``, and ``T + Σ E_i`` never grows
 since ``c_j ≥ 1`` in expansion), so with a separating direction ``u`` the total impulse stays below
 ``2 ‖u‖_M √(2T⁻) / min (Hu)_i``; it is checked after every run
