@@ -120,6 +120,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
+import math
 from math import inf, nextafter, sqrt
 
 import numpy as np
@@ -410,6 +411,33 @@ def _in_units(rhs, bind, unit: float):
         return scaled
 
     return fun, stage_of
+
+
+def _unit_near(x: float) -> float:
+    """The unit :func:`_in_units` counts an independent variable of scale ``x`` in: 1 for ``x`` in
+    ``[2⁻¹⁰, 2¹⁰]`` (or not positive), so that those scales integrate exactly as without it, else
+    the power of two at or below ``x``.
+
+    >>> _unit_near(3.0), _unit_near(1e-30) == 2.0 ** -100, _unit_near(5000.0)
+    (1.0, True, 4096.0)
+    """
+    if not x > 0 or 2.0 ** -10 <= x <= 2.0 ** 10:
+        return 1.0
+    return 2.0 ** math.floor(math.log2(x))
+
+
+def _speed_scales(Minv, T0: float):
+    """Each coordinate's speed scale ``√(2T⁻)·√((M⁻¹)_jj)``: a bound on ``|v_j|`` while the kinetic
+    energy does not grow above ``T⁻`` (Cauchy–Schwarz in the kinetic metric), in the coordinate's own
+    units. The integrating laws' absolute tolerances on the speeds (the fastest approach ``(H v)_i``
+    is in the rows' units: with rows of H at 1e30 it was 1e30 too coarse). A product of roots:
+    ``2T⁻(M⁻¹)_jj`` underflowed to 0 at ``T⁻ ~ 1e-243`` with masses of 1e85, where each root is a
+    normal float, and the zero tolerance hung the run.
+
+    >>> _speed_scales(np.diag([1.0, 0.25]), 2.0).tolist()
+    [2.0, 1.0]
+    """
+    return sqrt(2.0 * T0) * np.sqrt(np.diag(Minv))
 
 
 def float_system(M, H, v):
@@ -929,18 +957,13 @@ def compliant_impact(M, H, v, stiffness, exponent=1.5, damping=None, *, hunt_cro
         def values(t, y):
             return [stop_value(t, y)]
 
-    # the gaps in units of V T (the state integrates them, not q); each speed in its own scale,
-    # |v_j| <= sqrt(2 T- (M^-1)_jj) while the energy does not grow (Cauchy-Schwarz in the kinetic
-    # metric): V is in the units of H q', 1e30 times too coarse for q' with H's rows at 1e30. A
-    # product of roots: 2 T- (M^-1)_jj underflowed to 0 at T- ~ 1e-243 with masses of 1e85, where
-    # each root is a normal float, and a zero tolerance hung the run
-    Vq = sqrt(2.0 * T0) * np.sqrt(np.diag(Minv))
-    atol_vec = atol * np.concatenate([np.full(k, Lsc), Vq, np.full(k, Psc)])
+    # the gaps in units of V T (the state integrates them, not q), each speed in its own scale
+    atol_vec = atol * np.concatenate([np.full(k, Lsc), _speed_scales(Minv, T0), np.full(k, Psc)])
     # time in units of a power of two near T when T is far from 1 (exact: the same steps, scaled):
     # SciPy places an event's root to an absolute 4·EPS in t, so with T ~ 1e-30 (rows of H at 1e30
     # against K of order one) the separation was placed anywhere in a step and the outcome was 7e-9
     # off; every T in [2^-10, 2^10] integrates exactly as before
-    unit = 1.0 if 2.0**-10 <= T <= 2.0**10 else 2.0 ** float(np.floor(np.log2(T)))
+    unit = _unit_near(T)
     fun, stage_of = (rhs, bind) if unit == 1.0 else _in_units(rhs, bind, unit)
     y = np.concatenate([g0, v0, np.zeros(k)])
     closed = (-(g0)) > 0

@@ -114,7 +114,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .compliant import _contact_scales_in_range, _dop853, _in_units, _kinetic_energy_in_range, _per_contact, _vec, chain_matrices, float_system
+from .compliant import (_contact_scales_in_range, _dop853, _in_units, _kinetic_energy_in_range, _per_contact,
+                        _speed_scales, _unit_near, _vec, chain_matrices, float_system)
 from .errors import ImpactInputError, NonTermination
 
 __all__ = ["LZBResult", "lzb_impact", "lzb_chain"]
@@ -234,9 +235,7 @@ def lzb_impact(M, H, v, stiffness, exponent=1.5, restitution=1.0, *, rtol: float
     V = float(np.max(-w0[w0 < 0]))
     Eeps = ENERGY_EPS * T0  # set again at every (re)start
     Pscale = float(np.max(mu)) * V
-    # each velocity's own scale, |v_j| <= sqrt(2 T- (M^-1)_jj) (the energy does not grow), a product of
-    # roots (no underflow): V is in the units of H v, and with rows of H at 1e30 it was 1e30 too coarse
-    Vq = math.sqrt(2.0 * T0) * np.sqrt(np.diag(np.linalg.inv(Mf)))
+    Vq = _speed_scales(np.linalg.inv(Mf), T0)  # each velocity's own scale (V is in the rows' units)
     Tsc = float(np.min((mu / (K * V ** (eta - 1))) ** (1 / (eta + 1))))  # contact time scale
 
     v = v0.copy()
@@ -548,8 +547,7 @@ def lzb_impact(M, H, v, stiffness, exponent=1.5, restitution=1.0, *, rtol: float
         # (the primary's impulse scale: what takes up its energy and its approach's kinetic energy)
         mu_p = float(mu[pp])
         scale_P = math.hypot(math.sqrt(2.0 * mu_p) * math.sqrt(max(Ep, 0.0)), mu_p * float(w[pp]))  # no overflow
-        far = 0.0 < scale_P < 2.0 ** -10 or scale_P > 2.0 ** 10
-        unit = 2.0 ** math.floor(math.log2(scale_P)) if far else 1.0
+        unit = _unit_near(scale_P)
         fun, stage_of = rhs, bind
         if unit != 1.0:
             fun, stage_of = _in_units(rhs, bind, unit)
