@@ -198,7 +198,8 @@ class _Run:
     __slots__ = ("t", "y", "t_events", "y_events", "status", "message", "nfev", "steps", "y_last")
 
 
-def _dop853(fun, t0, t_bound, y0, rtol, atol, events, keep_states=True, into=False, values=None, stage=None):
+def _dop853(fun, t0, t_bound, y0, rtol, atol, events, keep_states=True, into=False, values=None, stage=None,
+            turns=()):
     """``solve_ivp(fun, (t0, t_bound), y0, method="DOP853", rtol=rtol, atol=atol, events=events)``, faster.
 
     The same floating-point operations in the same order as SciPy's ``DOP853`` (the initial step,
@@ -219,6 +220,16 @@ def _dop853(fun, t0, t_bound, y0, rtol, atol, events, keep_states=True, into=Fal
     one buffer ``y`` that will hold every stage's input, and returns ``None`` or a function of no
     argument that does ``fun(t, y, out)`` for ``y``'s contents at the time (``fun`` must not read
     ``t`` then): its views and work arrays are made once per integration, not once per stage.
+
+    ``turns`` (our addition; none by default, and then every step is SciPy's) lists pairs
+    ``(i, slope)``: event ``i`` (with a direction ``±1``) whose two crossings inside one step are to
+    be found too, where ``slope(f)`` is the event's derivative for the state derivative ``f``.
+    SciPy sees only sign changes between accepted steps, so a value that rises through 0 and falls
+    back within one step is never seen. When event ``i`` has the same sign, against its direction,
+    at both ends of a step and its slopes at the ends say that it turns towards 0 and back inside
+    (an extremum, the only one the end slopes reveal), the extremum of the event on the step's
+    dense output is found (:func:`_excursion_root`); if it lies past 0, the first crossing is a
+    root of the event like any other, located by ``brentq`` as SciPy locates them.
 
     Returns an object with ``t`` (accepted times, only if ``keep_states``), ``y`` (the states, one
     column per time, only if ``keep_states``), ``steps``, ``y_last`` (the final state), ``t_events``,
@@ -345,6 +356,8 @@ def _dop853(fun, t0, t_bound, y0, rtol, atol, events, keep_states=True, into=Fal
             ts.append(t)
             ys.append(y)
         g_new = values(t, y)
+        # (K[0] holds the derivative at t_old: no stage writes it)
+        excursions = _excursions(turns, events, dirs, g, g_new, K[0], f, t_old, t, solver, y_old, y, h) if turns else ()
         # SciPy's find_active_events: up (a <= 0 <= b) for d > 0, down (a >= 0 >= b) for d < 0,
         # either for d == 0; one plain loop (no comprehension to call at every step)
         active = []
@@ -353,7 +366,24 @@ def _dop853(fun, t0, t_bound, y0, rtol, atol, events, keep_states=True, into=Fal
             if (d >= 0 and a <= 0 and b >= 0) or (d <= 0 and a >= 0 and b <= 0):
                 active.append(i)
             i += 1
-        if active:
+        if excursions:
+            # an event's two crossings inside the step (turns): its first crossing is a root beside
+            # the active events' own, and SciPy's rule (the first terminal root ends) applies to all
+            sol = excursions[0]
+            active = [i for i in active if i not in excursions[1]]
+            event_count[np.array(active + list(excursions[1]), dtype=np.intp)] += 1
+            root_indices, roots, terminate = _handle_with(sol, events, np.array(active, dtype=np.intp), excursions[1],
+                                                          excursions[2], event_count, max_events, t_old, t)
+            for e, te in zip(root_indices, roots):
+                t_events[e].append(te)
+                y_events[e].append(sol(te))
+            if terminate:
+                status = 1
+                t = roots[-1]
+                y = sol(t)
+                if keep_states:
+                    ts[-1], ys[-1] = t, y
+        elif active:
             # SciPy's dense output and event handling, on the solver's own state
             solver.t_old, solver.t, solver.y_old, solver.y, solver.f, solver.h_previous = t_old, t, y_old, y, f, h
             sol = solver.dense_output()
@@ -383,6 +413,85 @@ def _dop853(fun, t0, t_bound, y0, rtol, atol, events, keep_states=True, into=Fal
     run.t_events = [np.asarray(te) for te in t_events]
     run.y_events = [np.asarray(ye) for ye in y_events]
     return run
+
+
+#: the points of [0, 1] at which an event is read off a step's dense output (a polynomial of degree 7
+#: in the step fraction for DOP853) to fit it exactly and find its extremum: Chebyshev–Lobatto
+_EXCURSION_NODES = 0.5 - 0.5 * np.cos(np.pi * np.arange(8) / 7)
+
+
+def _excursions(turns, events, dirs, g, g_new, f_old, f, t_old, t, solver, y_old, y, h):
+    """The turns of :func:`_dop853` that cross 0 twice inside the step ``[t_old, t]``: ``()`` if
+    none, else ``(sol, indices, roots)`` with the step's dense output and each first crossing."""
+    found, roots, sol = [], [], None
+    for i, slope in turns:
+        d, a, b = dirs[i], g[i], g_new[i]
+        if not (d * a < 0.0 and d * b < 0.0):
+            continue  # a crossing SciPy sees, or a value already past 0
+        s0, s1 = slope(f_old), slope(f)
+        if not (d * s0 > 0.0 and d * s1 < 0.0):
+            continue  # no turn towards 0 and back that the end slopes reveal
+        if sol is None:
+            solver.t_old, solver.t, solver.y_old, solver.y, solver.f, solver.h_previous = t_old, t, y_old, y, f, h
+            sol = solver.dense_output()
+        root = _excursion_root(events[i], d, sol, t_old, t)
+        if root is not None:
+            found.append(i)
+            roots.append(root)
+    return (sol, found, roots) if found else ()
+
+
+def _excursion_root(event, d, sol, t_old, t):
+    """The first crossing of 0 in direction ``d`` of ``event`` along the dense output ``sol`` on
+    ``[t_old, t]``, where the event has the sign ``−d`` at both ends and turns inside; ``None``
+    when its extremum stays short of 0.
+
+    The event along the step is fitted by a polynomial of degree 7 through 8 Chebyshev–Lobatto
+    points (the dense output is one, and the event is linear in the state for LZB's turns: the fit
+    is exact up to rounding); the extremum is the root of its derivative inside the step where the
+    event is furthest in direction ``d``, read off ``sol`` itself; the crossing is found by
+    ``brentq`` between ``t_old`` and it, as SciPy's ``solve_event_equation`` does.
+
+    >>> from types import SimpleNamespace
+    >>> sol = lambda t: np.array([1e-3 - (t - 0.5) ** 2])   # rises through 0 and back inside [0, 1]
+    >>> ev = lambda t, y: y[0]
+    >>> round(_excursion_root(ev, 1.0, sol, 0.0, 1.0), 6), _excursion_root(lambda t, y: y[0] - 1, 1.0, sol, 0.0, 1.0)
+    (0.468377, None)
+    """
+    h = t - t_old
+    ts = t_old + h * _EXCURSION_NODES
+    vals = np.array([event(x, sol(x)) for x in ts])
+    poly = np.polynomial.Polynomial.fit(_EXCURSION_NODES, vals, 7, domain=[0.0, 1.0], window=[0.0, 1.0])
+    best, best_t = -inf, None
+    for r in poly.deriv().roots():
+        if abs(r.imag) > 1e-9 or not 0.0 < r.real < 1.0:
+            continue
+        tc = t_old + h * float(r.real)
+        val = d * event(tc, sol(tc))
+        if val > best:
+            best, best_t = val, tc
+    if best_t is None or best < 0.0:
+        return None
+    if best == 0.0:
+        return best_t
+    return brentq(lambda x: event(x, sol(x)), t_old, best_t, xtol=4 * np.finfo(float).eps,
+                  rtol=4 * np.finfo(float).eps)
+
+
+def _handle_with(sol, events, active, extra, extra_roots, event_count, max_events, t_old, t):
+    """SciPy's ``handle_events`` for the ``active`` events plus the ``extra`` ones whose roots
+    (``extra_roots``) were found already (:func:`_excursions`): the roots in time order, up to the
+    first of an event that has reached its ``max_events`` (then ``terminate``)."""
+    roots = [brentq(lambda x, ev=events[i]: ev(x, sol(x)), t_old, t, xtol=4 * np.finfo(float).eps,
+                    rtol=4 * np.finfo(float).eps) for i in active]
+    idx = np.concatenate([active, np.array(extra, dtype=np.intp)])
+    roots = np.concatenate([np.asarray(roots, dtype=float), np.asarray(extra_roots, dtype=float)])
+    order = np.argsort(roots, kind="stable")
+    idx, roots = idx[order], roots[order]
+    ends = np.nonzero(event_count[idx] >= max_events[idx])[0]
+    if len(ends):
+        return idx[:ends[0] + 1], roots[:ends[0] + 1], True
+    return idx, roots, False
 
 
 def _in_units(rhs, bind, unit: float):

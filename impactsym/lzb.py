@@ -37,11 +37,13 @@ expanding ``ds_j`` throughout, so that the right-hand side, which jumps to ``ds_
 smooth within each segment; stepping across the jump made DOP853's step size underflow, by the
 last bits of the CPU's arithmetic at default tolerances and in 7 of 60 random chains at
 ``rtol = 1e-13``), when a contact at rest begins to approach (``w_j`` falls through 0: the next
-segment starts with it live), when a compressing contact with ``e_j < 1``, the primary or a live
-one, turns to expansion (``w_j`` rises through 0, where ``c_j`` jumps to ``1/e_j²``: a kink that
-DOP853's error estimate does not see; stepped across, an unloading ended 1e-3 off at
-``rtol = 1e-11``; within its segment the contact keeps ``c_j = 1``, so that the right-hand side
-stays smooth up to the event), when ``E_p`` has fallen by
+segment starts with it live), when a contact with ``e_j < 1``, the primary or a live one, turns
+(``w_j`` crosses 0, where ``c_j`` jumps between 1 and ``1/e_j²``: a kink that DOP853's error
+estimate does not see; stepped across, an unloading ended 1e-3 off at ``rtol = 1e-11``, and a
+re-compression 2.6e-8 off; within its segment the contact keeps the ``c_j`` it started with, so
+that the right-hand side stays smooth up to the event; a turn there and back inside one step,
+which no sign change between accepted steps shows, is found on the step's dense output when the
+end slopes of ``w_j`` reveal it: missed, a scene was 2.4e-5 off at ``rtol = 1e-11``), when ``E_p`` has fallen by
 ``DROP_FACTOR = 1e-3`` within the segment (a new segment counts ``P_p`` from 0 again, so that the
 small increments near the end of an unloading are not lost in the ulps of a large ``P_p``), or when
 ``E_p`` falls below
@@ -246,7 +248,7 @@ def lzb_impact(M, H, v, stiffness, exponent=1.5, restitution=1.0, *, rtol: float
     primary = None
     Ep = 0.0
     activated = -1  # the contact whose activation event ended the last segment (it starts live)
-    expanded = -1  # the contact whose turn to expansion ended the last segment (not watched again at once)
+    turned, turned_dir = -1, 0.0  # the contact whose turn ended the last segment, and the turn's direction
 
     while True:
         w = Hf @ v
@@ -312,20 +314,36 @@ def lzb_impact(M, H, v, stiffness, exponent=1.5, restitution=1.0, *, rtol: float
         # and the next one starts with it live.
         live = [j != pp and (j == activated or not (float(s[j]) <= 0.0 and float(w[j]) >= 0.0)) for j in range(k)]
         live_arr = np.array(live)
-        # the compressing contacts with e_j < 1 (the primary or live ones): where w_j rises through 0
-        # c_j jumps from 1 to 1/e_j², a kink of the right-hand side that DOP853's error estimate does
-        # not see. Stepped across, a primary's unloading took 7 steps at rtol = 1e-11 and ended 1e-3
-        # off (20 steps and right at 1e-12). Within the segment such a contact keeps c_j = 1 (the
-        # right-hand side is smooth, the last step's dense output too) and the segment ends at the
-        # turn, an event; ending there without holding c_j still read the root off a step across the
-        # kink (2e-6 off). Not a contact already at its turn (w_j >= −SEPARATION_EPS·V, the end
-        # test's zero speed): a ball between two walls at rest to 2e-20 otherwise alternated empty
-        # segments with a release
-        kinks = [(j, Hf[j]) for j in range(k) if inv_e2[j] != 1.0 and (j == pp or live[j]) and j != expanded
-                 and float(w[j]) < -SEPARATION_EPS * V]
-        inv_e2_seg = inv_e2.copy()
-        for j, _row in kinks:
-            inv_e2_seg[j] = 1.0
+        # the turns of the contacts with e_j < 1 (the primary or live ones): where w_j crosses 0, c_j
+        # jumps between 1 (compression) and 1/e_j² (expansion), a kink of the right-hand side that
+        # DOP853's error estimate does not see. Stepped across, a primary's unloading took 7 steps at
+        # rtol = 1e-11 and ended 1e-3 off (20 steps and right at 1e-12). Within the segment such a
+        # contact keeps its c_j (the right-hand side is smooth, the last step's dense output too) and
+        # the segment ends at its turn, an event: rising through 0 for a compressing contact, falling
+        # for an expanding one (a re-compression, stepped across before: 2.6e-8 off at rtol = 1e-11
+        # on a sweep scene), and for the contact whose turn ended the last segment, back across it;
+        # and a turn there and back inside one step is found on the dense output (_dop853's turns:
+        # unseen, a sweep scene was 2.4e-5 off at rtol = 1e-11).
+        # Ending at the turn without holding c_j still read the root off a step across the kink (2e-6
+        # off). Not a contact at its turn (|w_j| <= SEPARATION_EPS·V, the end test's zero speed; its
+        # c_j follows the sign of w_j): a ball between two walls at rest to 2e-20 otherwise alternated
+        # empty segments with a release
+        kinks = []  # (j, row, direction of the crossing that ends the segment)
+        c_pos, c_neg = inv_e2.copy(), np.ones(k)  # c_j where w_j > 0 and where w_j <= 0
+        for j in range(k):
+            if inv_e2[j] == 1.0 or not (j == pp or live[j]):
+                continue
+            wj = float(w[j])
+            if j == turned:
+                d = -turned_dir  # past its turn: watched for the way back
+            elif wj < -SEPARATION_EPS * V:
+                d = 1.0
+            elif wj > SEPARATION_EPS * V:
+                d = -1.0
+            else:
+                continue
+            c_pos[j] = c_neg[j] = 1.0 if d > 0 else inv_e2[j]
+            kinks.append((j, Hf[j], d))
 
         # the primary's constants of this segment (the same numbers the formula below would index
         # again at each of the ~12 calls per DOP853 step), as Python floats: the same IEEE products
@@ -333,8 +351,8 @@ def lzb_impact(M, H, v, stiffness, exponent=1.5, restitution=1.0, *, rtol: float
         a_pp, expo_pp, Eeps_f = float(a[pp]), float(eta[pp] / (eta[pp] + 1)), float(Eeps)
         i_ep, i_r, N = n + k, n + k + 1, n + 2 * k + 2
         few = k <= 24
-        zero_k, one_k = np.zeros(k), np.ones(k)
-        al, bl, ie2 = a.tolist(), b.tolist(), inv_e2_seg.tolist()
+        zero_k = np.zeros(k)
+        al, bl, cpl, cnl = a.tolist(), b.tolist(), c_pos.tolist(), c_neg.tolist()
 
         def tail(wl, sl, pl, fp, pp=pp):
             # out[n:] for a few contacts, as Python floats: the same IEEE products and quotients,
@@ -354,11 +372,11 @@ def lzb_impact(M, H, v, stiffness, exponent=1.5, restitution=1.0, *, rtol: float
                     dsa(0.0 if (q <= 0.0 and w >= 0.0 and not lv) else w * y / nfp)
                 cwp = wl[pp]
             else:
-                for x, y, c, q, w, pj, lv in zip(al, bl, ie2, sl, wl, pl, live):
+                for x, y, c, cn, q, w, pj, lv in zip(al, bl, cpl, cnl, sl, wl, pl, live):
                     ra(x * pj / fp)
-                    dsa(0.0 if (q <= 0.0 and w >= 0.0 and not lv) else (c * w if w > 0.0 else 1.0 * w) * y / nfp)
+                    dsa(0.0 if (q <= 0.0 and w >= 0.0 and not lv) else (c * w if w > 0.0 else cn * w) * y / nfp)
                 w = wl[pp]
-                cwp = ie2[pp] * w if w > 0.0 else 1.0 * w
+                cwp = cpl[pp] * w if w > 0.0 else cnl[pp] * w
             ratio[pp] = fp / fp
             ds[pp] = 0.0
             ds.append(-cwp)
@@ -400,7 +418,7 @@ def lzb_impact(M, H, v, stiffness, exponent=1.5, restitution=1.0, *, rtol: float
                 cwp = -ww.item(pp)
                 np.multiply(ww, b, out=ds)
             else:
-                np.multiply(np.where(np.greater(ww, zero_k), inv_e2_seg, one_k), ww, out=ds)
+                np.multiply(np.where(np.greater(ww, zero_k), c_pos, c_neg), ww, out=ds)
                 cwp = -ds.item(pp)
                 np.multiply(ds, b, out=ds)
             np.divide(ds, np.array(-fp), out=ds)
@@ -494,15 +512,18 @@ def lzb_impact(M, H, v, stiffness, exponent=1.5, restitution=1.0, *, rtol: float
 
         contact_events = [contact_event(col, row) for _j, col, row in watched]
         # and one per kink (above): its w_j rising through 0 ends the segment
-        def kink_event(row):
-            def expansion(_P, y):
+        def kink_event(row, d):
+            def turn(_P, y):
                 return float(row.dot(y[:n]))
 
-            expansion.terminal = True
-            expansion.direction = 1
-            return expansion
+            turn.terminal = True
+            turn.direction = d
+            return turn
 
-        contact_events += [kink_event(row) for _j, row in kinks]
+        contact_events += [kink_event(row, d) for _j, row, d in kinks]
+        first_kink = 3 + len(watched)
+        # each turn's slope dw_j/dP_p = H_j (dv/dP_p), for the turns there and back inside one step
+        turns = [(first_kink + i, (lambda f, row=row: float(row.dot(f[:n])))) for i, (_j, row, _d) in enumerate(kinks)]
         Eeps_e, Ep_drop_e = float(Eeps), float(Ep_drop)
 
         def values(_P, y, others=others):
@@ -526,7 +547,7 @@ def lzb_impact(M, H, v, stiffness, exponent=1.5, restitution=1.0, *, rtol: float
             for _j, col, row in watched:
                 x = y.item(col) if row is None else float(row.dot(q))
                 out.append(x if x != 0.0 else 1.0)
-            for _j, row in kinks:
+            for _j, row, _d in kinks:
                 out.append(float(row.dot(q)))
             return out
 
@@ -552,7 +573,7 @@ def lzb_impact(M, H, v, stiffness, exponent=1.5, restitution=1.0, *, rtol: float
         if unit != 1.0:
             fun, stage_of = _in_units(rhs, bind, unit)
         sol = _dop853(fun, 0.0, span / unit, y0, rtol, atol_vec, [end_primary, switch, drop] + contact_events,
-                      keep_states=False, into=True, values=values, stage=stage_of)
+                      keep_states=False, into=True, values=values, stage=stage_of, turns=turns)
         segments += 1
         steps += sol.steps
         nfev += sol.nfev
@@ -572,9 +593,9 @@ def lzb_impact(M, H, v, stiffness, exponent=1.5, restitution=1.0, *, rtol: float
         v, s, Ep = y[:n].copy(), y[n:n + k].copy(), float(y[n + k])
         P, t_equiv = y[n + k + 1:n + 2 * k + 1].copy(), float(y[-1])
         s[pp] = max(Ep, 0.0) ** (1 / (eta[pp] + 1))
-        activated = expanded = -1
-        if fired and fired[0] >= 3 + len(watched):
-            expanded = kinks[fired[0] - 3 - len(watched)][0]  # expanding from here: c_j = 1/e_j²
+        activated = turned = -1
+        if fired and fired[0] >= first_kink:
+            turned, _row, turned_dir = kinks[fired[0] - first_kink]  # past its turn from here
         elif fired and fired[0] >= 3:
             j, _col, row = watched[fired[0] - 3]
             if row is None:

@@ -21,9 +21,11 @@ from impactsym.lzb import lzb_chain
 
 
 def _via_solve_ivp(fun, t0, t_bound, y0, rtol, atol, events, keep_states=True, into=False, values=None,
-                   stage=None):
+                   stage=None, turns=()):
     # SciPy calls fun(t, y) and copies what it returns: `into` (write into the stage table) does not apply;
-    # nor do `values` (the events' values in one call: SciPy calls the events themselves) and `stage`
+    # nor do `values` (the events' values in one call: SciPy calls the events themselves) and `stage`;
+    # nor `turns` (a crossing there and back inside one step, which SciPy does not see: the scenes below
+    # have none, and where one is found the bytes differ, as they should)
     sol = solve_ivp(fun, (t0, t_bound), y0, method="DOP853", rtol=rtol, atol=atol, events=events)
     run = compliant._Run()
     run.t, run.y, run.steps, run.y_last = sol.t, sol.y, len(sol.t) - 1, sol.y[:, -1]
@@ -111,3 +113,39 @@ def test_dop853_fails_where_solve_ivp_fails():
     run = _dop853(fun, 0.0, 2.0, np.array([1.0]), 1e-10, atol, [])
     assert ref.status == run.status == -1 and run.message == ref.message and run.nfev == ref.nfev
     assert _same(run.t, ref.t) and _same(run.y, ref.y) and abs(run.t[-1] - 1) < 1e-6 and run.y[0, -1] > 1e12
+
+
+def test_dop853_finds_a_crossing_there_and_back_inside_one_step_only_with_turns():
+    # x = −sin t: the event x − 0.9999 rises through 0 and falls back within ±0.014 of t = 3π/2, far
+    # inside one step at rtol = 1e-6 (steps of ~1); SciPy (and the driver without turns) never sees it
+    def fun(_t, y):
+        return np.array([y[1], -y[0]])
+
+    def peak(_t, y):
+        return y[0] - 0.9999
+
+    peak.terminal = True
+    peak.direction = 1
+    atol = np.array([1e-9, 1e-9])
+    y0 = np.array([0.0, -1.0])
+    ref = solve_ivp(fun, (0.0, 6.0), y0, method="DOP853", rtol=1e-6, atol=atol, events=[peak])
+    i = np.searchsorted(ref.t, 1.5 * np.pi)
+    assert ref.status == 0 and len(ref.t_events[0]) == 0 and ref.t[i] - ref.t[i - 1] > 0.5
+    assert peak(0, ref.y[:, i - 1]) < 0 and peak(0, ref.y[:, i]) < 0
+    plain = _dop853(fun, 0.0, 6.0, y0, 1e-6, atol, [peak])
+    assert plain.status == 0 and _same(plain.y, ref.y)
+    run = _dop853(fun, 0.0, 6.0, y0, 1e-6, atol, [peak], turns=[(0, lambda f: float(f[0]))])
+    assert run.status == 1 and len(run.t_events[0]) == 1
+    t_root = run.t_events[0][0]
+    # the first crossing, on the way up (to the dense output's accuracy over a step of ~1: the
+    # crossing is grazing, x' = 0.014 there, so 1e-6 in x is 7e-5 in t)
+    assert 1.5 * np.pi - 0.0143 < t_root < 1.5 * np.pi - 0.014 and abs(-np.sin(t_root) - 0.9999) < 2e-6
+    assert abs(run.y_last[0] - 0.9999) < 1e-12 and run.y_last[1] > 0
+    # a turn whose extremum stays short of 0 is no crossing: the event x − 1.0001 is never reached
+    def beyond(_t, y):
+        return y[0] - 1.0001
+
+    beyond.terminal = True
+    beyond.direction = 1
+    run = _dop853(fun, 0.0, 6.0, y0, 1e-6, atol, [beyond], turns=[(0, lambda f: float(f[0]))])
+    assert run.status == 0 and len(run.t_events[0]) == 0 and _same(run.y_last, ref.y[:, -1])
