@@ -462,6 +462,8 @@ def _excursion_root(event, d, sol, t_old, t):
     h = t - t_old
     ts = t_old + h * _EXCURSION_NODES
     vals = np.array([event(x, sol(x)) for x in ts])
+    if not np.all(np.isfinite(vals)):
+        return None  # a non-finite dense output: no turn is read off it (the step's own values decide)
     poly = np.polynomial.Polynomial.fit(_EXCURSION_NODES, vals, 7, domain=[0.0, 1.0], window=[0.0, 1.0])
     best, best_t = -inf, None
     for r in poly.deriv().roots():
