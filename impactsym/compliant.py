@@ -125,7 +125,7 @@ from math import inf, nextafter, sqrt
 
 import numpy as np
 from scipy.integrate import DOP853
-from scipy.integrate._ivp.ivp import handle_events, prepare_events
+from scipy.integrate._ivp.ivp import handle_events, prepare_events, solve_event_equation
 from scipy.optimize import brentq
 
 from .errors import ImpactInputError, NonTermination, VerificationError
@@ -367,30 +367,22 @@ def _dop853(fun, t0, t_bound, y0, rtol, atol, events, keep_states=True, into=Fal
             if (d >= 0 and a <= 0 and b >= 0) or (d <= 0 and a >= 0 and b <= 0):
                 active.append(i)
             i += 1
-        if excursions:
-            # an event's two crossings inside the step (turns): its first crossing is a root beside
-            # the active events' own, and SciPy's rule (the first terminal root ends) applies to all
-            sol = excursions[0]
-            active = [i for i in active if i not in excursions[1]]
-            event_count[np.array(active + list(excursions[1]), dtype=np.intp)] += 1
-            root_indices, roots, terminate = _handle_with(sol, events, np.array(active, dtype=np.intp), excursions[1],
-                                                          excursions[2], event_count, max_events, t_old, t)
-            for e, te in zip(root_indices, roots):
-                t_events[e].append(te)
-                y_events[e].append(sol(te))
-            if terminate:
-                status = 1
-                t = roots[-1]
-                y = sol(t)
-                if keep_states:
-                    ts[-1], ys[-1] = t, y
-        elif active:
-            # SciPy's dense output and event handling, on the solver's own state
-            solver.t_old, solver.t, solver.y_old, solver.y, solver.f, solver.h_previous = t_old, t, y_old, y, f, h
-            sol = solver.dense_output()
-            active = np.array(active, dtype=np.intp)
-            event_count[active] += 1
-            root_indices, roots, terminate = handle_events(sol, events, active, event_count, max_events, t_old, t)
+        if excursions or active:
+            if excursions:
+                # an event's two crossings inside the step (turns): its first crossing is a root beside
+                # the active events' own, and SciPy's rule (the first terminal root ends) applies to all
+                sol, extra, extra_roots = excursions
+                active = [i for i in active if i not in extra]
+                event_count[np.array(active + extra, dtype=np.intp)] += 1
+                root_indices, roots, terminate = _handle_with(sol, events, np.array(active, dtype=np.intp), extra,
+                                                              extra_roots, event_count, max_events, t_old, t)
+            else:
+                # SciPy's dense output and event handling, on the solver's own state
+                solver.t_old, solver.t, solver.y_old, solver.y, solver.f, solver.h_previous = t_old, t, y_old, y, f, h
+                sol = solver.dense_output()
+                active = np.array(active, dtype=np.intp)
+                event_count[active] += 1
+                root_indices, roots, terminate = handle_events(sol, events, active, event_count, max_events, t_old, t)
             for e, te in zip(root_indices, roots):
                 t_events[e].append(te)
                 y_events[e].append(sol(te))
@@ -450,10 +442,9 @@ def _excursion_root(event, d, sol, t_old, t):
     The event along the step is fitted by a polynomial of degree 7 through 8 Chebyshev–Lobatto
     points (the dense output is one, and the event is linear in the state for LZB's turns: the fit
     is exact up to rounding); the extremum is the root of its derivative inside the step where the
-    event is furthest in direction ``d``, read off ``sol`` itself; the crossing is found by
-    ``brentq`` between ``t_old`` and it, as SciPy's ``solve_event_equation`` does.
+    event is furthest in direction ``d``, read off ``sol`` itself; the crossing is found between
+    ``t_old`` and it by SciPy's own ``solve_event_equation`` (``brentq``).
 
-    >>> from types import SimpleNamespace
     >>> sol = lambda t: np.array([1e-3 - (t - 0.5) ** 2])   # rises through 0 and back inside [0, 1]
     >>> ev = lambda t, y: y[0]
     >>> round(_excursion_root(ev, 1.0, sol, 0.0, 1.0), 6), _excursion_root(lambda t, y: y[0] - 1, 1.0, sol, 0.0, 1.0)
@@ -477,16 +468,14 @@ def _excursion_root(event, d, sol, t_old, t):
         return None
     if best == 0.0:
         return best_t
-    return brentq(lambda x: event(x, sol(x)), t_old, best_t, xtol=4 * np.finfo(float).eps,
-                  rtol=4 * np.finfo(float).eps)
+    return solve_event_equation(event, sol, t_old, best_t)
 
 
 def _handle_with(sol, events, active, extra, extra_roots, event_count, max_events, t_old, t):
     """SciPy's ``handle_events`` for the ``active`` events plus the ``extra`` ones whose roots
     (``extra_roots``) were found already (:func:`_excursions`): the roots in time order, up to the
     first of an event that has reached its ``max_events`` (then ``terminate``)."""
-    roots = [brentq(lambda x, ev=events[i]: ev(x, sol(x)), t_old, t, xtol=4 * np.finfo(float).eps,
-                    rtol=4 * np.finfo(float).eps) for i in active]
+    roots = [solve_event_equation(events[i], sol, t_old, t) for i in active]
     idx = np.concatenate([active, np.array(extra, dtype=np.intp)])
     roots = np.concatenate([np.asarray(roots, dtype=float), np.asarray(extra_roots, dtype=float)])
     order = np.argsort(roots, kind="stable")
