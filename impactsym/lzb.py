@@ -43,8 +43,8 @@ estimate does not see; stepped across, an unloading ended 1e-3 off at ``rtol = 1
 re-compression 2.6e-8 off; within its segment the contact keeps the ``c_j`` it started with, so
 that the right-hand side stays smooth up to the event; a turn there and back inside one step,
 which no sign change between accepted steps shows, is found on the step's dense output when the
-end slopes of ``w_j`` reveal it: missed, a scene was 2.4e-5 off at ``rtol = 1e-11``), when ``E_p`` has fallen by
-``DROP_FACTOR = 1e-3`` within the segment (a new segment counts ``P_p`` from 0 again, so that the
+end slopes of ``w_j`` reveal it: missed, a scene was 2.4e-5 off at ``rtol = 1e-11``), when
+``E_p`` has fallen by ``DROP_FACTOR = 1e-3`` within the segment (a new segment counts ``P_p`` from 0 again, so that the
 small increments near the end of an unloading are not lost in the ulps of a large ``P_p``), or when
 ``E_p`` falls below
 ``ENERGY_EPS · E⁰`` (then every energy is below ``1.5 ENERGY_EPS · E⁰`` and is set to zero; the
@@ -511,7 +511,7 @@ def lzb_impact(M, H, v, stiffness, exponent=1.5, restitution=1.0, *, rtol: float
             return ev
 
         contact_events = [contact_event(col, row) for _j, col, row in watched]
-        # and one per kink (above): its w_j rising through 0 ends the segment
+        # and one per kink (above): its w_j crossing 0 in the kink's direction ends the segment
         def kink_event(row, d):
             def turn(_P, y):
                 return float(row.dot(y[:n]))
