@@ -358,7 +358,8 @@ def _dop853(fun, t0, t_bound, y0, rtol, atol, events, keep_states=True, into=Fal
             ys.append(y)
         g_new = values(t, y)
         # (K[0] holds the derivative at t_old: no stage writes it)
-        excursions = _excursions(turns, events, dirs, g, g_new, K[0], f, t_old, t, solver, y_old, y, h) if turns else ()
+        excursions = (_excursions(turns, events, dirs, g, g_new, K[0], f,
+                                  lambda: _dense_output(solver, t_old, t, y_old, y, f, h)) if turns else ())
         # SciPy's find_active_events: up (a <= 0 <= b) for d > 0, down (a >= 0 >= b) for d < 0,
         # either for d == 0; one plain loop (no comprehension to call at every step)
         active = []
@@ -378,8 +379,7 @@ def _dop853(fun, t0, t_bound, y0, rtol, atol, events, keep_states=True, into=Fal
                                                               extra_roots, event_count, max_events, t_old, t)
             else:
                 # SciPy's dense output and event handling, on the solver's own state
-                solver.t_old, solver.t, solver.y_old, solver.y, solver.f, solver.h_previous = t_old, t, y_old, y, f, h
-                sol = solver.dense_output()
+                sol = _dense_output(solver, t_old, t, y_old, y, f, h)
                 active = np.array(active, dtype=np.intp)
                 event_count[active] += 1
                 root_indices, roots, terminate = handle_events(sol, events, active, event_count, max_events, t_old, t)
@@ -413,9 +413,17 @@ def _dop853(fun, t0, t_bound, y0, rtol, atol, events, keep_states=True, into=Fal
 _EXCURSION_NODES = 0.5 - 0.5 * np.cos(np.pi * np.arange(8) / 7)
 
 
-def _excursions(turns, events, dirs, g, g_new, f_old, f, t_old, t, solver, y_old, y, h):
-    """The turns of :func:`_dop853` that cross 0 twice inside the step ``[t_old, t]``: ``()`` if
-    none, else ``(sol, indices, roots)`` with the step's dense output and each first crossing."""
+def _dense_output(solver, t_old, t, y_old, y, f, h):
+    """SciPy's dense output of the step ``[t_old, t]``, made by the solver on that step's state."""
+    solver.t_old, solver.t, solver.y_old, solver.y, solver.f, solver.h_previous = t_old, t, y_old, y, f, h
+    return solver.dense_output()
+
+
+def _excursions(turns, events, dirs, g, g_new, f_old, f, dense):
+    """The turns of :func:`_dop853` that cross 0 twice inside the step whose event values are ``g``
+    and ``g_new`` at its ends and whose state derivatives are ``f_old`` and ``f``: ``()`` if none,
+    else ``(sol, indices, roots)`` with the step's dense output (``dense()``, made only when a turn
+    needs it) and each first crossing."""
     found, roots, sol = [], [], None
     for i, slope in turns:
         d, a, b = dirs[i], g[i], g_new[i]
@@ -425,9 +433,8 @@ def _excursions(turns, events, dirs, g, g_new, f_old, f, t_old, t, solver, y_old
         if not (d * s0 > 0.0 and d * s1 < 0.0):
             continue  # no turn towards 0 and back that the end slopes reveal
         if sol is None:
-            solver.t_old, solver.t, solver.y_old, solver.y, solver.f, solver.h_previous = t_old, t, y_old, y, f, h
-            sol = solver.dense_output()
-        root = _excursion_root(events[i], d, sol, t_old, t)
+            sol = dense()
+        root = _excursion_root(events[i], d, sol, sol.t_old, sol.t)
         if root is not None:
             found.append(i)
             roots.append(root)
