@@ -445,3 +445,25 @@ def test_a_light_ball_ringing_between_heavy_ones_is_integrated_to_its_tolerance(
         r = compliant_impact(M, H, v0, K, 1.0, rtol=rtol)
         assert r.events == ref.events == 32
         assert np.allclose(r.velocity, ref.velocity, rtol=0, atol=2e-8), rtol
+
+
+def test_held_linear_contacts_follow_the_piecewise_exact_solution():
+    # the scale sweep's worst linear case (seed 1, case 1828): stepped across the kink of K δ⁺ at
+    # δ = 0, the run scaled by 10^(-141.5, -96.0, 56.6) ended 1.8e-8 off at rtol = 1e-11 (1.9e-10 at
+    # 1e-10). With each linear contact held closed or open within a piece, ended at its gap's
+    # crossing: 7e-12 (measured). Checked against an independent reference (tests/linear_reference:
+    # expm pieces in 30 digits), unit and scaled, to 10 rtol
+    from linear_reference import linear_reference
+
+    M = np.diag([0.1541383282448857, 0.18042608219503084, 7.023044474667722])
+    H = np.array([[-0.6787040181589976, 0.6787040181589976, 0.0], [0.0, -1.1006698223086224, 1.1006698223086224]])
+    v = np.array([1.0, -0.49653494847778457, -0.27851312348502755])
+    K = [0.40576926662868007, 0.3208341238420987]
+    a, b, c = -141.51084109964995, -95.96402595615265, 56.64557016905235
+    ref, events = linear_reference(M, H, v, K)
+    assert events == 5
+    for rtol in (1e-10, 1e-11):
+        unit = compliant_impact(M, H, v, K, 1.0, rtol=rtol).velocity
+        scaled = compliant_impact(M * 10.0**a, H * 10.0**b, v * 10.0**c, K, 1.0, rtol=rtol).velocity / 10.0**c
+        for out in (unit, scaled):
+            assert np.max(np.abs(out - ref)) / np.max(np.abs(ref)) < 10 * rtol, (rtol, out - ref)
