@@ -35,6 +35,7 @@ import numpy as np
 sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
 
 from impactsym.compliant import compliant_impact  # noqa: E402
+from impactsym.cost_model import machine  # noqa: E402
 from impactsym.errors import ImpactInputError  # noqa: E402
 from impactsym.lzb import lzb_impact  # noqa: E402
 
@@ -113,7 +114,8 @@ def main(argv=None):
     load = os.getloadavg()[0]
     groups = {name: sweep(laws, seed, args.seconds) for name, (laws, seed) in GROUPS.items()}
     lines = ["# Random scale sweep of the float integrations", "",
-             f"Python {platform.python_version()} on {platform.machine()}, load average at start {load:.2f}. "
+             f"Python {platform.python_version()} on {platform.machine()} ({machine()['cpu']}), load average at start "
+             f"{load:.2f}. "
              f"Command: `python benchmarks/scale_sweep.py --seconds {args.seconds:g}`. A sample, not a proof "
              "(the module docstring says what a case is).", "",
              "| group | seed | cases | law | ok | refused | failures | worst error (exponents a, b, c) |",
