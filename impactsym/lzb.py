@@ -333,7 +333,10 @@ def lzb_impact(M, H, v, stiffness, exponent=1.5, restitution=1.0, *, rtol: float
         # Ending at the turn without holding c_j still read the root off a step across the kink (2e-6
         # off). Not a contact at its turn (|w_j| <= SEPARATION_EPS·V, the end test's zero speed; its
         # c_j follows the sign of w_j): a ball between two walls at rest to 2e-20 otherwise alternated
-        # empty segments with a release
+        # empty segments with a release. But the contact whose activation ended the last segment,
+        # though its w_j is 0 to rounding, compresses (w_j fell through 0): it holds c_j = 1 and is
+        # watched for its turn (taken as at its turn, its later turn was stepped across: a random
+        # chain 3.1e-9 off at rtol = 1e-12)
         kinks = []  # (j, row, direction of the crossing that ends the segment)
         c_pos, c_neg = inv_e2.copy(), np.ones(k)  # c_j where w_j > 0 and where w_j <= 0
         for j in range(k):
@@ -342,6 +345,8 @@ def lzb_impact(M, H, v, stiffness, exponent=1.5, restitution=1.0, *, rtol: float
             wj = float(w[j])
             if j == turned:
                 d = -turned_dir  # past its turn: watched for the way back
+            elif j == activated:
+                d = 1.0  # its w_j fell through 0 where the last segment ended: it compresses
             elif wj < -SEPARATION_EPS * V:
                 d = 1.0
             elif wj > SEPARATION_EPS * V:

@@ -298,6 +298,22 @@ def test_lzb_a_contact_at_rest_is_held_at_rest_until_it_activates():
         assert np.max(np.abs(r.velocity / 10.0**c - ref.velocity)) < 1e-9, rtol
 
 
+def test_lzb_an_activated_contact_compresses_and_its_turn_ends_its_segment():
+    """A contact whose activation ended the last segment starts live at ``w_j = 0`` (to rounding), so
+    it was taken as "at its turn" and its ``c_j`` followed the sign of ``w_j``: its turn to
+    expansion, later in the segment, was a kink stepped across. It compresses (its ``w_j`` fell
+    through 0): it holds ``c_j = 1`` and its turn ends the segment. On this random chain (seed 7 of
+    a 40-chain accuracy run, e = 0.93, 0.88) that was 3.1e-9 off at rtol = 1e-12 (4e-11 now).
+    At rtol = 1e-11 it is still 9.5e-10 off: the release that follows (``s_j → 0`` with ``f_j ∝
+    s_j^1.5``, not smooth at the root) is stepped in one step whose error DOP853 underestimates."""
+    m, v0 = [2.070390008941196, 1.6653348527624245, 0.24127113106869627], [1.5, -0.920627163082, 0.6033288101837466]
+    M, H, _ = chain_matrices(m)
+    K, e = [0.1263046361004465, 0.47568577759923786], [0.9320319126617792, 0.8843040821038304]
+    ref = lzb_impact(M, H, v0, K, 1.5, e, rtol=1e-13)
+    r = lzb_impact(M, H, v0, K, 1.5, e, rtol=1e-12)
+    assert np.max(np.abs(r.velocity - ref.velocity)) < 3e-10
+
+
 def test_lzb_light_primary_among_heavy_contacts_resolves():
     # the fastest approach (the primary at the start) is a 1e-3 ball's, while a heavy pair also
     # approaches with 1e4 times its energy: a threshold relative to the largest energy looped for ever
