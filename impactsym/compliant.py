@@ -205,7 +205,7 @@ class CompliantResult:
 class _Run:
     """What :func:`_dop853` returns: the fields of ``solve_ivp``'s result that the callers read."""
 
-    __slots__ = ("t", "y", "t_events", "y_events", "status", "message", "nfev", "steps", "y_last")
+    __slots__ = ("t", "y", "t_events", "y_events", "status", "message", "nfev", "steps", "y_last", "t_prev", "y_prev")
 
 
 def _dop853(fun, t0, t_bound, y0, rtol, atol, events, keep_states=True, into=False, values=None, stage=None,
@@ -242,7 +242,8 @@ def _dop853(fun, t0, t_bound, y0, rtol, atol, events, keep_states=True, into=Fal
     root of the event like any other, located by ``brentq`` as SciPy locates them.
 
     Returns an object with ``t`` (accepted times, only if ``keep_states``), ``y`` (the states, one
-    column per time, only if ``keep_states``), ``steps``, ``y_last`` (the final state), ``t_events``,
+    column per time, only if ``keep_states``), ``steps``, ``y_last`` (the final state), ``t_prev`` and
+    ``y_prev`` (the last step's start: where a terminal event's step began), ``t_events``,
     ``y_events``, ``status`` (0 end of the span, 1 a terminal event, -1 the step size underflowed),
     ``message`` and ``nfev``.
     """
@@ -274,6 +275,7 @@ def _dop853(fun, t0, t_bound, y0, rtol, atol, events, keep_states=True, into=Fal
     expo = solver.error_exponent
     nscale = float(solver.n)
     t, y, f, h_abs = solver.t, solver.y, solver.f, float(solver.h_abs)
+    t_old, y_old = t, y
     if values is None:
         def values(t, y):
             return [event(t, y) for event in events]
@@ -410,6 +412,7 @@ def _dop853(fun, t0, t_bound, y0, rtol, atol, events, keep_states=True, into=Fal
     run.nfev = solver.nfev + calls
     run.steps = steps
     run.y_last = y
+    run.t_prev, run.y_prev = t_old, y_old
     run.t = np.array(ts) if keep_states else None
     run.y = np.vstack(ys).T if keep_states else None
     run.t_events = [np.asarray(te) for te in t_events]

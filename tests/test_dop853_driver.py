@@ -29,6 +29,7 @@ def _via_solve_ivp(fun, t0, t_bound, y0, rtol, atol, events, keep_states=True, i
     sol = solve_ivp(fun, (t0, t_bound), y0, method="DOP853", rtol=rtol, atol=atol, events=events)
     run = compliant._Run()
     run.t, run.y, run.steps, run.y_last = sol.t, sol.y, len(sol.t) - 1, sol.y[:, -1]
+    run.t_prev, run.y_prev = sol.t[max(len(sol.t) - 2, 0)], sol.y[:, max(len(sol.t) - 2, 0)]
     run.t_events, run.y_events, run.status, run.message, run.nfev = (sol.t_events, sol.y_events, sol.status,
                                                                      sol.message, sol.nfev)
     return run
@@ -62,6 +63,7 @@ def test_dop853_repeats_solve_ivp_bit_for_bit_with_events():
         run = _dop853(fun, 0.0, t_bound, np.array([1.0, 0.0]), 1e-10, atol, events)
         assert run.status == ref.status == status and run.nfev == ref.nfev and run.steps == len(ref.t) - 1
         assert _same(run.t, ref.t) and _same(run.y, ref.y) and _same(run.y_last, ref.y[:, -1])
+        assert run.t_prev == ref.t[-2] and _same(run.y_prev, ref.y[:, -2])  # the last step's start
         assert len(ref.t_events[0]) >= 1
         for te, tr, ye, yr in zip(run.t_events, ref.t_events, run.y_events, ref.y_events):
             assert _same(te, tr) and _same(ye, yr)
