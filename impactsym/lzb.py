@@ -120,7 +120,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .compliant import (_contact_scales_in_range, _dop853, _in_units, _kinetic_energy_in_range, _per_contact,
-                        _speed_scales, _unit_near, _vec, chain_matrices, float_system)
+                        _speed_scales, _step_to_root_again, _unit_near, _vec, chain_matrices, float_system)
 from .errors import ImpactInputError, NonTermination
 
 __all__ = ["LZBResult", "lzb_impact", "lzb_chain"]
@@ -135,9 +135,6 @@ SWITCH_FACTOR = 1.5
 ENERGY_RANGE = (1e-200, 1e200)
 #: start a new segment each time the primary's energy has fallen by this factor within one
 DROP_FACTOR = 1e-3
-#: the finest tolerance at which the step to a release is taken again (a hundredth of ``rtol``,
-#: but no finer than this: SciPy's DOP853 takes no rtol below 100·eps)
-RELEASE_RTOL_FLOOR = 1e-13
 
 
 @dataclass
@@ -598,18 +595,16 @@ def lzb_impact(M, H, v, stiffness, exponent=1.5, restitution=1.0, *, rtol: float
             y = sol.y_events[fired[0]][-1]
             ended = fired[0] == 0
             t_root = float(sol.t_events[fired[0]][-1])
-            if 3 <= fired[0] < first_kink and watched[fired[0] - 3][2] is None and t_root > sol.t_prev:
+            if 3 <= fired[0] < first_kink and watched[fired[0] - 3][2] is None:
                 # a release: f_j = a_j s_j^η_j is not smooth where s_j reaches 0, and DOP853 takes the
                 # step to it with an error it underestimates (a random chain 6e-10 off there at
                 # rtol = 1e-11, in one step from s_j = 0.04 of its largest value; 2e-12 at 1e-12, where
-                # the steps shrank towards the root). The step is taken again, from its start to the
-                # root, at a tolerance a hundred times finer, with no events (none fired before the root)
-                fine = _dop853(fun, sol.t_prev, t_root, sol.y_prev, max(rtol * 1e-2, RELEASE_RTOL_FLOOR),
-                               atol_vec * 1e-2, [], keep_states=False, into=True, stage=stage_of)
-                if fine.status == 0:
-                    y = fine.y_last
-                steps += fine.steps
-                nfev += fine.nfev
+                # the steps shrank towards the root): the step is taken again, finer
+                fine, fine_steps, fine_nfev = _step_to_root_again(fun, sol, t_root, rtol, atol_vec, stage_of)
+                if fine is not None:
+                    y = fine
+                steps += fine_steps
+                nfev += fine_nfev
         else:
             y = sol.y_last
             ended = False
