@@ -756,9 +756,9 @@ def _step_to_root_again(fun, sol, t_root, rtol, atol, stage):
     from its start (``sol.t_prev``, ``sol.y_prev``) to the root at ``rtol/100`` (floored at
     :data:`REFINE_RTOL_FLOOR`) and ``atol/100``, with no events (none fired before the root).
 
-    For a root where a force reaches zero without being smooth there (an LZB release, where
-    ``f_j ∝ s_j^η``), where DOP853 underestimates the error of the step to it (an LZB chain one step
-    from 4 % of ``s_j``'s largest value to the root, 6e-10 off there at rtol = 1e-11). Returns
+    Used where a force reaches zero without being smooth (an LZB release, ``f_j ∝ s_j^η``): DOP853
+    underestimates the error of the step to such a root (an LZB chain took one step from 4 % of
+    ``s_j``'s largest value to the root and was 6e-10 off there at rtol = 1e-11). Returns
     ``(y, steps, nfev)``, ``y`` None where the root is the step's start or the integration failed
     (the caller keeps the dense output's state)."""
     if not t_root > sol.t_prev:

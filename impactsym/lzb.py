@@ -33,10 +33,10 @@ primary's own energy is integrated directly, ``dE_p/dP_p = −c_p w_p``, which s
 contact's energy exceeds ``1.5 E_p`` (the primary is switched), when a separating contact's
 ``s_j`` falls through 0 (it is released: the next segment starts with ``s_j = 0`` and the contact at
 rest; ``f_j ∝ s_j^η_j`` is not smooth at that root and DOP853 underestimates the error of the step
-to it, so the step is taken again from its start to the root at ``rtol/100``; within a segment a contact that was not at rest at its start follows the compressing or
-expanding ``ds_j`` throughout, so that the right-hand side, which jumps to ``ds_j = 0`` there, is
-smooth within each segment; stepping across the jump made DOP853's step size underflow, by the
-last bits of the CPU's arithmetic at default tolerances and in 7 of 60 random chains at
+to it, so the step is taken again from its start to the root at ``rtol/100``; within a segment a
+contact that was not at rest at its start follows the compressing or expanding ``ds_j``
+throughout, so that the right-hand side, which jumps to ``ds_j = 0`` there, is smooth within each
+segment; stepping across the jump made DOP853's step size underflow, by the last bits of the CPU's arithmetic at default tolerances and in 7 of 60 random chains at
 ``rtol = 1e-13``), when a contact at rest begins to approach (``w_j`` falls through 0: the next
 segment starts with it live; until then it is held at rest, ``ds_j = 0`` at every stage, so that
 the stages of the step across that root leave its ``s_j`` at 0), when a contact with ``e_j < 1``,
