@@ -20,42 +20,40 @@ approaching) and ``P_i`` the impulses:
    ``e_j²`` times what it stored (the energetic restitution).
 6. The impact is over when every ``E_i = 0`` and every ``w_i ≥ 0``.
 
-How it is integrated (our choices, stated). A contact that has no energy yet but approaches
-(``E_j = 0``, ``w_j < 0``) must start to compress, while ``dE_j ∝ E_j^{η/(η+1)}`` would keep it
-at zero forever (the equation is not Lipschitz there). We therefore integrate
-``s_j = E_j^{1/(η_j+1)}`` (proportional to the indentation ``δ_j``) for the non-primary
-contacts: ``ds_j/dP_p = −c_j w_j b_j / f_p``, ``b_j = (K_j/(η_j+1))^{1/(η_j+1)}``, ``c_j = 1`` or
-``1/e_j²``, which is regular at ``s_j = 0`` (this is the continuous form of the special first
-step that Siconos' ``OSNSMultipleImpact`` applies to such contacts). A contact with ``s_j = 0``
-and ``w_j ≥ 0`` stays inactive (no gaps exist in LZB: bodies do not move during the impact). The
-primary's own energy is integrated directly, ``dE_p/dP_p = −c_p w_p``, which stays regular as
-``E_p → 0``. The ODE in ``P_p`` is solved by DOP853 in segments: a segment ends when another
-contact's energy exceeds ``1.5 E_p`` (the primary is switched), when a separating contact's
-``s_j`` falls through 0 (it is released: the next segment starts with ``s_j = 0`` and the contact at
-rest; ``f_j ∝ s_j^η_j`` is not smooth at that root and DOP853 underestimates the error of the step
-to it, so the step is taken again from its start to the root at ``rtol/100``; within a segment a
-contact that was not at rest at its start follows the compressing or expanding ``ds_j``
-throughout, so that the right-hand side, which jumps to ``ds_j = 0`` there, is smooth within each
-segment; stepping across the jump made DOP853's step size underflow, by the last bits of the CPU's arithmetic at default tolerances and in 7 of 60 random chains at
-``rtol = 1e-13``), when a contact at rest begins to approach (``w_j`` falls through 0: the next
-segment starts with it live; until then it is held at rest, ``ds_j = 0`` at every stage, so that
-the stages of the step across that root leave its ``s_j`` at 0), when a contact with ``e_j < 1``,
-the primary or a live one, turns (``w_j`` crosses 0, where ``c_j`` jumps between 1 and
+How it is integrated (our choices, stated). A contact that has no energy yet but approaches (``E_j =
+0``, ``w_j < 0``) must start to compress, while ``dE_j ∝ E_j^{η/(η+1)}`` would keep it at zero
+forever (the equation is not Lipschitz there). We therefore integrate ``s_j = E_j^{1/(η_j+1)}``
+(proportional to the indentation ``δ_j``) for the non-primary contacts: ``ds_j/dP_p = −c_j w_j b_j /
+f_p``, ``b_j = (K_j/(η_j+1))^{1/(η_j+1)}``, ``c_j = 1`` or ``1/e_j²``, which is regular at ``s_j =
+0`` (this is the continuous form of the special first step that Siconos' ``OSNSMultipleImpact``
+applies to such contacts). A contact with ``s_j = 0`` and ``w_j ≥ 0`` stays inactive (no gaps exist
+in LZB: bodies do not move during the impact). The primary's own energy is integrated directly,
+``dE_p/dP_p = −c_p w_p``, which stays regular as ``E_p → 0``. The ODE in ``P_p`` is solved by DOP853
+in segments: a segment ends when another contact's energy exceeds ``1.5 E_p`` (the primary is
+switched), when a separating contact's ``s_j`` falls through 0 (it is released: the next segment
+starts with ``s_j = 0`` and the contact at rest; ``f_j ∝ s_j^η_j`` is not smooth at that root and
+DOP853 underestimates the error of the step to it, so the step is taken again from its start to the
+root at ``rtol/100``; within a segment a contact that was not at rest at its start follows the
+compressing or expanding ``ds_j`` throughout, so that the right-hand side, which jumps to ``ds_j =
+0`` there, is smooth within each segment; stepping across the jump made DOP853's step size
+underflow, by the last bits of the CPU's arithmetic at default tolerances and in 7 of 60 random
+chains at ``rtol = 1e-13``), when a contact at rest begins to approach (``w_j`` falls through 0: the
+next segment starts with it live; until then it is held at rest, ``ds_j = 0`` at every stage, so
+that the stages of the step across that root leave its ``s_j`` at 0), when a contact with ``e_j <
+1``, the primary or a live one, turns (``w_j`` crosses 0, where ``c_j`` jumps between 1 and
 ``1/e_j²``: a kink that DOP853's error estimate does not see; stepped across, an unloading ended
-1e-3 off at ``rtol = 1e-11``, and a re-compression 2.6e-8 off; within its segment the contact
-keeps the ``c_j`` it started with, so that the right-hand side stays smooth up to the event; a
-turn there and back inside one step, which no sign change between accepted steps shows, is found
-on the step's dense output when the end slopes of ``w_j`` reveal it: missed, a scene was 2.4e-5
-off at ``rtol = 1e-11``), when
-``E_p`` has fallen by ``DROP_FACTOR = 1e-3`` within the segment (a new segment counts ``P_p`` from 0 again, so that the
-small increments near the end of an unloading are not lost in the ulps of a large ``P_p``), or when
-``E_p`` falls below
-``ENERGY_EPS · E⁰`` (then every energy is below ``1.5 ENERGY_EPS · E⁰`` and is set to zero; the
-process restarts from the fastest approaching contact if one approaches, else it is over), where
-``E⁰ = ½ μ_p w_p²`` at the latest (re)start (the primary's approach energy, ``μ_p`` its effective
-mass ``1/(H_p M⁻¹ H_pᵀ)``). The
-first increment ``P_p ∈ [0, P₀]`` of every start is taken in closed form (``E_p = −w_p P``,
-``s_j ∝ P^{1/(η_p+1)}``), ``P₀ = 1e-10 μ_p |w_p|``.
+1e-3 off at ``rtol = 1e-11``, and a re-compression 2.6e-8 off; within its segment the contact keeps
+the ``c_j`` it started with, so that the right-hand side stays smooth up to the event; a turn there
+and back inside one step, which no sign change between accepted steps shows, is found on the step's
+dense output when the end slopes of ``w_j`` reveal it: missed, a scene was 2.4e-5 off at ``rtol =
+1e-11``), when ``E_p`` has fallen by ``DROP_FACTOR = 1e-3`` within the segment (a new segment counts
+``P_p`` from 0 again, so that the small increments near the end of an unloading are not lost in the
+ulps of a large ``P_p``), or when ``E_p`` falls below ``ENERGY_EPS · E⁰`` (then every energy is
+below ``1.5 ENERGY_EPS · E⁰`` and is set to zero; the process restarts from the fastest approaching
+contact if one approaches, else it is over), where ``E⁰ = ½ μ_p w_p²`` at the latest (re)start (the
+primary's approach energy, ``μ_p`` its effective mass ``1/(H_p M⁻¹ H_pᵀ)``). The first increment
+``P_p ∈ [0, P₀]`` of every start is taken in closed form (``E_p = −w_p P``, ``s_j ∝
+P^{1/(η_p+1)}``), ``P₀ = 1e-10 μ_p |w_p|``.
 
 Extreme ratios (measured): with mass ratios up to 10⁶ *and* stiffness ratios up to 10⁴ together in
 one chain, random 5–7-ball cases used to make DOP853's step size underflow near the end of a
