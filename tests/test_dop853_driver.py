@@ -29,7 +29,8 @@ def _via_solve_ivp(fun, t0, t_bound, y0, rtol, atol, events, keep_states=True, i
     sol = solve_ivp(fun, (t0, t_bound), y0, method="DOP853", rtol=rtol, atol=atol, events=events)
     run = compliant._Run()
     run.t, run.y, run.steps, run.y_last = sol.t, sol.y, len(sol.t) - 1, sol.y[:, -1]
-    run.t_prev, run.y_prev = sol.t[max(len(sol.t) - 2, 0)], sol.y[:, max(len(sol.t) - 2, 0)]
+    prev = max(len(sol.t) - 2, 0)  # the last step's start
+    run.t_prev, run.y_prev = sol.t[prev], sol.y[:, prev]
     run.t_events, run.y_events, run.status, run.message, run.nfev = (sol.t_events, sol.y_events, sol.status,
                                                                      sol.message, sol.nfev)
     return run

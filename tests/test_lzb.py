@@ -298,33 +298,34 @@ def test_lzb_a_contact_at_rest_is_held_at_rest_until_it_activates():
         assert np.max(np.abs(r.velocity / 10.0**c - ref.velocity)) < 1e-9, rtol
 
 
+#: a random chain (seed 7 of a 40-chain accuracy run; e = 0.93, 0.88): masses, v⁻, stiffnesses, e
+ACTIVATED_CHAIN = ([2.070390008941196, 1.6653348527624245, 0.24127113106869627],
+                   [1.5, -0.920627163082, 0.6033288101837466],
+                   [0.1263046361004465, 0.47568577759923786], [0.9320319126617792, 0.8843040821038304])
+
+
+def _activated_chain_error(rtol):
+    m, v0, K, e = ACTIVATED_CHAIN
+    M, H, _ = chain_matrices(m)
+    ref = lzb_impact(M, H, v0, K, 1.5, e, rtol=1e-13)
+    return np.max(np.abs(lzb_impact(M, H, v0, K, 1.5, e, rtol=rtol).velocity - ref.velocity))
+
+
 def test_lzb_an_activated_contact_compresses_and_its_turn_ends_its_segment():
     """A contact whose activation ended the last segment starts live at ``w_j = 0`` (to rounding), so
     it was taken as "at its turn" and its ``c_j`` followed the sign of ``w_j``: its turn to
     expansion, later in the segment, was a kink stepped across. It compresses (its ``w_j`` fell
-    through 0): it holds ``c_j = 1`` and its turn ends the segment. On this random chain (seed 7 of
-    a 40-chain accuracy run, e = 0.93, 0.88) that was 3.1e-9 off at rtol = 1e-12 (4e-11 now).
-    At rtol = 1e-11 it is still 9.5e-10 off: the release that follows (``s_j → 0`` with ``f_j ∝
-    s_j^1.5``, not smooth at the root) is stepped in one step whose error DOP853 underestimates."""
-    m, v0 = [2.070390008941196, 1.6653348527624245, 0.24127113106869627], [1.5, -0.920627163082, 0.6033288101837466]
-    M, H, _ = chain_matrices(m)
-    K, e = [0.1263046361004465, 0.47568577759923786], [0.9320319126617792, 0.8843040821038304]
-    ref = lzb_impact(M, H, v0, K, 1.5, e, rtol=1e-13)
-    r = lzb_impact(M, H, v0, K, 1.5, e, rtol=1e-12)
-    assert np.max(np.abs(r.velocity - ref.velocity)) < 3e-10
+    through 0): it holds ``c_j = 1`` and its turn ends the segment. On ACTIVATED_CHAIN that was
+    3.1e-9 off at rtol = 1e-12 (4e-11 now)."""
+    assert _activated_chain_error(1e-12) < 3e-10
 
 
 def test_lzb_the_step_to_a_release_is_taken_again_at_a_finer_tolerance():
     """Where a live contact is released, ``f_j = a_j s_j^1.5`` is not smooth at the root, and DOP853
-    underestimates the error of the step to it: on the scene above, at rtol = 1e-11, one step from
+    underestimates the error of the step to it: on ACTIVATED_CHAIN, at rtol = 1e-11, one step from
     ``s_j`` = 4 % of its largest value to the root, 6e-10 off there (9.5e-10 in the outcome). That
     step is taken again at rtol/100: 5e-12."""
-    m, v0 = [2.070390008941196, 1.6653348527624245, 0.24127113106869627], [1.5, -0.920627163082, 0.6033288101837466]
-    M, H, _ = chain_matrices(m)
-    K, e = [0.1263046361004465, 0.47568577759923786], [0.9320319126617792, 0.8843040821038304]
-    ref = lzb_impact(M, H, v0, K, 1.5, e, rtol=1e-13)
-    r = lzb_impact(M, H, v0, K, 1.5, e)
-    assert np.max(np.abs(r.velocity - ref.velocity)) < 5e-11
+    assert _activated_chain_error(1e-11) < 5e-11
 
 
 def test_lzb_light_primary_among_heavy_contacts_resolves():
