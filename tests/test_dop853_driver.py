@@ -21,11 +21,12 @@ from impactsym.lzb import lzb_chain
 
 
 def _via_solve_ivp(fun, t0, t_bound, y0, rtol, atol, events, keep_states=True, into=False, values=None,
-                   stage=None, turns=()):
+                   stage=None, turns=(), crossings=()):
     # SciPy calls fun(t, y) and copies what it returns: `into` (write into the stage table) does not apply;
     # nor do `values` (the events' values in one call: SciPy calls the events themselves) and `stage`;
     # nor `turns` (a crossing there and back inside one step, which SciPy does not see: the scenes below
-    # have none, and where one is found the bytes differ, as they should)
+    # have none, and where one is found the bytes differ, as they should); nor `crossings` (steps ended
+    # at a non-integer exponent's crossings: the fast runs below are made with that switched off)
     sol = solve_ivp(fun, (t0, t_bound), y0, method="DOP853", rtol=rtol, atol=atol, events=events)
     run = compliant._Run()
     run.t, run.y, run.steps, run.y_last = sol.t, sol.y, len(sol.t) - 1, sol.y[:, -1]
@@ -91,6 +92,8 @@ RUNS = {
 
 @pytest.mark.parametrize("name", sorted(RUNS))
 def test_both_laws_return_the_same_bytes_as_through_solve_ivp(name, monkeypatch):
+    # no step ended at a crossing (the hertz chain's contacts, exponent 1.5, have them): SciPy's steps
+    monkeypatch.setattr(compliant, "_cut_at_crossing", lambda *args: None)
     fast = RUNS[name]()
     monkeypatch.setattr(compliant, "_dop853", _via_solve_ivp)
     monkeypatch.setattr(lzb, "_dop853", _via_solve_ivp)
@@ -152,3 +155,57 @@ def test_dop853_finds_a_crossing_there_and_back_inside_one_step_only_with_turns(
     beyond.direction = 1
     run = _dop853(fun, 0.0, 6.0, y0, 1e-6, atol, [beyond], turns=[(0, lambda f: float(f[0]))])
     assert run.status == 0 and len(run.t_events[0]) == 0 and _same(run.y_last, ref.y[:, -1])
+
+
+def _between_two_walls(p):
+    # a unit mass between two walls 1 apart, each a force K δ^p with K = 1: the state (g1, g2, v), the
+    # gaps to the left and the right wall; it starts touching the left one at speed 1
+    def fun(_t, y):
+        return np.array([y[2], -y[2], max(-y[0], 0.0) ** p - max(-y[1], 0.0) ** p])
+
+    return fun, np.array([0.0, 1.0, -1.0])
+
+
+def test_dop853_ends_a_step_at_every_armed_crossing():
+    """With ``crossings`` no accepted step has an armed gap's crossing inside it: every opening and
+    closing after the first contact is a step boundary, where the gap is exactly 0. Without them
+    (SciPy's steps) the steps cross the points where the force ``δ^1.5`` starts and stops."""
+    fun, y0 = _between_two_walls(1.5)
+    atol = np.full(3, 1e-14)
+    # each contact lasts 2 δ_m B(1/2.5, 1/2) / 2.5 = 3.218 (δ_m = 1.25^0.4), each flight 1: over
+    # [0, 16.4] four openings (at 3.218, 7.436, 11.654, 15.872) and three closings, ending in a flight
+    plain = _dop853(fun, 0.0, 16.4, y0, 1e-11, atol, [])
+    cut = _dop853(fun, 0.0, 16.4, y0, 1e-11, atol, [], crossings=[(0, 1e-14), (1, 1e-14)])
+    for run in (plain, cut):
+        assert run.status == 0 and abs(abs(run.y_last[2]) - 1) < 1e-9  # the speed is 1 in every flight
+    g = cut.y[:2]
+    across = (g[:, 1:] * g[:, :-1]) < 0  # a gap of opposite strict signs at a step's two ends
+    assert not across.any() and np.count_nonzero(g[:, 1:] == 0.0) == 7
+    assert np.count_nonzero(plain.y[:2, 1:] * plain.y[:2, :-1] < 0) == 7
+    # the finer runs' steps are counted, and the run still ends where it should
+    assert cut.steps > plain.steps and cut.t[-1] == 16.4
+
+
+def test_dop853_a_terminal_event_before_a_crossing_in_the_same_step_ends_the_run_there():
+    """The step taken again to a crossing's root carries the events: a terminal event whose root lies
+    in that step before the crossing ends the run at its own root (not at the crossing's, and not
+    missed because the step was cut)."""
+    fun, y0 = _between_two_walls(1.5)
+    atol = np.full(3, 1e-14)
+    cut = _dop853(fun, 0.0, 16.4, y0, 1e-11, atol, [], crossings=[(0, 1e-14), (1, 1e-14)])
+    t_open = next(t for t, g in zip(cut.t, cut.y[0]) if t > 0 and g == 0.0)  # the first opening
+    i = int(np.searchsorted(cut.t, t_open))
+    # a time just before that opening, inside the step that crossed it in a run without crossings
+    plain = _dop853(fun, 0.0, 16.4, y0, 1e-11, atol, [])
+    j = int(np.searchsorted(plain.t, t_open))
+    t_ev = t_open - 1e-3 * (t_open - plain.t[j - 1])
+    assert cut.t[i - 1] < t_ev < t_open and plain.t[j - 1] < t_ev < plain.t[j]
+
+    def clock(t, _y):
+        return t - t_ev
+
+    clock.terminal = True
+    clock.direction = 1
+    run = _dop853(fun, 0.0, 16.4, y0, 1e-11, atol, [clock], crossings=[(0, 1e-14), (1, 1e-14)])
+    assert run.status == 1 and len(run.t_events[0]) == 1 and abs(run.t_events[0][0] - t_ev) < 1e-12
+    assert run.t[-1] == run.t_events[0][0] and run.y_last[0] < 0  # still compressed there
