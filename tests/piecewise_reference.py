@@ -1,7 +1,8 @@
-"""An independent reference for elastic compliant impacts with any exponent: SciPy's DOP853 piece by
-piece, each piece ending exactly at a contact's opening or closing (a terminal event), so that no
-step crosses the point where ``K δ^p`` stops being smooth. Within a piece every contact keeps its law
-(closed: ``K max(δ, 0)^p``; open: 0). It shares no code with :mod:`impactsym.compliant` (no held
+"""An independent reference for elastic and Hunt–Crossley compliant impacts with any exponent: SciPy's
+DOP853 piece by piece, each piece ending exactly at a contact's opening or closing (a terminal
+event), so that no step crosses the point where ``K δ^p`` stops being smooth. Within a piece every
+contact keeps its law (closed: ``K max(δ, 0)^p``, times ``max(1 + D δ̇, 0)`` for Hunt–Crossley;
+open: 0). It shares no code with :mod:`impactsym.compliant` (no held
 laws, no driver of its own, plain ``solve_ivp``), and is a sampled reference, not a proof: a crossing
 there and back inside one step is not seen.
 
@@ -17,10 +18,12 @@ import numpy as np
 from scipy.integrate import solve_ivp
 
 
-def piecewise_reference(M, H, v0, K, p, rtol=1e-13, max_pieces=10_000):
+def piecewise_reference(M, H, v0, K, p, rtol=1e-13, max_pieces=10_000, hunt_crossley=None):
     """The post-impact velocity of ``M q̈ = Hᵀ f``, ``f_i = K_i max(−g_i, 0)^p`` (``ġ = H q̇``, every
-    gap 0 at the start, the approaching contacts closed), integrated in pieces between crossings."""
+    gap 0 at the start, the approaching contacts closed), integrated in pieces between crossings;
+    with ``hunt_crossley`` (``D_i``), ``f_i = max(K_i max(−g_i, 0)^p (1 − D_i ġ_i), 0)``."""
     M, H, v0, K = np.asarray(M, float), np.asarray(H, float), np.asarray(v0, float), np.asarray(K, float)
+    D = None if hunt_crossley is None else np.asarray(hunt_crossley, float)
     A = np.linalg.solve(M, H.T)
     k, n = H.shape
     V = float(np.max(-(H @ v0)))
@@ -30,8 +33,9 @@ def piecewise_reference(M, H, v0, K, p, rtol=1e-13, max_pieces=10_000):
         law = closed.copy()
 
         def rhs(_t, y, law=law):
-            d = np.maximum(-y[:k], 0.0)
-            return np.concatenate([H @ y[k:], A @ np.where(law, K * d**p, 0.0)])
+            d, gd = np.maximum(-y[:k], 0.0), H @ y[k:]
+            f = K * d**p if hunt_crossley is None else np.maximum(K * d**p * (1.0 - D * gd), 0.0)
+            return np.concatenate([gd, A @ np.where(law, f, 0.0)])
 
         def crossing(j, law=law):
             def ev(_t, y):

@@ -508,6 +508,38 @@ def test_non_integer_exponents_against_an_independent_piecewise_reference(case):
     assert np.max(np.abs(compliant_impact(M, H, v, K, p).velocity - ref)) < 3e-10
 
 
+#: random 5-ball Hunt–Crossley chains (masses, velocities, stiffnesses, D, exponent; searches of 30
+#: chains each, D in [0.01, 0.3]): the worst against the piecewise reference at rtol = 1e-11 before
+#: the steps ended at their crossings (5.9e-9, and 5.0e-10 with 3.2e-10 at rtol = 1e-13), and after
+#: (1.3e-11 and 1.4e-11; measured)
+HUNT_CROSSLEY_CHAINS = [
+    ([3.2059371729757227, 4.178819961946048, 0.18772758924889305, 0.6883468063842502, 4.270832667672079],
+     [1.5, 0.25692389573258145, 0.5860473161960682, 0.026007165644416963, 0.4516988411021743],
+     [0.28369191923202214, 0.24948376876170092, 0.5324194360801568, 0.22846099038106057],
+     [0.033043965394176145, 0.2643541253415819, 0.07244344194699753, 0.032366974162292346], 2.5),
+    ([0.3817283674612968, 0.25305174021995597, 0.1325029466452199, 0.7467995066873089, 0.7577134429089531],
+     [1.5, 0.47866596179551757, 0.5167142646265279, 0.396607626234847, 0.234389749090832],
+     [0.7107543574959092, 0.27122041901624233, 3.039482865552684, 3.7676815810606628],
+     [0.01756901056984253, 0.02429252059078826, 0.06552768098387877, 0.024972048039626948], 1.5),
+]
+
+
+@pytest.mark.parametrize("case", range(len(HUNT_CROSSLEY_CHAINS)))
+def test_hunt_crossley_against_an_independent_piecewise_reference(case):
+    """Hunt–Crossley's force ``K δ^p (1 + D δ̇)`` starts and stops where the gap crosses 0 (while
+    ``1 + D δ̇ > 0``), as the elastic one does, and its steps end there too: within 1e-10 of the
+    piecewise reference at the default rtol, 2e-11 at rtol = 1e-13."""
+    from piecewise_reference import piecewise_reference
+
+    m, v, K, D, p = HUNT_CROSSLEY_CHAINS[case]
+    M, H, _ = chain_matrices(m)
+    ref = piecewise_reference(M, H, v, K, p, hunt_crossley=D)
+    r = compliant_impact(M, H, v, K, p, hunt_crossley=D)
+    assert r.outcome == "separated" and r.energy_ratio < 1
+    assert np.max(np.abs(compliant_impact(M, H, v, K, p, hunt_crossley=D, rtol=1e-13).velocity - ref)) < 2e-11
+    assert np.max(np.abs(r.velocity - ref)) < 1e-10
+
+
 #: a 4-ball linear chain (a 1/4 % search of random chains, seed 5, case 321) where a contact opens and
 #: closes again inside one accepted step at rtol = 1e-11: unseen (no turns), that contact stayed held
 #: closed through its opening and the outcome was 2.9e-5 off the expm reference; found on the step's
