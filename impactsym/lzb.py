@@ -46,7 +46,9 @@ that the stages of the step across that root leave its ``s_j`` at 0), when a con
 the ``c_j`` it started with, so that the right-hand side stays smooth up to the event; a turn there
 and back inside one step, which no sign change between accepted steps shows, is found on the step's
 dense output when the end slopes of ``w_j`` reveal it: missed, a scene was 2.4e-5 off at ``rtol =
-1e-11``), when ``E_p`` has fallen by ``DROP_FACTOR = 1e-3`` within the segment (a new segment counts
+1e-11``; the contact whose turn ended the last segment starts at ``w_j = 0`` to rounding, on either
+side, and its way back is watched as a crossing of ``∓SEPARATION_EPS·V``: watched at 0, a grazing
+turn left at −2e-16 was never seen coming back, and a scene was 4e-2 off), when ``E_p`` has fallen by ``DROP_FACTOR = 1e-3`` within the segment (a new segment counts
 ``P_p`` from 0 again, so that the small increments near the end of an unloading are not lost in the
 ulps of a large ``P_p``), or when ``E_p`` falls below ``ENERGY_EPS · E⁰`` (then every energy is
 below ``1.5 ENERGY_EPS · E⁰`` and is set to zero; the process restarts from the fastest approaching
@@ -336,7 +338,7 @@ def lzb_impact(M, H, v, stiffness, exponent=1.5, restitution=1.0, *, rtol: float
         # though its w_j is 0 to rounding, compresses (w_j fell through 0): it holds c_j = 1 and is
         # watched for its turn (taken as at its turn, its later turn was stepped across: a random
         # chain 3.1e-9 off at rtol = 1e-12)
-        kinks = []  # (j, row, direction of the crossing that ends the segment)
+        kinks = []  # (j, row, direction of the crossing that ends the segment, its offset)
         c_pos, c_neg = inv_e2.copy(), np.ones(k)  # c_j where w_j > 0 and where w_j <= 0
         for j in range(k):
             if inv_e2[j] == 1.0 or not (j == pp or live[j]):
@@ -353,7 +355,13 @@ def lzb_impact(M, H, v, stiffness, exponent=1.5, restitution=1.0, *, rtol: float
             else:
                 continue
             c_pos[j] = c_neg[j] = 1.0 if d > 0 else inv_e2[j]
-            kinks.append((j, Hf[j], d))
+            # the contact whose turn ended the last segment starts with w_j at 0 to rounding, on
+            # either side: its way back is watched as w_j crossing −d·SEPARATION_EPS·V, not 0. A
+            # grazing turn (w_j touches 0 and goes back) left it at −2e-16 after rising through 0, so
+            # the fall through 0 was never seen and it was held expanding (c_j = 1/e_j²) through a
+            # whole re-compression: a sweep scene 9e-7 off in other units, its unit problem
+            # perturbed by 1e-15 4e-2 off (seed 5, case 5974)
+            kinks.append((j, Hf[j], d, d * SEPARATION_EPS * V if j == turned else 0.0))
 
         # the primary's constants of this segment (the same numbers the formula below would index
         # again at each of the ~12 calls per DOP853 step), as Python floats: the same IEEE products
@@ -517,18 +525,18 @@ def lzb_impact(M, H, v, stiffness, exponent=1.5, restitution=1.0, *, rtol: float
 
         contact_events = [contact_event(col, row) for _j, col, row in watched]
         # and one per kink (above): its w_j crossing 0 in the kink's direction ends the segment
-        def kink_event(row, d):
+        def kink_event(row, d, off):
             def turn(_P, y):
-                return float(row.dot(y[:n]))
+                return float(row.dot(y[:n])) - off
 
             turn.terminal = True
             turn.direction = d
             return turn
 
-        contact_events += [kink_event(row, d) for _j, row, d in kinks]
+        contact_events += [kink_event(row, d, off) for _j, row, d, off in kinks]
         first_kink = 3 + len(watched)
         # each turn's slope dw_j/dP_p = H_j (dv/dP_p), for the turns there and back inside one step
-        turns = [(first_kink + i, (lambda f, row=row: float(row.dot(f[:n])))) for i, (_j, row, _d) in enumerate(kinks)]
+        turns = [(first_kink + i, (lambda f, row=row: float(row.dot(f[:n])))) for i, (_j, row, _d, _off) in enumerate(kinks)]
         Eeps_e, Ep_drop_e = float(Eeps), float(Ep_drop)
 
         def values(_P, y, others=others):
@@ -552,8 +560,8 @@ def lzb_impact(M, H, v, stiffness, exponent=1.5, restitution=1.0, *, rtol: float
             for _j, col, row in watched:
                 x = y.item(col) if row is None else float(row.dot(q))
                 out.append(x if x != 0.0 else 1.0)
-            for _j, row, _d in kinks:
-                out.append(float(row.dot(q)))
+            for _j, row, _d, off in kinks:
+                out.append(float(row.dot(q)) - off)
             return out
 
         y0 = np.concatenate([v, s, [Ep], P, [t_equiv]])
@@ -611,7 +619,7 @@ def lzb_impact(M, H, v, stiffness, exponent=1.5, restitution=1.0, *, rtol: float
         s[pp] = max(Ep, 0.0) ** (1 / (eta[pp] + 1))
         activated = turned = -1
         if fired and fired[0] >= first_kink:
-            turned, _row, turned_dir = kinks[fired[0] - first_kink]  # past its turn from here
+            turned, _row, turned_dir, _off = kinks[fired[0] - first_kink]  # past its turn from here
         elif fired and fired[0] >= 3:
             j, _col, row = watched[fired[0] - 3]
             if row is None:

@@ -298,6 +298,28 @@ def test_lzb_a_contact_at_rest_is_held_at_rest_until_it_activates():
         assert np.max(np.abs(r.velocity / 10.0**c - ref.velocity)) < 1e-9, rtol
 
 
+def test_lzb_a_grazing_turn_is_watched_beyond_the_rounding_of_its_root():
+    """A turn that only grazes 0 (``w_j`` rises to 0 and goes back) leaves the next segment's ``w_j``
+    at 0 to rounding, on either side. Watched for its way back as a crossing of 0, a start at
+    −2e-16 after rising through 0 was never seen falling, and the contact was held expanding
+    through a whole re-compression. On this sweep scene (seed 5, case 5974) the unit problem with
+    ``v₂`` perturbed by one part in 1e15 was 4e-2 off, with the other sign of the perturbation
+    9e-7 off (and the scaled run 9e-7 off the unit one). Watched as a crossing of
+    ``∓SEPARATION_EPS·V``, the perturbed problems agree to 1e-14 (measured)."""
+    M = np.diag([1.5824740929015977, 0.31433056962172146, 2.20892119929649])
+    H = np.array([[-2.5204275624886274, 2.5204275624886274, 0.0], [0.0, -2.5474668433243544, 2.5474668433243544]])
+    v0 = np.array([1.0, 0.23324933461146102, -0.2285276693375915])
+    K = [0.2215381703588237, 0.1286566781563509]
+    ref = lzb_impact(M, H, v0, K, 1.5, 0.8).velocity
+    for sign in (-1, 1):
+        v = v0.copy()
+        v[1] *= 1 + sign * 1e-15
+        assert np.max(np.abs(lzb_impact(M, H, v, K, 1.5, 0.8).velocity - ref)) < 1e-12, sign
+    a, b, c = -99.885101802024, -57.0215831639826, 101.36971795210525
+    r = lzb_impact(M * 10.0**a, H * 10.0**b, v0 * 10.0**c, K, 1.5, 0.8)
+    assert np.max(np.abs(r.velocity / 10.0**c - ref)) < 1e-10
+
+
 #: a random chain (seed 7 of a 40-chain accuracy run; e = 0.93, 0.88): masses, v⁻, stiffnesses, e
 ACTIVATED_CHAIN = ([2.070390008941196, 1.6653348527624245, 0.24127113106869627],
                    [1.5, -0.920627163082, 0.6033288101837466],
