@@ -224,6 +224,21 @@ def test_monodisperse_hertz_chain_struck_at_one_end_finishes(n):
     assert r.velocity[-1] > 0.98 and np.all(np.abs(r.velocity[:-2]) < 0.08)  # the wave leaves with the last ball
 
 
+@pytest.mark.parametrize("exponent", [1.0, 2.0])
+@pytest.mark.parametrize("n", [10, 20])
+def test_a_held_chain_struck_at_one_end_opens_and_closes_each_contact_once(n, exponent):
+    """A held contact's piece ends where its gap crosses ±atol·L, beyond the 0 of its law: watched
+    at 0, the gaps ahead of the wave (1e-35 to 1e-323, their signs decided by rounding) ended a
+    piece at each flicker, and a 10-ball chain of exponent 2 counted 58 events (138 at 20 balls)
+    and the linear one 17 (measured). Each contact closes and opens once."""
+    v0 = np.zeros(n)
+    v0[0] = 1
+    M, H, _ = chain_matrices([1] * n)
+    r = compliant_impact(M, H, v0, 1.0, exponent)
+    assert r.outcome == "separated" and _final(H, r) and _conserves([1] * n, v0, r)
+    assert r.events == 2 * (n - 1)
+
+
 def test_cradle_with_two_comoving_strikers():
     # raised NonTermination before issue 13: contact 1-2 touches with zero relative speed at t = 0
     v0 = [1, 1, 0, 0, 0]
