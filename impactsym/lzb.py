@@ -48,9 +48,9 @@ and back inside one step, which no sign change between accepted steps shows, is 
 dense output when the end slopes of ``w_j`` reveal it: missed, a scene was 2.4e-5 off at ``rtol =
 1e-11``; the contact whose turn ended the last segment starts at ``w_j = 0`` to rounding, on either
 side, and its way back is watched as a crossing of ``∓SEPARATION_EPS·V``: watched at 0, a grazing
-turn left at −2e-16 was never seen coming back, and a scene was 4e-2 off), when ``E_p`` has fallen by ``DROP_FACTOR = 1e-3`` within the segment (a new segment counts
-``P_p`` from 0 again, so that the small increments near the end of an unloading are not lost in the
-ulps of a large ``P_p``), or when ``E_p`` falls below ``ENERGY_EPS · E⁰`` (then every energy is
+turn left at −2e-16 was never seen coming back, and a scene was 4e-2 off), when ``E_p`` has fallen
+by ``DROP_FACTOR = 1e-3`` within the segment (a new segment counts ``P_p`` from 0 again, so that
+the small increments near the end of an unloading are not lost in the ulps of a large ``P_p``), or when ``E_p`` falls below ``ENERGY_EPS · E⁰`` (then every energy is
 below ``1.5 ENERGY_EPS · E⁰`` and is set to zero; the process restarts from the fastest approaching
 contact if one approaches, else it is over), where ``E⁰ = ½ μ_p w_p²`` at the latest (re)start (the
 primary's approach energy, ``μ_p`` its effective mass ``1/(H_p M⁻¹ H_pᵀ)``). The first increment
@@ -536,7 +536,8 @@ def lzb_impact(M, H, v, stiffness, exponent=1.5, restitution=1.0, *, rtol: float
         contact_events += [kink_event(row, d, off) for _j, row, d, off in kinks]
         first_kink = 3 + len(watched)
         # each turn's slope dw_j/dP_p = H_j (dv/dP_p), for the turns there and back inside one step
-        turns = [(first_kink + i, (lambda f, row=row: float(row.dot(f[:n])))) for i, (_j, row, _d, _off) in enumerate(kinks)]
+        turns = [(first_kink + i, (lambda f, row=row: float(row.dot(f[:n]))))
+                 for i, (_j, row, _d, _off) in enumerate(kinks)]
         Eeps_e, Ep_drop_e = float(Eeps), float(Ep_drop)
 
         def values(_P, y, others=others):

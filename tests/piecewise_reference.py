@@ -55,3 +55,57 @@ def piecewise_reference(M, H, v0, K, p, rtol=1e-13, max_pieces=10_000, hunt_cros
         if not closed.any() and np.all(H @ y[k:] >= -1e-12 * V):
             return y[k:]
     raise RuntimeError(f"piecewise_reference: more than {max_pieces} pieces")
+
+
+def damped_piecewise_reference(M, H, v0, K, p, C, rtol=1e-13, max_pieces=20_000):
+    """The same for eq. 20's damping, ``f_i = max(K_i δ_i^p + C_i δ_i^(p−1) δ̇_i, 0)`` where ``δ_i > 0``:
+    each contact is open, pushing (``φ_i = K_i δ_i + C_i δ̇_i > 0``) or closed without pushing, and a
+    piece ends where a gap crosses 0 or a closed contact's ``φ_i`` does (the force stops where
+    ``φ_i`` falls through 0, before the gap opens, and starts again where it rises).
+
+    >>> v = damped_piecewise_reference(np.eye(1), np.array([[-1.0]]), np.array([1.0]), [1.0], 1.5, [0.2])
+    >>> bool(-1 < v[0] < -0.5)  # a ball against a damped wall comes back slower
+    True
+    """
+    M, H, v0, K, C = (np.asarray(x, float) for x in (M, H, v0, K, C))
+    A = np.linalg.solve(M, H.T)
+    k, n = H.shape
+    V = float(np.max(-(H @ v0)))
+    y, t = np.concatenate([np.zeros(k), v0]), 0.0
+    state = np.where((H @ v0) < 0, 1, 0)  # 0 open, 1 pushing, 2 closed without pushing
+    for _ in range(max_pieces):
+        law = state.copy()
+
+        def rhs(_t, y, law=law):
+            d, gd = np.maximum(-y[:k], 0.0), H @ y[k:]
+            f = np.where(law == 1, K * d**p + C * d ** (p - 1) * -gd, 0.0)
+            return np.concatenate([gd, A @ f])
+
+        events, ends = [], []
+        for j in range(k):
+            def gap(_t, y, j=j):
+                return y[j]
+            gap.terminal, gap.direction = True, (1.0 if law[j] else -1.0)
+            events.append(gap)
+            ends.append((j, 0, True))  # (contact, its state after, a gap crossing)
+            if law[j]:
+                def phi(_t, y, j=j):
+                    return -K[j] * y[j] - C[j] * (H[j] @ y[k:])
+                phi.terminal, phi.direction = True, (-1.0 if law[j] == 1 else 1.0)
+                events.append(phi)
+                ends.append((j, 2 if law[j] == 1 else 1, False))
+            else:
+                ends[-1] = (j, 1, True)
+        sol = solve_ivp(rhs, (t, t + 1e3), y, method="DOP853", rtol=rtol, atol=1e-16, events=events)
+        if sol.status == 1:
+            e = next(e for e in range(len(events)) if len(sol.t_events[e]))
+            j, after, is_gap = ends[e]
+            t, y = float(sol.t_events[e][0]), sol.y_events[e][0].copy()
+            if is_gap:
+                y[j] = 0.0
+            state[j] = after
+            continue
+        t, y = float(sol.t[-1]), sol.y[:, -1]
+        if not state.any() and np.all(H @ y[k:] >= -1e-12 * V):
+            return y[k:]
+    raise RuntimeError(f"damped_piecewise_reference: more than {max_pieces} pieces")
