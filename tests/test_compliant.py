@@ -484,8 +484,6 @@ def test_held_linear_contacts_follow_the_piecewise_exact_solution():
             assert np.max(np.abs(out - ref)) / np.max(np.abs(ref)) < 10 * rtol, (rtol, out - ref)
 
 
-#: (masses, v⁻, stiffnesses, exponent, error at rtol = 1e-11 measured against the reference) of the
-#: worst of 40 random chains (seed 7) at p = 1.5 and at p = 2.5
 #: random 4- and 5-ball chains (masses, velocities, stiffnesses, exponent; ``/tmp`` searches of 40 chains
 #: each) that were the worst against the piecewise reference at the default rtol = 1e-11 while the
 #: steps crossed the points where ``K δ^p`` starts and stops (2.6e-9, 2.6e-10, 5.6e-9 and 4.1e-10
