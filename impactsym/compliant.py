@@ -93,8 +93,9 @@ below its proved bound (:func:`impactsym.termination.impulse_bounds`); after the
 instead of returning. The caps stay as a numerical safeguard: ``max_events`` contact
 openings/closings, 10⁵ integration windows of ``200 T`` (``T`` the shortest contact time scale;
 a window that ends without a contact event is followed by one twice as long, so that a slow tail
-of late, slow re-contacts does not use them up) and the optional ``t_max``; past any of them, :class:`~impactsym.errors.NonTermination` is raised
-naming the cap (and, without a separating direction, the certificate ``λ``).
+of late, slow re-contacts does not use them up) and the optional ``t_max``; past any of them,
+:class:`~impactsym.errors.NonTermination` is raised naming the cap (and, without a separating
+direction, the certificate ``λ``).
 
 Events counted: a contact event is a change of ``δ_i > 0`` between consecutive accepted steps
 (an opening or a closing; one that opens and closes again inside a single step is not seen, but
@@ -324,7 +325,6 @@ def _dop853(fun, t0, t_bound, y0, rtol, atol, events, keep_states=True, into=Fal
     steps = 0
     status = None
     message = None
-    rtol_in, atol_in = rtol, atol
     # the crossings (_crossing) and which are armed (+1 to rise through 0, -1 to fall; _arm)
     cross = [_crossing(c) for c in crossings]
     armed = [0] * len(cross)
@@ -404,8 +404,8 @@ def _dop853(fun, t0, t_bound, y0, rtol, atol, events, keep_states=True, into=Fal
         t_old, y_old = t, y
         t, y, f, abs_y = t_new, y_new, f_new, abs_new
         if crossings:
-            cut = _cut_at_crossing(fun, solver, cross, armed, t_old, t, y_old, y, f, h, rtol_in, atol_in, events,
-                                   into, values, stage, turns)
+            cut = _cut_at_crossing(fun, solver, cross, armed, t_old, t, y_old, y, f, h, rtol, atol, events, into,
+                                   values, stage, turns)
             if cut is not None:
                 # the step ends at the crossing (or at a terminal event before it): the finer run's
                 # state, events and status

@@ -50,9 +50,10 @@ dense output when the end slopes of ``w_j`` reveal it: missed, a scene was 2.4e-
 side, and its way back is watched as a crossing of ``∓SEPARATION_EPS·V``: watched at 0, a grazing
 turn left at −2e-16 was never seen coming back, and a scene was 4e-2 off), when ``E_p`` has fallen
 by ``DROP_FACTOR = 1e-3`` within the segment (a new segment counts ``P_p`` from 0 again, so that
-the small increments near the end of an unloading are not lost in the ulps of a large ``P_p``), or when ``E_p`` falls below ``ENERGY_EPS · E⁰`` (then every energy is
-below ``1.5 ENERGY_EPS · E⁰`` and is set to zero; the process restarts from the fastest approaching
-contact if one approaches, else it is over), where ``E⁰ = ½ μ_p w_p²`` at the latest (re)start (the
+the small increments near the end of an unloading are not lost in the ulps of a large ``P_p``), or
+when ``E_p`` falls below ``ENERGY_EPS · E⁰`` (then every energy is below ``1.5 ENERGY_EPS · E⁰``
+and is set to zero; the process restarts from the fastest approaching contact if one approaches,
+else it is over), where ``E⁰ = ½ μ_p w_p²`` at the latest (re)start (the
 primary's approach energy, ``μ_p`` its effective mass ``1/(H_p M⁻¹ H_pᵀ)``). The first increment
 ``P_p ∈ [0, P₀]`` of every start is taken in closed form (``E_p = −w_p P``, ``s_j ∝
 P^{1/(η_p+1)}``), ``P₀ = 1e-10 μ_p |w_p|``.
