@@ -31,7 +31,7 @@ The 100-ball chains' counts depend on the CPU: their slow tails hold many re-con
 almost no energy, and which of them happen is decided by rounding. The same code (307f759) took 333
 LZB segments and 392 compliant events on an Intel Xeon and 752 and 374 on an AMD EPYC, with the same
 agreement between the models (about 4e-11). Since the compliant steps end at the crossings of a
-non-integer exponent (2026-12-04), the EPYC counts 648 compliant events.
+non-integer exponent and the windows grow (2026-12-04), the EPYC counts 686 compliant events.
 """
 
 from __future__ import annotations
