@@ -224,6 +224,17 @@ def test_monodisperse_hertz_chain_struck_at_one_end_finishes(n):
     assert r.velocity[-1] > 0.98 and np.all(np.abs(r.velocity[:-2]) < 0.08)  # the wave leaves with the last ball
 
 
+def _struck_chain(n, exponent):
+    """The compliant run of ``n`` unit balls, the first at speed 1, unit stiffness, checked to
+    separate, conserve momentum and energy and end with no contact approaching."""
+    v0 = np.zeros(n)
+    v0[0] = 1
+    M, H, _ = chain_matrices([1] * n)
+    r = compliant_impact(M, H, v0, 1.0, exponent)
+    assert r.outcome == "separated" and _final(H, r) and _conserves([1] * n, v0, r)
+    return r
+
+
 @pytest.mark.parametrize("exponent", [1.0, 2.0])
 @pytest.mark.parametrize("n", [10, 20])
 def test_a_held_chain_struck_at_one_end_opens_and_closes_each_contact_once(n, exponent):
@@ -231,11 +242,7 @@ def test_a_held_chain_struck_at_one_end_opens_and_closes_each_contact_once(n, ex
     at 0, the gaps ahead of the wave (1e-35 to 1e-323, their signs decided by rounding) ended a
     piece at each flicker, and a 10-ball chain of exponent 2 counted 58 events (138 at 20 balls)
     and the linear one 17 (measured). Each contact closes and opens once."""
-    v0 = np.zeros(n)
-    v0[0] = 1
-    M, H, _ = chain_matrices([1] * n)
-    r = compliant_impact(M, H, v0, 1.0, exponent)
-    assert r.outcome == "separated" and _final(H, r) and _conserves([1] * n, v0, r)
+    r = _struck_chain(n, exponent)
     assert r.events == 2 * (n - 1)
 
 
@@ -244,24 +251,14 @@ def test_a_slow_tail_is_integrated_in_growing_windows():
     such a contact lasts ~1e4 contact time scales: in windows of a fixed 200 T the run took 160,840
     steps and a simulated time of 6.5e6 (15 s). A window that ends without a contact event is
     followed by one twice as long: the same outcome in under 2,000 steps (953 measured)."""
-    n = 20
-    v0 = np.zeros(n)
-    v0[0] = 1
-    M, H, _ = chain_matrices([1] * n)
-    r = compliant_impact(M, H, v0, 1.0, 3.0)
-    assert r.outcome == "separated" and _final(H, r) and _conserves([1] * n, v0, r)
+    r = _struck_chain(20, 3.0)
     assert r.steps < 2000 and r.duration > 1e6
 
 
 @pytest.mark.slow
 def test_a_50_ball_chain_of_exponent_3_ends():
     # it ran out of its 10^5 windows of 200 T (NonTermination) before the windows grew; 2.8 s now
-    n = 50
-    v0 = np.zeros(n)
-    v0[0] = 1
-    M, H, _ = chain_matrices([1] * n)
-    r = compliant_impact(M, H, v0, 1.0, 3.0)
-    assert r.outcome == "separated" and _final(H, r) and _conserves([1] * n, v0, r)
+    _struck_chain(50, 3.0)
 
 
 def test_cradle_with_two_comoving_strikers():
@@ -600,11 +597,11 @@ def test_eq20_damping_against_an_independent_piecewise_reference(case):
     through 0, before the gap opens, and starts at the gap's 0: the steps end at both (a linear
     function of the state and a gap), so that none has that point inside it. Within 1e-9 of the
     piecewise reference at the default rtol, 2e-11 at rtol = 1e-13."""
-    from piecewise_reference import damped_piecewise_reference
+    from piecewise_reference import piecewise_reference
 
     m, v, K, C, p = DAMPED_CHAINS[case]
     M, H, _ = chain_matrices(m)
-    ref = damped_piecewise_reference(M, H, v, K, p, C)
+    ref = piecewise_reference(M, H, v, K, p, damping=C)
     r = compliant_impact(M, H, v, K, p, damping=C)
     assert r.outcome == "separated" and r.energy_ratio < 1
     assert np.max(np.abs(compliant_impact(M, H, v, K, p, damping=C, rtol=1e-13).velocity - ref)) < 2e-11
