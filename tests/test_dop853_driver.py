@@ -209,3 +209,31 @@ def test_dop853_a_terminal_event_before_a_crossing_in_the_same_step_ends_the_run
     run = _dop853(fun, 0.0, 16.4, y0, 1e-11, atol, [clock], crossings=[(0, 1e-14), (1, 1e-14)])
     assert run.status == 1 and len(run.t_events[0]) == 1 and abs(run.t_events[0][0] - t_ev) < 1e-12
     assert run.t[-1] == run.t_events[0][0] and run.y_last[0] < 0  # still compressed there
+
+
+def test_dop853_ends_a_step_where_a_gated_linear_function_crosses_0():
+    """A crossing ``(row, floor, gate)`` ends a step where ``row · y`` crosses 0 while the gap
+    ``y[gate]`` is closed: a ball against a wall with eq. 20's damping, ``f = max(K δ^1.5 + C δ^0.5
+    δ̇, 0)``, whose force stops where ``φ = K δ + C δ̇ = −K g − C v`` falls through 0, before the gap
+    opens. With the crossing an accepted state sits on that root (and the gap is still closed
+    there); without it the root lies inside a step."""
+    K, C = 1.0, 0.5
+
+    def fun(_t, y):
+        d, dd = max(-y[0], 0.0), -y[1]
+        return np.array([y[1], max(K * d**1.5 + C * d**0.5 * dd, 0.0) if d > 0 else 0.0])
+
+    y0, atol = np.array([0.0, -1.0]), np.full(2, 1e-14)
+    phi = np.array([-K, -C])
+    plain = _dop853(fun, 0.0, 5.0, y0, 1e-11, atol, [])
+    cut = _dop853(fun, 0.0, 5.0, y0, 1e-11, atol, [], crossings=[(0, 1e-14), (phi, 1e-14, 0)])
+    for run, on_root in ((cut, True), (plain, False)):
+        values = phi @ run.y
+        closed = run.y[0] < 0
+        falls = np.flatnonzero((values[:-1] > 0) & (values[1:] <= 0) & closed[1:])
+        assert len(falls) == 1  # φ falls through 0 once while the gap is closed
+        i = falls[0]
+        # on the root: the state there (either end of the step) is 0 to the integration's error (the
+        # root is placed on the step's dense output, the state is the finer run's: 1.8e-12 measured)
+        assert (min(abs(values[i]), abs(values[i + 1])) < 1e-9) == on_root, (values[i:i + 2], on_root)
+    assert cut.y[1, -1] > 0 and abs(cut.y[1, -1] - plain.y[1, -1]) < 1e-8  # it leaves the wall, slower
