@@ -522,8 +522,8 @@ def _cut_at_crossing(fun, solver, cross, armed, t_old, t, y_old, y, f, h, rtol, 
         if first is not None:
             armed[first] = 0  # (its root at the step's start: nothing to take again)
         return None
-    fine = _dop853(fun, t_old, first_root, y_old, max(rtol * 1e-2, REFINE_RTOL_FLOOR), atol * 1e-2, events,
-                   keep_states=False, into=into, values=values, stage=stage, turns=turns)
+    fine = _finer(fun, t_old, first_root, y_old, rtol, atol, events, into=into, values=values, stage=stage,
+                  turns=turns)
     if fine.status not in (0, 1):
         return None  # pragma: no cover - the finer run failed: the step stays as it was
     y_end = fine.y_last.copy()
@@ -875,9 +875,16 @@ def chain_matrices(masses, walls=()):
     return np.diag(m), H, names
 
 
-#: the step to an LZB release is taken again at a hundredth of ``rtol``, but no finer than this
-#: (SciPy's DOP853 takes no rtol below 100·eps)
+#: a step taken again (to an LZB release, to a compliant crossing) is taken at a hundredth of
+#: ``rtol``, but no finer than this (SciPy's DOP853 takes no rtol below 100·eps)
 REFINE_RTOL_FLOOR = 1e-13
+
+
+def _finer(fun, t0, t1, y0, rtol, atol, events, **options):
+    """:func:`_dop853` from ``t0`` to ``t1`` at ``rtol/100`` (floored at :data:`REFINE_RTOL_FLOOR`) and
+    ``atol/100``, keeping no states: a step taken again where DOP853 underestimates its error."""
+    return _dop853(fun, t0, t1, y0, max(rtol * 1e-2, REFINE_RTOL_FLOOR), atol * 1e-2, events, keep_states=False,
+                   **options)
 
 
 def _step_to_root_again(fun, sol, t_root, rtol, atol, stage):
@@ -892,8 +899,7 @@ def _step_to_root_again(fun, sol, t_root, rtol, atol, stage):
     (the caller keeps the dense output's state)."""
     if not t_root > sol.t_prev:
         return None, 0, 0
-    fine = _dop853(fun, sol.t_prev, t_root, sol.y_prev, max(rtol * 1e-2, REFINE_RTOL_FLOOR), atol * 1e-2, [],
-                   keep_states=False, into=True, stage=stage)
+    fine = _finer(fun, sol.t_prev, t_root, sol.y_prev, rtol, atol, [], into=True, stage=stage)
     return (fine.y_last if fine.status == 0 else None), fine.steps, fine.nfev
 
 
