@@ -1,10 +1,11 @@
 """An independent reference for compliant impacts with any exponent, elastic, Hunt–Crossley or with
 eq. 20's damping: SciPy's DOP853 piece by piece, each piece ending exactly where a contact's force
 starts or stops (a terminal event), so that no step crosses a point where the force is not smooth.
-Within a piece every contact keeps its law: closed, ``K max(δ, 0)^p`` (times ``max(1 + D δ̇, 0)``
-for Hunt–Crossley; ``K δ^p + C δ^(p−1) δ̇`` for eq. 20), or open, 0. Eq. 20's damped force stops
-where ``φ = K δ + C δ̇`` falls through 0, before the gap opens: a closed contact is pushing
-(``φ > 0``) or not, and a piece also ends where ``φ`` crosses 0. It shares no code with
+Within a piece every contact keeps its law: closed, ``K max(δ, 0)^p`` (times ``1 + D δ̇`` for
+Hunt–Crossley; ``K δ^p + C δ^(p−1) δ̇`` for eq. 20), or open, 0. Eq. 20's damped force stops
+where ``φ = K δ + C δ̇`` falls through 0, before the gap opens, and Hunt–Crossley's where
+``ψ = 1 + D δ̇`` does (``D δ̇ < −1``: the contact opening faster than ``1/D``): a closed contact is
+pushing (``φ > 0``, ``ψ > 0``) or not, and a piece also ends where ``φ`` or ``ψ`` crosses 0. It shares no code with
 :mod:`impactsym.compliant` (no held laws, no driver of its own, plain ``solve_ivp``), and is a
 sampled reference, not a proof: a crossing there and back inside one step is not seen.
 
@@ -26,11 +27,14 @@ from scipy.integrate import solve_ivp
 OPEN, PUSHING, IDLE = 0, 1, 2
 
 
-def piecewise_reference(M, H, v0, K, p, rtol=1e-13, max_pieces=20_000, hunt_crossley=None, damping=None):
+def piecewise_reference(M, H, v0, K, p, rtol=1e-13, max_pieces=20_000, hunt_crossley=None, damping=None,
+                        ends=None):
     """The post-impact velocity of ``M q̈ = Hᵀ f``, ``f_i = K_i max(−g_i, 0)^p`` (``ġ = H q̇``, every
     gap 0 at the start, the approaching contacts closed), integrated in pieces between crossings;
-    with ``hunt_crossley`` (``D_i``), ``f_i = max(K_i max(−g_i, 0)^p (1 − D_i ġ_i), 0)``; with
-    ``damping`` (eq. 20's ``C_i``), ``f_i = K_i δ_i^p + C_i δ_i^(p−1) δ̇_i`` while pushing."""
+    with ``hunt_crossley`` (``D_i``), ``f_i = K_i max(−g_i, 0)^p (1 − D_i ġ_i)`` while pushing
+    (``1 − D_i ġ_i > 0``), 0 otherwise; with
+    ``damping`` (eq. 20's ``C_i``), ``f_i = K_i δ_i^p + C_i δ_i^(p−1) δ̇_i`` while pushing. With
+    ``ends`` (a list), each piece's end is appended to it as ``(t, contact, law after it)``."""
     M, H, v0, K = np.asarray(M, float), np.asarray(H, float), np.asarray(v0, float), np.asarray(K, float)
     D = None if hunt_crossley is None else np.asarray(hunt_crossley, float)
     C = None if damping is None else np.asarray(damping, float)
@@ -47,29 +51,35 @@ def piecewise_reference(M, H, v0, K, p, rtol=1e-13, max_pieces=20_000, hunt_cros
             if C is not None:
                 f = K * d**p + C * d ** (p - 1) * -gd
             elif D is not None:
-                f = np.maximum(K * d**p * (1.0 - D * gd), 0.0)
+                f = K * d**p * (1.0 - D * gd)
             else:
                 f = K * d**p
             return np.concatenate([gd, A @ np.where(law == PUSHING, f, 0.0)])
 
-        events, ends = [], []  # each event, and (its contact, the law after it, whether it is a gap)
+        events, laws = [], []  # each event, and (its contact, the law after it, whether it is a gap)
         for j in range(k):
             def gap(_t, y, j=j):
                 return y[j]
             gap.terminal, gap.direction = True, (1.0 if law[j] else -1.0)
             events.append(gap)
-            ends.append((j, OPEN if law[j] else PUSHING, True))
+            laws.append((j, OPEN if law[j] else PUSHING, True))
             if C is not None and law[j]:
                 def phi(_t, y, j=j):
                     return -K[j] * y[j] - C[j] * (H[j] @ y[k:])
+            elif D is not None and law[j]:
+                def phi(_t, y, j=j):
+                    return 1.0 - D[j] * (H[j] @ y[k:])
+            if (C is not None or D is not None) and law[j]:
                 phi.terminal, phi.direction = True, (-1.0 if law[j] == PUSHING else 1.0)
                 events.append(phi)
-                ends.append((j, IDLE if law[j] == PUSHING else PUSHING, False))
+                laws.append((j, IDLE if law[j] == PUSHING else PUSHING, False))
         sol = solve_ivp(rhs, (t, t + 1e3), y, method="DOP853", rtol=rtol, atol=1e-16, events=events)
         if sol.status == 1:
             e = next(e for e in range(len(events)) if len(sol.t_events[e]))
-            j, after, is_gap = ends[e]
+            j, after, is_gap = laws[e]
             t, y = float(sol.t_events[e][0]), sol.y_events[e][0].copy()
+            if ends is not None:
+                ends.append((t, j, after))
             if is_gap:
                 y[j] = 0.0
             state[j] = after

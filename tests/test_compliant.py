@@ -577,6 +577,48 @@ def test_hunt_crossley_against_an_independent_piecewise_reference(case):
     assert fine < 2e-11 and default < 1e-10
 
 
+#: random 3-body systems (diagonal M, rows of H in [-1, 1]^3; D in [0.5, 8]) in which the others'
+#: forces pull a Hunt–Crossley contact open faster than 1/D (W has an entry > 0 off its diagonal),
+#: so that its force K δ^p (1 + D δ̇) stops before its gap opens: 2.9e-10 and 9e-11 off the
+#: piecewise reference at the default rtol before the steps ended where 1 + D δ̇ crosses 0, 1e-12
+#: and 1.3e-13 after (seed 2 of a search of 200, the two worst; measured). (masses, H, v, K, D, p)
+HUNT_CROSSLEY_CLAMPED = [
+    ([2.983446282213507, 3.2075098003556675, 0.6707985454117249],
+     [[-0.8336548444628935, 0.5826564941880017, -0.9829750512932223],
+      [-0.0661610786088267, -0.6256688013224452, -0.6859958108380686],
+      [-0.16029878478973814, -0.7989099873555003, -0.8428702358584699]],
+     [0.3083178197455625, 0.8065032851683449, 0.6318718110214365],
+     [4.440493628527456, 2.0765321674583697, 4.043046924699014],
+     [1.0110756389439377, 2.3067032947589188, 3.747033565021172], 1.0),
+    ([3.9896772752733485, 4.332790207219003, 2.424123944467779],
+     [[0.737275520836755, 0.7810178836731057, 0.8596110550776108],
+      [0.54438844993301, 0.855205382350068, 0.4853833313646285]],
+     [-0.6042104808765523, -0.5944307300781249, 0.03986942327343801],
+     [3.266756026250659, 0.6091253312245799],
+     [7.906788499611542, 2.156124491614148], 1.0),
+]
+
+
+@pytest.mark.parametrize("case", range(len(HUNT_CROSSLEY_CLAMPED)))
+def test_hunt_crossley_force_stopping_before_its_gap_opens_ends_a_step(case):
+    """Where ``1 + D δ̇`` falls through 0 while the contact is closed, Hunt–Crossley's force stops
+    (it is kept >= 0) before the gap opens: a kink the steps end at (``_dop853``'s affine crossings),
+    as the piecewise reference's pieces do. Within 1e-11 of it at the default rtol, 2e-12 at
+    rtol = 1e-13; each system's reference has such a stop."""
+    from piecewise_reference import IDLE, piecewise_reference
+
+    m, H, v, K, D, p = HUNT_CROSSLEY_CLAMPED[case]
+    M, H, v = np.diag(m), np.array(H), np.array(v)
+    ends = []
+    ref = piecewise_reference(M, H, v, K, p, hunt_crossley=D, ends=ends)
+    stops = [e for e in ends if e[2] == IDLE]
+    assert stops, "the case no longer has a Hunt–Crossley force stopping before its gap opens"
+    r = compliant_impact(M, H, v, K, p, hunt_crossley=D)
+    fine = compliant_impact(M, H, v, K, p, hunt_crossley=D, rtol=1e-13)
+    assert r.outcome == "separated" and r.energy_ratio < 1
+    assert np.max(np.abs(r.velocity - ref)) < 1e-11 and np.max(np.abs(fine.velocity - ref)) < 2e-12
+
+
 #: random 5-ball chains with eq. 20's damping (masses, velocities, stiffnesses, C, exponent; searches
 #: of 30 chains each, C in [0.01, 0.3]): the worst against the damped piecewise reference at
 #: rtol = 1e-11 before the steps ended where K δ + C δ̇ crosses 0 (1.1e-8 and 2.9e-9), and after
