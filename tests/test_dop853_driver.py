@@ -12,7 +12,7 @@ import dataclasses
 
 import numpy as np
 import pytest
-from scipy.integrate import solve_ivp
+from scipy.integrate import DOP853, solve_ivp
 
 import impactsym.compliant as compliant
 import impactsym.lzb as lzb
@@ -21,14 +21,26 @@ from impactsym.lzb import lzb_chain
 
 
 def _via_solve_ivp(fun, t0, t_bound, y0, rtol, atol, events, keep_states=True, into=False, values=None,
-                   stage=None, turns=(), crossings=()):
+                   stage=None, turns=(), crossings=(), first_step=None):
     # SciPy calls fun(t, y) and copies what it returns: `into` (write into the stage table) does not apply;
     # nor do `values` (the events' values in one call: SciPy calls the events themselves) and `stage`;
     # nor `turns` (a crossing there and back inside one step, which SciPy does not see: the scenes below
     # have none, and where one is found the bytes differ, as they should); nor `crossings` (steps ended
     # at a non-integer exponent's crossings: the fast runs below are made with that switched off)
-    sol = solve_ivp(fun, (t0, t_bound), y0, method="DOP853", rtol=rtol, atol=atol, events=events)
+    # (`first_step`, capped at the span as _dop853 caps it, is solve_ivp's own option; the step size the
+    # controller would try next, which the compliant law starts its next window with, is read off the
+    # solver solve_ivp made)
+    made = []
+
+    class Recorded(DOP853):
+        def __init__(self, *args, **kwargs):
+            super().__init__(*args, **kwargs)
+            made.append(self)
+
+    first = None if first_step is None else min(float(first_step), float(t_bound) - float(t0))
+    sol = solve_ivp(fun, (t0, t_bound), y0, method=Recorded, rtol=rtol, atol=atol, events=events, first_step=first)
     run = compliant._Run()
+    run.h_abs = float(made[0].h_abs)
     run.t, run.y, run.steps, run.y_last = sol.t, sol.y, len(sol.t) - 1, sol.y[:, -1]
     prev = max(len(sol.t) - 2, 0)  # the last step's start
     run.t_prev, run.y_prev = sol.t[prev], sol.y[:, prev]
