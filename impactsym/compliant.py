@@ -1368,12 +1368,16 @@ def compliant_impact(M, H, v, stiffness, exponent=1.5, damping=None, *, hunt_cro
     t, count, steps, nfev, windows = 0.0, 0, 0, 0, 0
     # the window: 200 T, doubled after each window that reached its end without a contact event (a
     # slow tail: late re-contacts at speeds of 1e-8 V last 1e4 T at exponent 3, and a 50-ball chain
-    # ran out of its 10^5 windows of 200 T), and 200 T again after one with an event (a ball ringing
-    # between two walls keeps its windows, and the cap on the events is read after each). A window
+    # ran out of its 10^5 windows of 200 T), and 200 T again after one with an event inside it (a
+    # ball ringing between two walls keeps its windows, and the cap on the events is read after each). A window
     # that continues the one before (which reached its end) starts with the step size that one's
     # controller had reached: from SciPy's initial choice each window grew its steps again, through
     # the tail's free flights (a 100-ball chain of exponent 3: 86,397 steps, 23,563 so, the same
-    # outcome to the last bit; a 100-ball Hertz one 4,286 -> 3,664)
+    # outcome to the last bit; a 100-ball Hertz one 4,286 -> 3,664). A window that a held contact's
+    # crossing ended (a terminal event: the next window starts at it, and the caps are read at each)
+    # is followed by one as long: started again at 200 T, each of the tail's late re-contacts had
+    # grown its windows from 200 T again (the 100-ball chain of exponent 3: 23,563 -> 14,827 steps,
+    # 6,924 -> 912 windows at 60 balls; the same outcome to the last bit)
     window0 = window = 200.0 * T
     outcome = None
     laws = None  # the held contacts' laws (True: closed), read off the gaps at the start
@@ -1419,7 +1423,7 @@ def compliant_impact(M, H, v, stiffness, exponent=1.5, damping=None, *, hunt_cro
         count_before = count
         count += int(np.count_nonzero(c_all[:, 1:] != c_all[:, :-1]))
         closed = c_steps[:, -1]
-        window = window * 2.0 if sol.status == 0 and count == count_before else window0
+        window = window if sol.status == 1 else window * 2.0 if count == count_before else window0
         if count > max_events:
             raise NonTermination(f"compliant impact: more than max_events = {max_events} contact events"
                                  + (f"{theorem} (a ball between two walls never separates: give damping and "
