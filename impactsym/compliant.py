@@ -53,9 +53,9 @@ stops at the gap's 0 as well, and its steps end there too (of 120 random chains,
 and 2.5, the worst went from 5.9e-9 to 2.4e-10); where the others' forces pull a closed contact
 open faster than ``1/D`` (never in a chain; in 31 of 159 random 3-body systems with ``D`` in
 ``[0.5, 8]``), its force, kept ``≥ 0``, stops where ``1 + D δ̇`` falls through 0, and the steps end
-there too (the worst of those 31 went from 2.9e-10 to 1.3e-11). Eq. 20's damped force ``δ^(p−1) (K δ + C δ̇)``,
-kept ``≥ 0``, stops where ``K δ + C δ̇`` falls through 0, before the gap opens: its steps end there
-too, a crossing of a linear function of the state while the contact is closed (of 150 random
+there too (the worst of those 31 went from 2.9e-10 to 1.3e-11). Eq. 20's damped force
+``δ^(p−1) (K δ + C δ̇)``, kept ``≥ 0``, stops where ``K δ + C δ̇`` falls through 0, before the gap
+opens: its steps end there too, a crossing of a linear function of the state while the contact is closed (of 150 random
 chains, ``p`` = 1, 1.5 and 2.5, the worst went from 1.1e-8 to 4.9e-10 off
 ``tests/piecewise_reference.py``'s damped reference). What is integrated is ``(g, q̇, P)``
 with ``ġ = H q̇``: the gaps, not ``q``, since only they enter the forces and the error control is
@@ -269,8 +269,8 @@ def _dop853(fun, t0, t_bound, y0, rtol, atol, events, keep_states=True, into=Fal
     crossings of 0 are to end steps (or triples ``(row, floor, gate)``: the linear function
     ``row · y``, its crossings counted only where the gap ``y[gate]`` is below 0 at both ends of
     the step, and no value set at its root; eq. 20's ``K δ + C δ̇``; or ``(row, floor, gate,
-    offset)``, the affine ``offset + row · y`` the same way: Hunt–Crossley's ``1 + D δ̇``). Where a force ``K (δ⁺)^p``
-    with a non-integer ``p`` starts or stops (a contact closing or opening, the force growing as
+    offset)``, the affine ``offset + row · y`` the same way: Hunt–Crossley's ``1 + D δ̇``). Where a
+    force ``K (δ⁺)^p`` with a non-integer ``p`` starts or stops (a contact closing or opening, the force growing as
     ``(t − t_c)^p`` or falling as ``(t_e − t)^p``), the right-hand side is not smooth, and DOP853
     underestimates the error of a step with that point inside. A gap is armed once it reads beyond
     ``floor`` at an accepted state: below ``−floor`` (compressed) it is armed to open, above
@@ -1369,8 +1369,8 @@ def compliant_impact(M, H, v, stiffness, exponent=1.5, damping=None, *, hunt_cro
     # the window: 200 T, doubled after each window that reached its end without a contact event (a
     # slow tail: late re-contacts at speeds of 1e-8 V last 1e4 T at exponent 3, and a 50-ball chain
     # ran out of its 10^5 windows of 200 T), and 200 T again after one with an event inside it (a
-    # ball ringing between two walls keeps its windows, and the cap on the events is read after each). A window
-    # that continues the one before (which reached its end) starts with the step size that one's
+    # ball ringing between two walls keeps its windows, and the cap on the events is read after
+    # each). A window that continues the one before (which reached its end) starts with the step size that one's
     # controller had reached: from SciPy's initial choice each window grew its steps again, through
     # the tail's free flights (a 100-ball chain of exponent 3: 86,397 steps, 23,563 so, the same
     # outcome to the last bit; a 100-ball Hertz one 4,286 -> 3,664). A window that a held contact's
