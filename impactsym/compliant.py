@@ -257,7 +257,9 @@ def _dop853(fun, t0, t_bound, y0, rtol, atol, events, keep_states=True, into=Fal
 
     ``turns`` (our addition; none by default, and then every step is SciPy's) lists pairs
     ``(i, slope)``: event ``i`` (with a direction ``±1``) whose two crossings inside one step are to
-    be found too, where ``slope(f)`` is the event's derivative for the state derivative ``f``.
+    be found too, where ``slope(f)`` is the event's derivative for the state derivative ``f`` (or
+    an int ``j``: the derivative is ``f[j]``; when every slope is one, the ends of the step are read
+    for all turns at once, :func:`_excursions_at_columns`).
     SciPy sees only sign changes between accepted steps, so a value that rises through 0 and falls
     back within one step is never seen. When event ``i`` has the same sign, against its direction,
     at both ends of a step and its slopes at the ends say that it turns towards 0 and back inside
@@ -334,6 +336,11 @@ def _dop853(fun, t0, t_bound, y0, rtol, atol, events, keep_states=True, into=Fal
     status = None
     message = None
     # the crossings (_crossing) and which are armed (+1 to rise through 0, -1 to fall; _arm)
+    # turns whose slopes are all components of the state derivative (an int j: f[j]), read together
+    columns = None
+    if turns and all(isinstance(sl, (int, np.integer)) for _i, sl in turns):
+        columns = (np.array([i for i, _ in turns], dtype=np.intp), np.array([sl for _, sl in turns], dtype=np.intp),
+                   np.array([dirs[i] for i, _ in turns]))
     cross = [_crossing(c) for c in crossings]
     armed = [0] * len(cross)
     _arm(armed, cross, y)
@@ -439,8 +446,11 @@ def _dop853(fun, t0, t_bound, y0, rtol, atol, events, keep_states=True, into=Fal
             ys.append(y)
         g_new = values(t, y)
         # (K[0] holds the derivative at t_old: no stage writes it)
-        excursions = (_excursions(turns, events, dirs, g, g_new, K[0], f,
-                                  lambda: _dense_output(solver, t_old, t, y_old, y, f, h)) if turns else ())
+        excursions = (() if not turns else
+                      _excursions(turns, events, dirs, g, g_new, K[0], f,
+                                  lambda: _dense_output(solver, t_old, t, y_old, y, f, h)) if columns is None else
+                      _excursions_at_columns(columns, events, g, g_new, K[0], f,
+                                             lambda: _dense_output(solver, t_old, t, y_old, y, f, h)))
         # SciPy's find_active_events: up (a <= 0 <= b) for d > 0, down (a >= 0 >= b) for d < 0,
         # either for d == 0; one plain loop (no comprehension to call at every step)
         active = []
@@ -595,6 +605,28 @@ def _excursions(turns, events, dirs, g, g_new, f_old, f, dense):
         if sol is None:
             sol = dense()
         root = _excursion_root(events[i], d, sol, sol.t_old, sol.t)
+        if root is not None:
+            found.append(i)
+            roots.append(root)
+    return (sol, found, roots) if found else ()
+
+
+def _excursions_at_columns(columns, events, g, g_new, f_old, f, dense):
+    """:func:`_excursions` for turns whose slopes are components of the state derivative:
+    ``columns = (events, components, directions)`` as arrays. The same tests on the same floats (a
+    product ``d · a`` of float64 numbers rounds as NumPy's does), for all turns in one pass, and the
+    turns that pass them are handled as :func:`_excursions` handles them, in the same order."""
+    ti, tj, td = columns
+    m = (td * np.array(g)[ti] < 0.0) & (td * np.array(g_new)[ti] < 0.0)
+    if not m.any():
+        return ()
+    m &= (td * f_old[tj] > 0.0) & (td * f[tj] < 0.0)
+    found, roots, sol = [], [], None
+    for pos in np.flatnonzero(m).tolist():
+        i = int(ti[pos])
+        if sol is None:
+            sol = dense()
+        root = _excursion_root(events[i], float(td[pos]), sol, sol.t_old, sol.t)
         if root is not None:
             found.append(i)
             roots.append(root)
@@ -1294,14 +1326,21 @@ def compliant_impact(M, H, v, stiffness, exponent=1.5, damping=None, *, hunt_cro
     gaps_ev = [gap_event(j) for j in held_idx]
     events += gaps_ev
     # each gap's slope is its own derivative, g_j' = (H q̇)_j, a component of the state derivative
-    turns = [(first_gap + i, (lambda f, j=j: f.item(j))) for i, j in enumerate(held_idx)]
+    turns = [(first_gap + i, j) for i, j in enumerate(held_idx)]
+    # the gap events' offsets and directions side by side (hold sets them with the events'), so that
+    # values reads every gap event at once: the same division and subtraction as gap's, and its
+    # -direction for an exact 0
+    held_arr = np.array(held_idx, dtype=np.intp)
+    gap_off, gap_dir = np.full(len(held_idx), -atol), np.full(len(held_idx), -1.0)
 
     def values(t, y):
         out = [stop_value(t, y)]
         if rest_tol is not None:
             out.append(rest(t, y))
-        for ev in gaps_ev:
-            out.append(ev(t, y))
+        if gaps_ev:
+            x = y[held_arr] / Lsc
+            x -= gap_off
+            out += np.where(x != 0.0, x, -gap_dir).tolist()
         return out
 
     def hold(y, laws):
@@ -1325,6 +1364,7 @@ def compliant_impact(M, H, v, stiffness, exponent=1.5, damping=None, *, hunt_cro
                 c = bool(gj < -band or (-band <= gj <= band and laws[i]))
             lo[j], hi[j], ev.direction = (-inf, inf, 1.0) if c else (0.0, 0.0, -1.0)
             ev.offset = ev.direction * atol
+            gap_off[i], gap_dir[i] = ev.offset, ev.direction
             out.append(c)
         return out
 

@@ -273,6 +273,35 @@ def test_a_50_ball_chain_of_exponent_3_ends():
     _struck_chain(50, 3.0)
 
 
+def test_the_events_values_read_at_once_are_the_events_own(monkeypatch):
+    """``_dop853`` reads which events change sign in a step off ``values`` (every held gap's event
+    at once, with the offsets and directions ``hold`` gave this piece), and finds the roots with
+    the events themselves: the two must agree. At the start of every piece of a held chain, and at
+    that state with each held gap moved inside its band (±atol·L / 2, where the two laws' events
+    read opposite signs) or to 0, the values equal the events' own (a stale offset or direction
+    left them right outside the band only, where no test of the outcomes looks)."""
+    import impactsym.compliant as compliant
+
+    real, checked = compliant._dop853, []
+
+    def checking(fun, t0, t_bound, y0, rtol, atol, events, **options):
+        values = options.get("values")
+        if values is not None and len(events) > 1:
+            for j in range(len(events) - 1):  # the held gaps come first in the state, in order
+                for x in (0.0, 0.5 * atol[j], -0.5 * atol[j]):
+                    y = np.array(y0, dtype=float)
+                    y[j] = x
+                    got = values(t0, y)
+                    want = [ev(t0, y) for ev in events]
+                    assert np.sign(got[0]) == np.sign(want[0]) and got[1:] == want[1:]
+                    checked.append(j)
+        return real(fun, t0, t_bound, y0, rtol, atol, events, **options)
+
+    monkeypatch.setattr(compliant, "_dop853", checking)
+    r = _struck_chain(8, 3.0)
+    assert r.outcome == "separated" and len(checked) > 3 * 7 * 10
+
+
 def test_cradle_with_two_comoving_strikers():
     # raised NonTermination before issue 13: contact 1-2 touches with zero relative speed at t = 0
     v0 = [1, 1, 0, 0, 0]
