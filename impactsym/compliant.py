@@ -55,8 +55,8 @@ open faster than ``1/D`` (never in a chain; in 31 of 159 random 3-body systems w
 ``[0.5, 8]``), its force, kept ``≥ 0``, stops where ``1 + D δ̇`` falls through 0, and the steps end
 there too (the worst of those 31 went from 2.9e-10 to 1.3e-11). Eq. 20's damped force
 ``δ^(p−1) (K δ + C δ̇)``, kept ``≥ 0``, stops where ``K δ + C δ̇`` falls through 0, before the gap
-opens: its steps end there too, a crossing of a linear function of the state while the contact is closed (of 150 random
-chains, ``p`` = 1, 1.5 and 2.5, the worst went from 1.1e-8 to 4.9e-10 off
+opens: its steps end there too, a crossing of a linear function of the state while the contact is
+closed (of 150 random chains, ``p`` = 1, 1.5 and 2.5, the worst went from 1.1e-8 to 4.9e-10 off
 ``tests/piecewise_reference.py``'s damped reference). What is integrated is ``(g, q̇, P)``
 with ``ġ = H q̇``: the gaps, not ``q``, since only they enter the forces and the error control is
 relative to each component's size (with ``q`` integrated, gaps of 0.1 between coordinates that
@@ -259,7 +259,7 @@ def _dop853(fun, t0, t_bound, y0, rtol, atol, events, keep_states=True, into=Fal
     ``(i, slope)``: event ``i`` (with a direction ``±1``) whose two crossings inside one step are to
     be found too, where ``slope(f)`` is the event's derivative for the state derivative ``f`` (or
     an int ``j``: the derivative is ``f[j]``; when every slope is one, the ends of the step are read
-    for all turns at once, :func:`_excursions_at_columns`).
+    for all turns at once, :func:`_excursions`' ``columns``).
     SciPy sees only sign changes between accepted steps, so a value that rises through 0 and falls
     back within one step is never seen. When event ``i`` has the same sign, against its direction,
     at both ends of a step and its slopes at the ends say that it turns towards 0 and back inside
@@ -272,8 +272,8 @@ def _dop853(fun, t0, t_bound, y0, rtol, atol, events, keep_states=True, into=Fal
     ``row · y``, its crossings counted only where the gap ``y[gate]`` is below 0 at both ends of
     the step, and no value set at its root; eq. 20's ``K δ + C δ̇``; or ``(row, floor, gate,
     offset)``, the affine ``offset + row · y`` the same way: Hunt–Crossley's ``1 + D δ̇``). Where a
-    force ``K (δ⁺)^p`` with a non-integer ``p`` starts or stops (a contact closing or opening, the force growing as
-    ``(t − t_c)^p`` or falling as ``(t_e − t)^p``), the right-hand side is not smooth, and DOP853
+    force ``K (δ⁺)^p`` with a non-integer ``p`` starts or stops (a contact closing or opening, the
+    force growing as ``(t − t_c)^p`` or falling as ``(t_e − t)^p``), the right-hand side is not smooth, and DOP853
     underestimates the error of a step with that point inside. A gap is armed once it reads beyond
     ``floor`` at an accepted state: below ``−floor`` (compressed) it is armed to open, above
     ``floor`` (apart) to close; gaps that never leave ``[−floor, floor]`` (the 1e-300 gaps ahead of
@@ -335,12 +335,12 @@ def _dop853(fun, t0, t_bound, y0, rtol, atol, events, keep_states=True, into=Fal
     steps = 0
     status = None
     message = None
-    # the crossings (_crossing) and which are armed (+1 to rise through 0, -1 to fall; _arm)
     # turns whose slopes are all components of the state derivative (an int j: f[j]), read together
     columns = None
     if turns and all(isinstance(sl, (int, np.integer)) for _i, sl in turns):
         columns = (np.array([i for i, _ in turns], dtype=np.intp), np.array([sl for _, sl in turns], dtype=np.intp),
                    np.array([dirs[i] for i, _ in turns]))
+    # the crossings (_crossing) and which are armed (+1 to rise through 0, -1 to fall; _arm)
     cross = [_crossing(c) for c in crossings]
     armed = [0] * len(cross)
     _arm(armed, cross, y)
@@ -446,11 +446,8 @@ def _dop853(fun, t0, t_bound, y0, rtol, atol, events, keep_states=True, into=Fal
             ys.append(y)
         g_new = values(t, y)
         # (K[0] holds the derivative at t_old: no stage writes it)
-        excursions = (() if not turns else
-                      _excursions(turns, events, dirs, g, g_new, K[0], f,
-                                  lambda: _dense_output(solver, t_old, t, y_old, y, f, h)) if columns is None else
-                      _excursions_at_columns(columns, events, g, g_new, K[0], f,
-                                             lambda: _dense_output(solver, t_old, t, y_old, y, f, h)))
+        excursions = (_excursions(turns, events, dirs, g, g_new, K[0], f,
+                                  lambda: _dense_output(solver, t_old, t, y_old, y, f, h), columns) if turns else ())
         # SciPy's find_active_events: up (a <= 0 <= b) for d > 0, down (a >= 0 >= b) for d < 0,
         # either for d == 0; one plain loop (no comprehension to call at every step)
         active = []
@@ -589,44 +586,37 @@ def _dense_output(solver, t_old, t, y_old, y, f, h):
     return solver.dense_output()
 
 
-def _excursions(turns, events, dirs, g, g_new, f_old, f, dense):
+def _excursions(turns, events, dirs, g, g_new, f_old, f, dense, columns=None):
     """The turns of :func:`_dop853` that cross 0 twice inside the step whose event values are ``g``
     and ``g_new`` at its ends and whose state derivatives are ``f_old`` and ``f``: ``()`` if none,
     else ``(sol, indices, roots)`` with the step's dense output (``dense()``, made only when a turn
-    needs it) and each first crossing."""
+    needs it) and each first crossing. With ``columns`` (``(events, components, directions)`` as
+    arrays, which :func:`_dop853` makes when every slope is a component ``j`` of the state
+    derivative) the ends are tested for all turns in one pass: the same tests on the same floats (a
+    product ``d · a`` of float64 numbers rounds as NumPy's does), the turns that pass them in the
+    same order."""
+    if columns is None:
+        candidates = []
+        for i, slope in turns:
+            d, a, b = dirs[i], g[i], g_new[i]
+            if not (d * a < 0.0 and d * b < 0.0):
+                continue  # a crossing SciPy sees, or a value already past 0
+            s0, s1 = slope(f_old), slope(f)
+            if not (d * s0 > 0.0 and d * s1 < 0.0):
+                continue  # no turn towards 0 and back that the end slopes reveal
+            candidates.append((i, d))
+    else:
+        ti, tj, td = columns
+        m = (td * np.array(g)[ti] < 0.0) & (td * np.array(g_new)[ti] < 0.0)
+        if not m.any():
+            return ()
+        m &= (td * f_old[tj] > 0.0) & (td * f[tj] < 0.0)
+        candidates = [(int(ti[pos]), float(td[pos])) for pos in np.flatnonzero(m).tolist()]
     found, roots, sol = [], [], None
-    for i, slope in turns:
-        d, a, b = dirs[i], g[i], g_new[i]
-        if not (d * a < 0.0 and d * b < 0.0):
-            continue  # a crossing SciPy sees, or a value already past 0
-        s0, s1 = slope(f_old), slope(f)
-        if not (d * s0 > 0.0 and d * s1 < 0.0):
-            continue  # no turn towards 0 and back that the end slopes reveal
+    for i, d in candidates:
         if sol is None:
             sol = dense()
         root = _excursion_root(events[i], d, sol, sol.t_old, sol.t)
-        if root is not None:
-            found.append(i)
-            roots.append(root)
-    return (sol, found, roots) if found else ()
-
-
-def _excursions_at_columns(columns, events, g, g_new, f_old, f, dense):
-    """:func:`_excursions` for turns whose slopes are components of the state derivative:
-    ``columns = (events, components, directions)`` as arrays. The same tests on the same floats (a
-    product ``d · a`` of float64 numbers rounds as NumPy's does), for all turns in one pass, and the
-    turns that pass them are handled as :func:`_excursions` handles them, in the same order."""
-    ti, tj, td = columns
-    m = (td * np.array(g)[ti] < 0.0) & (td * np.array(g_new)[ti] < 0.0)
-    if not m.any():
-        return ()
-    m &= (td * f_old[tj] > 0.0) & (td * f[tj] < 0.0)
-    found, roots, sol = [], [], None
-    for pos in np.flatnonzero(m).tolist():
-        i = int(ti[pos])
-        if sol is None:
-            sol = dense()
-        root = _excursion_root(events[i], float(td[pos]), sol, sol.t_old, sol.t)
         if root is not None:
             found.append(i)
             roots.append(root)

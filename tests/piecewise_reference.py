@@ -5,9 +5,10 @@ Within a piece every contact keeps its law: closed, ``K max(δ, 0)^p`` (times ``
 Hunt–Crossley; ``K δ^p + C δ^(p−1) δ̇`` for eq. 20), or open, 0. Eq. 20's damped force stops
 where ``φ = K δ + C δ̇`` falls through 0, before the gap opens, and Hunt–Crossley's where
 ``ψ = 1 + D δ̇`` does (``D δ̇ < −1``: the contact opening faster than ``1/D``): a closed contact is
-pushing (``φ > 0``, ``ψ > 0``) or not, and a piece also ends where ``φ`` or ``ψ`` crosses 0. It shares no code with
-:mod:`impactsym.compliant` (no held laws, no driver of its own, plain ``solve_ivp``), and is a
-sampled reference, not a proof: a crossing there and back inside one step is not seen.
+pushing (``φ > 0``, ``ψ > 0``) or not, and a piece also ends where ``φ`` or ``ψ`` crosses 0. It
+shares no code with :mod:`impactsym.compliant` (no held laws, no driver of its own, plain
+``solve_ivp``), and is a sampled reference, not a proof: a crossing there and back inside one step
+is not seen.
 
 >>> import numpy as np
 >>> v = piecewise_reference(np.eye(2), np.array([[-1.0, 1.0]]), np.array([1.0, 0.0]), [1.0], 1.5)
@@ -32,9 +33,9 @@ def piecewise_reference(M, H, v0, K, p, rtol=1e-13, max_pieces=20_000, hunt_cros
     """The post-impact velocity of ``M q̈ = Hᵀ f``, ``f_i = K_i max(−g_i, 0)^p`` (``ġ = H q̇``, every
     gap 0 at the start, the approaching contacts closed), integrated in pieces between crossings;
     with ``hunt_crossley`` (``D_i``), ``f_i = K_i max(−g_i, 0)^p (1 − D_i ġ_i)`` while pushing
-    (``1 − D_i ġ_i > 0``), 0 otherwise; with
-    ``damping`` (eq. 20's ``C_i``), ``f_i = K_i δ_i^p + C_i δ_i^(p−1) δ̇_i`` while pushing. With
-    ``ends`` (a list), each piece's end is appended to it as ``(t, contact, law after it)``."""
+    (``1 − D_i ġ_i > 0``), 0 otherwise; with ``damping`` (eq. 20's ``C_i``),
+    ``f_i = K_i δ_i^p + C_i δ_i^(p−1) δ̇_i`` while pushing. With ``ends`` (a list), each piece's end
+    is appended to it as ``(t, contact, law after it)``."""
     M, H, v0, K = np.asarray(M, float), np.asarray(H, float), np.asarray(v0, float), np.asarray(K, float)
     D = None if hunt_crossley is None else np.asarray(hunt_crossley, float)
     C = None if damping is None else np.asarray(damping, float)

@@ -160,7 +160,7 @@ def test_dop853_finds_a_crossing_there_and_back_inside_one_step_only_with_turns(
     assert 1.5 * np.pi - 0.0143 < t_root < 1.5 * np.pi - 0.014 and abs(-np.sin(t_root) - 0.9999) < 2e-6
     assert abs(run.y_last[0] - 0.9999) < 1e-12 and run.y_last[1] > 0
     # the slope given as a component of the state derivative (f[0]: every turn read in one pass,
-    # _excursions_at_columns) finds the same root, bit for bit
+    # _excursions' columns) finds the same root, bit for bit
     col = _dop853(fun, 0.0, 6.0, y0, 1e-6, atol, [peak], turns=[(0, 0)])
     assert col.status == 1 and _same(col.t_events[0], run.t_events[0]) and _same(col.y_last, run.y_last)
     # a turn whose extremum stays short of 0 is no crossing: the event x − 1.0001 is never reached
