@@ -253,6 +253,13 @@ def lzb_impact(M, H, v, stiffness, exponent=1.5, restitution=1.0, *, rtol: float
     Ep = 0.0
     activated = -1  # the contact whose activation event ended the last segment (it starts live)
     turned, turned_dir = -1, 0.0  # the contact whose turn ended the last segment, and the turn's direction
+    # (primary, unit, step size) of the last segment when an event ended it and its primary goes on
+    # (a contact's event or the energy drop; not a switch, an end or a restart): the next segment,
+    # in the same independent variable, starts with the step size the controller had reached instead
+    # of SciPy's initial step. Measured on a one-striker Hertz chain of 100 balls at e = 1: 641 -> 302
+    # segments (285 at rtol 1e-13, 290 before), 3021 -> 2086 steps, 1.64 -> 0.84 s; the velocities'
+    # error against that run about the same (3.1e-11, before 2.8e-11)
+    carry = None
 
     while True:
         w = Hf @ v
@@ -274,6 +281,7 @@ def lzb_impact(M, H, v, stiffness, exponent=1.5, restitution=1.0, *, rtol: float
             segments += 1
             if segments > max_segments:
                 raise _too_many_segments(max_segments, e)
+            carry = None
             P0 = 1e-10 * mu[pp] * (-w[pp])
             Ep = -w[pp] * P0
             fp = a[pp] * Ep ** (eta[pp] / (eta[pp] + 1))
@@ -588,7 +596,8 @@ def lzb_impact(M, H, v, stiffness, exponent=1.5, restitution=1.0, *, rtol: float
         if unit != 1.0:
             fun, stage_of = _in_units(rhs, bind, unit)
         sol = _dop853(fun, 0.0, span / unit, y0, rtol, atol_vec, [end_primary, switch, drop] + contact_events,
-                      keep_states=False, into=True, values=values, stage=stage_of, turns=turns)
+                      keep_states=False, into=True, values=values, stage=stage_of, turns=turns,
+                      first_step=carry[2] if carry is not None and carry[:2] == (pp, unit) else None)
         segments += 1
         steps += sol.steps
         nfev += sol.nfev
@@ -635,6 +644,7 @@ def lzb_impact(M, H, v, stiffness, exponent=1.5, restitution=1.0, *, rtol: float
         else:
             Eall = np.maximum(s, 0.0) ** (eta + 1)
             primary = int(np.argmax(Eall))
+        carry = (pp, unit, sol.h_abs) if fired and primary == pp else None
 
     vplus = v
     T1 = 0.5 * float(vplus @ Mf @ vplus)
