@@ -4,7 +4,8 @@ fitted growth. Run from the repository root::
 
     python benchmarks/cost_model.py                 # every law -> benchmarks/results/cost_model.md,
                                                     #   cost_model.json, cost_model/<law>.png
-    python benchmarks/cost_model.py --law newton    # some laws only (repeatable; still written there)
+    python benchmarks/cost_model.py --law newton    # some laws only (repeatable): their tables and plots
+                                                    #   there replaced, the other laws' kept
     python benchmarks/cost_model.py --quick         # small sizes, printed only (nothing written)
     python benchmarks/cost_model.py --out DIR       # write into DIR instead
 
@@ -24,7 +25,7 @@ from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
 
-from impactsym.cost_model import COST_LAWS, MAX_CALL, markdown, run, write_results  # noqa: E402
+from impactsym.cost_model import COST_LAWS, MAX_CALL, markdown, read_results, run, write_results  # noqa: E402
 
 RESULTS = Path(__file__).resolve().parent / "results"
 
@@ -39,8 +40,10 @@ def main(argv=None) -> int:
     args = ap.parse_args(argv)
     if args.max_call <= 0:
         ap.error(f"--max-call must be > 0, got {args.max_call}")
-    report = run(args.law, quick=args.quick, max_call=args.max_call, progress=lambda s: print(s, file=sys.stderr))
     out = args.out or (None if args.quick else RESULTS)
+    if out is not None:
+        read_results(out)  # a cost_model.json there that is not a cost model: refused before the work
+    report = run(args.law, quick=args.quick, max_call=args.max_call, progress=lambda s: print(s, file=sys.stderr))
     if out is None:
         print(markdown(report))
         return 0

@@ -675,10 +675,12 @@ def run(laws=None, quick: bool = False, progress=None, max_call: float = MAX_CAL
     for law in laws:
         check_request(law, axes, sizes)
     start = machine()
+    date = time.strftime("%Y-%m-%d %H:%M UTC", time.gmtime())
     t0 = time.perf_counter()
     results = [law_cost(law, quick=quick, axes=axes, sizes=sizes, progress=progress, max_call=max_call)
                for law in laws]
-    return {"machine": start, "load_end": _load(), "seconds": round(time.perf_counter() - t0, 1), "quick": quick,
+    return {"machine": start, "date": date, "load_end": _load(), "seconds": round(time.perf_counter() - t0, 1),
+            "quick": quick,
             "max_call": max_call, "memory": "tracemalloc peak of one call (Python allocations incl. NumPy; "
                                             "FLINT/GMP memory outside Python's allocator not seen)",
             "results": results}
@@ -873,10 +875,18 @@ def header(report: dict, command: str) -> str:
     v = ", ".join(f"{k} {x}" for k, x in m["versions"].items() if x)
     ls, le = m["load_start"], report["load_end"]
     load = "unknown" if not ls else f"{ls[0]:.2f} at the start and {le[0]:.2f} at the end (1-minute)"
-    return (f"# Cost model of every law\n\n`{command}` (one law: `impactsym bench --law NAME [--quick]`). "
+    when = f" on {report['date']}" if report.get("date") else ""
+    mine = report.get("measured") or [r["law"] for r in report["results"]]
+    kept = [r for r in report["results"] if r["law"] not in mine]
+    earlier = ""
+    if kept:
+        earlier = (f"That run measured {', '.join(mine)}; the other laws' tables were kept from earlier runs "
+                   "(a run of some laws replaces only theirs):\n\n" + "".join(
+                       f"- {r['law']}: {_run_text(r.get('run'))}\n" for r in kept) + "\n")
+    return (f"# Cost model of every law\n\n`{command}`{when} (one law: `impactsym bench --law NAME [--quick]`). "
             f"Taken on {m['cpu']}, {m['cores']} cores ({m['usable_cores']} usable), {m['platform']}; "
             f"{m['python']}; {v}. Load average {load}: a shared machine, other jobs were running. "
-            f"{report['seconds']:.0f} s in all{' (quick sizes)' if report['quick'] else ''}.\n\n"
+            f"{report['seconds']:.0f} s in all{' (quick sizes)' if report['quick'] else ''}.\n\n{earlier}"
             f"Each time is the median of at least three calls, and of as many as fit in {MIN_SECONDS} s (one call, "
             f"the first at that size, when it takes over {SLOW_CALL} s), each after emptying SymPy's cache (so "
             f"that a repeated call costs what a new problem of that size costs), through "
@@ -893,15 +903,78 @@ def header(report: dict, command: str) -> str:
             f"times.\n\n")
 
 
+def _run_record(report: dict, command: str) -> dict:
+    """What measured a result: the command, the date, the machine, the load and the run's settings."""
+    return {"command": command, "date": report.get("date"), "machine": report["machine"],
+            "load_end": report.get("load_end"), "seconds": report.get("seconds"), "quick": report.get("quick"),
+            "max_call": report.get("max_call")}
+
+
+def _run_text(run: dict | None) -> str:
+    if not run:
+        return "an earlier run (not recorded)"
+    m, ls, le = run["machine"], run["machine"].get("load_start"), run.get("load_end")
+    load = "" if not ls or not le else f", load {ls[0]:.2f} to {le[0]:.2f}"
+    when = f" on {run['date']}" if run.get("date") else ""
+    quick = " (quick sizes)" if run.get("quick") else ""
+    return f"`{run['command']}`{when}, {m['cpu']}{load}{quick}"
+
+
+def read_results(out_dir) -> dict | None:
+    """The cost model in ``out_dir/cost_model.json`` (None if there is none), each result with the
+    run that measured it (``run``; results written before runs were recorded get their file's).
+
+    Raises
+    ------
+    ImpactInputError
+        (argument ``out``) the file is not a cost model this module wrote: it is not overwritten.
+    """
+    import json
+    from pathlib import Path
+
+    from .errors import ImpactInputError
+
+    path = Path(out_dir) / "cost_model.json"
+    if not path.exists():
+        return None
+    try:
+        old = json.loads(path.read_text())
+        results = old["results"]
+        if not all(isinstance(r, dict) and isinstance(r["law"], str) and "axes" in r for r in results):
+            raise ValueError("a result without its law or axes")
+        base = _run_record(old, old.get("command", "an earlier run")) if "machine" in old else None
+    except (OSError, ValueError, KeyError, TypeError) as exc:
+        raise ImpactInputError("out", f"{path} is not a cost model written by impactsym "
+                                      f"({type(exc).__name__}: {exc}); move it away or choose another directory")
+    return dict(old, results=[r if "run" in r else dict(r, run=base) for r in results])
+
+
 def write_results(report: dict, out_dir, command: str) -> list:
-    """Write ``cost_model.md``, ``cost_model.json`` and ``cost_model/<law>.png`` into ``out_dir``."""
+    """Write ``cost_model.md``, ``cost_model.json`` and ``cost_model/<law>.png`` into ``out_dir``.
+
+    Each result records the run that measured it (``run``: ``command``, date, machine, load). If
+    ``out_dir`` already holds a cost model (:func:`read_results`), the laws this report measured
+    replace theirs and the others are kept, with their runs (named in the markdown's header) and
+    plots, so that a run of one law updates that law alone. Returns the paths written.
+    """
     import json
     from pathlib import Path
 
     out = Path(out_dir)
+    old = read_results(out)
+    measured = [r["law"] for r in report["results"]]
+    report = dict(report, command=command, measured=measured,
+                  results=[dict(r, run=r.get("run") or _run_record(report, command)) for r in report["results"]])
+    if old is not None:
+        order = list(COST_LAWS)
+        results = report["results"] + [r for r in old["results"] if r["law"] not in measured]
+        results.sort(key=lambda r: order.index(r["law"]) if r["law"] in order else len(order))
+        report = dict(report, results=results)
     (out / "cost_model").mkdir(parents=True, exist_ok=True)
     written = []
     for r in report["results"]:
+        if r["law"] not in measured:
+            continue  # kept from an earlier run: its plot too
         p = out / "cost_model" / f"{r['law']}.png"
         plot(r, p)
         written.append(p)

@@ -110,6 +110,40 @@ def test_one_cheap_law_writes_its_table_json_and_plot(capsys, tmp_path):
     assert json.loads((tmp_path / "cost_model.json").read_text())["results"][0]["law"] == "poisson"
 
 
+def test_a_run_of_one_law_replaces_its_table_and_keeps_the_others(capsys, tmp_path):
+    """``--out`` into a directory with a cost model: the law measured now replaces its own table,
+    plot and JSON entry; the other laws are kept with the run that measured them, named in the
+    header; the laws stay in the lawbook's order."""
+    assert _run(capsys, "--law", "poisson", "--axis", "balls", "--sizes", "3", "--out", str(tmp_path))[0] == 0
+    first = json.loads((tmp_path / "cost_model.json").read_text())
+    poisson_png = (tmp_path / "cost_model" / "poisson.png").read_bytes()
+    assert _run(capsys, "--law", "newton", "--axis", "balls", "--sizes", "3,4", "--out", str(tmp_path))[0] == 0
+    both = json.loads((tmp_path / "cost_model.json").read_text())
+    assert [r["law"] for r in both["results"]] == [x for x in COST_LAWS if x in ("newton", "poisson")]
+    kept = next(r for r in both["results"] if r["law"] == "poisson")
+    assert kept == first["results"][0]  # as the first run wrote it, its run included
+    assert kept["run"]["command"] == "impactsym bench --law poisson" and both["measured"] == ["newton"]
+    assert (tmp_path / "cost_model" / "poisson.png").read_bytes() == poisson_png
+    md = (tmp_path / "cost_model.md").read_text()
+    assert "### poisson" in md and "### newton" in md and "| balls | 4 | 3 | 4 |" in md
+    assert "That run measured newton" in md and "- poisson: `impactsym bench --law poisson` on " in md
+    # newton again, with other sizes: its table replaced, not appended
+    assert _run(capsys, "--law", "newton", "--axis", "balls", "--sizes", "3", "--out", str(tmp_path))[0] == 0
+    again = json.loads((tmp_path / "cost_model.json").read_text())
+    assert [r["law"] for r in again["results"]] == [r["law"] for r in both["results"]]
+    assert [x["size"] for x in next(r for r in again["results"] if r["law"] == "newton")["axes"][0]["rows"]] == [3]
+    assert "| balls | 4 | 3 | 4 |" not in (tmp_path / "cost_model.md").read_text()
+
+
+@pytest.mark.parametrize("text", ["not json", '{"results": [{"axes": []}]}', '{"other": 1}'])
+def test_a_cost_model_json_that_is_not_ours_is_refused_before_the_work(capsys, tmp_path, monkeypatch, text):
+    (tmp_path / "cost_model.json").write_text(text)
+    monkeypatch.setattr(cost_model, "run", lambda *a, **k: pytest.fail("measured before refusing --out"))
+    code, data = _run(capsys, "--law", "newton", "--axis", "balls", "--sizes", "3", "--out", str(tmp_path))
+    assert code == 2 and data["error"]["argument"] == "out" and "not a cost model" in data["error"]["message"]
+    assert (tmp_path / "cost_model.json").read_text() == text
+
+
 def test_a_compliant_law_has_the_float_path_only(capsys):
     code, data = _run(capsys, "--law", "linear", "--axis", "balls", "--sizes", "3")
     assert code == 0

@@ -37,7 +37,8 @@ def register(sub) -> None:
     p.add_argument("--sizes", metavar="N,N,...", help="with --law and one axis: the problem sizes (balls, "
                                                       "dimension, digits; for reflections d of the mass ratio 1:100^d)")
     p.add_argument("--out", metavar="DIR", help="with --law: write cost_model.md, cost_model.json and "
-                                                "cost_model/<law>.png into DIR (checked before the work)")
+                                                "cost_model/<law>.png into DIR (checked before the work); a "
+                                                "cost model already there keeps the other laws' tables")
     add_plot_option(p, "the log-log plot of throughput against error")
     add_json_flag(p)
     p.set_defaults(func=run, _bench_parser=p)
@@ -68,6 +69,8 @@ def run_law(args) -> dict:
     if (args.axis is not None or sizes is not None) and len(laws) > 1:
         raise ImpactInputError("axis" if args.axis is not None else "sizes", "applies to one law, not --law all")
     out = writable_dir(args.out, "out")
+    if out is not None:
+        cost_model.read_results(out)  # a cost_model.json there that is not ours: refused before the work
     axes = None if args.axis is None else [args.axis]
     if laws and (axes or sizes):  # checked before the work: an unknown axis, sizes out of range
         cost_model.check_request(laws[0], axes, sizes)
