@@ -903,7 +903,7 @@ def header(report: dict, command: str) -> str:
             f"times.\n\n")
 
 
-def _run_record(report: dict, command: str) -> dict:
+def _run_record(report: dict, command: str | None) -> dict:
     """What measured a result: the command, the date, the machine, the load and the run's settings."""
     return {"command": command, "date": report.get("date"), "machine": report["machine"],
             "load_end": report.get("load_end"), "seconds": report.get("seconds"), "quick": report.get("quick"),
@@ -917,7 +917,8 @@ def _run_text(run: dict | None) -> str:
     load = "" if not ls or not le else f", load {ls[0]:.2f} to {le[0]:.2f}"
     when = f" on {run['date']}" if run.get("date") else ""
     quick = " (quick sizes)" if run.get("quick") else ""
-    return f"`{run['command']}`{when}, {m['cpu']}{load}{quick}"
+    command = f"`{run['command']}`" if run.get("command") else "a run whose command and date were not recorded"
+    return f"{command}{when}, {m['cpu']}{load}{quick}"
 
 
 def read_results(out_dir) -> dict | None:
@@ -942,7 +943,7 @@ def read_results(out_dir) -> dict | None:
         results = old["results"]
         if not all(isinstance(r, dict) and isinstance(r["law"], str) and "axes" in r for r in results):
             raise ValueError("a result without its law or axes")
-        base = _run_record(old, old.get("command", "an earlier run")) if "machine" in old else None
+        base = _run_record(old, old.get("command")) if "machine" in old else None
     except (OSError, ValueError, KeyError, TypeError) as exc:
         raise ImpactInputError("out", f"{path} is not a cost model written by impactsym "
                                       f"({type(exc).__name__}: {exc}); move it away or choose another directory")
