@@ -26,6 +26,7 @@ from pathlib import Path
 sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
 
 from impactsym.cost_model import COST_LAWS, MAX_CALL, markdown, read_results, run, write_results  # noqa: E402
+from impactsym.errors import ImpactInputError  # noqa: E402
 
 RESULTS = Path(__file__).resolve().parent / "results"
 
@@ -42,7 +43,10 @@ def main(argv=None) -> int:
         ap.error(f"--max-call must be > 0, got {args.max_call}")
     out = args.out or (None if args.quick else RESULTS)
     if out is not None:
-        read_results(out)  # a cost_model.json there that is not a cost model: refused before the work
+        try:
+            read_results(out)  # a cost_model.json there that is not a cost model: refused before the work
+        except ImpactInputError as exc:
+            ap.error(f"--out: {exc.condition}")
     report = run(args.law, quick=args.quick, max_call=args.max_call, progress=lambda s: print(s, file=sys.stderr))
     if out is None:
         print(markdown(report))
