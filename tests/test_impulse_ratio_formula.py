@@ -64,3 +64,21 @@ def test_float_root_is_the_generated_stable_kernel():
         want = phys.subs({A: a, B: b, C: c})
         got = float(kernels.impulse_ratio_root(float(a), float(b), float(c))[0])
         assert abs(got - float(want)) <= 1e-12 * (1 + abs(float(want)))
+
+
+def test_rational_data_derive_in_qq_as_the_sympy_balance_does():
+    """Rational data take general_quadratic's QQ[p₁] route; the same scene with e a symbol takes
+    the SymPy route (expand, coefficients, simplify). Put e in afterwards, every field is the same
+    exact number: the two routes are one derivation."""
+    rng = random.Random(11)
+    x = sp.Symbol("x")
+    for _ in range(25):
+        M, H, v, e, alphas = _scene(rng)
+        fast = general_quadratic(M, H, v, e, alphas)
+        slow = general_quadratic(M, H, v, x, alphas)
+        for f, s in [(fast.A, slow.A), (fast.B, slow.B), (fast.C, slow.C), (fast.D, slow.D)]:
+            assert f.is_Rational and sp.expand(s.subs(x, e)) == f
+        if fast.D >= 0:
+            assert fast.p1 == (-fast.B + sp.sqrt(fast.D)) / (2 * fast.A)
+            assert sp.simplify(fast.p1 - slow.p1.subs(x, e)) == 0
+            assert list(fast.vplus) == list(v + fast.p1 * M.LUsolve(H.T * sp.Matrix([1, *alphas])))
