@@ -30,7 +30,7 @@ def _scene(rng):
 
 def test_exact_and_float_coefficients_equal_the_derivation():
     rng = random.Random(1130)
-    for _ in range(25):
+    for _ in range(10):
         M, H, v, e, alphas = _scene(rng)
         law = general_quadratic(M, H, v, e, alphas)
         a = [sp.Integer(1)] + alphas
@@ -72,13 +72,16 @@ def test_rational_data_derive_in_qq_as_the_sympy_balance_does():
     exact number: the two routes are one derivation."""
     rng = random.Random(11)
     x = sp.Symbol("x")
-    for _ in range(25):
+    real = 0
+    for _ in range(10):
         M, H, v, e, alphas = _scene(rng)
         fast = general_quadratic(M, H, v, e, alphas)
         slow = general_quadratic(M, H, v, x, alphas)
         for f, s in [(fast.A, slow.A), (fast.B, slow.B), (fast.C, slow.C), (fast.D, slow.D)]:
             assert f.is_Rational and sp.expand(s.subs(x, e)) == f
         if fast.D >= 0:
+            real += 1
             assert fast.p1 == (-fast.B + sp.sqrt(fast.D)) / (2 * fast.A)
-            assert sp.simplify(fast.p1 - slow.p1.subs(x, e)) == 0
+            assert slow.p1.subs(x, e) == fast.p1
             assert list(fast.vplus) == list(v + fast.p1 * M.LUsolve(H.T * sp.Matrix([1, *alphas])))
+    assert real >= 3  # the roots and v+ compared on scenes with a real solution (4 of these 10)
