@@ -114,14 +114,19 @@ def _rational_quadratic(M, H, v, e, a) -> QuadraticLaw:
     >>> law.A, law.B, law.C, law.p.T
     (381/400, -1, 0, Matrix([[400/381, 380/381]]))
     """
+    from sympy.matrices.exceptions import NonInvertibleMatrixError
     from sympy.polys.matrices import DomainMatrix
+    from sympy.polys.matrices.exceptions import DMNonInvertibleMatrixError
 
     QQ = sp.QQ
     dm = lambda X: DomainMatrix.from_list_sympy(X.rows, X.cols, X.tolist()).convert_to(QQ)  # noqa: E731
     Mq, Hq, vq, aq = dm(M), dm(H), dm(v), dm(a)
     eq = QQ.from_sympy(e)
     rq = Hq.transpose() * aq
-    wq = Mq.lu_solve(rq)
+    try:
+        wq = Mq.lu_solve(rq)
+    except DMNonInvertibleMatrixError as exc:  # the error the SymPy route's M.LUsolve raises
+        raise NonInvertibleMatrixError(str(exc)) from None
     R, P = sp.ring("p_1", QQ)
     n = M.rows
     Mr, vr, wr = Mq.to_list(), [x[0] for x in vq.to_list()], [x[0] for x in wq.to_list()]

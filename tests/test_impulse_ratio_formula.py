@@ -6,6 +6,7 @@ rationals."""
 import random
 
 import numpy as np
+import pytest
 import sympy as sp
 
 from derivations.impulse_ratio import general_quadratic
@@ -85,3 +86,12 @@ def test_rational_data_derive_in_qq_as_the_sympy_balance_does():
             assert slow.p1.subs(x, e) == fast.p1
             assert list(fast.vplus) == list(v + fast.p1 * M.LUsolve(H.T * sp.Matrix([1, *alphas])))
     assert real >= 3  # the roots and v+ compared on scenes with a real solution (4 of these 10)
+
+
+def test_a_singular_mass_matrix_raises_the_same_error_on_both_routes():
+    from sympy.matrices.exceptions import NonInvertibleMatrixError
+
+    M, H, v = sp.Matrix([[1, 1], [1, 1]]), sp.Matrix([[-1, 1]]), sp.Matrix([1, 0])
+    for e in (1, sp.Symbol("x")):  # the QQ route, the SymPy route
+        with pytest.raises(NonInvertibleMatrixError, match="not invertible"):
+            general_quadratic(M, H, v, e, [])
