@@ -31,7 +31,7 @@ def _scene(rng):
 
 def test_exact_and_float_coefficients_equal_the_derivation():
     rng = random.Random(1130)
-    for _ in range(10):
+    for _ in range(25):
         M, H, v, e, alphas = _scene(rng)
         law = general_quadratic(M, H, v, e, alphas)
         a = [sp.Integer(1)] + alphas
