@@ -5,20 +5,21 @@ habit), so one test's workdps can never leak into another's reference."""
 # much of it again in other modules: give it the CLI's unbounded SymPy cache, set the CLI's way and
 # before anything imports SymPy (measured: the default run's CPU 148 -> 138 s, peak RSS 0.5 GB).
 # SYMPY_CACHE_SIZE set in the environment still wins.
-from impactsym.cli.reproduce import use_audit_sympy_cache
+from impactsym.cli.reproduce import AUDIT_GC_THRESHOLDS, use_audit_sympy_cache
 
 use_audit_sympy_cache()
 
 # The cyclic garbage collector: SymPy's cache and the audit's memo keep a large heap of long-lived
 # objects alive, and with CPython's default thresholds (700, 10, 10) the run spent about 7 s of CPU
 # in collections, 5.5 s of it in about 40 full ones. Collecting less often (gen0 every 50,000 net
-# container allocations, full collections a tenth as often) measured 3.3 s, peak RSS 0.50 -> 0.53 GB.
-# Nothing is left uncollected: only the collections are fewer.
+# container allocations, full collections a tenth as often: the audit's AUDIT_GC_THRESHOLDS) measured
+# 3.3 s, peak RSS 0.50 -> 0.53 GB. Nothing is left uncollected: only the collections are fewer. The
+# notebooks' kernel collects with the same thresholds (tests/test_notebooks.py).
 import atexit  # noqa: E402
 import gc  # noqa: E402
 import sys  # noqa: E402
 
-gc.set_threshold(50_000, 20, 100)
+gc.set_threshold(*AUDIT_GC_THRESHOLDS)
 
 import mpmath  # noqa: E402
 import pytest  # noqa: E402

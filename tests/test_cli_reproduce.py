@@ -119,3 +119,28 @@ def test_bad_jobs_exit_2(jobs, capsys):
     code = main(["reproduce", "--jobs", jobs, "--json"])
     err = json.loads(capsys.readouterr().out)["error"]
     assert code == 2 and err["argument"] == "jobs" and "positive integer" in err["message"]
+
+
+def test_the_audit_collects_at_its_thresholds_and_puts_them_back(monkeypatch, capsys):
+    """``reproduce`` runs the audit at AUDIT_GC_THRESHOLDS and leaves the caller's thresholds as it
+    found them, also when the audit raises."""
+    import gc
+
+    import paper_checks
+    from impactsym.cli.reproduce import AUDIT_GC_THRESHOLDS
+
+    seen = []
+
+    def audit(paper, jobs):
+        seen.append(gc.get_threshold())
+        raise RuntimeError("stop here")
+
+    monkeypatch.setattr(paper_checks, "run_audit", audit)
+    saved = gc.get_threshold()
+    try:
+        gc.set_threshold(700, 10, 10)
+        with pytest.raises(RuntimeError, match="stop here"):
+            main(["reproduce", "-j", "1"])
+        assert seen == [AUDIT_GC_THRESHOLDS] and gc.get_threshold() == (700, 10, 10)
+    finally:
+        gc.set_threshold(*saved)
