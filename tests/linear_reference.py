@@ -59,7 +59,7 @@ def linear_reference(M, H, v, K, *, dps: int = 30, grid: int = 64, max_events: i
                         for i in range(n):
                             A[k + i, j] -= Kl[j] * Bm[i, j]
                         A[k + n + j, j] = -Kl[j]
-                pieces[key] = (A, mp.expm(A * dt))
+                pieces[key] = (A, mp.expm(A * dt), [])
             return pieces[key]
 
         events = 0
@@ -76,7 +76,7 @@ def linear_reference(M, H, v, K, *, dps: int = 30, grid: int = 64, max_events: i
                 y[jc], closed[jc] = mp.mpf(0), True
                 events += 1
                 continue
-            A, E = piece(closed)
+            A, E, halves = piece(closed)
             y1 = E * y
             crossed = [j for j in range(k) if (y1[j] > 0 if closed[j] else y1[j] < 0)]
             if not crossed:
@@ -84,7 +84,7 @@ def linear_reference(M, H, v, K, *, dps: int = 30, grid: int = 64, max_events: i
                 continue
             first = None
             for j in crossed:
-                s = _crossing(A, y, j, closed[j], dt, dps)
+                s = _crossing(A, y, j, closed[j], dt, dps, halves)
                 if first is None or s < first[0]:
                     first = (s, j)
             s, j = first
@@ -97,21 +97,46 @@ def linear_reference(M, H, v, K, *, dps: int = 30, grid: int = 64, max_events: i
         return np.array([float(y[k + i]) for i in range(n)]), events
 
 
-def _crossing(A, y, j, closed, dt, dps):
+#: the bisection's halvings of the grid cell before Newton's method takes over
+BISECTIONS = 20
+
+
+def _halves(A, dt, dps):
+    """``[expm(A·dt/2), expm(A·dt/4), …, expm(A·dt/2²⁰)]``: the last by ``expm``, each other the
+    square of the next, at ``dps + 10`` digits (the 19 squarings lose at most about 6 of them) and
+    rounded to ``dps``. One ``expm`` for a piece's every bisection, instead of one per halving."""
+    with mp.workdps(dps + 10):
+        out = [mp.expm(A * (dt / 2 ** BISECTIONS))]
+        for _ in range(BISECTIONS - 1):
+            out.append(out[-1] * out[-1])
+    return [E * 1 for E in reversed(out)]  # E * 1: each entry rounded to the caller's precision
+
+
+def _crossing(A, y, j, closed, dt, dps, halves=None):
     """The time in ``[0, dt]`` where gap ``j`` of ``expm(A s) y`` leaves its law's side (> 0 for a
     closed contact, < 0 for an open one; it is on that side at ``dt``): bisection to a cell of
     ``dt·2⁻²⁰``, then Newton inside it (bisection on where the derivative vanishes or Newton leaves
-    the bracket: a gap resting at 0 whose crossing is of higher order)."""
+    the bracket: a gap resting at 0 whose crossing is of higher order).
+
+    The bisection carries the state at the bracket's low end, ``expm(A·lo) y``, and reaches each
+    midpoint by one product with ``expm(A·dt/2^i)`` (:func:`_halves`, made once per piece into the
+    list ``halves``); Newton's steps evaluate ``expm(A s) y`` directly."""
     def crossed(ys):
         return ys[j] > 0 if closed else ys[j] < 0
 
+    if halves is None:
+        halves = []
+    if not halves:
+        halves.extend(_halves(A, dt, dps))
     lo, hi = mp.mpf(0), dt
-    for _ in range(20):
+    y_lo = y
+    for E_half in halves:
         mid = (lo + hi) / 2
-        if crossed(mp.expm(A * mid) * y):
+        y_mid = E_half * y_lo
+        if crossed(y_mid):
             hi = mid
         else:
-            lo = mid
+            lo, y_lo = mid, y_mid
     tol = dt * mp.mpf(10) ** (3 - dps)
     s = (lo + hi) / 2
     while hi - lo > tol:
