@@ -176,8 +176,9 @@ def _interpreter() -> str:
     and build date. The build matters: on the machine of these results, Debian's
     ``/usr/bin/python3.11`` (3.11.2, libpython linked in; Debian's changelog: "Enable LTO/PGO
     builds") ran the yardstick in 0.50-0.61 s where pyenv's 3.11.7 (this machine's ``python3``,
-    configured without ``--enable-optimizations``, libpython shared) took 0.71-0.82 s, and the
-    default test run in 90.7 s of CPU where pyenv's took 92-100 s on the same day."""
+    configured without ``--enable-optimizations``, libpython shared) took 0.71-0.82 s; the
+    default test run of one tree took 83.3 s of CPU under Debian's and 90.7 s under pyenv's, back
+    to back (2026-12-07): the yardstick alone overstates the build's effect on the tests."""
     import os
     import platform
 
