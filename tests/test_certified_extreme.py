@@ -565,3 +565,17 @@ def test_two_surface_exit_whose_iteration_keeps_a_zero_sub_sum():
         assert all(certified_sign(x) >= 0 for x in H * vp)
         assert all(certified_sign(p) >= 0 for p in o.impulse)
         assert sp.expand(vp - v - H.T * sp.Matrix(o.impulse)) == sp.zeros(2, 1)
+
+
+def test_an_algebraic_exit_is_returned_expanded():
+    """The exact iteration's entries are sums of terms (``a + b·√3`` in ``Q(√3)``), not the nested
+    trees each reflection built on the one before; an entry with ``π`` or ``e`` is left as radsimp
+    gives it."""
+    r3 = sp.sqrt(3)
+    res = ts.resolve_two_surfaces(sp.eye(2), sp.Matrix([[1, 0], [-r3, 1]]), sp.Matrix([-1, -r3 - 1]))
+    for o in res.outcomes:
+        assert list(o.velocity) == [1, 1 + r3] and list(o.impulse) == [8 + 2 * r3, 2 + 2 * r3]
+    assert ts._expanded(sp.sqrt(2) * (1 + sp.sqrt(2)) / (1 + sp.sqrt(3))) == sp.expand(
+        sp.radsimp(sp.sqrt(2) * (1 + sp.sqrt(2)) / (1 + sp.sqrt(3))))
+    x = sp.pi * (1 + sp.E) / (sp.pi + sp.E)
+    assert ts._expanded(x) == sp.radsimp(x)

@@ -427,9 +427,23 @@ def _iterate_exact(M, HA, HB, v, m):
     for k in range(m):
         h = HA if k % 2 == 0 else HB
         w, s = _r.sympy_parts(M, h)
-        cur = _r.reflect_along(cur, w, _matmul(h, cur)[0, 0], _r.gain(s))[0].applyfunc(_radsimp)
+        cur = _r.reflect_along(cur, w, _matmul(h, cur)[0, 0], _r.gain(s))[0].applyfunc(_expanded)
         out.append(cur)
     return out
+
+
+def _expanded(x):
+    """An iterate's entry with its denominator rationalized (:func:`_radsimp`), and then, when it is
+    built of rationals and radicals alone (no ``π``, ``e`` or function), expanded: a sum of terms,
+    ``a + b·√3`` for an entry of ``Q(√3)``. Unexpanded, each reflection nested the one before (the
+    4th iterate of ``H = ((1, 0), (−√3, 1))`` was a 300-character tree ``1 + (1024·√3·(−2·√3 − 1) +
+    …)/2048``, now ``1``, and the products of such trees that verify the exit took 0.3 s). An entry
+    with transcendental numbers is left as radsimp gives it (expanded, its sums over a common
+    denominator only grow)."""
+    x = _radsimp(x)
+    if x.atoms(sp.NumberSymbol, sp.Function):
+        return x
+    return sp.expand(x)
 
 
 def _matmul(A, B) -> sp.Matrix:
@@ -691,7 +705,7 @@ def _resolve(exact, M, H, v, n, digits=DEFAULT_DIGITS, max_exact_digits=DEFAULT_
             rows = (HA, HB) if first == 0 else (HB, HA)
             if m <= MAX_EXACT_ALGEBRAIC_REFLECTIONS:
                 vel = _iterate_exact(M, rows[0], rows[1], v, m)[-1]
-                imp = (gram.LUsolve(_matmul(H, vel) - c)).applyfunc(_radsimp)
+                imp = (gram.LUsolve(_matmul(H, vel) - c)).applyfunc(_expanded)
                 verify_exact("two-surface", M, H, v, vel, imp)
                 outcomes.append(TwoSurfaceOutcome(first, order, m, vel, _floats(vel), imp, True))
             else:
