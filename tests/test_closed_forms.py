@@ -142,7 +142,7 @@ def test_pool_any_tau_equals_solver_on_both_sides_of_cos_tau():
     d = P.pool_any_tau(sp.pi / 3)
     for t, eps in ((sp.pi / 5, 1), (4 * sp.pi / 5, -1), (-sp.pi / 7, 1)):
         for name, vp in zip(P.VELOCITY_NAMES, law.vplus):
-            assert _zero(sp.nsimplify(sp.simplify((d[name].subs(P.eps, eps) - vp).subs(P.tau, t)))), (name, t)
+            assert _zero((d[name].subs(P.eps, eps) - vp).subs(P.tau, t)), (name, t)
 
 
 def test_epsilon_device():
