@@ -177,6 +177,11 @@ def _inputs(name: str, case_set: str, batch: int, n_err: int, seed: int) -> _Inp
     return _Inputs(arrays, points, refs)
 
 
+#: the wall time (seconds) over which each batched measurement repeats its call, at least 3 calls
+#: after one untimed call: ``--quick`` and the full run
+MIN_TIME_QUICK, MIN_TIME = 0.05, 0.3
+
+
 def _timeit(fn, min_time: float) -> float:
     """Seconds per call of ``fn`` (best of repeated runs lasting at least ``min_time`` in all)."""
     fn()
@@ -262,7 +267,7 @@ def run(quick: bool = False, formulas=None, backends=BACKENDS, progress=None) ->
     batch = 100_000 if quick else 1_000_000  # --quick: "smaller batches" (impactsym bench --help)
     n_err = 60 if quick else 300
     slow_n = 4 if quick else 20
-    min_time = 0.05 if quick else 0.3
+    min_time = MIN_TIME_QUICK if quick else MIN_TIME
     results = []
     for name in formulas:
         for case_set in ("uniform", "hard"):
