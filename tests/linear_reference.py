@@ -112,7 +112,7 @@ def _halves(A, dt, dps):
     return [E * 1 for E in reversed(out)]  # E * 1: each entry rounded to the caller's precision
 
 
-def _crossing(A, y, j, closed, dt, dps, halves=None):
+def _crossing(A, y, j, closed, dt, dps, halves):
     """The time in ``[0, dt]`` where gap ``j`` of ``expm(A s) y`` leaves its law's side (> 0 for a
     closed contact, < 0 for an open one; it is on that side at ``dt``): bisection to a cell of
     ``dt·2⁻²⁰``, then Newton inside it (bisection on where the derivative vanishes or Newton leaves
@@ -124,8 +124,6 @@ def _crossing(A, y, j, closed, dt, dps, halves=None):
     def crossed(ys):
         return ys[j] > 0 if closed else ys[j] < 0
 
-    if halves is None:
-        halves = []
     if not halves:
         halves.extend(_halves(A, dt, dps))
     lo, hi = mp.mpf(0), dt
