@@ -179,7 +179,6 @@ def _interpreter() -> str:
     configured without ``--enable-optimizations``, libpython shared) took 0.71-0.82 s; the
     default test run of one tree took 83.3 s of CPU under Debian's and 90.7 s under pyenv's, back
     to back (2026-12-07): the yardstick alone overstates the build's effect on the tests."""
-    import os
     import platform
 
     built = " ".join(platform.python_build()[1].split())
